@@ -1,0 +1,56 @@
+"""`hri-lab` command line."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from sim.experiment import format_table, plan, run_experiment, summary
+from sim.human import PARTICIPANTS
+
+
+def _experiment(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    total = len(plan(args.trials, args.participant, args.seed))
+    with tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet) as bar:
+
+        def progress(result) -> None:
+            bar.set_postfix_str(f"{result.participant} #{result.attempt}: {'ok' if result.success else 'FAILED'}")
+            bar.update(1)
+
+        results = run_experiment(args.trials, args.participant, args.seed, on_result=progress)
+    if args.json:
+        print(json.dumps({"summary": summary(results), "trials": [r.as_dict() for r in results]}, indent=2))
+    else:
+        print(format_table(results))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    exp = sub.add_parser("experiment", help="run the lab's Table 1 trials headless (faster than real time)")
+    exp.add_argument("--trials", type=_positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)")
+    exp.add_argument("--participant", choices=sorted(PARTICIPANTS), help="only this participant")
+    exp.add_argument("--seed", type=int, default=0, help="random seed (same seed, same table)")
+    exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    exp.add_argument("--quiet", action="store_true", help="no progress bar")
+    exp.set_defaults(func=_experiment)
+    return parser
+
+
+def _positive_int(text: str) -> int:
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError("must be >= 1")
+    return value
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

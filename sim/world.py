@@ -1,0 +1,239 @@
+"""The simulated lab: robot + plate, box, virtual human, sensor and controller, stepped at 1 kHz.
+
+One `step()` is one control period dt (default 1 ms):
+  1. sense:   F_ext = sensor(plate contact wrench at the EE, EE frame)
+  2. control: twist_base = controller.step(F_ext, T_ee_to_base, params, dt)   (or move_to_start)
+  3. robot:   Cartesian velocity interface (DLS IK, limits, reflexes) integrates q
+  4. human:   the palm moves (path / target, squeeze regulation, tremor, grasp)
+  5. physics: plate and palm contacts -> forces on the box -> box integration (substeps)
+The robot is kinematic: contact forces do not push it; it follows only the controller's command.
+"""
+from __future__ import annotations
+
+import traceback
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .box import Box, BoxParams
+from .cartesian_velocity import CartesianVelocityInterface
+from .contact import ContactParams, ContactResult, PatchContact, PatchGeometry
+from .controller import Controller, LiftingParams, start_lifting, stop_lifting
+from .human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
+from .joint_trajectory import JointTrajectory
+from .robot import SIDE_Q, PandaModel, Plate
+from .sensor import SensorParams, WrenchSensor, wrench_at_ee
+from .sp_controller import SPController
+from .spatial import cross3
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    """Everything that defines a fresh world (SI units)."""
+
+    dt: float = 0.001  # s, control period (1 kHz)
+    physics_substeps: int = 1
+    plate: Plate = Plate()
+    plate_grid: tuple[int, int] = (6, 6)
+    plate_contact: ContactParams = ContactParams(mu=0.6)
+    palm_size: tuple[float, float] = (0.08, 0.08)  # m
+    palm_grid: tuple[int, int] = (5, 5)
+    palm_contact: ContactParams = ContactParams(normal_stiffness=1.0e4, normal_damping=80.0, mu=1.3)
+    box: BoxParams = BoxParams()
+    sensor: SensorParams = SensorParams()
+    human: HumanParams = HumanParams()
+    path: PickAndPlace = PickAndPlace()
+    participant: str = "calm"
+    start_gap: float = 0.03  # m between plate and box at the start
+    start_q: tuple[float, ...] = tuple(SIDE_Q)
+    seed: int = 0
+
+
+@dataclass
+class Snapshot:
+    """A consistent copy of the world's state (what the server publishes)."""
+
+    time: float
+    q: np.ndarray
+    qdot: np.ndarray
+    transform_ee_to_base: np.ndarray
+    wrench_ee: np.ndarray  # F_ext as measured (noise, filter)
+    wrench_ee_true: np.ndarray  # noise-free
+    twist_command: np.ndarray  # base frame
+    box_position: np.ndarray
+    box_rotation: np.ndarray
+    palm_position: np.ndarray
+    palm_rotation: np.ndarray
+    plate: ContactResult
+    palm: ContactResult
+    lifting: LiftingParams
+    error: str | None
+    human_phase: str
+    moving_to_start: bool
+
+
+@dataclass
+class World:
+    config: WorldConfig = field(default_factory=WorldConfig)
+    controller: Controller = field(default_factory=SPController)
+    params: LiftingParams = field(default_factory=LiftingParams)
+
+    def __post_init__(self) -> None:
+        cfg = self.config
+        self.model = PandaModel()
+        self.arm = CartesianVelocityInterface(self.model, np.array(cfg.start_q))
+        self.plate_contact = PatchContact(
+            PatchGeometry(cfg.plate.width, cfg.plate.height, *cfg.plate_grid), cfg.plate_contact
+        )
+        self.palm_contact = PatchContact(PatchGeometry(*cfg.palm_size, *cfg.palm_grid), cfg.palm_contact)
+        self.params.plate_offset = cfg.plate.offset
+        self.reset()
+
+    # --- set-up -----------------------------------------------------------------------------
+    def reset(self, participant: Participant | None = None, seed: int | None = None) -> None:
+        """Robot at the start pose, box held by the person a few cm in front of the plate."""
+        cfg = self.config
+        self.rng = np.random.default_rng(cfg.seed if seed is None else seed)
+        self.time = 0.0
+        self.motion: JointTrajectory | None = None
+        self.arm.reset(np.array(cfg.start_q))
+        self.controller.reset()
+        self.sensor = WrenchSensor(cfg.sensor, self.rng)
+        self.plate_contact.reset()
+        self.palm_contact.reset()
+        transform = self.arm.transform_ee_to_base
+        normal = transform[:3, 2]
+        plate_centre = transform[:3, 3] + normal * cfg.plate.offset
+        half = np.asarray(cfg.box.size) / 2.0
+        # the box's -y face looks at the plate (the side pose's normal is base +y)
+        box_centre = plate_centre + normal * (cfg.start_gap + half[1])
+        self.box = Box(cfg.box, box_centre)
+        palm_rotation = np.column_stack((transform[:3, 0], -transform[:3, 1], -normal))  # z pushes toward the robot
+        self.human = VirtualHuman(
+            box_centre + normal * half[1],
+            palm_rotation,
+            participant or PARTICIPANTS[cfg.participant],
+            cfg.path,
+            cfg.human,
+            self.rng,
+        )
+        self.human.grasp(self.box.pose())
+        self.wrench_ee_true = np.zeros(6)
+        self.wrench_ee = np.zeros(6)
+        self.twist_command = np.zeros(6)
+        self.plate_state = self._contacts_at_rest()
+        self.palm_state = self.plate_state
+
+    def _contacts_at_rest(self) -> ContactResult:
+        zero = np.zeros(3)
+        return ContactResult(zero, zero, zero, 0.0, zero, zero, np.zeros(2), 0, 0)
+
+    # --- commands (what the lab's services do) -----------------------------------------------
+    def start_lifting(self, force: float) -> str:
+        return start_lifting(self.params, force)
+
+    def stop_lifting(self) -> str:
+        return stop_lifting(self.params)
+
+    def move_to_start(self, peak_velocity: float = 0.5) -> JointTrajectory:
+        """Drive the robot to the start pose with a smooth joint motion (controller paused)."""
+        self.motion = JointTrajectory(self.arm.q, np.array(self.config.start_q), peak_velocity)
+        return self.motion
+
+    def recover(self) -> None:
+        """Clear the reflex error (error_recovery); the controller restarts from rest."""
+        self.arm.recover()
+        self.controller.reset()
+
+    @property
+    def error(self) -> str | None:
+        return self.arm.error
+
+    # --- stepping ---------------------------------------------------------------------------
+    def step(self) -> None:
+        dt = self.config.dt
+        transform = self.arm.transform_ee_to_base
+        # 1. sense
+        self.wrench_ee = self.sensor.measure(self.wrench_ee_true, dt)
+        # 2-3. control and robot
+        if self.motion is not None:
+            self.arm.command_joint_velocity(self.motion.command(self.arm.q, dt), dt)
+            self.twist_command = self.arm.twist_base.copy()
+            if self.motion.done or self.arm.error:
+                self.motion = None
+        else:
+            self.twist_command = self._control(transform, dt)
+            self.arm.command_twist(self.twist_command, dt)
+        # 4. human
+        band = (self.params.f_n_min, self.params.f_n_max) if self.params.running else None
+        palm = self.palm_state
+        palm_load = float(np.linalg.norm(palm.tangential_force))
+        self.human.step(dt, palm.normal_force, palm_load, self.plate_state.normal_force, band, self.box.rotation)
+        # 5. physics
+        sub_dt = dt / self.config.physics_substeps
+        for _ in range(self.config.physics_substeps):
+            self._physics(sub_dt)
+        self.time += dt
+
+    def run(self, duration: float) -> None:
+        """Step for `duration` seconds of simulated time."""
+        for _ in range(int(round(duration / self.config.dt))):
+            self.step()
+
+    def _control(self, transform: np.ndarray, dt: float) -> np.ndarray:
+        """The controller's twist; an exception is an error state, never a crash of the loop."""
+        try:
+            twist = np.asarray(
+                self.controller.step(self.wrench_ee.copy(), transform.copy(), self.params, dt), dtype=float
+            )
+        except Exception as exc:  # noqa: BLE001 - any controller failure stops the robot
+            self.arm.error = "controller error: " + "".join(traceback.format_exception_only(exc)).strip()
+            return np.zeros(6)
+        if twist.shape != (6,):
+            self.arm.error = f"controller error: twist must have shape (6,), got {twist.shape}"
+            return np.zeros(6)
+        return twist
+
+    def _physics(self, dt: float) -> None:
+        arm = self.arm
+        transform = arm.transform_ee_to_base
+        rotation = transform[:3, :3]
+        arm_plate = rotation[:, 2] * self.config.plate.offset
+        position_plate = transform[:3, 3] + arm_plate
+        twist = arm.twist_base
+        velocity_plate = twist[:3] + cross3(twist[3:], arm_plate)
+        box = self.box.pose()
+        plate = self.plate_contact.step(rotation, position_plate, velocity_plate, twist[3:], box, dt)
+        human = self.human
+        palm = self.palm_contact.step(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt)
+        grasp_force, grasp_moment = human.hand_wrench(box, self.palm_state.normal_force)
+        self.box.step(
+            plate.force_box + palm.force_box + grasp_force,
+            plate.torque_box + palm.torque_box + grasp_moment,
+            dt,
+        )
+        self.plate_state, self.palm_state = plate, palm
+        self.wrench_ee_true = wrench_at_ee(plate.force_box, plate.moment_patch, position_plate, transform)
+
+    # --- reading ----------------------------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        arm, human = self.arm, self.human
+        return Snapshot(
+            time=self.time,
+            q=arm.q.copy(),
+            qdot=arm.qdot.copy(),
+            transform_ee_to_base=arm.transform_ee_to_base.copy(),
+            wrench_ee=self.wrench_ee.copy(),
+            wrench_ee_true=self.wrench_ee_true.copy(),
+            twist_command=self.twist_command.copy(),
+            box_position=self.box.position.copy(),
+            box_rotation=self.box.rotation.copy(),
+            palm_position=human.position.copy(),
+            palm_rotation=human.rotation.copy(),
+            plate=self.plate_state,
+            palm=self.palm_state,
+            lifting=LiftingParams(**vars(self.params)),
+            error=arm.error,
+            human_phase=human.phase,
+            moving_to_start=self.motion is not None,
+        )

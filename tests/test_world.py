@@ -1,0 +1,185 @@
+"""The assembled lab: sensor sign and noise, move to start, human, controller failures, end to end."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from sim.controller import LiftingParams
+from sim.experiment import Trial, TrialRules, plan, run_experiment
+from sim.human import PARTICIPANTS, HandPath, PickAndPlace, minimum_jerk
+from sim.robot import READY_Q, SIDE_Q
+from sim.sensor import SensorParams, WrenchSensor
+from sim.world import World, WorldConfig
+
+
+def quiet_world(**config) -> World:
+    return World(WorldConfig(sensor=SensorParams(force_noise_std=0.0, moment_noise_std=0.0), **config))
+
+
+def test_start_pose_faces_the_person():
+    world = World()
+    transform = world.arm.transform_ee_to_base
+    assert transform[:3, 2] == pytest.approx([0, 1, 0], abs=1e-3)  # plate normal = base +y
+    assert transform[:3, 3] == pytest.approx([0.60, 0.15, 0.35], abs=2e-3)
+    # the box waits a few cm in front of the plate, the palm on its far face
+    gap = world.box.position[1] - 0.1 - (transform[1, 3] + world.config.plate.offset)
+    assert gap == pytest.approx(world.config.start_gap, abs=1e-6)
+
+
+def test_pressing_gives_positive_f_n_and_the_robot_stops_in_the_band():
+    """Start at 10 N: the robot approaches, F_ext f_n rises (> 0 when pressing, franka's sign) and
+    settles inside [10, 15] while the person still holds the box grasped."""
+    world = quiet_world()
+    world.start_lifting(10.0)
+    before = world.arm.transform_ee_to_base[:3, 3].copy()
+    world.run(1.5)
+    wrench = world.wrench_ee_true
+    assert 10.0 - 0.5 <= wrench[2] <= 15.0 + 0.5
+    assert world.plate_state.normal_force == pytest.approx(wrench[2], rel=1e-3)  # face ~ parallel to the plate
+    moved = world.arm.transform_ee_to_base[:3, 3] - before
+    assert moved[1] == pytest.approx(world.config.start_gap, abs=0.01)  # toward the box along +y
+    assert world.error is None
+
+
+def test_sensor_noise_and_filter():
+    rng = np.random.default_rng(0)
+    true = np.array([1.0, 2.0, 3.0, 0.1, 0.2, 0.3])
+    raw = WrenchSensor(SensorParams(0.5, 0.05, 0.0), rng)
+    samples = np.array([raw.measure(true, 1e-3) for _ in range(20000)])
+    assert samples.mean(axis=0) == pytest.approx(true, abs=0.02)
+    assert samples.std(axis=0) == pytest.approx([0.5] * 3 + [0.05] * 3, rel=0.05)
+    filtered = WrenchSensor(SensorParams(0.5, 0.05, 10.0), rng)
+    samples = np.array([filtered.measure(true, 1e-3) for _ in range(20000)])[1000:]
+    # first-order low-pass, white noise: std = sigma sqrt(a / (2 - a)), a = dt / (tau + dt)
+    a = 1e-3 / (1 / (2 * np.pi * 10) + 1e-3)
+    assert samples[:, 0].std() == pytest.approx(0.5 * np.sqrt(a / (2 - a)), rel=0.15)
+
+
+def test_move_to_start_drives_there_smoothly():
+    world = quiet_world(start_q=tuple(READY_Q))
+    world.config = WorldConfig(start_q=tuple(SIDE_Q))
+    motion = world.move_to_start()
+    steps = 0
+    while world.motion is not None:
+        world.step()
+        steps += 1
+    assert world.error is None
+    assert world.arm.q == pytest.approx(SIDE_Q, abs=1e-3)
+    assert steps == pytest.approx(motion.duration / 1e-3, abs=2)
+
+
+def test_minimum_jerk_path():
+    assert [minimum_jerk(t) for t in (0.0, 0.5, 1.0)] == pytest.approx([0.0, 0.5, 1.0])
+    path = HandPath(PickAndPlace(), peak_speed=0.1)
+    # lift 0.2 m at peak 0.1 m/s takes T = 1.875 * 0.2 / 0.1 = 3.75 s
+    assert path.segments[0][1] == pytest.approx(3.75)
+    assert path.offset(3.75) == pytest.approx([0, 0, 0.2])
+    assert path.offset(path.duration) == pytest.approx([-0.3, 0.0, 0.0])
+    assert path.duration == pytest.approx(3.75 * 2 + 1.875 * 0.3 / 0.1 + 1.0)
+
+
+def test_palm_follows_a_target_set_directly():
+    world = quiet_world()
+    human = world.human
+    target = human.position + np.array([0.0, 0.0, 0.05])
+    human.set_target(target)
+    for _ in range(1500):
+        human.step(1e-3, 0.0, 0.0, 0.0, None, np.eye(3))
+    assert human.phase == "manual"
+    assert human.position == pytest.approx(target, abs=2e-3)
+    with pytest.raises(ValueError):
+        human.set_target([0.0, float("nan"), 0.0])
+
+
+def test_controller_exception_is_an_error_state_not_a_crash():
+    class Broken:
+        def reset(self):
+            pass
+
+        def step(self, wrench, transform, params, dt):
+            raise RuntimeError("boom")
+
+    world = World(controller=Broken())
+    world.run(0.01)
+    assert world.error is not None and "boom" in world.error
+    assert world.arm.qdot == pytest.approx(np.zeros(7))
+    world.run(0.01)  # the loop goes on
+    assert world.time == pytest.approx(0.02)
+
+
+def test_nan_twist_from_a_controller_is_refused():
+    class NaNController:
+        def reset(self):
+            pass
+
+        def step(self, wrench, transform, params, dt):
+            return np.full(6, np.nan)
+
+    world = World(controller=NaNController())
+    world.run(0.01)
+    assert "invalid command" in world.error
+    assert np.all(np.isfinite(world.arm.q))
+
+
+def test_calm_trial_succeeds_with_lifting_at_10_newton():
+    trial = Trial(PARTICIPANTS["calm"], seed=11)
+    result = trial.run()
+    assert result.success, result.reason
+    assert trial.world.human.phase == "done"
+    # the box went where the person carried it: up, over and down again (0.30 m along -x)
+    box = trial.world.box.position
+    assert box[0] == pytest.approx(0.30, abs=0.02)
+    assert result.slip < 0.02
+    assert 9.0 < result.f_n_min and result.f_n_max < 25.0
+
+
+def test_same_trial_fails_when_the_controller_is_stopped():
+    """Lifting stopped once the person has let go of the grasp: the robot no longer follows, the
+    person lifts, the plate holds the box back and the box is dropped (slip or lost contact)."""
+    trial = Trial(PARTICIPANTS["calm"], seed=11)
+    while trial.world.human.phase != "settling":
+        assert trial.step()
+    trial.world.stop_lifting()
+    result = trial.run()
+    assert not result.success
+    assert result.reason.startswith("dropped")
+    assert np.linalg.norm(trial.world.arm.twist_base) < 1e-6  # the robot stood still
+
+
+def test_robot_never_started_means_no_grip():
+    rules = TrialRules(approach_limit=2.0)
+    trial = Trial(PARTICIPANTS["calm"], seed=1, rules=rules)
+    trial.world.stop_lifting()
+    result = trial.run()
+    assert not result.success and result.reason.startswith("no grip")
+
+
+def test_experiment_is_deterministic_per_seed():
+    a = run_experiment(1, "hasty", seed=5)
+    b = run_experiment(1, "hasty", seed=5)
+    assert [r.as_dict() for r in a] == [r.as_dict() for r in b]
+    assert plan(9)[0][3] != plan(9, seed=1)[0][3]
+    # nine trials = three participants x three tries
+    assert [(p.name, attempt) for _, p, attempt, _ in plan(9)] == [
+        (name, k) for name in ("calm", "average", "hasty") for k in (1, 2, 3)
+    ]
+
+
+def test_cli_experiment_json():
+    out = subprocess.run(
+        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--json", "--quiet"],
+        capture_output=True, text=True, check=True, timeout=300,
+    )
+    data = json.loads(out.stdout)
+    assert data["summary"]["trials"] == 1
+    trial = data["trials"][0]
+    assert set(trial) >= {"success", "duration", "f_n_min", "f_n_max", "max_friction_ratio", "slip", "reason"}
+    table = subprocess.run(
+        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--quiet"],
+        capture_output=True, text=True, check=True, timeout=300,
+    ).stdout
+    assert "participant" in table and "hasty" in table and "success: " in table
+    bad = subprocess.run([sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "--trials" in bad.stderr

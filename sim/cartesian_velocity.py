@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from . import robot as panda
 from .robot import PandaModel
@@ -107,15 +108,16 @@ class CartesianVelocityInterface:
         if twist.shape != (6,) or not np.all(np.isfinite(twist)):
             raise Reflex("invalid command: twist must be 6 finite numbers")
         lim = self.limits
-        v, w = math.sqrt(twist[:3] @ twist[:3]), math.sqrt(twist[3:] @ twist[3:])
+        vx, vy, vz, wx, wy, wz = twist.tolist()
+        v, w = math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(wx * wx + wy * wy + wz * wz)
         if v > lim.cartesian_velocity:
             raise Reflex(f"cartesian velocity limit: |v| = {v:.3f} m/s > {lim.cartesian_velocity} m/s")
         if w > lim.cartesian_angular_velocity:
             raise Reflex(
                 f"cartesian velocity limit: |w| = {w:.3f} rad/s > {lim.cartesian_angular_velocity} rad/s"
             )
-        dv = twist - self.twist_command
-        a, alpha = math.sqrt(dv[:3] @ dv[:3]) / dt, math.sqrt(dv[3:] @ dv[3:]) / dt
+        ax, ay, az, bx, by, bz = (twist - self.twist_command).tolist()
+        a, alpha = math.sqrt(ax * ax + ay * ay + az * az) / dt, math.sqrt(bx * bx + by * by + bz * bz) / dt
         if a > lim.cartesian_acceleration:
             raise Reflex(f"cartesian acceleration limit: {a:.1f} m/s^2 > {lim.cartesian_acceleration} m/s^2")
         if alpha > lim.cartesian_angular_acceleration:
@@ -124,43 +126,27 @@ class CartesianVelocityInterface:
             )
 
     def _dls(self, twist_base: np.ndarray) -> np.ndarray:
-        jac = self.jacobian
-        # qdot = J^T (J J^T + lambda^2 I)^-1 twist
-        gram = jac @ jac.T
-        gram[np.diag_indices(6)] += self.damping**2
-        qdot = jac.T @ np.linalg.solve(gram, twist_base)
-        # null space: (I - J^T (J J^T)^-1 J) k (q_rest - q), undamped so that it never moves the EE
         posture = self.null_space_gain * (self.q_rest - self.q)
-        gram[np.diag_indices(6)] += 1e-10 - self.damping**2
-        qdot += posture - jac.T @ np.linalg.solve(gram, jac @ posture)
-        return qdot
+        return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), posture, self.damping**2)
 
     def _apply(self, qdot: np.ndarray, dt: float) -> None:
-        over = np.abs(qdot) > self.model.qdot_max
-        if over.any():
-            j = int(np.argmax(over))
+        model = self.model
+        kind, j, value = check_joint_limits(
+            qdot, self.qdot, self.q, dt, model.qdot_max, self.qdd_max, model.q_min, model.q_max
+        )
+        if kind == VELOCITY:
+            raise Reflex(f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})")
+        if kind == ACCELERATION:
+            raise Reflex(f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})")
+        if kind == POSITION:
             raise Reflex(
-                f"joint velocity limit: joint {j + 1} at {qdot[j]:.3f} rad/s (limit {self.model.qdot_max[j]:.3f})"
+                f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
+                f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"
             )
-        qdd = np.abs(qdot - self.qdot) / dt
-        over = qdd > self.qdd_max
-        if over.any():
-            j = int(np.argmax(over))
-            raise Reflex(
-                f"joint acceleration limit: joint {j + 1} at {qdd[j]:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})"
-            )
-        q_next = self.q + qdot * dt
-        out = (q_next < self.model.q_min) | (q_next > self.model.q_max)
-        if out.any():
-            j = int(np.argmax(out))
-            raise Reflex(
-                f"joint position limit: joint {j + 1} would reach {q_next[j]:.3f} rad "
-                f"(range {self.model.q_min[j]:.3f}..{self.model.q_max[j]:.3f})"
-            )
-        self.q = q_next
+        self.q = self.q + qdot * dt
         self.qdot = qdot
-        self.twist_base = self.jacobian @ qdot
         self.update_kinematics()
+        self.twist_base = self.jacobian @ qdot
 
     def _halt(self) -> None:
         self.qdot[:] = 0.0
@@ -170,3 +156,36 @@ class CartesianVelocityInterface:
     def _trip(self, reason: str) -> None:
         self.error = reason
         self._halt()
+
+
+OK, VELOCITY, ACCELERATION, POSITION = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def damped_least_squares(jac, twist, posture, damping2):
+    """qdot = J^T (J J^T + lambda^2 I)^-1 twist + (I - J^T (J J^T)^-1 J) posture.
+    The null-space projector is undamped so that the posture term never moves the EE."""
+    gram = jac @ jac.T
+    damped = gram.copy()
+    for i in range(6):
+        damped[i, i] += damping2
+        gram[i, i] += 1e-10
+    qdot = jac.T @ np.linalg.solve(damped, twist)
+    return qdot + posture - jac.T @ np.linalg.solve(gram, jac @ posture)
+
+
+@njit(cache=True)
+def check_joint_limits(qdot, qdot_prev, q, dt, qdot_max, qdd_max, q_min, q_max):
+    """(kind, joint, value) of the first limit the step q + qdot dt would break; kind OK if none."""
+    for j in range(q.shape[0]):
+        if abs(qdot[j]) > qdot_max[j]:
+            return VELOCITY, j, qdot[j]
+    for j in range(q.shape[0]):
+        qdd = abs(qdot[j] - qdot_prev[j]) / dt
+        if qdd > qdd_max[j]:
+            return ACCELERATION, j, qdd
+    for j in range(q.shape[0]):
+        q_next = q[j] + qdot[j] * dt
+        if q_next < q_min[j] or q_next > q_max[j]:
+            return POSITION, j, q_next
+    return OK, -1, 0.0

@@ -22,6 +22,8 @@ import numpy as np
 
 from numba import njit
 
+from .spatial import norm3
+
 
 @dataclass(frozen=True)
 class PatchGeometry:
@@ -75,7 +77,7 @@ class ContactResult:
         """|f_t| / f_n (compare with mu); 0 without contact."""
         if self.normal_force <= 1e-9:
             return 0.0
-        return float(np.linalg.norm(self.tangential_force) / self.normal_force)
+        return norm3(self.tangential_force) / self.normal_force
 
 
 @dataclass
@@ -101,7 +103,6 @@ class PatchContact:
     def __post_init__(self) -> None:
         self.points_patch = self.geometry.points()
         self.bristles = np.zeros_like(self.points_patch)
-        self._out = np.zeros(20)
         self._set_point_constants()
 
     def _set_point_constants(self) -> None:
@@ -127,7 +128,7 @@ class PatchContact:
         dt: float,
     ) -> ContactResult:
         """Contact forces for one time step dt (s); advances the bristles."""
-        out = self._out
+        out = np.empty(20)
         _patch_kernel(
             self.points_patch,
             rotation_patch_to_world,
@@ -149,13 +150,13 @@ class PatchContact:
             out,
         )
         return ContactResult(
-            force_box=out[0:3].copy(),
-            torque_box=out[3:6].copy(),
-            moment_patch=out[6:9].copy(),
+            force_box=out[0:3],
+            torque_box=out[3:6],
+            moment_patch=out[6:9],
             normal_force=float(out[9]),
-            tangential_force=out[10:13].copy(),
-            normal_world=out[17:20].copy(),
-            centre_of_pressure=out[13:15].copy(),
+            tangential_force=out[10:13],
+            normal_world=out[17:20],
+            centre_of_pressure=out[13:15],
             points_in_contact=int(out[15]),
             points_slipping=int(out[16]),
         )

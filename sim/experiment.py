@@ -19,6 +19,7 @@ import numpy as np
 from .controller import Controller, LiftingParams
 from .human import PARTICIPANTS, Participant
 from .sp_controller import SPController
+from .spatial import norm3
 from .world import World, WorldConfig
 
 
@@ -116,12 +117,12 @@ class Trial:
         normal_box = box.rotation.T @ world.palm_state.normal_world if world.palm_state.points_in_contact else None
         if normal_box is not None:
             moved = moved - (moved @ normal_box) * normal_box
-        self.slip = max(self.slip, float(np.linalg.norm(moved)))
+        self.slip = max(self.slip, norm3(moved))
         plate = world.plate_state
         f_n = plate.normal_force
         self.f_n_low, self.f_n_high = min(self.f_n_low, f_n), max(self.f_n_high, f_n)
         if f_n > 1e-9:
-            self.ratio = max(self.ratio, float(np.linalg.norm(plate.tangential_force)) / (world.params.mu * f_n))
+            self.ratio = max(self.ratio, norm3(plate.tangential_force) / (world.params.mu * f_n))
         self.no_contact_time = self.no_contact_time + world.config.dt if f_n < rules.contact_force else 0.0
         if self.slip > rules.max_slip:
             self._finish(f"dropped: the box slipped {self.slip * 100:.1f} cm in the palm")

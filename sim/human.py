@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .contact import BoxPose
-from .spatial import cross3, rotation_exp, rotation_log
+from .spatial import cross3, norm3, rotation_exp, rotation_log
 
 
 @dataclass(frozen=True)
@@ -223,7 +223,7 @@ class VirtualHuman:
             # grip-load coupling (Johansson & Westling 1984): squeeze at least grip_load_ratio x load
             squeeze_target = max(self.participant.squeeze_force, p.grip_load_ratio * palm_load)
             ds = p.k_f * (squeeze_target - palm_force) - p.k_p * self.squeeze
-            self.squeeze += float(np.clip(ds, -p.v_squeeze_max, p.v_squeeze_max)) * dt
+            self.squeeze += min(max(ds, -p.v_squeeze_max), p.v_squeeze_max) * dt
         new = self.hand + self.squeeze * self.rotation[:, 2] + self.tremor(self.time)
         self.velocity = (new - self.position) / dt
         self.position = new
@@ -269,8 +269,11 @@ class VirtualHuman:
     def tremor(self, t: float) -> np.ndarray:
         """Physiological tremor (m) in the palm plane: A sin(2 pi f_i t + phi_i) along palm x, y
         (along the normal the person regulates force, so no position tremor there)."""
-        wave = self.participant.tremor_amplitude * np.sin(2.0 * math.pi * self.tremor_freq[:2] * t + self.tremor_phase[:2])
-        return self.rotation[:, :2] @ wave
+        a = self.participant.tremor_amplitude
+        fx, fy = self.tremor_freq
+        px, py = self.tremor_phase
+        x, y = a * math.sin(2.0 * math.pi * fx * t + px), a * math.sin(2.0 * math.pi * fy * t + py)
+        return self.rotation[:, 0] * x + self.rotation[:, 1] * y
 
     def hand_wrench(self, box: BoxPose, palm_force: float) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and moment about the box centre (Nm), world, that the hand applies besides the
@@ -292,7 +295,7 @@ class VirtualHuman:
         if self.box_level is not None:
             wrist = p.wrist_stiffness * rotation_log(self.box_level @ box.rotation.T) - p.wrist_damping * box.angular_velocity
             capacity = p.hand_lever * max(palm_force, 0.0)
-            norm = float(np.linalg.norm(wrist))
+            norm = norm3(wrist)
             if norm > capacity:
                 wrist = wrist * (capacity / norm)
             moment = moment + (1.0 - self.grasp_weight) * wrist

@@ -51,12 +51,11 @@ class SPController:
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
         """Steps 1-5a: the EE twist in the EE frame (m/s, rad/s), before the rate limit."""
         # Step 1: decompose. n = EE z (plate normal); f_n = n.f; f_t = f - f_n n;
-        # m_c = m - p_c x f (moment about the plate centre p_c = [0, 0, d]).
-        fx, fy, fz, mx, my, mz = (float(x) for x in wrench_ee)
+        # m_c = m - p_c x f (moment about the plate centre p_c = [0, 0, d]; p_c x f = [-d fy, d fx, 0]).
+        fx, fy, fz, mx, my, mz = np.asarray(wrench_ee, dtype=float).tolist()
         d = params.plate_offset
         f_n = fz
-        f_t = np.array([fx, fy, 0.0])
-        m_c = np.array([mx + d * fy, my - d * fx, mz])  # p_c x f = [-d fy, d fx, 0]
+        mcx, mcy, mcz = mx + d * fy, my - d * fx, mz
         in_contact = f_n >= params.f_contact
 
         # Step 2: normal band [f_n_min, f_n_max]:
@@ -76,31 +75,34 @@ class SPController:
         #   limit = alpha mu f_n; |f_t| <= limit -> the contact holds: v_t = 0
         #   beyond: e_t = f_t - limit f_t/|f_t|, v_t = -k_t e_t (move against f_t, with the person)
         #   and raise the grip toward f_n_max: v_n = max(v_n, k_n (f_n_max - f_n)).
-        v_t = np.zeros(3)
-        self.slipping = False
+        vx = vy = 0.0
         ft_norm = math.hypot(fx, fy)
         limit = params.alpha * params.mu * max(f_n, 0.0)
-        if in_contact and ft_norm > limit:
-            self.slipping = True
-            e_t = f_t * (1.0 - limit / ft_norm)
-            v_t = -params.k_t * e_t
+        self.slipping = in_contact and ft_norm > limit
+        if self.slipping:
+            excess = 1.0 - limit / ft_norm  # e_t = excess * f_t
+            vx, vy = -params.k_t * excess * fx, -params.k_t * excess * fy
             if f_n < f_n_max:
                 v_n = max(v_n, params.k_n * (f_n_max - f_n))
 
         # Step 4: rotation. A single point holds no moment: comply with it,
-        #   w = -k_w m_c shrunk by the deadband: w = -k_w (|m_c| - db)+ m_c/|m_c|.
-        w = np.zeros(3)
-        mc_norm = float(np.linalg.norm(m_c))
+        #   w = -k_w (|m_c| - db)+ m_c/|m_c|   (deadband db against noise).
+        wx = wy = wz = 0.0
+        mc_norm = math.sqrt(mcx * mcx + mcy * mcy + mcz * mcz)
         if in_contact and mc_norm > params.moment_deadband:
-            w = -params.k_w * (1.0 - params.moment_deadband / mc_norm) * m_c
+            gain = -params.k_w * (1.0 - params.moment_deadband / mc_norm)
+            wx, wy, wz = gain * mcx, gain * mcy, gain * mcz
 
         # Step 5a: twist_ee = [v_t + v_n n, w], saturated at v_max, w_max (direction kept).
-        v = v_t + np.array([0.0, 0.0, v_n])
-        return np.concatenate((_saturate(v, params.v_max), _saturate(w, params.w_max)))
+        v = _saturate(np.array([vx, vy, v_n]), params.v_max)
+        w = _saturate(np.array([wx, wy, wz]), params.w_max)
+        return np.concatenate((v, w))
 
 
 def _saturate(x: np.ndarray, limit: float) -> np.ndarray:
-    norm = float(np.linalg.norm(x))
+    """x scaled down to |x| = limit if longer (direction kept)."""
+    a, b, c = x.tolist()
+    norm = math.sqrt(a * a + b * b + c * c)
     return x * (limit / norm) if norm > limit else x
 
 

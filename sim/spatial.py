@@ -1,6 +1,8 @@
 """Small spatial-algebra helpers (twists/wrenches are [linear, angular])."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -40,6 +42,12 @@ def rotation_y(angle: float) -> np.ndarray:
     """Rotation about the y axis by `angle` (rad)."""
     c, s = np.cos(angle), np.sin(angle)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def norm3(v: np.ndarray) -> float:
+    """|v| of a 3-vector (np.linalg.norm costs microseconds on tiny arrays)."""
+    a, b, c = v.tolist()
+    return math.sqrt(a * a + b * b + c * c)
 
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:

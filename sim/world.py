@@ -24,7 +24,7 @@ from .joint_trajectory import JointTrajectory
 from .robot import SIDE_Q, PandaModel, Plate
 from .sensor import SensorParams, WrenchSensor, wrench_at_ee
 from .sp_controller import SPController
-from .spatial import cross3
+from .spatial import cross3, norm3
 
 
 @dataclass(frozen=True)
@@ -167,7 +167,7 @@ class World:
         # 4. human
         band = (self.params.f_n_min, self.params.f_n_max) if self.params.running else None
         palm = self.palm_state
-        palm_load = float(np.linalg.norm(palm.tangential_force))
+        palm_load = norm3(palm.tangential_force)
         self.human.step(dt, palm.normal_force, palm_load, self.plate_state.normal_force, band, self.box.rotation)
         # 5. physics
         sub_dt = dt / self.config.physics_substeps

@@ -1,0 +1,72 @@
+"""Simulation speed: microseconds per 1 kHz step of the full loop (robot + contacts + box +
+human + controller + sensor), the real-time factor, the nine-trial experiment's wall time, and a
+profile of where a step's time goes.
+
+    .venv/bin/python bench/sim_speed.py [--repeats 5] [--steps 5000] [--no-experiment]
+"""
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import pstats
+import statistics
+import time
+
+from sim.experiment import run_experiment
+from sim.human import PARTICIPANTS
+from sim.world import World
+
+
+def carrying_world() -> World:
+    """A world in the middle of a calm trial (robot pressing, box carried): the costly state."""
+    world = World()
+    world.reset(PARTICIPANTS["calm"], seed=1)
+    world.start_lifting(10.0)
+    while world.human.phase != "carrying":
+        world.step()
+    world.run(1.0)
+    return world
+
+
+def time_steps(world: World, steps: int) -> float:
+    start = time.perf_counter()
+    for _ in range(steps):
+        world.step()
+    return (time.perf_counter() - start) / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--steps", type=int, default=5000)
+    parser.add_argument("--no-experiment", action="store_true")
+    args = parser.parse_args()
+
+    world = carrying_world()
+    per_step = [time_steps(world, args.steps) for _ in range(args.repeats)]
+    median = statistics.median(per_step)
+    print(f"full step: median {median * 1e6:.1f} us  (min {min(per_step) * 1e6:.1f}, max {max(per_step) * 1e6:.1f}, "
+          f"{args.repeats} x {args.steps} steps)")
+    print(f"real-time factor at 1 kHz: {1e-3 / median:.1f}x  (target >= 20x, <= 50 us/step)")
+
+    profiler = cProfile.Profile()
+    profiler.enable()
+    time_steps(world, 2000)
+    profiler.disable()
+    text = io.StringIO()
+    pstats.Stats(profiler, stream=text).sort_stats("tottime").print_stats(12)
+    print("where the time goes (cProfile, 2000 steps, sorted by own time):")
+    print("\n".join(line for line in text.getvalue().splitlines() if line.strip())[:3000])
+
+    if not args.no_experiment:
+        start = time.perf_counter()
+        results = run_experiment(9, seed=0)
+        wall = time.perf_counter() - start
+        simulated = sum(r.duration for r in results)
+        print(f"nine-trial experiment: wall {wall:.1f} s for {simulated:.1f} s simulated "
+              f"({simulated / wall:.1f}x real time), {sum(r.success for r in results)}/9 successes")
+
+
+if __name__ == "__main__":
+    main()

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 
 from sim.experiment import format_table, plan, run_experiment, summary
@@ -19,7 +20,7 @@ def _experiment(args: argparse.Namespace) -> int:
             bar.set_postfix_str(f"{result.participant} #{result.attempt}: {'ok' if result.success else 'FAILED'}")
             bar.update(1)
 
-        results = run_experiment(args.trials, args.participant, args.seed, on_result=progress)
+        results = run_experiment(args.trials, args.participant, args.seed, on_result=progress, jobs=args.jobs)
     if args.json:
         print(json.dumps({"summary": summary(results), "trials": [r.as_dict() for r in results]}, indent=2))
     else:
@@ -34,6 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--trials", type=_positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)")
     exp.add_argument("--participant", choices=sorted(PARTICIPANTS), help="only this participant")
     exp.add_argument("--seed", type=int, default=0, help="random seed (same seed, same table)")
+    exp.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1,
+                     help="trials run in this many processes (default: one per core; same results)")
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     exp.set_defaults(func=_experiment)

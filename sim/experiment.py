@@ -11,8 +11,9 @@ Nine trials = three participants x three tries.
 """
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
-from typing import Callable, Iterator
+from typing import Callable
 
 import numpy as np
 
@@ -169,6 +170,17 @@ def plan(trials: int = 9, participant: str | None = None, seed: int = 0) -> list
     return [(i, p, a, trial_seed(seed, i)) for i, (p, a) in enumerate(order)]
 
 
+def run_trial(
+    index: int,
+    person: Participant,
+    attempt: int,
+    seed: int,
+    rules: TrialRules = TrialRules(),
+    controller_factory: Callable[[], Controller] = SPController,
+) -> TrialResult:
+    return Trial(person, seed, controller_factory(), rules=rules, index=index, attempt=attempt).run()
+
+
 def run_experiment(
     trials: int = 9,
     participant: str | None = None,
@@ -176,16 +188,24 @@ def run_experiment(
     rules: TrialRules = TrialRules(),
     controller_factory: Callable[[], Controller] = SPController,
     on_result: Callable[[TrialResult], None] | None = None,
+    jobs: int = 1,
 ) -> list[TrialResult]:
-    """Run the trials one after the other (deterministic for a given seed)."""
-    results = []
-    for index, person, attempt, trial_seed_ in plan(trials, participant, seed):
-        trial = Trial(person, trial_seed_, controller_factory(), rules=rules, index=index, attempt=attempt)
-        result = trial.run()
-        results.append(result)
-        if on_result:
-            on_result(result)
-    return results
+    """Run the trials, in `jobs` processes when jobs > 1 (each trial has its own seed, so the
+    results are the same whatever the number of processes); returned in plan order."""
+    work = [(*item, rules, controller_factory) for item in plan(trials, participant, seed)]
+    if jobs <= 1:
+        results = []
+        for args in work:
+            results.append(run_trial(*args))
+            if on_result:
+                on_result(results[-1])
+        return results
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        futures = [pool.submit(run_trial, *args) for args in work]
+        for future in as_completed(futures):
+            if on_result:
+                on_result(future.result())
+        return [f.result() for f in futures]
 
 
 def summary(results: list[TrialResult]) -> dict:
@@ -212,6 +232,3 @@ def format_table(results: list[TrialResult]) -> str:
     lines.append(f"success: {s['successes']}/{s['trials']}")
     return "\n".join(lines)
 
-
-def iter_plan(trials: int, participant: str | None, seed: int) -> Iterator[tuple[int, Participant, int, int]]:
-    yield from plan(trials, participant, seed)

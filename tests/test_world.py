@@ -161,6 +161,10 @@ def test_experiment_is_deterministic_per_seed():
     b = run_experiment(1, "hasty", seed=5)
     assert [r.as_dict() for r in a] == [r.as_dict() for r in b]
     assert plan(9)[0][3] != plan(9, seed=1)[0][3]
+    # in parallel processes: the same results, in plan order
+    serial = run_experiment(2, "hasty", seed=6)
+    parallel = run_experiment(2, "hasty", seed=6, jobs=2)
+    assert [r.as_dict() for r in parallel] == [r.as_dict() for r in serial]
     # nine trials = three participants x three tries
     assert [(p.name, attempt) for _, p, attempt, _ in plan(9)] == [
         (name, k) for name in ("calm", "average", "hasty") for k in (1, 2, 3)

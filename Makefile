@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test bench clean
+.PHONY: run test experiment bench clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -13,10 +13,13 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/hri-lab experiment
+	$(BIN)/hri-lab serve
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+experiment: $(STAMP)
+	$(BIN)/hri-lab experiment
 
 bench: $(STAMP)
 	$(BIN)/python bench/sim_speed.py

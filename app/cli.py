@@ -6,8 +6,11 @@ import json
 import os
 import sys
 
+
 from sim.experiment import format_table, plan, run_experiment, summary
 from sim.human import PARTICIPANTS
+
+from . import client_cli
 
 
 def _experiment(args: argparse.Namespace) -> int:
@@ -40,7 +43,21 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     exp.set_defaults(func=_experiment)
+
+    srv = sub.add_parser("serve", help="start the lab's server (HTTP API on 127.0.0.1)")
+    srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
+    srv.add_argument("--port", type=int, default=8000)
+    srv.add_argument("--params", metavar="FILE.yaml", help="parameters to load at start (a `param dump` file)")
+    srv.set_defaults(func=_serve)
+
+    client_cli.add_parsers(sub)
     return parser
+
+
+def _serve(args: argparse.Namespace) -> int:
+    from .serve import serve
+
+    return serve(args.host, args.port, args.params)
 
 
 def _positive_int(text: str) -> int:
@@ -52,7 +69,7 @@ def _positive_int(text: str) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    return args.func(args)
+    return client_cli.run(args.func, args)
 
 
 if __name__ == "__main__":

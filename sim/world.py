@@ -11,7 +11,7 @@ The robot is kinematic: contact forces do not push it; it follows only the contr
 from __future__ import annotations
 
 import traceback
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -87,6 +87,7 @@ class World:
         )
         self.palm_contact = PatchContact(PatchGeometry(*cfg.palm_size, *cfg.palm_grid), cfg.palm_contact)
         self.params.plate_offset = cfg.plate.offset
+        self.participant: Participant | None = None  # overrides config.participant when set
         self.reset()
 
     # --- set-up -----------------------------------------------------------------------------
@@ -109,10 +110,12 @@ class World:
         box_centre = plate_centre + normal * (cfg.start_gap + half[1])
         self.box = Box(cfg.box, box_centre)
         palm_rotation = np.column_stack((transform[:3, 0], -transform[:3, 1], -normal))  # z pushes toward the robot
+        if participant is not None:
+            self.participant = participant
         self.human = VirtualHuman(
             box_centre + normal * half[1],
             palm_rotation,
-            participant or PARTICIPANTS[cfg.participant],
+            self.participant or PARTICIPANTS[cfg.participant],
             cfg.path,
             cfg.human,
             self.rng,
@@ -139,6 +142,26 @@ class World:
         """Drive the robot to the start pose with a smooth joint motion (controller paused)."""
         self.motion = JointTrajectory(self.arm.q, np.array(self.config.start_q), peak_velocity)
         return self.motion
+
+    def set_sensor(self, **changes) -> None:
+        """Change sensor parameters (SensorParams fields) now and for later resets."""
+        self.config = replace(self.config, sensor=replace(self.config.sensor, **changes))
+        self.sensor.params = self.config.sensor
+
+    def set_box(self, **changes) -> None:
+        """Change the box (BoxParams fields) now and for later resets."""
+        self.config = replace(self.config, box=replace(self.config.box, **changes))
+        self.box.set_params(self.config.box)
+
+    def set_plate_contact(self, **changes) -> None:
+        """Change the plate's contact material (ContactParams fields) now and for later resets."""
+        self.config = replace(self.config, plate_contact=replace(self.config.plate_contact, **changes))
+        self.plate_contact.set_params(self.config.plate_contact)
+
+    def set_participant(self, participant: Participant) -> None:
+        """The person the virtual human plays, now and for later resets."""
+        self.participant = participant
+        self.human.set_participant(participant)
 
     def recover(self) -> None:
         """Clear the reflex error (error_recovery); the controller restarts from rest."""

@@ -1,0 +1,212 @@
+"""`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url)."""
+import argparse
+import os
+import sys
+
+import httpx
+import yaml
+
+DEFAULT_URL = "http://127.0.0.1:8000"
+
+
+class CliError(Exception):
+    pass
+
+
+def _client(args) -> httpx.Client:
+    return httpx.Client(base_url=args.url, timeout=10.0)
+
+
+def _request(args, method: str, path: str, **kwargs) -> httpx.Response:
+    try:
+        with _client(args) as client:
+            return client.request(method, path, **kwargs)
+    except httpx.HTTPError as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+
+
+def _yaml_arg(text: str) -> dict:
+    try:
+        value = yaml.safe_load(text) if text.strip() else {}
+    except yaml.YAMLError as exc:
+        raise CliError(f"invalid YAML: {exc}") from None
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise CliError("the request must be a YAML mapping, e.g. '{a: 1, b: 2}'")
+    return value
+
+
+def _message(type_name: str, suffix: str, values: dict) -> str:
+    fields = ", ".join(f"{k}={v!r}" for k, v in values.items())
+    return f"{type_name.replace('/', '.')}_{suffix}({fields})"
+
+
+def _detail(response: httpx.Response) -> str:
+    try:
+        body = response.json()
+    except ValueError:
+        return response.text
+    detail = body.get("detail", body) if isinstance(body, dict) else body
+    if isinstance(detail, list):  # FastAPI validation errors
+        return "; ".join(f"{'.'.join(str(x) for x in e.get('loc', [])[1:]) or 'request'}: {e.get('msg')}" for e in detail)
+    return str(detail)
+
+
+# --- service ----------------------------------------------------------------------------------
+def service(args) -> int:
+    if args.action == "list":
+        for s in _request(args, "GET", "/services").json():
+            print(f"{s['name']} [{s['type']}]" if args.show_types else s["name"])
+        return 0
+    name = "/" + args.name.lstrip("/")
+    info = _request(args, "GET", f"/services{name}")
+    if info.status_code == 404:
+        raise CliError(f"service '{name}' is not available")
+    info = info.json()
+    if args.action == "type":
+        print(info["type"])
+        return 0
+    if args.action == "show":
+        print(info["srv"])
+        return 0
+    request = _yaml_arg(args.values or "")
+    print(f"requester: making request: {_message(info['type'], 'Request', request)}\n")
+    response = _request(args, "POST", f"/services{name}", json=request)
+    if response.status_code != 200:
+        print(f"service call failed: {_detail(response)}", file=sys.stderr)
+        return 1
+    print("response:")
+    print(_message(info["type"], "Response", response.json()))
+    return 0
+
+
+# --- param ------------------------------------------------------------------------------------
+VALUE_WORDS = {"double": "Double", "integer": "Integer", "string": "String", "bool": "Boolean"}
+
+
+def param(args) -> int:
+    node = (getattr(args, "node", None) or "").strip("/")
+    if args.action == "list":
+        current = None
+        for p in _request(args, "GET", "/params").json():
+            if node and p["node"] != node:
+                continue
+            if p["node"] != current:
+                current = p["node"]
+                print(f"/{current}:")
+            print(f"  {p['name']}")
+        return 0
+    if args.action == "get":
+        response = _request(args, "GET", f"/params/{node}/{args.name}")
+        if response.status_code != 200:
+            print(response.json().get("reason", "Parameter not set."))
+            return 1
+        body = response.json()
+        print(f"{VALUE_WORDS.get(body['type'], 'Value')} value is: {body['value']}")
+        return 0
+    if args.action == "set":
+        value = yaml.safe_load(args.value)
+        response = _request(args, "PUT", f"/params/{node}/{args.name}", json={"value": value})
+        body = response.json()
+        if body.get("successful"):
+            print("Set parameter successful")
+            return 0
+        print(f"Setting parameter failed: {body.get('reason')}")
+        return 1
+    if args.action == "describe":
+        response = _request(args, "GET", f"/params/{node}/{args.name}/describe")
+        if response.status_code != 200:
+            print("Parameter not set")
+            return 1
+        d = response.json()
+        print(f"Parameter name: {d['name']}\n  Type: {d['type']}\n  Description: {d['description']}")
+        constraints = []
+        if d.get("read_only"):
+            constraints.append("    Read only: true")
+        if "min_value" in d:
+            constraints += [f"    Min value: {d['min_value']}", f"    Max value: {d['max_value']}"]
+        if d.get("choices"):
+            constraints.append(f"    One of: {', '.join(d['choices'])}")
+        if constraints:
+            print("  Constraints:\n" + "\n".join(constraints))
+        return 0
+    if args.action == "dump":
+        print(_request(args, "GET", "/params/dump", params={"node": node} if node else None).text, end="")
+        return 0
+    if args.action == "load":
+        with open(args.file, encoding="utf-8") as handle:
+            text = handle.read()
+        response = _request(args, "POST", "/params/load", content=text)
+        body = response.json()
+        if "results" not in body:
+            print(f"Loading parameters failed: {body.get('reason')}")
+            return 1
+        for r in body["results"]:
+            print(f"Set parameter {r['name']} successful" if r["successful"] else
+                  f"Set parameter {r['name']} failed: {r['reason']}")
+        return 0 if body["successful"] else 1
+    raise CliError(f"unknown param action {args.action}")
+
+
+# --- topic ------------------------------------------------------------------------------------
+def topic(args) -> int:
+    if args.action == "list":
+        for t in _request(args, "GET", "/topics").json():
+            print(f"{t['name']} [{t['type']}]" if args.show_types else t["name"])
+        return 0
+    name = "/" + args.name.lstrip("/")
+    response = _request(args, "GET", f"/topics{name}")
+    if response.status_code != 200:
+        raise CliError(_detail(response))
+    print(yaml.safe_dump(response.json(), sort_keys=False), end="")
+    print("---")
+    return 0
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    url = argparse.ArgumentParser(add_help=False)
+    url.add_argument("--url", default=os.environ.get("HRI_LAB_URL", DEFAULT_URL),
+                     help=f"the hri-lab server (default $HRI_LAB_URL or {DEFAULT_URL})")
+
+    srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
+    srv_sub = srv.add_subparsers(dest="action", required=True)
+    srv_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    for action in ("type", "show"):
+        srv_sub.add_parser(action, parents=[url]).add_argument("name")
+    call = srv_sub.add_parser("call", parents=[url])
+    call.add_argument("name")
+    call.add_argument("values", nargs="?", default="", help="request as YAML, e.g. '{a: 1, b: 2}'")
+    srv.set_defaults(func=service)
+
+    prm = sub.add_parser("param", help="parameters (like ros2 param)")
+    prm_sub = prm.add_subparsers(dest="action", required=True)
+    prm_sub.add_parser("list", parents=[url]).add_argument("node", nargs="?")
+    for action in ("get", "describe"):
+        p = prm_sub.add_parser(action, parents=[url])
+        p.add_argument("node")
+        p.add_argument("name")
+    p = prm_sub.add_parser("set", parents=[url])
+    p.add_argument("node")
+    p.add_argument("name")
+    p.add_argument("value", help="YAML value, e.g. 0.5, true, sp")
+    prm_sub.add_parser("dump", parents=[url]).add_argument("node", nargs="?")
+    prm_sub.add_parser("load", parents=[url]).add_argument("file")
+    prm.set_defaults(func=param)
+
+    top = sub.add_parser("topic", help="topics (like ros2 topic)")
+    top_sub = top.add_subparsers(dest="action", required=True)
+    top_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    top_sub.add_parser("echo", parents=[url], help="print the latest message once").add_argument("name")
+    top.set_defaults(func=topic)
+
+
+def run(func, args) -> int:
+    try:
+        return func(args)
+    except CliError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+
+
+__all__ = ["add_parsers", "run"]

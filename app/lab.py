@@ -1,0 +1,40 @@
+"""The Lab: the server's one simulation (world + real-time loop), its parameters and its log."""
+import time
+from collections import deque
+from typing import Callable, TypeVar
+
+from sim.robot import PandaModel
+from sim.world import Snapshot, World, WorldConfig
+
+from .params import ParameterServer
+from .sim_loop import SimulationLoop
+
+T = TypeVar("T")
+
+
+class Lab:
+    def __init__(self, config: WorldConfig | None = None, realtime: bool = True) -> None:
+        self.world = World(config or WorldConfig())
+        self.loop = SimulationLoop(self.world, realtime=realtime)
+        self.model = PandaModel()  # for computations on snapshots (not the loop's pinocchio data)
+        self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
+        from .lab_params import LAB_PARAMETERS
+
+        self.params = ParameterServer(LAB_PARAMETERS, self)
+
+    def start(self) -> None:
+        self.loop.start()
+
+    def stop(self) -> None:
+        self.loop.stop()
+
+    def call(self, fn: Callable[[World], T], timeout: float = 2.0) -> T:
+        """Run fn(world) on the loop thread between two steps and return its result."""
+        return self.loop.call(fn, timeout)
+
+    def snapshot(self) -> Snapshot:
+        return self.loop.snapshot()
+
+    def info(self, node: str, message: str) -> None:
+        """A log line (like rosout)."""
+        self.log.append({"stamp": time.time(), "node": node, "level": "INFO", "msg": message})

@@ -1,0 +1,195 @@
+"""Parameters as ROS 2 has them: declared with a type, default, description, range and read-only
+flag, per node; get / set / list / describe / dump / load (YAML) with rclcpp's refusal messages.
+
+One declaration per parameter; `apply` runs on the simulation loop thread so a change takes effect
+in the running controller or simulation; `read` (when given) reads the value from the world, for
+values that services also change (f_n_min is set by start/stop_cooperative_lifting).
+Deviation from ROS 2: JSON has one number type, so an integer is accepted for a double.
+"""
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Literal
+
+import yaml
+from fastapi import APIRouter, Body, HTTPException, Request
+from fastapi.responses import JSONResponse, PlainTextResponse
+from pydantic import BaseModel, ConfigDict
+
+ParamType = Literal["double", "integer", "string", "bool"]
+PY_TYPES = {"double": (float, int), "integer": (int,), "string": (str,), "bool": (bool,)}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    node: str
+    name: str
+    type: ParamType
+    default: Any
+    description: str
+    range: tuple[float, float] | None = None
+    read_only: bool = False
+    choices: tuple[str, ...] = ()  # allowed strings (checked like an on_set callback)
+    apply: Callable[[Any, Any], None] | None = None  # (world, value), on the loop thread
+    read: Callable[[Any], Any] | None = None  # (world) -> value, on the loop thread
+
+    def describe(self) -> dict:
+        out = {"node": self.node, "name": self.name, "type": self.type, "description": self.description,
+               "read_only": self.read_only, "default": self.default}
+        if self.range is not None:
+            out["min_value"], out["max_value"] = self.range
+        if self.choices:
+            out["choices"] = list(self.choices)
+        return out
+
+
+def type_name(value: Any) -> str:
+    """The ROS 2 type name of a JSON/YAML value."""
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, int):
+        return "integer"
+    if isinstance(value, float):
+        return "double"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, list):
+        return "array"
+    return "not set" if value is None else type(value).__name__
+
+
+class ParameterRefused(Exception):
+    """rclcpp's reason for refusing a set (the message)."""
+
+    def __init__(self, reason: str, status: int = 422) -> None:
+        super().__init__(reason)
+        self.status = status
+
+
+class ParameterServer:
+    def __init__(self, declarations: list[Parameter], lab: Any) -> None:
+        self.lab = lab
+        self.declarations = {(p.node, p.name): p for p in declarations}
+        self.values = {(p.node, p.name): p.default for p in declarations}
+
+    def declaration(self, node: str, name: str) -> Parameter:
+        param = self.declarations.get((node.strip("/"), name))
+        if param is None:
+            raise ParameterRefused(f"parameter '{name}' cannot be set because it was not declared", 404)
+        return param
+
+    def get(self, node: str, name: str) -> Any:
+        param = self.declarations.get((node.strip("/"), name))
+        if param is None:
+            raise ParameterRefused("Parameter not set.", 404)
+        if param.read is not None:
+            return self.lab.call(param.read)
+        return self.values[(param.node, param.name)]
+
+    def set(self, node: str, name: str, value: Any, force: bool = False) -> None:
+        """Set or raise ParameterRefused with rclcpp's reason. force: skip read-only (start-up files)."""
+        param = self.declaration(node, name)
+        if param.read_only and not force:
+            raise ParameterRefused(f"parameter '{name}' cannot be set because it is read-only")
+        if not isinstance(value, PY_TYPES[param.type]) or (param.type != "bool" and isinstance(value, bool)):
+            raise ParameterRefused(
+                f"Wrong parameter type, parameter {{{name}}} is of type {{{param.type}}}, "
+                f"setting it to {{{type_name(value)}}} is not allowed."
+            )
+        if param.type == "double":
+            value = float(value)
+        if param.range is not None:
+            low, high = param.range
+            kind = "floating point" if param.type == "double" else "integer"
+            if not (math.isfinite(value) and low <= value <= high):
+                raise ParameterRefused(f"Parameter {{{name}}} doesn't comply with {kind} range.")
+        if param.choices and value not in param.choices:
+            raise ParameterRefused(f"Parameter {{{name}}} must be one of {', '.join(param.choices)}.")
+        if param.apply is not None:
+            self.lab.call(lambda world: param.apply(world, value))
+        self.values[(param.node, param.name)] = value
+
+    def items(self) -> list[tuple[Parameter, Any]]:
+        return [(p, self.get(p.node, p.name)) for p in self.declarations.values()]
+
+    def dump(self, node: str | None = None) -> str:
+        """YAML like `ros2 param dump`: node: {ros__parameters: {name: value}}."""
+        tree: dict[str, dict] = {}
+        for param, value in self.items():
+            if node is None or param.node == node.strip("/"):
+                tree.setdefault(param.node, {"ros__parameters": {}})["ros__parameters"][param.name] = value
+        return yaml.safe_dump(tree, sort_keys=False)
+
+    def load(self, text: str, force: bool = False) -> list[dict]:
+        """Set every parameter of a dump; one result per parameter (like `ros2 param load`)."""
+        try:
+            tree = yaml.safe_load(text)
+        except yaml.YAMLError as exc:
+            raise ParameterRefused(f"invalid YAML: {exc}") from None
+        if not isinstance(tree, dict):
+            raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}")
+        results = []
+        for node, body in tree.items():
+            params = body.get("ros__parameters") if isinstance(body, dict) else None
+            if not isinstance(params, dict):
+                raise ParameterRefused(f"node '{node}' has no ros__parameters mapping")
+            for name, value in params.items():
+                try:
+                    self.set(str(node), str(name), value, force=force)
+                    results.append({"node": str(node).strip("/"), "name": name, "successful": True, "reason": ""})
+                except ParameterRefused as refused:
+                    results.append({"node": str(node).strip("/"), "name": name, "successful": False, "reason": str(refused)})
+        return results
+
+
+class SetParameter(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    value: Any
+
+
+def router(server: ParameterServer) -> APIRouter:
+    r = APIRouter(tags=["parameters"])
+
+    def refused(exc: ParameterRefused) -> JSONResponse:
+        return JSONResponse({"successful": False, "reason": str(exc)}, status_code=exc.status)
+
+    @r.get("/params", summary="All parameters with their values (ros2 param list)")
+    def list_params() -> list[dict]:
+        return [{"node": p.node, "name": p.name, "type": p.type, "value": v} for p, v in server.items()]
+
+    @r.get("/params/dump", response_class=PlainTextResponse, summary="YAML of all (or one node's) parameters")
+    def dump(node: str | None = None) -> str:
+        return server.dump(node)
+
+    @r.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)")
+    async def load(request: Request):
+        text = (await request.body()).decode("utf-8", errors="replace")
+        try:
+            results = server.load(text)
+        except ParameterRefused as exc:
+            return refused(exc)
+        return {"successful": all(x["successful"] for x in results), "results": results}
+
+    @r.get("/params/{node}/{name}", summary="Value of a parameter (ros2 param get)")
+    def get(node: str, name: str):
+        try:
+            value = server.get(node, name)
+        except ParameterRefused as exc:
+            return refused(exc)
+        return {"node": node, "name": name, "type": server.declaration(node, name).type, "value": value}
+
+    @r.get("/params/{node}/{name}/describe", summary="Descriptor of a parameter (ros2 param describe)")
+    def describe(node: str, name: str):
+        param = server.declarations.get((node, name))
+        if param is None:
+            raise HTTPException(404, "Parameter not set.")
+        return param.describe()
+
+    @r.put("/params/{node}/{name}", summary="Set a parameter (ros2 param set)")
+    def set_param(node: str, name: str, body: SetParameter = Body(...)):
+        try:
+            server.set(node, name, body.value)
+        except ParameterRefused as exc:
+            return refused(exc)
+        return {"successful": True, "reason": ""}
+
+    return r

@@ -1,0 +1,47 @@
+"""ROS field types for pydantic messages, and the .msg/.srv text generated from a message model.
+
+A message is a `RosMessage` (strict: a string is not a number, a bool is not an int, unknown
+fields are refused) whose fields are annotated with these types, e.g. `a: Int64`.
+"""
+from dataclasses import dataclass
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field
+
+INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
+INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
+
+
+@dataclass(frozen=True)
+class RosType:
+    """The ROS type name of a field (shown in the .srv text)."""
+
+    name: str
+
+
+Float64 = Annotated[float, Field(allow_inf_nan=False), RosType("float64")]
+Int64 = Annotated[int, Field(ge=INT64_MIN, le=INT64_MAX), RosType("int64")]
+Int32 = Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), RosType("int32")]
+Bool = Annotated[bool, RosType("bool")]
+String = Annotated[str, Field(max_length=10_000), RosType("string")]
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+
+
+def float64_array(min_length: int | None = None, max_length: int | None = None):
+    """float64[] with an optional length range (e.g. a wrench has exactly 6)."""
+    return Annotated[list[FiniteFloat], Field(min_length=min_length, max_length=max_length), RosType("float64[]")]
+
+
+class RosMessage(BaseModel):
+    model_config = ConfigDict(strict=True, extra="forbid", populate_by_name=True)
+
+
+def definition(model: type[BaseModel]) -> str:
+    """The ROS message definition of a model: one `type name` line per field."""
+    lines = []
+    for name, field in model.model_fields.items():
+        ros = next((m for m in field.metadata if isinstance(m, RosType)), None)
+        if ros is None:
+            raise TypeError(f"{model.__name__}.{name} has no ROS type")
+        lines.append(f"{ros.name} {field.alias or name}")
+    return "\n".join(lines)

@@ -1,0 +1,46 @@
+"""`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file)."""
+import sys
+
+import uvicorn
+
+from .lab import Lab
+from .params import ParameterRefused
+from .server import create_app
+
+
+def load_parameter_file(lab: Lab, path: str) -> None:
+    """Apply a `param dump` file at start (the seed's launch file); read-only ones too, as
+    parameter overrides can at declaration. Any refusal stops the start with its reason."""
+    with open(path, encoding="utf-8") as handle:
+        results = lab.params.load(handle.read(), force=True)
+    failed = [r for r in results if not r["successful"]]
+    if failed:
+        raise ParameterRefused("; ".join(f"/{r['node']}/{r['name']}: {r['reason']}" for r in failed))
+
+
+def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None) -> int:
+    lab = Lab()
+    if params_file:
+        try:
+            load_parameter_file(lab, params_file)
+        except (OSError, ParameterRefused) as exc:
+            print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
+            return 2
+    config = uvicorn.Config(create_app(lab), host=host, port=port, log_level="warning", access_log=False)
+    server = AnnouncingServer(config)
+    server.run()
+    return 0 if server.started else 1
+
+
+class AnnouncingServer(uvicorn.Server):
+    """Prints the URLs once the socket is bound (not before: the port may be taken)."""
+
+    async def startup(self, sockets=None) -> None:
+        await super().startup(sockets)
+        if self.started:
+            base = f"http://{self.config.host}:{self.config.port}"
+            print(
+                f"hri-lab is running:\n  API       {base}/services  {base}/params  {base}/topics\n"
+                f"  API docs  {base}/docs\n  health    {base}/health\nPress Ctrl+C to stop.",
+                flush=True,
+            )

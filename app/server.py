@@ -1,0 +1,76 @@
+"""The FastAPI app: the lab's services, parameters and topics over HTTP, with the live loop."""
+from contextlib import asynccontextmanager
+
+import math
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+
+from . import params as params_api
+from . import topics as topics_api
+from .lab import Lab
+from .lab_services import SERVICES
+
+
+def create_app(lab: Lab | None = None) -> FastAPI:
+    """The app around `lab` (a new Lab if none); the loop runs while the app is served."""
+    lab = lab or Lab()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI):
+        lab.start()
+        try:
+            yield
+        finally:
+            lab.stop()
+
+    app = FastAPI(
+        title="hri-lab",
+        description="The simulated cooperative-lifting lab: ROS services, parameters and topics over HTTP.",
+        version="0.1.0",
+        lifespan=lifespan,
+    )
+    app.state.lab = lab
+
+    @app.exception_handler(RequestValidationError)
+    async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
+        """422 naming the field; the offending input is echoed JSON-safe (NaN/inf as text)."""
+        return JSONResponse({"detail": json_safe(exc.errors())}, status_code=422)
+    app.include_router(SERVICES.router(lab))
+    app.include_router(params_api.router(lab.params))
+    app.include_router(topics_api.router(lab))
+
+    @app.get("/health", tags=["system"], summary="Is the simulation loop running, and how well")
+    def health() -> dict:
+        stats = lab.loop.stats()
+        snapshot = lab.snapshot()
+        return {
+            "loop_alive": lab.loop.alive,
+            "sim_time": snapshot.time,
+            "ticks": stats.ticks,
+            "rate_hz": stats.rate_hz,
+            "lateness_p50_ms": stats.lateness_p50 * 1e3,
+            "lateness_p99_ms": stats.lateness_p99 * 1e3,
+            "overruns": stats.overruns,
+            "error": snapshot.error,
+        }
+
+    @app.get("/log", tags=["system"], summary="Recent log lines of the services (rosout)")
+    def log() -> list[dict]:
+        return list(lab.log)
+
+    return app
+
+
+def json_safe(value):
+    """value with non-finite floats as strings and anything else unknown as its repr."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else repr(value)
+    if isinstance(value, (str, int, bool)) or value is None:
+        return value
+    if isinstance(value, dict):
+        return {str(k): json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v) for v in value]
+    return repr(value)

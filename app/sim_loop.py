@@ -1,0 +1,131 @@
+"""The real-time loop: one thread owns the World and steps it at the control rate (1 kHz).
+
+Other threads never touch the world: they `submit()` a function that the loop runs between two
+steps (a lock-protected command queue) and read the latest `Snapshot`, published after every step.
+An exception in a submitted function goes back to its caller; the loop goes on.
+"""
+from __future__ import annotations
+
+import queue
+import threading
+import time
+from collections import deque
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import Callable, TypeVar
+
+from sim.world import Snapshot, World
+
+T = TypeVar("T")
+
+
+@dataclass
+class LoopStats:
+    """Timing of the loop (s)."""
+
+    ticks: int
+    rate_hz: float
+    lateness_p50: float
+    lateness_p99: float
+    overruns: int  # periods skipped because the loop fell too far behind
+
+
+class SimulationLoop:
+    max_behind = 0.05  # s; further behind than this, the loop drops the missed periods
+
+    def __init__(self, world: World, realtime: bool = True) -> None:
+        self.world = world
+        self.realtime = realtime
+        self._commands: queue.SimpleQueue[tuple[Callable[[World], object], Future]] = queue.SimpleQueue()
+        self._snapshot_lock = threading.Lock()
+        self._snapshot = world.snapshot()
+        self._lateness: deque[float] = deque(maxlen=5000)
+        self._ticks = 0
+        self._overruns = 0
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._started = 0.0
+
+    # --- life cycle -------------------------------------------------------------------------
+    def start(self) -> None:
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="sim-loop", daemon=True)
+            self._started = time.perf_counter()
+            self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+
+    @property
+    def alive(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    # --- talking to the world ---------------------------------------------------------------
+    def submit(self, fn: Callable[[World], T]) -> Future:
+        """Run fn(world) on the loop thread before the next step; the future holds its result."""
+        future: Future = Future()
+        if not self.alive:  # not running (e.g. before start): run here, nobody else steps
+            _resolve(future, fn, self.world)
+            return future
+        self._commands.put((fn, future))
+        return future
+
+    def call(self, fn: Callable[[World], T], timeout: float = 2.0) -> T:
+        """submit() and wait for the result (re-raises fn's exception)."""
+        return self.submit(fn).result(timeout=timeout)
+
+    def snapshot(self) -> Snapshot:
+        with self._snapshot_lock:
+            return self._snapshot
+
+    def stats(self) -> LoopStats:
+        late = sorted(self._lateness)
+        elapsed = time.perf_counter() - self._started if self._started else 0.0
+        pick = (lambda q: late[min(len(late) - 1, int(q * len(late)))]) if late else (lambda q: 0.0)
+        return LoopStats(
+            ticks=self._ticks,
+            rate_hz=self._ticks / elapsed if elapsed > 0 else 0.0,
+            lateness_p50=pick(0.5),
+            lateness_p99=pick(0.99),
+            overruns=self._overruns,
+        )
+
+    # --- the loop ---------------------------------------------------------------------------
+    def _run(self) -> None:
+        period = self.world.config.dt
+        next_tick = time.perf_counter()
+        while not self._stop.is_set():
+            self._drain_commands()
+            self.world.step()
+            snapshot = self.world.snapshot()
+            with self._snapshot_lock:
+                self._snapshot = snapshot
+            self._ticks += 1
+            if not self.realtime:
+                continue
+            next_tick += period
+            now = time.perf_counter()
+            if now - next_tick > self.max_behind:  # far behind (paused, overloaded): resync
+                self._overruns += 1
+                next_tick = now
+            elif next_tick > now:
+                time.sleep(next_tick - now)
+            self._lateness.append(max(0.0, time.perf_counter() - next_tick))
+
+    def _drain_commands(self) -> None:
+        while True:
+            try:
+                fn, future = self._commands.get_nowait()
+            except queue.Empty:
+                return
+            _resolve(future, fn, self.world)
+
+
+def _resolve(future: Future, fn: Callable[[World], object], world: World) -> None:
+    try:
+        future.set_result(fn(world))
+    except BaseException as exc:  # noqa: BLE001 - handed back to the caller, never kills the loop
+        future.set_exception(exc)

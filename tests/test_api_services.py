@@ -1,0 +1,196 @@
+"""The lab's services over HTTP against the real app and its live loop."""
+import math
+import time
+
+import numpy as np
+import pytest
+
+from sim import planar_arm
+
+EXPECTED = {
+    "/start_cooperative_lifting": "hri_lab/StartCooperativeLifting",
+    "/stop_cooperative_lifting": "hri_lab/StopCooperativeLifting",
+    "/compute_torques": "hri_lab/ComputeTorques",
+    "/compute_wrench": "hri_lab/ComputeWrench",
+    "/planar_torques": "hri_lab/PlanarTorques",
+    "/add_two_ints": "hri_lab/AddTwoInts",
+    "/divide_ints": "hri_lab/DivideInts",
+    "/multiply_three": "hri_lab/MultiplyThree",
+    "/echo": "hri_lab/Echo",
+    "/login": "hri_lab/Login",
+    "/get_target_position": "hri_lab/GetObjectPosition",
+    "/error_recovery": "std_srvs/Trigger",
+    "/reset_simulation": "std_srvs/Trigger",
+}
+
+
+def refused(response, field):
+    """422 whose error names `field`."""
+    assert response.status_code == 422, response.text
+    locs = [e["loc"] for e in response.json()["detail"]]
+    assert any(field in loc for loc in locs), locs
+
+
+def wait_for(predicate, timeout=5.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.02)
+    raise AssertionError("condition not met in time")
+
+
+def test_service_list_and_types(client):
+    listed = {s["name"]: s["type"] for s in client.get("/services").json()}
+    assert listed == EXPECTED
+
+
+def test_service_definitions(client):
+    start = client.get("/services/start_cooperative_lifting").json()
+    assert start["srv"] == "float64 force\n---\nstring message"
+    assert client.get("/services/error_recovery").json()["srv"] == "---\nbool success\nstring message"
+    assert client.get("/services/echo").json()["srv"] == "string in\n---\nstring out"
+    assert client.get("/services/planar_torques").json()["srv"] == "float64[] q\nfloat64[] force\n---\nfloat64[] torques"
+    assert client.get("/services/nope").status_code == 404
+    # each service is a typed route in the OpenAPI schema
+    paths = client.get("/openapi.json").json()["paths"]
+    assert "requestBody" in paths["/services/add_two_ints"]["post"]
+
+
+def test_start_moves_the_robot_to_the_box_and_stop_zeroes_the_command(client, lab):
+    client.post("/services/reset_simulation")
+    response = client.post("/services/start_cooperative_lifting", json={"force": 10.0})
+    assert response.status_code == 200
+    assert "10" in response.json()["message"]
+    state = client.get("/topics/lifting_state").json()
+    assert (state["started"], state["f_n_min"], state["f_n_max"]) == (True, 10.0, 15.0)
+    assert lab.call(lambda w: (w.params.f_n_min, w.params.f_n_max)) == (10.0, 15.0)
+    # the robot approaches: F_ext f_z rises within a few hundred ms of real time
+    fz = wait_for(lambda: (f := client.get("/topics/franka_state_controller/F_ext").json()["wrench"]["force"]["z"]) > 5 and f)
+    assert fz > 5
+    command = client.get("/topics/cartesian_velocity_controller/command").json()
+    assert command["linear"]["y"] >= 0.0  # pressing along the plate normal (base +y)
+    response = client.post("/services/stop_cooperative_lifting")
+    assert "stopped" in response.json()["message"] and "0" in response.json()["message"]
+
+    def command_is_zero():
+        c = client.get("/topics/cartesian_velocity_controller/command").json()
+        return all(abs(v) < 1e-9 for part in ("linear", "angular") for v in c[part].values())
+
+    wait_for(command_is_zero, timeout=2.0)
+    assert client.get("/topics/lifting_state").json()["started"] is False
+
+
+@pytest.mark.parametrize("body", [{"force": -1.0}, {"force": 61.0}, {"force": "10"}, {"force": "NaN"}, {"force": None}, {}])
+def test_start_refusals(client, body):
+    refused(client.post("/services/start_cooperative_lifting", json=body), "force")
+
+
+@pytest.mark.parametrize("raw", [b'{"force": NaN}', b'{"force": Infinity}', b'{"force": 1e999}', b'{"force": -Infinity}'])
+def test_start_refuses_non_finite_numbers(client, raw):
+    response = client.post("/services/start_cooperative_lifting", content=raw, headers={"content-type": "application/json"})
+    refused(response, "force")
+
+
+def test_compute_torques(client, lab):
+    client.post("/services/stop_cooperative_lifting")
+    force = [1.0, -2.0, 3.0, 0.1, 0.2, -0.3]
+    q = lab.snapshot().q
+    torques = client.post("/services/compute_torques", json={"force": force}).json()["torques"]
+    assert len(torques) == 7
+    assert torques == pytest.approx(lab.model.jacobian_base(q).T @ np.array(force), abs=1e-6)
+    refused(client.post("/services/compute_torques", json={"force": [1.0] * 5}), "force")
+    refused(client.post("/services/compute_torques", json={"force": [1.0] * 7}), "force")
+    refused(client.post("/services/compute_torques", json={"force": [1, 2, 3, 4, 5, "NaN"]}), "force")
+    refused(client.post("/services/compute_torques", json={"force": "123456"}), "force")
+
+
+def test_compute_wrench_round_trip(client, lab):
+    wrench = np.array([2.0, 0.5, -1.0, 0.1, 0.0, 0.2])
+    tau = lab.model.torques_from_wrench(lab.snapshot().q, wrench)
+    body = client.post("/services/compute_wrench", json={"torques": tau.tolist()}).json()
+    assert body["force"] == pytest.approx(wrench, abs=1e-6)
+    assert "residual" in body["message"]
+    refused(client.post("/services/compute_wrench", json={"torques": [0.0] * 6}), "torques")
+
+
+def test_planar_torques(client):
+    body = client.post("/services/planar_torques", json={"q": [math.pi / 2, -math.pi / 2, math.pi / 2], "force": [1.0, 0.0]}).json()
+    assert body["torques"] == pytest.approx([-2.0, -1.0, -1.0])
+    assert client.post("/services/planar_torques", json={"q": [0, 0, 0], "force": [0, 1, 0.5]}).json()["torques"] == pytest.approx(
+        planar_arm.torques([0, 0, 0], [0, 1, 0.5]))
+    refused(client.post("/services/planar_torques", json={"q": [0, 0], "force": [1, 0]}), "q")
+    refused(client.post("/services/planar_torques", json={"q": [0, 0, 0], "force": [1]}), "force")
+
+
+def test_integer_services(client):
+    assert client.post("/services/add_two_ints", json={"a": 2, "b": 3}).json() == {"sum": 5}
+    assert client.post("/services/divide_ints", json={"a": 7, "b": 2}).json() == {"result": 3.5, "message": "Division ok."}
+    assert client.post("/services/divide_ints", json={"a": 7, "b": 0}).json() == {"result": 0.0, "message": "Division by zero!"}
+    assert client.post("/services/multiply_three", json={"a": 2, "b": 3, "c": -4}).json() == {"product": -24}
+    # int64 is int64: an input beyond it is refused, a result beyond it is a clear failure
+    refused(client.post("/services/add_two_ints", json={"a": 2**63, "b": 0}), "a")
+    refused(client.post("/services/add_two_ints", json={"a": 1.5, "b": 0}), "a")
+    refused(client.post("/services/add_two_ints", json={"a": True, "b": 0}), "a")
+    refused(client.post("/services/add_two_ints", json={"a": "1", "b": 0}), "a")
+    refused(client.post("/services/add_two_ints", json={"a": 1}), "b")
+    overflow = client.post("/services/multiply_three", json={"a": 2**62, "b": 2, "c": 2})
+    assert overflow.status_code == 400 and "int64" in overflow.json()["detail"]
+    overflow = client.post("/services/add_two_ints", json={"a": 2**63 - 1, "b": 1})
+    assert overflow.status_code == 400 and "int64" in overflow.json()["detail"]
+
+
+def test_echo_login_and_camera(client):
+    assert client.post("/services/echo", json={"in": "hello lab"}).json() == {"out": "hello lab"}
+    refused(client.post("/services/echo", json={}), "in")
+    refused(client.post("/services/echo", json={"in": "x", "extra": 1}), "extra")
+    ok = client.post("/services/login", json={"username": "ada", "magic_number": 42}).json()
+    assert ok["success"] is True and "ada" in ok["message"]
+    assert client.post("/services/login", json={"username": "ada", "magic_number": 7}).json()["success"] is False
+    pixel = client.post("/services/get_target_position", json={"get": True}).json()
+    assert 0 <= pixel["x"] < 640 and 0 <= pixel["y"] < 480
+    assert client.post("/services/get_target_position", json={"get": False}).json() == {"x": 0, "y": 0}
+    assert any(line["node"] == "get_target_position" for line in client.get("/log").json())
+    refused(client.post("/services/get_target_position", json={"get": "yes"}), "get")
+
+
+def test_camera_projection_follows_the_box():
+    """The projection by hand: a point on the optical axis lands in the image centre; a point
+    higher up lands above it (smaller y)."""
+    from app.lab_services import CAMERA_TARGET, project
+
+    assert project(CAMERA_TARGET) == (320, 240)
+    x, y = project(CAMERA_TARGET + [0.0, 0.0, 0.1])
+    assert x == 320 and y < 240
+
+
+def test_error_recovery_and_reset(client, lab):
+    lab.call(lambda w: w.arm.command_twist(np.array([0.0, 0.0, 5.0, 0, 0, 0]), 1e-3))  # a reflex
+    assert "cartesian velocity limit" in client.get("/topics/lifting_state").json()["error"]
+    body = client.post("/services/error_recovery").json()
+    assert body["success"] is True and "cartesian velocity limit" in body["message"]
+    assert client.get("/topics/lifting_state").json()["error"] == ""
+    assert client.post("/services/error_recovery").json()["message"] == "No error to recover from."
+    body = client.post("/services/reset_simulation").json()
+    assert body["success"] is True
+    assert client.get("/topics/lifting_state").json()["human_phase"] == "grasping"
+
+
+def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
+    rng = np.random.default_rng(0)
+    junk = [None, True, -1, 2**64, -(2**70), 1.5, 1e308, "", "x" * 100, "NaN", [], [1, "a"], {}, {"a": 1},
+            [float(v) for v in range(6)], [1e308] * 7]
+    names = list(EXPECTED)
+    for _ in range(1000):
+        name = names[rng.integers(len(names))]
+        body = {str(rng.choice(["a", "b", "c", "force", "torques", "q", "in", "get", "username", "magic_number", "zz"])):
+                junk[rng.integers(len(junk))] for _ in range(rng.integers(0, 4))}
+        if rng.random() < 0.1:
+            response = client.post(f"/services{name}", content=bytes(rng.integers(0, 256, 20).tolist()),
+                                   headers={"content-type": "application/json"})
+        else:
+            response = client.post(f"/services{name}", json=body)
+        assert response.status_code < 500, (name, body, response.text)
+    assert lab.loop.alive
+    assert client.get("/health").json()["loop_alive"] is True

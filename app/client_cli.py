@@ -1,5 +1,6 @@
 """`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url)."""
 import argparse
+import json
 import os
 import sys
 
@@ -159,9 +160,70 @@ def topic(args) -> int:
     response = _request(args, "GET", f"/topics{name}")
     if response.status_code != 200:
         raise CliError(_detail(response))
-    print(yaml.safe_dump(response.json(), sort_keys=False), end="")
-    print("---")
+    if args.once:
+        _print_message(response.json())
+        return 0
+    from websockets.sync.client import connect
+
+    ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://") + f"/topics{name}/stream?rate={args.rate}"
+    received = 0
+    try:
+        with connect(ws_url) as ws:
+            while args.count is None or received < args.count:
+                _print_message(json.loads(ws.recv()))
+                received += 1
+    except KeyboardInterrupt:
+        pass
     return 0
+
+
+def _print_message(message: dict) -> None:
+    print(yaml.safe_dump(message, sort_keys=False), end="")
+    print("---", flush=True)
+
+
+# --- action -----------------------------------------------------------------------------------
+def _indented(values: dict | None) -> str:
+    text = yaml.safe_dump(values or {}, sort_keys=False, width=200).rstrip()
+    return "\n".join("    " + line for line in text.splitlines()) if values else "    {}"
+
+
+def action(args) -> int:
+    if args.action == "list":
+        for a in _request(args, "GET", "/actions").json():
+            print(f"{a['name']} [{a['type']}]" if args.show_types else a["name"])
+        return 0
+    name = "/" + args.name.lstrip("/")
+    info = _request(args, "GET", f"/actions{name}")
+    if info.status_code != 200:
+        raise CliError(f"action '{name}' is not available")
+    if args.action == "info":
+        info = info.json()
+        print(f"Action: {info['name']}\nType: {info['type']}\n\n{info['definition']}")
+        return 0
+    goal = _yaml_arg(args.values or "")
+    print(f"Sending goal:\n{_indented(goal)}\n")
+    response = _request(args, "POST", f"/actions{name}/goals", json=goal)
+    body = response.json()
+    if response.status_code == 422:
+        raise CliError(f"goal refused: {_detail(response)}")
+    if body.get("status") == "rejected":
+        print(f"Goal was rejected: {body.get('message')}")
+        return 1
+    goal_id = body["goal_id"]
+    print(f"Goal accepted with ID: {goal_id}\n")
+    seen = 0
+    while True:
+        view = _request(args, "GET", f"/actions{name}/goals/{goal_id}", params={"after": seen, "wait": 5}).json()
+        if args.feedback:
+            for fb in view["feedback"]:
+                print(f"Feedback:\n{_indented(fb)}\n")
+        seen = view["feedback_count"]
+        if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
+            break
+    print(f"Result:\n{_indented(view['result'])}\n")
+    print(f"Goal finished with status: {view['status'].upper()}" + (f" ({view['message']})" if view["status"] == "aborted" else ""))
+    return 0 if view["status"] == "succeeded" else 1
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
@@ -172,8 +234,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
     srv_sub = srv.add_subparsers(dest="action", required=True)
     srv_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
-    for action in ("type", "show"):
-        srv_sub.add_parser(action, parents=[url]).add_argument("name")
+    for verb in ("type", "show"):
+        srv_sub.add_parser(verb, parents=[url]).add_argument("name")
     call = srv_sub.add_parser("call", parents=[url])
     call.add_argument("name")
     call.add_argument("values", nargs="?", default="", help="request as YAML, e.g. '{a: 1, b: 2}'")
@@ -182,8 +244,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     prm = sub.add_parser("param", help="parameters (like ros2 param)")
     prm_sub = prm.add_subparsers(dest="action", required=True)
     prm_sub.add_parser("list", parents=[url]).add_argument("node", nargs="?")
-    for action in ("get", "describe"):
-        p = prm_sub.add_parser(action, parents=[url])
+    for verb in ("get", "describe"):
+        p = prm_sub.add_parser(verb, parents=[url])
         p.add_argument("node")
         p.add_argument("name")
     p = prm_sub.add_parser("set", parents=[url])
@@ -197,8 +259,22 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     top = sub.add_parser("topic", help="topics (like ros2 topic)")
     top_sub = top.add_subparsers(dest="action", required=True)
     top_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
-    top_sub.add_parser("echo", parents=[url], help="print the latest message once").add_argument("name")
+    echo = top_sub.add_parser("echo", parents=[url], help="print the messages of a topic")
+    echo.add_argument("name")
+    echo.add_argument("--once", action="store_true", help="print one message and exit")
+    echo.add_argument("--rate", type=float, default=10.0, help="messages per second (default 10)")
+    echo.add_argument("--count", type=int, help="exit after this many messages")
     top.set_defaults(func=topic)
+
+    act = sub.add_parser("action", help="actions (like ros2 action)")
+    act_sub = act.add_subparsers(dest="action", required=True)
+    act_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    act_sub.add_parser("info", parents=[url]).add_argument("name")
+    goal = act_sub.add_parser("send_goal", parents=[url])
+    goal.add_argument("name")
+    goal.add_argument("values", nargs="?", default="", help="goal as YAML, e.g. '{count: 3}'")
+    goal.add_argument("-f", "--feedback", action="store_true", help="print the feedback")
+    act.set_defaults(func=action)
 
 
 def run(func, args) -> int:

@@ -7,10 +7,18 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 
+from pydantic import BaseModel, ConfigDict
+
+from sim.teleop import key_twist
+
 from . import params as params_api
+from . import robot_model
 from . import topics as topics_api
+from .actions import ActionServer
 from .lab import Lab
+from .lab_actions import ACTIONS
 from .lab_services import SERVICES
+from .ros_types import Literal
 
 
 def create_app(lab: Lab | None = None) -> FastAPI:
@@ -40,6 +48,19 @@ def create_app(lab: Lab | None = None) -> FastAPI:
     app.include_router(SERVICES.router(lab))
     app.include_router(params_api.router(lab.params))
     app.include_router(topics_api.router(lab))
+    app.include_router(robot_model.router())
+    app.state.actions = ActionServer(ACTIONS, lab)
+    app.include_router(app.state.actions.router())
+
+    @app.post("/teleop/key", tags=["teleop"], summary="Jog the EE with a key (w/s: +-x, a/d: +-yaw, q: stop)")
+    def teleop(body: TeleopKey) -> JSONResponse:
+        speeds = (lab.params.get("keytwist", "linear_speed"), lab.params.get("keytwist", "angular_speed"))
+        twist = key_twist(body.key, *speeds)
+        try:
+            lab.call(lambda world: world.start_jog(twist))
+        except RuntimeError as exc:
+            return JSONResponse({"successful": False, "reason": str(exc)}, status_code=409)
+        return JSONResponse({"successful": True, "twist": twist.tolist()})
 
     @app.get("/health", tags=["system"], summary="Is the simulation loop running, and how well")
     def health() -> dict:
@@ -61,6 +82,11 @@ def create_app(lab: Lab | None = None) -> FastAPI:
         return list(lab.log)
 
     return app
+
+
+class TeleopKey(BaseModel):
+    model_config = ConfigDict(strict=True, extra="forbid")
+    key: Literal["w", "s", "a", "d", "q"]
 
 
 def json_safe(value):

@@ -6,14 +6,14 @@ A handler gets the Lab and the validated request and returns the response. A `Se
 becomes HTTP 400 with the reason; any other exception HTTP 500; both are service failure
 responses (JSON), the server and the simulation go on.
 """
-import inspect
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from fastapi import APIRouter, Body, HTTPException
+from fastapi import APIRouter, HTTPException
 from fastapi.responses import JSONResponse
 
 from .ros_types import RosMessage, definition
+from .typed_routes import with_body
 
 
 class ServiceFailure(Exception):
@@ -99,12 +99,9 @@ class ServiceRegistry:
 
 
 def _endpoint(lab: Any, service: Service) -> Callable:
-    """A route function whose signature carries the request model (so OpenAPI and validation know it)."""
-    has_fields = bool(service.request.model_fields)
+    """The route of a service call: validated request in, response or failure response out."""
 
-    def endpoint(request: RosMessage | None = None):
-        if request is None:
-            request = service.request()
+    def call(request: RosMessage):
         try:
             response = service.handler(lab, request)
         except ServiceFailure as failure:
@@ -114,10 +111,4 @@ def _endpoint(lab: Any, service: Service) -> Callable:
             return JSONResponse({"service": service.name, "success": False, "detail": detail}, status_code=500)
         return response.model_dump(by_alias=True)
 
-    default = Body(...) if has_fields else Body(None)
-    annotation = service.request if has_fields else service.request | None
-    endpoint.__signature__ = inspect.Signature(
-        [inspect.Parameter("request", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]
-    )
-    endpoint.__name__ = "call" + service.name.replace("/", "_")
-    return endpoint
+    return with_body(service.request, call, "call" + service.name.replace("/", "_"))

@@ -1,11 +1,16 @@
 """Topics: the latest message of each, built from the loop's snapshot, shaped like the ROS message
-it mirrors. One declaration per topic: name, type, builder(snapshot) -> dict."""
+it mirrors. One declaration per topic: name, type, builder(snapshot) -> dict.
+
+A stream (`/topics/{name}/stream?rate=HZ`, WebSocket) sends the newest message at most `rate`
+times a second. It only reads snapshots, so it never blocks the simulation; a client that reads
+slowly gets fewer, always fresh, messages (the ones it could not take are dropped)."""
+import asyncio
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import pinocchio as pin
-from fastapi import APIRouter, HTTPException
+from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
 
 from sim.world import Snapshot
 
@@ -107,4 +112,29 @@ def router(lab) -> APIRouter:
             raise HTTPException(404, f"topic '/{name.lstrip('/')}' does not exist")
         return topic.build(lab.snapshot())
 
+    @r.websocket("/topics/{name:path}/stream")
+    async def stream(websocket: WebSocket, name: str, rate: float = Query(10.0, gt=0.0, le=MAX_RATE_HZ)) -> None:
+        topic = by_name.get("/" + name.lstrip("/"))
+        if topic is None:
+            await websocket.close(code=1008, reason=f"topic '/{name.lstrip('/')}' does not exist")
+            return
+        await websocket.accept()
+        period = 1.0 / rate
+        loop = asyncio.get_running_loop()
+        next_send = loop.time()
+        last_time = None
+        try:
+            while True:
+                snapshot = lab.snapshot()
+                if snapshot.time != last_time:  # one message per new simulation state
+                    last_time = snapshot.time
+                    await websocket.send_json(topic.build(snapshot))
+                next_send = max(next_send + period, loop.time())  # behind: skip, never queue up
+                await asyncio.sleep(next_send - loop.time())
+        except (WebSocketDisconnect, RuntimeError):
+            return
+
     return r
+
+
+MAX_RATE_HZ = 1000.0

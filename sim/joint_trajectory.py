@@ -47,3 +47,21 @@ class JointTrajectory:
         q_ref = self.q_start + delta * minimum_jerk(tau)
         qdot_ref = delta * minimum_jerk_rate(tau) / self.duration
         return qdot_ref + self.feedback_gain * (q_ref - q)
+
+
+class JointBrake:
+    """Bring the joints to rest at a constant deceleration (a cancelled motion, like franka's stop)."""
+
+    def __init__(self, qdot: np.ndarray, deceleration: float = 2.0) -> None:
+        self.qdot = np.array(qdot, float)
+        self.deceleration = deceleration  # rad/s^2, below every Panda joint's limit
+        self.progress = 1.0
+
+    @property
+    def done(self) -> bool:
+        return not np.any(self.qdot)
+
+    def command(self, q: np.ndarray, dt: float) -> np.ndarray:
+        step = self.deceleration * dt
+        self.qdot = np.sign(self.qdot) * np.maximum(np.abs(self.qdot) - step, 0.0)
+        return self.qdot.copy()

@@ -20,10 +20,11 @@ from .cartesian_velocity import CartesianVelocityInterface
 from .contact import ContactParams, ContactResult, PatchContact, PatchGeometry
 from .controller import Controller, LiftingParams, start_lifting, stop_lifting
 from .human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
-from .joint_trajectory import JointTrajectory
+from .joint_trajectory import JointBrake, JointTrajectory
 from .robot import SIDE_Q, PandaModel, Plate
 from .sensor import SensorParams, WrenchSensor, wrench_at_ee
 from .sp_controller import SPController
+from .teleop import Jog
 from .spatial import cross3, norm3
 
 
@@ -96,7 +97,8 @@ class World:
         cfg = self.config
         self.rng = np.random.default_rng(cfg.seed if seed is None else seed)
         self.time = 0.0
-        self.motion: JointTrajectory | None = None
+        self.motion: JointTrajectory | JointBrake | None = None
+        self.jog: Jog | None = None
         self.arm.reset(np.array(cfg.start_q))
         self.controller.reset()
         self.sensor = WrenchSensor(cfg.sensor, self.rng)
@@ -163,6 +165,17 @@ class World:
         self.participant = participant
         self.human.set_participant(participant)
 
+    def stop_motion(self) -> None:
+        """Cancel move_to_start: the joints brake to rest."""
+        if isinstance(self.motion, JointTrajectory):
+            self.motion = JointBrake(self.arm.qdot)
+
+    def start_jog(self, twist_base: np.ndarray, duration: float = 0.5) -> None:
+        """Teleop: move the EE with `twist_base` for `duration` s (only while lifting is stopped)."""
+        if self.params.running:
+            raise RuntimeError("teleop is disabled while cooperative lifting runs")
+        self.jog = Jog(twist_base, duration).start_from(self.twist_command)
+
     def recover(self) -> None:
         """Clear the reflex error (error_recovery); the controller restarts from rest."""
         self.arm.recover()
@@ -184,7 +197,13 @@ class World:
             self.twist_command = self.arm.twist_base.copy()
             if self.motion.done or self.arm.error:
                 self.motion = None
+        elif self.jog is not None and not self.params.running:
+            self.twist_command = self.jog.step(dt)
+            self.arm.command_twist(self.twist_command, dt)
+            if self.jog.done or self.arm.error:
+                self.jog = None
         else:
+            self.jog = None
             self.twist_command = self._control(transform, dt)
             self.arm.command_twist(self.twist_command, dt)
         # 4. human

@@ -194,3 +194,28 @@ def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
         assert response.status_code < 500, (name, body, response.text)
     assert lab.loop.alive
     assert client.get("/health").json()["loop_alive"] is True
+
+
+def test_topic_stream_delivers_at_about_the_asked_rate(client):
+    with client.websocket_connect("/topics/franka_state_controller/F_ext/stream?rate=50") as ws:
+        first = ws.receive_json()
+        start_stamp = first["header"]["stamp"]["sec"] + first["header"]["stamp"]["nanosec"] * 1e-9
+        count = 0
+        while True:
+            msg = ws.receive_json()
+            count += 1
+            stamp = msg["header"]["stamp"]["sec"] + msg["header"]["stamp"]["nanosec"] * 1e-9
+            if stamp - start_stamp >= 1.0:
+                break
+    # about 50 messages per simulated (= real) second; never more than the asked rate
+    assert 30 <= count <= 55, count
+    assert msg["header"]["frame_id"] == "panda_K" and "force" in msg["wrench"]
+
+
+def test_topic_stream_refusals(client):
+    from starlette.websockets import WebSocketDisconnect
+
+    for path in ("/topics/nope/stream", "/topics/joint_states/stream?rate=0", "/topics/joint_states/stream?rate=5000"):
+        with pytest.raises(WebSocketDisconnect):
+            with client.websocket_connect(path) as ws:
+                ws.receive_json()

@@ -91,8 +91,10 @@ def test_param_cli(server, tmp_path):
 def test_topic_cli(server):
     url, _ = server
     assert "/franka_state_controller/F_ext [geometry_msgs/WrenchStamped]" in cli(url, "topic", "list", "-t").stdout
-    echo = cli(url, "topic", "echo", "/lifting_state").stdout
+    echo = cli(url, "topic", "echo", "/lifting_state", "--once").stdout
     assert "started: false" in echo and echo.rstrip().endswith("---")
+    stream = cli(url, "topic", "echo", "/joint_states", "--rate", "20", "--count", "3").stdout
+    assert stream.count("---") == 3 and "panda_joint7" in stream
 
 
 def test_cli_without_server_is_a_clear_error():
@@ -106,3 +108,43 @@ def test_bad_params_file_refuses_to_start(tmp_path):
     out = subprocess.run([sys.executable, "-m", "app.cli", "serve", "--port", str(free_port()), "--params", str(path)],
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 2 and "Wrong parameter type, parameter {mu}" in out.stderr
+
+
+def test_a_client_that_never_reads_does_not_stall_the_loop(server):
+    """A WebSocket client asks for 1 kHz of joint states and never reads: its socket buffers fill,
+    the server drops what it cannot send, and the simulation keeps its pace."""
+    from websockets.sync.client import connect
+
+    url, _ = server
+    ws_url = url.replace("http://", "ws://") + "/topics/joint_states/stream?rate=1000"
+
+    def advance(seconds):
+        t0, w0 = httpx.get(f"{url}/health").json()["sim_time"], time.monotonic()
+        time.sleep(seconds)
+        t1, w1 = httpx.get(f"{url}/health").json()["sim_time"], time.monotonic()
+        return (t1 - t0) / (w1 - w0)
+
+    baseline = advance(1.0)
+    with connect(ws_url, max_size=2**20) as ws:
+        ws.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        loaded = advance(2.0)
+    # simulated seconds per wall second with the stuck client, relative to without it
+    assert loaded > 0.5 * baseline, (baseline, loaded)
+    assert httpx.get(f"{url}/health").json()["loop_alive"] is True
+    # a client that disconnects mid-stream leaves nothing behind either
+    with connect(ws_url) as ws:
+        ws.recv()
+    assert httpx.get(f"{url}/topics/joint_states").status_code == 200
+
+
+def test_action_cli(server):
+    url, _ = server
+    assert "/count [hri_lab/Count]" in cli(url, "action", "list", "-t").stdout
+    out = cli(url, "action", "send_goal", "/count", "{count: 2}", "--feedback")
+    assert out.returncode == 0, out.stderr
+    assert "Goal accepted with ID:" in out.stdout
+    assert out.stdout.count("Feedback:") == 2 and "current_number: 2" in out.stdout
+    assert "Result:\n    final_count: 2" in out.stdout
+    assert out.stdout.rstrip().endswith("Goal finished with status: SUCCEEDED")
+    bad = cli(url, "action", "send_goal", "/count", "{count: -3}")
+    assert bad.returncode == 1 and "count" in bad.stderr

@@ -1,0 +1,129 @@
+"""Actions over HTTP (goal / feedback / result / cancel, actionlib states), teleop and /robot."""
+import time
+
+import numpy as np
+import pytest
+
+from sim.robot import SIDE_Q
+
+
+def wait_terminal(client, action, goal_id, timeout=30.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        view = client.get(f"/actions/{action}/goals/{goal_id}", params={"wait": 1.0, "after": 0}).json()
+        if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
+            return view
+    raise AssertionError("goal did not finish")
+
+
+def test_action_list_and_definitions(client):
+    assert {a["name"] for a in client.get("/actions").json()} == {"/count", "/move_to_start", "/run_experiment"}
+    assert client.get("/actions/count").json()["definition"] == "int32 count\n---\nint32 final_count\n---\nint32 current_number"
+    assert client.get("/actions/nope").status_code == 404
+
+
+def test_count_three_succeeds_with_three_feedbacks(client):
+    goal = client.post("/actions/count/goals", json={"count": 3})
+    assert goal.status_code == 202
+    goal_id = goal.json()["goal_id"]
+    assert goal.json()["status"] in ("pending", "active")
+    view = wait_terminal(client, "count", goal_id)
+    assert view["status"] == "succeeded"
+    assert view["feedback"] == [{"current_number": 1}, {"current_number": 2}, {"current_number": 3}]
+    assert view["result"] == {"final_count": 3}
+
+
+def test_cancel_mid_way_ends_preempted_and_a_busy_server_rejects(client):
+    goal_id = client.post("/actions/count/goals", json={"count": 10}).json()["goal_id"]
+    # long-poll until the first number
+    first = client.get(f"/actions/count/goals/{goal_id}", params={"after": 0, "wait": 5}).json()
+    assert first["feedback"][0] == {"current_number": 1}
+    # a second goal while one is active is rejected (documented: one goal at a time)
+    second = client.post("/actions/count/goals", json={"count": 1})
+    assert second.status_code == 409 and second.json()["status"] == "rejected"
+    assert goal_id in second.json()["message"]
+    canceled = client.post(f"/actions/count/goals/{goal_id}/cancel").json()
+    assert canceled["status"] in ("preempting", "preempted")
+    view = wait_terminal(client, "count", goal_id)
+    assert view["status"] == "preempted"
+    assert 1 <= view["result"]["final_count"] < 10
+    # free again
+    third = client.post("/actions/count/goals", json={"count": 0}).json()
+    assert wait_terminal(client, "count", third["goal_id"])["status"] == "succeeded"
+
+
+def test_goal_validation_and_unknown_goals(client):
+    assert client.post("/actions/count/goals", json={"count": -1}).status_code == 422
+    assert client.post("/actions/count/goals", json={"count": "3"}).status_code == 422
+    assert client.get("/actions/count/goals/deadbeef").status_code == 404
+    assert client.post("/actions/count/goals/deadbeef/cancel").status_code == 404
+    assert client.post("/actions/run_experiment/goals", json={"participant": "sleepy"}).status_code == 422
+
+
+def test_feedback_stream(client):
+    goal_id = client.post("/actions/count/goals", json={"count": 2}).json()["goal_id"]
+    messages = []
+    with client.websocket_connect(f"/actions/count/goals/{goal_id}/stream") as ws:
+        while True:
+            msg = ws.receive_json()
+            messages.append(msg)
+            if "status" in msg:
+                break
+    assert messages == [{"feedback": {"current_number": 1}}, {"feedback": {"current_number": 2}},
+                        {"status": "succeeded", "result": {"final_count": 2}, "message": "done"}]
+
+
+def test_move_to_start_from_a_jogged_pose(client, lab):
+    client.post("/services/stop_cooperative_lifting")
+    client.post("/services/reset_simulation")
+    # jog away with the teleop keys (w: +x), then drive back with the action
+    assert client.post("/teleop/key", json={"key": "w"}).json()["successful"] is True
+    time.sleep(1.0)
+    assert not np.allclose(lab.snapshot().q, SIDE_Q, atol=1e-3)
+    goal_id = client.post("/actions/move_to_start/goals").json()["goal_id"]
+    view = wait_terminal(client, "move_to_start", goal_id)
+    assert view["status"] == "succeeded", view
+    assert view["feedback"][-1]["progress"] == pytest.approx(1.0)
+    assert lab.snapshot().q == pytest.approx(SIDE_Q, abs=2e-3)
+    assert lab.snapshot().error is None
+
+
+def test_teleop_refusals(client):
+    assert client.post("/teleop/key", json={"key": "x"}).status_code == 422
+    client.post("/services/start_cooperative_lifting", json={"force": 10.0})
+    refused = client.post("/teleop/key", json={"key": "w"})
+    assert refused.status_code == 409 and "lifting" in refused.json()["reason"]
+    client.post("/services/stop_cooperative_lifting")
+
+
+def test_move_to_start_aborts_while_lifting(client):
+    client.post("/services/start_cooperative_lifting", json={"force": 10.0})
+    goal_id = client.post("/actions/move_to_start/goals").json()["goal_id"]
+    view = wait_terminal(client, "move_to_start", goal_id)
+    assert view["status"] == "aborted" and "stop it first" in view["message"]
+    client.post("/services/stop_cooperative_lifting")
+
+
+def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
+    client.post("/services/stop_cooperative_lifting")
+    client.post("/services/reset_simulation")
+    time.sleep(0.2)
+    q_before = lab.snapshot().q.copy()
+    sim_before = lab.snapshot().time
+    goal_id = client.post("/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "seed": 3}).json()["goal_id"]
+    view = wait_terminal(client, "run_experiment", goal_id, timeout=120)
+    assert view["status"] == "succeeded", view
+    assert view["result"]["trials"] == 1 and "hasty" in view["result"]["table"]
+    assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
+    assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
+    assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
+
+
+def test_robot_model(client):
+    robot = client.get("/robot").json()
+    assert robot["root_link"] == "panda_link0"
+    joints = {j["name"]: j for j in robot["joints"]}
+    assert joints["panda_joint4"]["upper"] == pytest.approx(-0.0698)
+    assert joints["panda_joint1"]["velocity"] == pytest.approx(2.175)
+    assert joints["panda_joint1"]["parent"] == "panda_link0" and joints["panda_joint1"]["child"] == "panda_link1"
+    assert "panda_link8" in robot["links"]

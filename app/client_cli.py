@@ -54,12 +54,17 @@ def _detail(response: httpx.Response) -> str:
     return str(detail)
 
 
+def _print_list(args, path: str) -> int:
+    """`ros2 X list [-t]`: one name per line, with [type] when asked."""
+    for item in _request(args, "GET", path).json():
+        print(f"{item['name']} [{item['type']}]" if args.show_types else item["name"])
+    return 0
+
+
 # --- service ----------------------------------------------------------------------------------
 def service(args) -> int:
     if args.action == "list":
-        for s in _request(args, "GET", "/services").json():
-            print(f"{s['name']} [{s['type']}]" if args.show_types else s["name"])
-        return 0
+        return _print_list(args, "/services")
     name = "/" + args.name.lstrip("/")
     info = _request(args, "GET", f"/services{name}")
     if info.status_code == 404:
@@ -153,9 +158,7 @@ def param(args) -> int:
 # --- topic ------------------------------------------------------------------------------------
 def topic(args) -> int:
     if args.action == "list":
-        for t in _request(args, "GET", "/topics").json():
-            print(f"{t['name']} [{t['type']}]" if args.show_types else t["name"])
-        return 0
+        return _print_list(args, "/topics")
     name = "/" + args.name.lstrip("/")
     response = _request(args, "GET", f"/topics{name}")
     if response.status_code != 200:
@@ -190,9 +193,7 @@ def _indented(values: dict | None) -> str:
 
 def action(args) -> int:
     if args.action == "list":
-        for a in _request(args, "GET", "/actions").json():
-            print(f"{a['name']} [{a['type']}]" if args.show_types else a["name"])
-        return 0
+        return _print_list(args, "/actions")
     name = "/" + args.name.lstrip("/")
     info = _request(args, "GET", f"/actions{name}")
     if info.status_code != 200:

@@ -28,7 +28,7 @@ class Lab:
     def stop(self) -> None:
         self.loop.stop()
 
-    def call(self, fn: Callable[[World], T], timeout: float = 2.0) -> T:
+    def call(self, fn: Callable[[World], T], timeout: float = 10.0) -> T:
         """Run fn(world) on the loop thread between two steps and return its result."""
         return self.loop.call(fn, timeout)
 

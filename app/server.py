@@ -74,6 +74,7 @@ def create_app(lab: Lab | None = None) -> FastAPI:
             "lateness_p50_ms": stats.lateness_p50 * 1e3,
             "lateness_p99_ms": stats.lateness_p99 * 1e3,
             "overruns": stats.overruns,
+            "step_errors": lab.loop.step_errors,
             "error": snapshot.error,
         }
 

@@ -42,13 +42,18 @@ class SimulationLoop:
         self._lateness: deque[float] = deque(maxlen=5000)
         self._ticks = 0
         self._overruns = 0
+        self.step_errors = 0
+        self.last_step_error = ""
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._started = 0.0
 
     # --- life cycle -------------------------------------------------------------------------
     def start(self) -> None:
+        """Step once here (the first step compiles the simulation's numba kernels, which can take
+        seconds on a fresh install), then hand the world to the loop thread."""
         if self._thread is None:
+            self._step()
             self._thread = threading.Thread(target=self._run, name="sim-loop", daemon=True)
             self._started = time.perf_counter()
             self._thread.start()
@@ -73,7 +78,7 @@ class SimulationLoop:
         self._commands.put((fn, future))
         return future
 
-    def call(self, fn: Callable[[World], T], timeout: float = 2.0) -> T:
+    def call(self, fn: Callable[[World], T], timeout: float = 10.0) -> T:
         """submit() and wait for the result (re-raises fn's exception)."""
         return self.submit(fn).result(timeout=timeout)
 
@@ -99,11 +104,7 @@ class SimulationLoop:
         next_tick = time.perf_counter()
         while not self._stop.is_set():
             self._drain_commands()
-            self.world.step()
-            snapshot = self.world.snapshot()
-            with self._snapshot_lock:
-                self._snapshot = snapshot
-            self._ticks += 1
+            self._step()
             if not self.realtime:
                 continue
             next_tick += period
@@ -114,6 +115,18 @@ class SimulationLoop:
             elif next_tick > now:
                 time.sleep(next_tick - now)
             self._lateness.append(max(0.0, time.perf_counter() - next_tick))
+
+    def _step(self) -> None:
+        try:
+            self.world.step()
+        except Exception as exc:  # noqa: BLE001 - a simulation bug stops the robot, not the loop
+            self.step_errors += 1
+            self.last_step_error = f"{type(exc).__name__}: {exc}"
+            self.world.arm.error = f"simulation error: {self.last_step_error}"
+        snapshot = self.world.snapshot()
+        with self._snapshot_lock:
+            self._snapshot = snapshot
+        self._ticks += 1
 
     def _drain_commands(self) -> None:
         while True:

@@ -219,3 +219,21 @@ def test_topic_stream_refusals(client):
         with pytest.raises(WebSocketDisconnect):
             with client.websocket_connect(path) as ws:
                 ws.receive_json()
+
+
+def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
+    """A bug inside a step (here: the human model raising) puts the robot in an error state; the
+    loop keeps ticking and answers; once fixed, error_recovery clears it."""
+    def broken(*args, **kwargs):
+        raise ValueError("injected fault")
+
+    lab.call(lambda w: setattr(w.human, "step", broken))
+    wait_for(lambda: lab.loop.step_errors > 10)
+    health = client.get("/health").json()
+    assert health["loop_alive"] is True and health["step_errors"] > 10
+    assert "simulation error: ValueError: injected fault" in client.get("/topics/lifting_state").json()["error"]
+    lab.call(lambda w: delattr(w.human, "step"))  # back to the class's method
+    assert client.post("/services/error_recovery").json()["success"] is True
+    ticks = lab.loop.stats().ticks
+    wait_for(lambda: lab.loop.stats().ticks > ticks + 100)
+    assert client.get("/topics/lifting_state").json()["error"] == ""

@@ -24,8 +24,8 @@ from .joint_trajectory import JointBrake, JointTrajectory
 from .robot import SIDE_Q, PandaModel, Plate
 from .sensor import SensorParams, WrenchSensor, wrench_at_ee
 from .sp_controller import SPController
-from .teleop import Jog
 from .spatial import cross3, norm3
+from .teleop import Jog
 
 
 @dataclass(frozen=True)
@@ -248,7 +248,7 @@ class World:
         plate = self.plate_contact.step(rotation, position_plate, velocity_plate, twist[3:], box, dt)
         human = self.human
         palm = self.palm_contact.step(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt)
-        grasp_force, grasp_moment = human.hand_wrench(box, self.palm_state.normal_force)
+        grasp_force, grasp_moment = human.hand_wrench(box, palm.normal_force)
         self.box.step(
             plate.force_box + palm.force_box + grasp_force,
             plate.torque_box + palm.torque_box + grasp_moment,

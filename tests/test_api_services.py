@@ -186,9 +186,21 @@ def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
         name = names[rng.integers(len(names))]
         body = {str(rng.choice(["a", "b", "c", "force", "torques", "q", "in", "get", "username", "magic_number", "zz"])):
                 junk[rng.integers(len(junk))] for _ in range(rng.integers(0, 4))}
-        if rng.random() < 0.1:
+        value = junk[rng.integers(len(junk))]
+        kind = rng.random()
+        if kind < 0.1:
             response = client.post(f"/services{name}", content=bytes(rng.integers(0, 256, 20).tolist()),
                                    headers={"content-type": "application/json"})
+        elif kind < 0.2:  # parameters: any node/name, any value
+            node, param = rng.choice(["cooperative_lifting", "sim", "human", "keytwist", "nope"]), rng.choice(
+                ["f_n_min", "mu", "rate_hz", "profile", "box_mass", "linear_speed", "nope"])
+            response = client.put(f"/params/{node}/{param}", json={"value": value})
+        elif kind < 0.25:
+            response = client.post("/params/load", content=bytes(rng.integers(0, 256, 30).tolist()))
+        elif kind < 0.3:  # action goals with junk (a goal that passes is cancelled at once)
+            response = client.post("/actions/count/goals", json=body)
+            if response.status_code == 202:
+                client.post(f"/actions/count/goals/{response.json()['goal_id']}/cancel")
         else:
             response = client.post(f"/services{name}", json=body)
         assert response.status_code < 500, (name, body, response.text)

@@ -48,6 +48,9 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
     srv.add_argument("--port", type=int, default=8000)
     srv.add_argument("--params", metavar="FILE.yaml", help="parameters to load at start (a `param dump` file)")
+    srv.add_argument("--view", choices=("full", "light", "none"), default=os.environ.get("HRI_LAB_VIEW", "full"),
+                     help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
+    srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
     srv.set_defaults(func=_serve)
 
     client_cli.add_parsers(sub)
@@ -57,7 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
 def _serve(args: argparse.Namespace) -> int:
     from .serve import serve
 
-    return serve(args.host, args.port, args.params)
+    return serve(args.host, args.port, args.params, args.view, args.view_port)
 
 
 def _positive_int(text: str) -> int:

@@ -18,7 +18,8 @@ def load_parameter_file(lab: Lab, path: str) -> None:
         raise ParameterRefused("; ".join(f"/{r['node']}/{r['name']}: {r['reason']}" for r in failed))
 
 
-def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None) -> int:
+def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
+          view_port: int = 8080) -> int:
     lab = Lab()
     if params_file:
         try:
@@ -26,7 +27,8 @@ def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = N
         except (OSError, ParameterRefused) as exc:
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
-    config = uvicorn.Config(create_app(lab), host=host, port=port, log_level="warning", access_log=False)
+    app = create_app(lab, view=view, view_host=host, view_port=view_port)
+    config = uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False)
     server = AnnouncingServer(config)
     server.run()
     return 0 if server.started else 1
@@ -39,8 +41,12 @@ class AnnouncingServer(uvicorn.Server):
         await super().startup(sockets)
         if self.started:
             base = f"http://{self.config.host}:{self.config.port}"
+            view = self.config.app.state.view
             print(
-                f"hri-lab is running:\n  API       {base}/services  {base}/params  {base}/topics\n"
-                f"  API docs  {base}/docs\n  health    {base}/health\nPress Ctrl+C to stop.",
+                f"hri-lab is running: open {base}/\n"
+                f"  API       {base}/services  {base}/params  {base}/topics  {base}/actions\n"
+                f"  API docs  {base}/docs\n"
+                + (f"  3D view   {view.url}\n" if view is not None else "")
+                + "Press Ctrl+C to stop.",
                 flush=True,
             )

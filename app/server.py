@@ -2,10 +2,12 @@
 from contextlib import asynccontextmanager
 
 import math
+from pathlib import Path
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import FileResponse, JSONResponse
+from fastapi.staticfiles import StaticFiles
 
 from pydantic import BaseModel, ConfigDict
 
@@ -21,16 +23,27 @@ from .lab_services import SERVICES
 from .ros_types import Literal
 
 
-def create_app(lab: Lab | None = None) -> FastAPI:
-    """The app around `lab` (a new Lab if none); the loop runs while the app is served."""
+STATIC = Path(__file__).resolve().parent.parent / "static"
+
+
+def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080) -> FastAPI:
+    """The app around `lab` (a new Lab if none); the loop runs while the app is served.
+    view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view)."""
     lab = lab or Lab()
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         lab.start()
+        if view != "none":
+            from .view3d import LabView
+
+            app.state.view = LabView(lab, app.state.actions, SERVICES, view_host, view_port, light=view == "light")
+            app.state.view.start()
         try:
             yield
         finally:
+            if app.state.view is not None:
+                app.state.view.stop()
             lab.stop()
 
     app = FastAPI(
@@ -40,6 +53,7 @@ def create_app(lab: Lab | None = None) -> FastAPI:
         lifespan=lifespan,
     )
     app.state.lab = lab
+    app.state.view = None
 
     @app.exception_handler(RequestValidationError)
     async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -77,6 +91,18 @@ def create_app(lab: Lab | None = None) -> FastAPI:
             "step_errors": lab.loop.step_errors,
             "error": snapshot.error,
         }
+
+    @app.get("/", include_in_schema=False)
+    def dashboard() -> FileResponse:
+        return FileResponse(STATIC / "index.html")
+
+    app.mount("/static", StaticFiles(directory=STATIC), name="static")
+
+    @app.get("/view", tags=["system"], summary="Where the 3D view is served (viser)")
+    def view_info() -> dict:
+        if app.state.view is None:
+            return {"url": None, "light": False}
+        return {"url": app.state.view.url, "light": app.state.view.light}
 
     @app.get("/log", tags=["system"], summary="Recent log lines of the services (rosout)")
     def log() -> list[dict]:

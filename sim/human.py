@@ -229,16 +229,17 @@ class VirtualHuman:
         self.position = new
 
     def _behave(self, dt: float, plate_force: float, band: tuple[float, float] | None) -> None:
-        """The scripted trial (section 8 of DESIGN.md) or the manual target follower."""
+        """The scripted trial (section 8 of DESIGN.md) or the manual target follower. In both, the
+        person lets go of the grasp once the robot's grip, as felt, stays in the band."""
         p = self.params
-        phase = self.phase
-        if phase == "grasping":
+        if not self.letting_go:
             self.felt_grip += dt / (p.feel_time_constant + dt) * (plate_force - self.felt_grip)
             in_band = band is not None and band[0] > 0.0 and band[0] <= self.felt_grip <= band[1]
             self.grip_time = self.grip_time + dt if in_band else 0.0
             if self.grip_time >= p.grip_dwell:
                 self.release()
-        elif phase == "releasing" and self.grasp_weight <= 0.0:
+        phase = self.phase
+        if phase == "releasing" and self.grasp_weight <= 0.0:
             self._enter("settling")
         elif phase == "settling" and self.phase_time >= p.settle_time:
             self._enter("carrying")

@@ -1,0 +1,63 @@
+"""3D view cost: server-side time of one scene update (robot meshes, plate, box, palm, arrows,
+plot) and whether the 1 kHz loop keeps its rate while one viewer (headless chromium) watches.
+
+    .venv/bin/python bench/view_cost.py [--seconds 10] [--light]
+"""
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import time
+
+from app.actions import ActionServer
+from app.lab import Lab
+from app.lab_actions import ACTIONS
+from app.lab_services import SERVICES
+from app.view3d import LabView
+
+
+def percentile(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--light", action="store_true", help="collision meshes, no shadows")
+    args = parser.parse_args()
+
+    lab = Lab()
+    lab.start()
+    view = LabView(lab, ActionServer(ACTIONS, lab), SERVICES, port=0, light=args.light)
+    view.start()
+    lab.world.start_lifting(10.0)  # a moving scene
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+                                    args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+                                          "--disable-background-networking"])
+        page = browser.new_page()
+        page.goto(view.url)
+        time.sleep(3.0)  # the viewer loads the meshes
+        view.frame_times.clear()
+        ticks0, t0 = lab.loop.stats().ticks, time.perf_counter()
+        lab.loop._lateness.clear()
+        time.sleep(args.seconds)
+        stats = lab.loop.stats()
+        rate = (stats.ticks - ticks0) / (time.perf_counter() - t0)
+        frames = list(view.frame_times)
+        browser.close()
+    view.stop()
+    lab.stop()
+    mode = "light" if args.light else "full"
+    print(f"3D update ({mode} meshes), server side: median {statistics.median(frames) * 1e3:.2f} ms, "
+          f"p99 {percentile(frames, 0.99) * 1e3:.2f} ms per frame, {len(frames) / args.seconds:.1f} frames/s")
+    print(f"1 kHz loop with one viewer connected: {rate:.0f} ticks/s, lateness p50 {stats.lateness_p50 * 1e3:.3f} ms, "
+          f"p99 {stats.lateness_p99 * 1e3:.3f} ms, overruns {stats.overruns}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,82 @@
+"""The 3D scene draws what the simulation says: arrows from F_ext, colours from the state."""
+import numpy as np
+import pytest
+
+from app.lab import Lab
+from app.lab_actions import ACTIONS
+from app.actions import ActionServer
+from app.lab_services import SERVICES
+from app.topics import wrench_stamped
+from app.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
+
+
+@pytest.fixture(scope="module")
+def view():
+    lab = Lab(realtime=False)
+    view = LabView(lab, ActionServer(ACTIONS, lab), SERVICES, port=0, light=True)
+    yield view
+    view.server.stop()
+
+
+def test_force_arrow_follows_f_ext(view):
+    lab = view.lab
+    lab.world.start_lifting(10.0)
+    lab.world.run(1.5)  # pressing the box
+    snapshot = lab.world.snapshot()
+    view.update(snapshot)
+    message = wrench_stamped(snapshot)  # what /franka_state_controller/F_ext publishes
+    f_ee = np.array([message["wrench"]["force"][k] for k in "xyz"])
+    rotation = snapshot.transform_ee_to_base[:3, :3]
+    normal = rotation[:, 2]
+    f_world = rotation @ f_ee
+    start, end = view.arrows["normal"].points[0]
+    centre = snapshot.transform_ee_to_base[:3, 3] + normal * lab.world.config.plate.offset
+    assert start == pytest.approx(centre, abs=1e-6)  # viser stores float32
+    assert end - start == pytest.approx(FORCE_SCALE * (f_world @ normal) * normal, abs=1e-6)
+    start_t, end_t = view.arrows["tangential"].points[0]
+    assert end_t - start_t == pytest.approx(FORCE_SCALE * (f_world - (f_world @ normal) * normal), abs=1e-6)
+    assert f_ee[2] > 5.0  # pressing: a visible normal arrow along the plate normal (base +y)
+    assert (end - start)[1] > 0.05
+    # the robot's meshes follow q (flange link placed by pinocchio)
+    assert view.robot.frames and np.allclose(view.box.position, snapshot.box_position)
+
+
+def test_colours_tell_the_state(view):
+    world = view.lab.world
+    snapshot = world.snapshot()
+    assert state_of(snapshot) in ("inside", "below", "above", "slipping")
+    world.stop_lifting()
+    assert state_of(world.snapshot()) in ("idle", "slipping")
+    world.arm.error = "cartesian velocity limit: test"
+    assert state_of(world.snapshot()) == "error"
+    world.recover()
+
+
+def test_friction_cone_opening_is_mu():
+    vertices, faces = cone_mesh(0.5, height=0.1)
+    radius = np.linalg.norm(vertices[1:, :2], axis=1)
+    assert radius == pytest.approx(0.05, rel=1e-6)  # tan(half angle) = r / h = mu
+    assert np.all(vertices[1:, 2] == pytest.approx(0.1)) and faces.shape == (24, 3)
+
+
+def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
+    """The gizmo's callback moves the person's hand target; the robot follows only through the SP
+    controller (pressing, then friction beyond the cone margin)."""
+    world = view.lab.world
+    world.reset()
+    world.start_lifting(10.0)
+    while not world.human.holding_by_contact:  # the person lets go once the grip is in the band
+        world.step()
+    world.run(0.5)
+    ee_before = world.arm.transform_ee_to_base[2, 3]
+    box_before = world.box.position[2]
+    start = world.human.hand.copy()
+    for k in range(1, 41):  # drag up 8 cm over 2 s
+        view.gizmo.position = start + [0.0, 0.0, 0.002 * k]
+        view._on_gizmo(None)
+        world.run(0.05)
+    world.run(1.0)
+    assert world.human.phase == "manual"
+    assert world.box.position[2] - box_before > 0.06  # the box went up with the hand
+    assert world.arm.transform_ee_to_base[2, 3] - ee_before > 0.05  # and the robot followed
+    assert world.plate_state.normal_force > 5.0 and world.error is None

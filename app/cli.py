@@ -5,17 +5,30 @@ import argparse
 import json
 import os
 import sys
+from pathlib import Path
 
 
 from sim.experiment import format_table, plan, run_experiment, summary
 from sim.human import PARTICIPANTS
+from sim.plugin import PluginError, PluginFactory
+from sim.sp_controller import SPController
 
 from . import client_cli
+
+
+def _controller_factory(spec: str | None):
+    """The plug-in's factory (loaded once here so that a broken file fails now, clearly)."""
+    if spec is None:
+        return SPController
+    factory = PluginFactory(spec)
+    factory()
+    return factory
 
 
 def _experiment(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
+    factory = _controller_factory(args.controller)
     total = len(plan(args.trials, args.participant, args.seed))
     with tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet) as bar:
 
@@ -23,7 +36,8 @@ def _experiment(args: argparse.Namespace) -> int:
             bar.set_postfix_str(f"{result.participant} #{result.attempt}: {'ok' if result.success else 'FAILED'}")
             bar.update(1)
 
-        results = run_experiment(args.trials, args.participant, args.seed, on_result=progress, jobs=args.jobs)
+        results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
+                                 on_result=progress, jobs=args.jobs)
     if args.json:
         print(json.dumps({"summary": summary(results), "trials": [r.as_dict() for r in results]}, indent=2))
     else:
@@ -41,6 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1,
                      help="trials run in this many processes (default: one per core; same results)")
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    exp.add_argument("--controller", metavar="FILE.py[:Class]", help="a student's controller (default: the built-in SP)")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     exp.set_defaults(func=_experiment)
 
@@ -51,7 +66,18 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--view", choices=("full", "light", "none"), default=os.environ.get("HRI_LAB_VIEW", "full"),
                      help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
     srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
+    srv.add_argument("--controller", metavar="FILE.py[:Class]", help="a student's controller (default: the built-in SP)")
     srv.set_defaults(func=_serve)
+
+    tpl = sub.add_parser("template", help="print the student's starting file (hri-lab template > cooperative_lifting.py)")
+    tpl.set_defaults(func=_template)
+
+    grd = sub.add_parser("grade", help="grade a student's controller file (probes, the nine trials, robustness)")
+    grd.add_argument("controller", metavar="FILE.py[:Class]")
+    grd.add_argument("--json", metavar="OUT.json", help="also write the report as JSON")
+    grd.add_argument("--seed", type=int, default=0)
+    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
+    grd.set_defaults(func=_grade)
 
     client_cli.add_parsers(sub)
     return parser
@@ -60,7 +86,25 @@ def build_parser() -> argparse.ArgumentParser:
 def _serve(args: argparse.Namespace) -> int:
     from .serve import serve
 
-    return serve(args.host, args.port, args.params, args.view, args.view_port)
+    factory = _controller_factory(args.controller)
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory())
+
+
+def _grade(args: argparse.Namespace) -> int:
+    from sim.grading import grade
+
+    report = grade(_controller_factory(args.controller), args.controller, args.seed, args.jobs)
+    print(report.text())
+    if args.json:
+        Path(args.json).write_text(report.json(), encoding="utf-8")
+    return 0 if report.passed else 1
+
+
+def _template(args: argparse.Namespace) -> int:
+    from sim import student_template
+
+    print(Path(student_template.__file__).read_text(encoding="utf-8"), end="")
+    return 0
 
 
 def _positive_int(text: str) -> int:
@@ -72,7 +116,11 @@ def _positive_int(text: str) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    return client_cli.run(args.func, args)
+    try:
+        return client_cli.run(args.func, args)
+    except PluginError as exc:
+        print(f"hri-lab: controller: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -3,7 +3,9 @@ import time
 from collections import deque
 from typing import Callable, TypeVar
 
+from sim.controller import Controller
 from sim.robot import PandaModel
+from sim.sp_controller import SPController
 from sim.world import Snapshot, World, WorldConfig
 
 from .params import ParameterServer
@@ -13,8 +15,8 @@ T = TypeVar("T")
 
 
 class Lab:
-    def __init__(self, config: WorldConfig | None = None, realtime: bool = True) -> None:
-        self.world = World(config or WorldConfig())
+    def __init__(self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None) -> None:
+        self.world = World(config or WorldConfig(), controller or SPController())
         self.loop = SimulationLoop(self.world, realtime=realtime)
         self.model = PandaModel()  # for computations on snapshots (not the loop's pinocchio data)
         self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)

@@ -4,7 +4,7 @@ from pydantic import Field
 from typing import Annotated
 
 from sim import planar_arm
-from sim.controller import start_lifting, stop_lifting
+from sim.guard import ControllerFault
 
 from .lab_params import F_N_MIN_RANGE
 from .ros_types import INT64_MAX, INT64_MIN, Bool, Float64, Int32, Int64, RosMessage, RosType, String, float64_array
@@ -30,13 +30,21 @@ class StartRequest(RosMessage):
 
 
 def start(lab, request: StartRequest) -> Message:
-    message = lab.call(lambda world: start_lifting(world.params, request.force))
+    message = _lifting_handler(lab, lambda world: world.start_lifting(request.force))
     lab.info("cooperative_lifting", message)
     return Message(message=message)
 
 
+def _lifting_handler(lab, fn) -> str:
+    """start/stop run the controller's own handler when it has one: its failure is the call's."""
+    try:
+        return str(lab.call(fn))
+    except ControllerFault as fault:
+        raise ServiceFailure(str(fault)) from None
+
+
 def stop(lab, request: Empty) -> Message:
-    message = lab.call(lambda world: stop_lifting(world.params))
+    message = _lifting_handler(lab, lambda world: world.stop_lifting())
     lab.info("cooperative_lifting", message)
     return Message(message=message)
 

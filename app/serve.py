@@ -19,8 +19,8 @@ def load_parameter_file(lab: Lab, path: str) -> None:
 
 
 def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
-          view_port: int = 8080) -> int:
-    lab = Lab()
+          view_port: int = 8080, controller=None) -> int:
+    lab = Lab(controller=controller)
     if params_file:
         try:
             load_parameter_file(lab, params_file)

@@ -19,6 +19,7 @@ from .box import Box, BoxParams
 from .cartesian_velocity import CartesianVelocityInterface
 from .contact import ContactParams, ContactResult, PatchContact, PatchGeometry
 from .controller import Controller, LiftingParams, start_lifting, stop_lifting
+from .guard import ControllerFault
 from .human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
 from .joint_trajectory import JointBrake, JointTrajectory
 from .robot import SIDE_Q, PandaModel, Plate
@@ -135,10 +136,13 @@ class World:
 
     # --- commands (what the lab's services do) -----------------------------------------------
     def start_lifting(self, force: float) -> str:
-        return start_lifting(self.params, force)
+        """The start service: the controller's own handler if it has one (a plug-in), else the lab's."""
+        start = getattr(self.controller, "start", None)
+        return start(self.params, force) if callable(start) else start_lifting(self.params, force)
 
     def stop_lifting(self) -> str:
-        return stop_lifting(self.params)
+        stop = getattr(self.controller, "stop", None)
+        return stop(self.params) if callable(stop) else stop_lifting(self.params)
 
     def move_to_start(self, peak_velocity: float = 0.5) -> JointTrajectory:
         """Drive the robot to the start pose with a smooth joint motion (controller paused)."""
@@ -228,6 +232,9 @@ class World:
             twist = np.asarray(
                 self.controller.step(self.wrench_ee.copy(), transform.copy(), self.params, dt), dtype=float
             )
+        except ControllerFault as fault:
+            self.arm.error = f"controller error: {fault}"
+            return np.zeros(6)
         except Exception as exc:  # noqa: BLE001 - any controller failure stops the robot
             self.arm.error = "controller error: " + "".join(traceback.format_exception_only(exc)).strip()
             return np.zeros(6)

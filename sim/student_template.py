@@ -1,0 +1,61 @@
+"""cooperative_lifting.py — the lab's exercise: implement the Single Point (SP) method.
+
+Run it:    hri-lab serve --controller cooperative_lifting.py      (the live lab, http://127.0.0.1:8000/)
+           hri-lab experiment --controller cooperative_lifting.py  (the nine trials, headless)
+Grade it:  hri-lab grade cooperative_lifting.py
+
+Conventions (as franka_ros): wrench_ee = F_ext = [fx, fy, fz, mx, my, mz] is the wrench the ROBOT
+applies to the box, at the flange origin, in the flange (EE) frame; the plate's normal n is the
+EE z axis, its centre p_c = [0, 0, params.plate_offset]. Pressing the box gives f_n = n . f > 0.
+Return the EE twist [vx, vy, vz, wx, wy, wz] in the BASE frame (m/s, rad/s).
+As it is, this file runs and commands zero twist: the robot does not move.
+"""
+import numpy as np  # the handout's tools: np.dot, np.cross, np.linalg.norm, np.clip, np.hstack
+
+
+class CooperativeLifting:
+    def __init__(self):
+        self.twist_base = np.zeros(6)  # keep what you need between steps here
+
+    def reset(self):
+        """Called when the simulation (re)starts and after an error recovery."""
+        self.twist_base = np.zeros(6)
+
+    # --- the services' handlers -------------------------------------------------------------
+    def start(self, params, force):
+        """start_cooperative_lifting: f_n_min = force, f_n_max = force + 5 N, and start."""
+        # TODO: params.f_n_min = ...; params.running = ...  (params.f_n_max is f_n_min + f_n_band)
+        return f"Cooperative Lifting started with f_n_min = {force:g} N."
+
+    def stop(self, params):
+        """stop_cooperative_lifting: f_n_min = 0 and stop (zero twist)."""
+        # TODO: params.f_n_min = ...; params.running = ...
+        return "Cooperative Lifting was stopped! Force limit f_n_min reset to 0 N."
+
+    # --- the controller -----------------------------------------------------------------------
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        """One control period (dt = 1 ms): F_ext in, EE twist in the base frame out."""
+        if not params.running:
+            return np.zeros(6)
+        f, m = wrench_ee[:3], wrench_ee[3:]
+        rotation = transform_ee_to_base[:3, :3]  # EE -> base
+
+        # TODO step 1: decompose the wrench at the plate
+        #   n = [0, 0, 1];  f_n = n . f;  f_t = f - f_n n;  m_c = m - p_c x f
+
+        # TODO step 2: normal regulation in the band [params.f_n_min, params.f_n_max]
+        #   below -> move along +n (press); above -> along -n (release); inside -> no normal motion
+
+        # TODO step 3: tangential following with the friction cone (params.mu, params.alpha)
+        #   |f_t| <= alpha mu f_n -> no tangential motion;  beyond: e_t = f_t - alpha mu f_n f_t/|f_t|,
+        #   v_t = -params.k_t e_t  (F_ext is what the robot applies: move AGAINST f_t), and press harder
+
+        # TODO step 4: comply with the moment at the plate centre: w = -params.k_w m_c (with a deadband)
+
+        # TODO step 5: twist_ee = [v, w], saturate at params.v_max / params.w_max, and rotate to the
+        #   base frame: twist_base = [R v, R w]. Change it smoothly (the robot refuses jumps above
+        #   13 m/s^2: a jump is a reflex), e.g. at most params.a_max * dt per step.
+        twist_base = np.zeros(6)
+
+        self.twist_base = twist_base
+        return twist_base

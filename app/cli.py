@@ -67,6 +67,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
     srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
     srv.add_argument("--controller", metavar="FILE.py[:Class]", help="a student's controller (default: the built-in SP)")
+    srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
+                     help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
     srv.set_defaults(func=_serve)
 
     tpl = sub.add_parser("template", help="print the student's starting file (hri-lab template > cooperative_lifting.py)")
@@ -87,7 +89,7 @@ def _serve(args: argparse.Namespace) -> int:
     from .serve import serve
 
     factory = _controller_factory(args.controller)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory())
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token)
 
 
 def _grade(args: argparse.Namespace) -> int:

@@ -15,7 +15,9 @@ class CliError(Exception):
 
 
 def _client(args) -> httpx.Client:
-    return httpx.Client(base_url=args.url, timeout=10.0)
+    token = os.environ.get("HRI_LAB_TOKEN")
+    headers = {"Authorization": f"Bearer {token}"} if token else {}
+    return httpx.Client(base_url=args.url, timeout=10.0, headers=headers)
 
 
 def _request(args, method: str, path: str, **kwargs) -> httpx.Response:

@@ -58,10 +58,17 @@ class Torques(RosMessage):
     torques: float64_array()
 
 
+def _finite(values: np.ndarray, what: str) -> list[float]:
+    """The values as a list, or a service failure when huge inputs overflowed float64."""
+    if not np.all(np.isfinite(values)):
+        raise ServiceFailure(f"{what} overflows float64 (inputs too large)")
+    return values.tolist()
+
+
 def compute_torques(lab, request: WrenchRequest) -> Torques:
     """tau = J(q)^T F at the robot's current q; F at the flange, base frame."""
     q = lab.snapshot().q
-    return Torques(torques=lab.model.torques_from_wrench(q, np.array(request.force)).tolist())
+    return Torques(torques=_finite(lab.model.torques_from_wrench(q, np.array(request.force)), "tau = J^T F"))
 
 
 class TorquesRequest(RosMessage):
@@ -77,7 +84,7 @@ def compute_wrench(lab, request: TorquesRequest) -> WrenchResponse:
     """Least-squares F with J^T F = tau (Exercise 2)."""
     wrench, residual = lab.model.wrench_from_torques(lab.snapshot().q, np.array(request.torques))
     return WrenchResponse(
-        force=wrench.tolist(),
+        force=_finite(wrench, "the least-squares wrench"),
         message=f"least-squares wrench; residual |J^T F - tau| = {residual:.3g} Nm",
     )
 
@@ -89,7 +96,7 @@ class PlanarRequest(RosMessage):
 
 def planar_torques(lab, request: PlanarRequest) -> Torques:
     """3-DoF planar arm, links of 1 m: tau = J(q)^T [fx, fy(, mz)]."""
-    return Torques(torques=planar_arm.torques(request.q, request.force).tolist())
+    return Torques(torques=_finite(planar_arm.torques(request.q, request.force), "tau = J^T F"))
 
 
 class TwoInts(RosMessage):
@@ -119,7 +126,7 @@ class Quotient(RosMessage):
 def divide_ints(lab, request: TwoInts) -> Quotient:
     if request.b == 0:
         return Quotient(result=0.0, message="Division by zero!")
-    return Quotient(result=request.a / request.b, message="Division ok.")
+    return Quotient(result=request.a / request.b, message="Division ok.")  # |a/b| <= 2^63: finite
 
 
 class ThreeInts(RosMessage):

@@ -3,6 +3,7 @@ import sys
 
 import uvicorn
 
+from .access import TOKEN_ENV, is_loopback
 from .lab import Lab
 from .params import ParameterRefused
 from .server import create_app
@@ -19,7 +20,10 @@ def load_parameter_file(lab: Lab, path: str) -> None:
 
 
 def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
-          view_port: int = 8080, controller=None) -> int:
+          view_port: int = 8080, controller=None, token: str | None = None) -> int:
+    if not is_loopback(host) and not token:
+        print(f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr)
+        return 2
     lab = Lab(controller=controller)
     if params_file:
         try:
@@ -27,7 +31,7 @@ def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = N
         except (OSError, ParameterRefused) as exc:
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
-    app = create_app(lab, view=view, view_host=host, view_port=view_port)
+    app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token)
     config = uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False)
     server = AnnouncingServer(config)
     server.run()

@@ -16,6 +16,7 @@ from sim.teleop import key_twist
 from . import params as params_api
 from . import robot_model
 from . import topics as topics_api
+from .access import TokenMiddleware
 from .actions import ActionServer
 from .lab import Lab
 from .lab_actions import ACTIONS
@@ -26,9 +27,11 @@ from .ros_types import Literal
 STATIC = Path(__file__).resolve().parent.parent / "static"
 
 
-def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080) -> FastAPI:
+def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080,
+               token: str | None = None) -> FastAPI:
     """The app around `lab` (a new Lab if none); the loop runs while the app is served.
-    view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view)."""
+    view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
+    token: when set, state-changing requests must carry it (app/access.py)."""
     lab = lab or Lab()
 
     @asynccontextmanager
@@ -37,7 +40,8 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         if view != "none":
             from .view3d import LabView
 
-            app.state.view = LabView(lab, app.state.actions, SERVICES, view_host, view_port, light=view == "light")
+            app.state.view = LabView(lab, app.state.actions, SERVICES, view_host, view_port, light=view == "light",
+                                     controls=token is None)
             app.state.view.start()
         try:
             yield
@@ -54,6 +58,8 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     )
     app.state.lab = lab
     app.state.view = None
+    if token:
+        app.add_middleware(TokenMiddleware, token=token)
 
     @app.exception_handler(RequestValidationError)
     async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -89,6 +95,8 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
             "lateness_p99_ms": stats.lateness_p99 * 1e3,
             "overruns": stats.overruns,
             "step_errors": lab.loop.step_errors,
+            "loop_restarts": lab.loop.restarts,
+            "last_loop_death": lab.loop.last_death,
             "error": snapshot.error,
         }
 

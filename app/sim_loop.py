@@ -2,7 +2,9 @@
 
 Other threads never touch the world: they `submit()` a function that the loop runs between two
 steps (a lock-protected command queue) and read the latest `Snapshot`, published after every step.
-An exception in a submitted function goes back to its caller; the loop goes on.
+An exception in a submitted function goes back to its caller; the loop goes on. An exception in
+a step stops the robot (error state), not the loop. Should the thread die all the same, the
+watchdog notices it within `watch_period`, records why, and starts a new one on the same world.
 """
 from __future__ import annotations
 
@@ -32,6 +34,7 @@ class LoopStats:
 
 class SimulationLoop:
     max_behind = 0.05  # s; further behind than this, the loop drops the missed periods
+    watch_period = 0.2  # s between the watchdog's looks at the loop thread
 
     def __init__(self, world: World, realtime: bool = True) -> None:
         self.world = world
@@ -44,6 +47,8 @@ class SimulationLoop:
         self._overruns = 0
         self.step_errors = 0
         self.last_step_error = ""
+        self.restarts = 0  # times the watchdog restarted a dead loop thread
+        self.last_death = ""
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._started = 0.0
@@ -51,12 +56,23 @@ class SimulationLoop:
     # --- life cycle -------------------------------------------------------------------------
     def start(self) -> None:
         """Step once here (the first step compiles the simulation's numba kernels, which can take
-        seconds on a fresh install), then hand the world to the loop thread."""
+        seconds on a fresh install), then hand the world to the loop thread, under a watchdog."""
         if self._thread is None:
             self._step()
-            self._thread = threading.Thread(target=self._run, name="sim-loop", daemon=True)
             self._started = time.perf_counter()
-            self._thread.start()
+            self._spawn()
+            self._watchdog = threading.Thread(target=self._watch, name="sim-watchdog", daemon=True)
+            self._watchdog.start()
+
+    def _spawn(self) -> None:
+        self._thread = threading.Thread(target=self._run, name="sim-loop", daemon=True)
+        self._thread.start()
+
+    def _watch(self) -> None:
+        while not self._stop.wait(self.watch_period):
+            if self._thread is not None and not self._thread.is_alive() and not self._stop.is_set():
+                self.restarts += 1
+                self._spawn()
 
     def stop(self) -> None:
         self._stop.set()
@@ -100,6 +116,12 @@ class SimulationLoop:
 
     # --- the loop ---------------------------------------------------------------------------
     def _run(self) -> None:
+        try:
+            self._tick_forever()
+        except BaseException as exc:  # noqa: BLE001 - recorded; the watchdog starts a new thread
+            self.last_death = f"{type(exc).__name__}: {exc}"
+
+    def _tick_forever(self) -> None:
         period = self.world.config.dt
         next_tick = time.perf_counter()
         while not self._stop.is_set():

@@ -111,7 +111,7 @@ class RobotMeshes:
 
 class LabView:
     def __init__(self, lab, actions, services, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
-                 rate_hz: float = 30.0) -> None:
+                 rate_hz: float = 30.0, controls: bool = True) -> None:
         self.lab, self.actions, self.services = lab, actions, services
         self.light = light
         self.rate_hz = rate_hz
@@ -122,6 +122,7 @@ class LabView:
         if light:
             self.server.scene.configure_default_lights(cast_shadow=False)
         self.robot = RobotMeshes(self.server, light)
+        self.controls = controls  # off when the API needs a token: the view then only shows
         self._build_scene()
         self._build_gui()
         self.status_message = "Ready. Start lifting with a force."
@@ -169,8 +170,9 @@ class LabView:
         }
         self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
         self.gizmo = scene.add_transform_controls("/hand_target", scale=0.15, disable_rotations=True,
-                                                  position=s.palm_position)
-        self.gizmo.on_update(self._on_gizmo)
+                                                  position=s.palm_position, visible=self.controls)
+        if self.controls:
+            self.gizmo.on_update(self._on_gizmo)
 
     def update(self, s: Snapshot) -> None:
         """Redraw everything that moves from one snapshot."""
@@ -214,6 +216,12 @@ class LabView:
         gui = self.server.gui
         gui.add_markdown("**hri-lab** — cooperative lifting (SP)")
         self.status = gui.add_markdown("")
+        if self.controls:
+            self._build_controls()
+        self._build_plot()
+
+    def _build_controls(self) -> None:
+        gui = self.server.gui
         with gui.add_folder("Lifting"):
             self.force = gui.add_number("Force (N)", initial_value=10.0, min=0.0, max=60.0, step=0.5)
             gui.add_button("Start lifting").on_click(lambda _: self._call("/start_cooperative_lifting", force=float(self.force.value)))
@@ -225,8 +233,10 @@ class LabView:
             self.participant = gui.add_dropdown("Participant", tuple(PARTICIPANTS), initial_value="calm")
             gui.add_button("Run scripted participant").on_click(lambda _: self._run_participant())
             gui.add_markdown("Drag the gizmo on the palm to lift and carry the box yourself.")
+
+    def _build_plot(self) -> None:
         t = np.zeros(1)
-        self.plot = gui.add_uplot(
+        self.plot = self.server.gui.add_uplot(
             data=(t, t, t, t, t),
             series=(
                 viser.uplot.Series(label="t (s)"),

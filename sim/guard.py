@@ -62,7 +62,7 @@ class GuardedController:
             return getattr(self.inner, method)(*args)
         except ControllerFault:
             raise
-        except Exception as exc:  # noqa: BLE001 - any failure of the plug-in stops the robot
+        except (Exception, SystemExit) as exc:  # noqa: BLE001 - any failure of the plug-in (even exit()) stops the robot
             trace = "".join(traceback.format_exception(exc))
             raise ControllerFault(f"{self.name}.{method} raised {type(exc).__name__}: {exc}\n{trace}") from None
 

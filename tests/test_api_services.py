@@ -104,6 +104,9 @@ def test_compute_torques(client, lab):
     refused(client.post("/services/compute_torques", json={"force": [1.0] * 7}), "force")
     refused(client.post("/services/compute_torques", json={"force": [1, 2, 3, 4, 5, "NaN"]}), "force")
     refused(client.post("/services/compute_torques", json={"force": "123456"}), "force")
+    # huge but finite inputs whose result overflows: a failure response, not a 500 (found by fuzzing)
+    overflow = client.post("/services/compute_wrench", json={"torques": [1.7e308] * 7})
+    assert overflow.status_code == 400 and "overflows" in overflow.json()["detail"]
 
 
 def test_compute_wrench_round_trip(client, lab):

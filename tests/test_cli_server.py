@@ -8,34 +8,15 @@ import time
 import httpx
 import pytest
 
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+from app.launch import running_server
 
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     params = tmp_path_factory.mktemp("params") / "lab.yaml"
     params.write_text("keytwist:\n  ros__parameters:\n    linear_speed: 0.2\n")
-    port = free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "app.cli", "serve", "--port", str(port), "--params", str(params)],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-    )
-    url = f"http://127.0.0.1:{port}"
-    lines = []
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        line = proc.stdout.readline()
-        lines.append(line)
-        if "Press Ctrl+C" in line or proc.poll() is not None:
-            break
-    assert proc.poll() is None, "".join(lines)
-    yield url, "".join(lines)
-    proc.terminate()
-    proc.wait(timeout=10)
+    with running_server("--view", "none", "--params", str(params)) as server:
+        yield server.url, server.banner
 
 
 def cli(url, *args):
@@ -105,7 +86,7 @@ def test_cli_without_server_is_a_clear_error():
 def test_bad_params_file_refuses_to_start(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text("cooperative_lifting:\n  ros__parameters:\n    mu: fast\n")
-    out = subprocess.run([sys.executable, "-m", "app.cli", "serve", "--port", str(free_port()), "--params", str(path)],
+    out = subprocess.run([sys.executable, "-m", "app.cli", "serve", "--port", "0", "--view", "none", "--params", str(path)],
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 2 and "Wrong parameter type, parameter {mu}" in out.stderr
 

@@ -92,20 +92,14 @@ def test_plugin_loading_errors(tmp_path):
 
 
 def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
-    import socket
     import time
 
     import httpx
 
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "serve", "--port", str(port), "--view", "none",
-                             "--controller", f"{BROKEN}:Raising"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        url = f"http://127.0.0.1:{port}"
-        while "Press Ctrl+C" not in proc.stdout.readline():
-            assert proc.poll() is None
+    from app.launch import running_server
+
+    with running_server("--view", "none", "--controller", f"{BROKEN}:Raising") as server:
+        url = server.url
         assert httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
         time.sleep(0.3)
         error = httpx.get(f"{url}/topics/lifting_state").json()["error"]
@@ -114,6 +108,3 @@ def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
         command = httpx.get(f"{url}/topics/cartesian_velocity_controller/command").json()
         assert all(v == 0.0 for v in command["linear"].values())
         assert httpx.get(f"{url}/health").json()["loop_alive"] is True
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)

@@ -4,19 +4,9 @@
 
 Without HRI_LAB_URL it starts the lab's own server (how `make test` checks the suite itself)."""
 import os
-import socket
-import subprocess
-import sys
-import time
 
 import httpx
 import pytest
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 @pytest.fixture(scope="session")
@@ -25,20 +15,10 @@ def lab_url():
     if url:
         yield url.rstrip("/")
         return
-    port = _free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "serve", "--port", str(port), "--view", "none"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    url = f"http://127.0.0.1:{port}"
-    deadline = time.monotonic() + 90
-    while time.monotonic() < deadline:
-        try:
-            if httpx.get(f"{url}/health", timeout=1.0).status_code == 200:
-                break
-        except httpx.HTTPError:
-            time.sleep(0.2)
-    yield url
-    proc.terminate()
-    proc.wait(timeout=10)
+    from app.launch import running_server
+
+    with running_server("--view", "none") as server:
+        yield server.url
 
 
 @pytest.fixture(scope="session")

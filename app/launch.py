@@ -1,0 +1,57 @@
+"""Start `hri-lab serve` as a separate process on a free loopback port and wait until it is ready
+(for tests, benchmarks and grading runs that need a real server)."""
+import socket
+import subprocess
+import sys
+import time
+from contextlib import contextmanager
+from typing import Iterator
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class ServerProcess:
+    def __init__(self, *args: str, timeout: float = 120.0) -> None:
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.started = time.perf_counter()
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *args],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        )
+        self.banner = self._wait_ready(timeout)
+        self.ready_after = time.perf_counter() - self.started
+
+    def _wait_ready(self, timeout: float) -> str:
+        lines: list[str] = []
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            line = self.proc.stdout.readline()
+            lines.append(line)
+            if "Press Ctrl+C" in line:
+                return "".join(lines)
+            if self.proc.poll() is not None:
+                break
+        self.stop()
+        raise RuntimeError("the server did not start:\n" + "".join(lines))
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+
+
+@contextmanager
+def running_server(*args: str) -> Iterator[ServerProcess]:
+    server = ServerProcess(*args)
+    try:
+        yield server
+    finally:
+        server.stop()

@@ -25,8 +25,13 @@ test: $(STAMP) chromium
 experiment: $(STAMP)
 	$(BIN)/hri-lab experiment
 
-bench: $(STAMP)
-	$(BIN)/python bench/sim_speed.py
+bench: $(STAMP) chromium
+	@command -v wrk >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; }
+	$(BIN)/python -m bench.sim_speed
+	$(BIN)/python -m bench.startup
+	$(BIN)/python -m bench.service_latency
+	$(BIN)/python -m bench.loop_latency
+	$(BIN)/python -m bench.view_cost
 
 clean:
 	rm -rf $(VENV) *.egg-info

@@ -1,6 +1,6 @@
 """Time from process start to a ready server, and its resident memory.
 
-    .venv/bin/python bench/startup.py [--repeats 3]
+    .venv/bin/python -m bench.startup [--repeats 3]
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """3D view cost: server-side time of one scene update (robot meshes, plate, box, palm, arrows,
 plot) and whether the 1 kHz loop keeps its rate while one viewer (headless chromium) watches.
 
-    .venv/bin/python bench/view_cost.py [--seconds 10] [--light]
+    .venv/bin/python -m bench.view_cost [--seconds 10] [--light]
 """
 from __future__ import annotations
 

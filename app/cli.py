@@ -8,19 +8,16 @@ import sys
 from pathlib import Path
 
 
-from sim.experiment import format_table, plan, run_experiment, summary
+from sim.experiment import COMPARISON_PARTICIPANTS, format_comparison, format_table, plan, run_experiment, summary
 from sim.human import PARTICIPANTS
-from sim.plugin import PluginError, PluginFactory
-from sim.sp_controller import SPController
+from sim.plugin import PluginError, controller_factory
 
 from . import client_cli
 
 
 def _controller_factory(spec: str | None):
-    """The plug-in's factory (loaded once here so that a broken file fails now, clearly)."""
-    if spec is None:
-        return SPController
-    factory = PluginFactory(spec)
+    """sp, patch or a plug-in file's factory (loaded once here so that a broken file fails now)."""
+    factory = controller_factory(spec)
     factory()
     return factory
 
@@ -28,6 +25,8 @@ def _controller_factory(spec: str | None):
 def _experiment(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
+    if args.compare:
+        return _compare(args)
     factory = _controller_factory(args.controller)
     total = len(plan(args.trials, args.participant, args.seed))
     with tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet) as bar:
@@ -45,6 +44,21 @@ def _experiment(args: argparse.Namespace) -> int:
     return 0
 
 
+def _compare(args: argparse.Namespace) -> int:
+    """The same participants and seeds with each controller, side by side."""
+    names = [n.strip() for n in args.compare.split(",") if n.strip()]
+    people = [args.participant] if args.participant else list(COMPARISON_PARTICIPANTS)
+    results = {}
+    for name in names:
+        factory = _controller_factory(name)
+        results[name] = {p: run_experiment(args.trials, p, args.seed, controller_factory=factory, jobs=args.jobs) for p in people}
+    if args.json:
+        print(json.dumps({n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}, indent=2))
+    else:
+        print(format_comparison(results))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -55,7 +69,8 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1,
                      help="trials run in this many processes (default: one per core; same results)")
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
-    exp.add_argument("--controller", metavar="FILE.py[:Class]", help="a student's controller (default: the built-in SP)")
+    exp.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
+    exp.add_argument("--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     exp.set_defaults(func=_experiment)
 
@@ -66,7 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--view", choices=("full", "light", "none"), default=os.environ.get("HRI_LAB_VIEW", "full"),
                      help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
     srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
-    srv.add_argument("--controller", metavar="FILE.py[:Class]", help="a student's controller (default: the built-in SP)")
+    srv.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
     srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
                      help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
     srv.set_defaults(func=_serve)

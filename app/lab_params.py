@@ -2,6 +2,7 @@
 from dataclasses import replace
 
 from sim.human import PARTICIPANTS
+from sim.plugin import BUILTIN, builtin
 
 from .params import Parameter
 
@@ -38,7 +39,9 @@ LAB_PARAMETERS = [
     _lifting("v_max", "linear speed limit of the command (m/s)", 0.5, 0.0, 1.7),
     _lifting("w_max", "angular speed limit of the command (rad/s)", 1.0, 0.0, 2.5),
     _lifting("filter_hz", "cut-off of the controller's low-pass on F_ext (Hz, 0 = none)", 10.0, 0.0, 500.0),
-    Parameter("cooperative_lifting", "controller", "string", "sp", "the lifting controller", choices=("sp",)),
+    Parameter("cooperative_lifting", "controller", "string", "sp",
+              "the lifting controller: sp (Single Point) or patch (patch-aware); a plug-in is chosen at start",
+              choices=BUILTIN, apply=lambda world, v: world.set_controller(builtin(v))),
     Parameter("keytwist", "linear_speed", "double", 0.1, "teleop linear speed (m/s)", (0.0, 0.5)),
     Parameter("keytwist", "angular_speed", "double", 0.1, "teleop angular speed (rad/s)", (0.0, 1.0)),
     Parameter("sim", "rate_hz", "integer", 1000, "control rate of the simulation (Hz)", (1000, 1000), read_only=True),

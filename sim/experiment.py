@@ -18,7 +18,7 @@ from typing import Callable
 import numpy as np
 
 from .controller import Controller, LiftingParams
-from .human import PARTICIPANTS, Participant
+from .human import PARTICIPANTS, TABLE_1, Participant
 from .sp_controller import SPController
 from .spatial import norm3
 from .world import World, WorldConfig
@@ -164,7 +164,7 @@ def trial_seed(seed: int, index: int) -> int:
 
 def plan(trials: int = 9, participant: str | None = None, seed: int = 0) -> list[tuple[int, Participant, int, int]]:
     """(index, participant, attempt, seed) of each trial: participants x tries, as in the handout."""
-    people = [PARTICIPANTS[participant]] if participant else list(PARTICIPANTS.values())
+    people = [PARTICIPANTS[participant]] if participant else [PARTICIPANTS[name] for name in TABLE_1]
     tries = -(-trials // len(people))
     order = [(p, a) for p in people for a in range(1, tries + 1)][:trials]
     return [(i, p, a, trial_seed(seed, i)) for i, (p, a) in enumerate(order)]
@@ -232,3 +232,32 @@ def format_table(results: list[TrialResult]) -> str:
     lines.append(f"success: {s['successes']}/{s['trials']}")
     return "\n".join(lines)
 
+
+
+COMPARISON_PARTICIPANTS = ("calm", "average", "hasty", "brisk", "tilting")
+
+
+def format_comparison(results: dict[str, dict[str, list[TrialResult]]]) -> str:
+    """Per participant, per controller: successes, mean time, f_n range, friction margin, slip."""
+    names = list(results)
+    header = f"{'participant':<11} " + " | ".join(f"{n:^44}" for n in names)
+    sub = f"{'':<11} " + " | ".join(f"{'ok':>4} {'time s':>7} {'f_n min..max':>13} {'|ft|/mu fn':>10} {'slip mm':>7}" for _ in names)
+    lines = [header, sub, "-" * len(sub)]
+    people = list(next(iter(results.values())))
+    for person in people:
+        cells = []
+        for name in names:
+            rs = results[name][person]
+            ok = [r for r in rs if r.success]
+            time_s = f"{np.mean([r.duration for r in ok]):.1f}" if ok else "-"
+            f_lo, f_hi = np.mean([r.f_n_min for r in rs]), np.mean([r.f_n_max for r in rs])
+            cells.append(f"{len(ok)}/{len(rs):<2} {time_s:>7} {f_lo:>6.1f}..{f_hi:<5.1f} {np.mean([r.max_friction_ratio for r in rs]):>10.2f} "
+                         f"{np.mean([r.slip for r in rs]) * 1000:>7.1f}")
+        lines.append(f"{person:<11} " + " | ".join(cells))
+    totals = []
+    for name in names:
+        rs = [r for by in results[name].values() for r in by]
+        totals.append(f"{sum(r.success for r in rs)}/{len(rs)} succeeded")
+    lines.append("-" * len(sub))
+    lines.append(f"{'all':<11} " + " | ".join(f"{t:^44}" for t in totals))
+    return "\n".join(lines)

@@ -31,6 +31,7 @@ class Participant:
     squeeze_force: float  # N, palm force the person keeps
     tremor_amplitude: float  # m, per axis
     tremor_frequency: float  # Hz (physiological tremor is 8-12 Hz)
+    tilt: float = 0.0  # rad the person tilts the box (about the carry direction) while carrying it
 
     def varied(self, rng: np.random.Generator) -> Participant:
         """The same person on another try: +-10 % speed, +-1 N squeeze."""
@@ -47,8 +48,13 @@ PARTICIPANTS: dict[str, Participant] = {
         Participant("calm", peak_speed=0.08, squeeze_force=14.0, tremor_amplitude=0.0002, tremor_frequency=8.0),
         Participant("average", peak_speed=0.12, squeeze_force=13.0, tremor_amplitude=0.0005, tremor_frequency=9.0),
         Participant("hasty", peak_speed=0.16, squeeze_force=12.0, tremor_amplitude=0.001, tremor_frequency=10.0),
+        # harder participants for comparing controllers (not in the handout's Table 1)
+        Participant("brisk", peak_speed=0.14, squeeze_force=14.0, tremor_amplitude=0.0005, tremor_frequency=9.0),
+        Participant("tilting", peak_speed=0.08, squeeze_force=14.0, tremor_amplitude=0.0002, tremor_frequency=8.0,
+                    tilt=math.radians(15.0)),
     )
 }
+TABLE_1 = ("calm", "average", "hasty")  # the handout's three participants
 
 
 @dataclass(frozen=True)
@@ -276,6 +282,16 @@ class VirtualHuman:
         x, y = a * math.sin(2.0 * math.pi * fx * t + px), a * math.sin(2.0 * math.pi * fy * t + py)
         return self.rotation[:, 0] * x + self.rotation[:, 1] * y
 
+    def tilted_level(self) -> np.ndarray:
+        """The box orientation the wrist aims at: as let go, tilted by participant.tilt about the
+        carry direction along the carry (minimum-jerk over the path's duration)."""
+        tilt = self.participant.tilt
+        if tilt == 0.0 or self.phase not in ("carrying", "holding", "done"):
+            return self.box_level
+        progress = 1.0 if self.phase != "carrying" else minimum_jerk(self.phase_time / (self.path.duration - self.path.hold))
+        axis = np.asarray(self.path_spec.carry_direction, float)
+        return rotation_exp(axis / np.linalg.norm(axis) * tilt * progress) @ self.box_level
+
     def hand_wrench(self, box: BoxPose, palm_force: float) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and moment about the box centre (Nm), world, that the hand applies besides the
         palm contact: the grasp (a 6-D spring-damper to where the box was grasped, faded out by
@@ -294,7 +310,8 @@ class VirtualHuman:
             moment = p.grasp_rot_stiffness * rot_err + p.grasp_rot_damping * (self.angular_velocity - box.angular_velocity)
             force, moment = self.grasp_weight * force, self.grasp_weight * moment
         if self.box_level is not None:
-            wrist = p.wrist_stiffness * rotation_log(self.box_level @ box.rotation.T) - p.wrist_damping * box.angular_velocity
+            level = self.tilted_level()
+            wrist = p.wrist_stiffness * rotation_log(level @ box.rotation.T) - p.wrist_damping * box.angular_velocity
             capacity = p.hand_lever * max(palm_force, 0.0)
             norm = norm3(wrist)
             if norm > capacity:

@@ -16,6 +16,32 @@ from pathlib import Path
 from .guard import Budget, GuardedController
 
 DEFAULT_CLASS = "CooperativeLifting"
+BUILTIN = ("sp", "patch")  # controllers selectable by name
+
+
+def builtin(name: str):
+    """A new built-in controller: "sp" (Single Point) or "patch" (patch-aware)."""
+    from .patch_controller import PatchController
+    from .sp_controller import SPController
+
+    return {"sp": SPController, "patch": PatchController}[name]()
+
+
+@dataclass(frozen=True)
+class BuiltinFactory:
+    """A picklable factory of a built-in controller."""
+
+    name: str
+
+    def __call__(self):
+        return builtin(self.name)
+
+
+def controller_factory(spec: str | None):
+    """`sp`, `patch` or `FILE.py[:Class]` (a guarded plug-in) -> a factory of new controllers."""
+    if spec is None or spec in BUILTIN:
+        return BuiltinFactory(spec or "sp")
+    return PluginFactory(spec)
 
 
 class PluginError(Exception):

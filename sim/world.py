@@ -164,6 +164,11 @@ class World:
         self.config = replace(self.config, plate_contact=replace(self.config.plate_contact, **changes))
         self.plate_contact.set_params(self.config.plate_contact)
 
+    def set_controller(self, controller: Controller) -> None:
+        """Swap the controller (from rest: it starts with a zero command)."""
+        controller.reset()
+        self.controller = controller
+
     def set_participant(self, participant: Participant) -> None:
         """The person the virtual human plays, now and for later resets."""
         self.participant = participant

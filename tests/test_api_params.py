@@ -31,7 +31,7 @@ def test_list_get_describe(client):
         ("cooperative_lifting", "f_n_min", 61.0, 422, "Parameter {f_n_min} doesn't comply with floating point range."),
         ("cooperative_lifting", "f_n_min", -0.1, 422, "Parameter {f_n_min} doesn't comply with floating point range."),
         ("cooperative_lifting", "nope", 1.0, 404, "parameter 'nope' cannot be set because it was not declared"),
-        ("human", "profile", "sleepy", 422, "Parameter {profile} must be one of calm, average, hasty."),
+        ("human", "profile", "sleepy", 422, "Parameter {profile} must be one of calm, average, hasty, brisk, tilting."),
     ],
 )
 def test_refusals_keep_the_value(client, node, name, value, status, reason):
@@ -78,6 +78,15 @@ def test_a_changed_gain_changes_the_controller(client):
     time.sleep(0.3)
     assert client.get("/topics/cartesian_velocity_controller/command").json()["linear"]["y"] > 0.0
     client.post("/services/stop_cooperative_lifting")
+
+
+def test_controller_parameter_swaps_the_controller(client, lab):
+    assert put(client, "cooperative_lifting", "controller", "patch").json()["successful"] is True
+    assert type(lab.call(lambda w: w.controller)).__name__ == "PatchController"
+    assert put(client, "cooperative_lifting", "controller", "pid").json()["reason"] == \
+        "Parameter {controller} must be one of sp, patch."
+    assert put(client, "cooperative_lifting", "controller", "sp").json()["successful"] is True
+    assert type(lab.call(lambda w: w.controller)).__name__ == "SPController"
 
 
 def test_start_service_and_parameter_agree(client):

@@ -7,8 +7,14 @@ import os
 import sys
 from pathlib import Path
 
-
-from sim.experiment import COMPARISON_PARTICIPANTS, format_comparison, format_table, plan, run_experiment, summary
+from sim.experiment import (
+    COMPARISON_PARTICIPANTS,
+    format_comparison,
+    format_table,
+    plan,
+    run_experiment,
+    summary,
+)
 from sim.human import PARTICIPANTS
 from sim.plugin import PluginError, controller_factory
 

@@ -1,13 +1,25 @@
 """The lab's services (DESIGN.md section 6), one declaration each: request, response, handler."""
+from typing import Annotated
+
 import numpy as np
 from pydantic import Field
-from typing import Annotated
 
 from sim import planar_arm
 from sim.guard import ControllerFault
 
 from .lab_params import F_N_MIN_RANGE
-from .ros_types import INT64_MAX, INT64_MIN, Bool, Float64, Int32, Int64, RosMessage, RosType, String, float64_array
+from .ros_types import (
+    INT64_MAX,
+    INT64_MIN,
+    Bool,
+    Float64,
+    Int32,
+    Int64,
+    RosMessage,
+    RosType,
+    String,
+    float64_array,
+)
 from .services import Service, ServiceFailure, ServiceRegistry
 
 

@@ -4,7 +4,7 @@ A message is a `RosMessage` (strict: a string is not a number, a bool is not an 
 fields are refused) whose fields are annotated with these types, e.g. `a: Int64`.
 """
 from dataclasses import dataclass
-from typing import Annotated, Literal  # noqa: F401 - Literal re-exported for message models
+from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 

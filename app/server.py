@@ -1,14 +1,13 @@
 """The FastAPI app: the lab's services, parameters and topics over HTTP, with the live loop."""
-from contextlib import asynccontextmanager
-
 import math
+from contextlib import asynccontextmanager
 from pathlib import Path
+from typing import Literal
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
-
 from pydantic import BaseModel, ConfigDict
 
 from sim.teleop import key_twist
@@ -21,8 +20,6 @@ from .actions import ActionServer
 from .lab import Lab
 from .lab_actions import ACTIONS
 from .lab_services import SERVICES
-from .ros_types import Literal
-
 
 STATIC = Path(__file__).resolve().parent.parent / "static"
 

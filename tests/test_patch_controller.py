@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from sim.contact import ContactParams, PatchContact, PatchGeometry
 from sim.box import Box, BoxParams
+from sim.contact import ContactParams, PatchContact, PatchGeometry
 from sim.controller import LiftingParams, start_lifting
 from sim.patch_controller import PatchController, patch_grip
 from sim.sensor import wrench_at_ee

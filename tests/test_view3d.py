@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
+from app.actions import ActionServer
 from app.lab import Lab
 from app.lab_actions import ACTIONS
-from app.actions import ActionServer
 from app.lab_services import SERVICES
 from app.topics import wrench_stamped
 from app.view3d import FORCE_SCALE, LabView, cone_mesh, state_of

@@ -6,7 +6,6 @@ import sys
 import numpy as np
 import pytest
 
-from sim.controller import LiftingParams
 from sim.experiment import Trial, TrialRules, plan, run_experiment
 from sim.human import PARTICIPANTS, HandPath, PickAndPlace, minimum_jerk
 from sim.robot import READY_Q, SIDE_Q

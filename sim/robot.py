@@ -92,8 +92,9 @@ class PandaModel:
         contain a part no flange wrench can produce."""
         jt = self.jacobian_base(np.asarray(q, float)).T
         tau = np.asarray(torques, float)
-        wrench, *_ = np.linalg.lstsq(jt, tau, rcond=None)
-        return wrench, float(np.linalg.norm(jt @ wrench - tau))
+        with np.errstate(over="ignore", invalid="ignore"):  # huge inputs: inf/nan, refused by the caller
+            wrench, *_ = np.linalg.lstsq(jt, tau, rcond=None)
+            return wrench, float(np.linalg.norm(jt @ wrench - tau))
 
     def joint_names(self) -> list[str]:
         return [name for name in self.model.names[1:]]

@@ -44,9 +44,12 @@ def test_cancel_mid_way_ends_preempted_and_a_busy_server_rejects(client):
     assert goal_id in second.json()["message"]
     canceled = client.post(f"/actions/count/goals/{goal_id}/cancel").json()
     assert canceled["status"] in ("preempting", "preempted")
+    counted_at_cancel = canceled["feedback_count"]
     view = wait_terminal(client, "count", goal_id)
     assert view["status"] == "preempted"
-    assert 1 <= view["result"]["final_count"] < 10
+    # it stopped at once: the result is the last number it fed back, the one it had reached
+    assert view["result"]["final_count"] == view["feedback"][-1]["current_number"] == view["feedback_count"]
+    assert view["feedback_count"] == counted_at_cancel
     # free again
     third = client.post("/actions/count/goals", json={"count": 0}).json()
     assert wait_terminal(client, "count", third["goal_id"])["status"] == "succeeded"

@@ -63,14 +63,20 @@ def _print_list(args, path: str) -> int:
     return 0
 
 
+def _lookup(args, kind: str) -> tuple[str, httpx.Response]:
+    """`/name` and the server's answer for GET /{kind}/name; a clear error when there is none."""
+    name = "/" + args.name.lstrip("/")
+    response = _request(args, "GET", f"/{kind}{name}")
+    if response.status_code != 200:
+        raise CliError(f"{kind[:-1]} '{name}' is not available: {_detail(response)}")
+    return name, response
+
+
 # --- service ----------------------------------------------------------------------------------
 def service(args) -> int:
     if args.action == "list":
         return _print_list(args, "/services")
-    name = "/" + args.name.lstrip("/")
-    info = _request(args, "GET", f"/services{name}")
-    if info.status_code == 404:
-        raise CliError(f"service '{name}' is not available")
+    name, info = _lookup(args, "services")
     info = info.json()
     if args.action == "type":
         print(info["type"])
@@ -161,10 +167,7 @@ def param(args) -> int:
 def topic(args) -> int:
     if args.action == "list":
         return _print_list(args, "/topics")
-    name = "/" + args.name.lstrip("/")
-    response = _request(args, "GET", f"/topics{name}")
-    if response.status_code != 200:
-        raise CliError(_detail(response))
+    name, response = _lookup(args, "topics")
     if args.once:
         _print_message(response.json())
         return 0
@@ -196,10 +199,7 @@ def _indented(values: dict | None) -> str:
 def action(args) -> int:
     if args.action == "list":
         return _print_list(args, "/actions")
-    name = "/" + args.name.lstrip("/")
-    info = _request(args, "GET", f"/actions{name}")
-    if info.status_code != 200:
-        raise CliError(f"action '{name}' is not available")
+    name, info = _lookup(args, "actions")
     if args.action == "info":
         info = info.json()
         print(f"Action: {info['name']}\nType: {info['type']}\n\n{info['definition']}")

@@ -10,7 +10,7 @@ from sim.experiment import format_table, plan, run_trial
 from sim.human import PARTICIPANTS
 
 from .actions import Action, GoalHandle
-from .ros_types import Bool, Float64, Int32, Int64, RosMessage, RosType, String
+from .ros_types import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String
 
 
 # --- /count: the seed's counting action ------------------------------------------------------
@@ -38,10 +38,6 @@ def count(lab, goal: CountGoal, handle: GoalHandle) -> CountResult:
 
 
 # --- /move_to_start ----------------------------------------------------------------------------
-class Empty(RosMessage):
-    pass
-
-
 class MoveResult(RosMessage):
     success: Bool
     message: String

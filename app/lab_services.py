@@ -12,6 +12,7 @@ from .ros_types import (
     INT64_MAX,
     INT64_MIN,
     Bool,
+    Empty,
     Float64,
     Int32,
     Int64,
@@ -21,10 +22,6 @@ from .ros_types import (
     float64_array,
 )
 from .services import Service, ServiceFailure, ServiceRegistry
-
-
-class Empty(RosMessage):
-    pass
 
 
 class Trigger(RosMessage):

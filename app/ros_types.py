@@ -45,3 +45,7 @@ def definition(model: type[BaseModel]) -> str:
             raise TypeError(f"{model.__name__}.{name} has no ROS type")
         lines.append(f"{ros.name} {field.alias or name}")
     return "\n".join(lines)
+
+
+class Empty(RosMessage):
+    """A message with no field (an empty request or goal)."""

@@ -8,10 +8,10 @@ import sys
 from pathlib import Path
 
 from sim.experiment import (
-    COMPARISON_PARTICIPANTS,
     format_comparison,
     format_table,
     plan,
+    run_comparison,
     run_experiment,
     summary,
 )
@@ -53,11 +53,9 @@ def _experiment(args: argparse.Namespace) -> int:
 def _compare(args: argparse.Namespace) -> int:
     """The same participants and seeds with each controller, side by side."""
     names = [n.strip() for n in args.compare.split(",") if n.strip()]
-    people = [args.participant] if args.participant else list(COMPARISON_PARTICIPANTS)
-    results = {}
-    for name in names:
-        factory = _controller_factory(name)
-        results[name] = {p: run_experiment(args.trials, p, args.seed, controller_factory=factory, jobs=args.jobs) for p in people}
+    factories = {name: _controller_factory(name) for name in names}
+    people = [args.participant] if args.participant else None
+    results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs)
     if args.json:
         print(json.dumps({n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}, indent=2))
     else:

@@ -1,4 +1,5 @@
-"""The Lab: the server's one simulation (world + real-time loop), its parameters and its log."""
+"""The Lab: the server's one simulation (world + real-time loop in its own process), its
+parameters and its log."""
 import time
 from collections import deque
 from typing import Callable, TypeVar
@@ -9,15 +10,16 @@ from sim.sp_controller import SPController
 from sim.world import Snapshot, World, WorldConfig
 
 from .params import ParameterServer
-from .sim_loop import SimulationLoop
+from .sim_process import SimulationProcess
 
 T = TypeVar("T")
 
 
 class Lab:
     def __init__(self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None) -> None:
+        # the world the simulation process starts from (live state: snapshot() and call())
         self.world = World(config or WorldConfig(), controller or SPController())
-        self.loop = SimulationLoop(self.world, realtime=realtime)
+        self.loop = SimulationProcess(self.world, realtime=realtime)
         self.model = PandaModel()  # for computations on snapshots (not the loop's pinocchio data)
         self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
         from .lab_params import LAB_PARAMETERS
@@ -30,9 +32,10 @@ class Lab:
     def stop(self) -> None:
         self.loop.stop()
 
-    def call(self, fn: Callable[[World], T], timeout: float = 10.0) -> T:
-        """Run fn(world) on the loop thread between two steps and return its result."""
-        return self.loop.call(fn, timeout)
+    def call(self, fn: Callable[..., T], *args, timeout: float = 10.0) -> T:
+        """Run fn(world, *args) in the simulation between two steps and return its result; fn is
+        sent by name (a function of app/world_commands.py or a method of World)."""
+        return self.loop.call(fn, *args, timeout=timeout)
 
     def snapshot(self) -> Snapshot:
         return self.loop.snapshot()

@@ -6,11 +6,29 @@ from typing import Annotated
 
 from pydantic import Field
 
-from sim.experiment import format_table, plan, run_trial
+from sim.experiment import (
+    COMPARISON_PARTICIPANTS,
+    ComparedTrial,
+    TrialResult,
+    format_comparison,
+    format_table,
+    plan,
+    run_comparison,
+    run_trial,
+)
 from sim.human import PARTICIPANTS
+from sim.plugin import BUILTIN
+from sim.world import World
 
+from . import world_commands as cmd
 from .actions import Action, GoalHandle
-from .ros_types import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String
+from .ros_types import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, int32_array, string_array
+
+
+def _names(choices) -> str:
+    """A pattern for a comma-separated list of some of `choices`."""
+    one = "(" + "|".join(choices) + ")"
+    return f"^{one}(,{one})*$"
 
 
 # --- /count: the seed's counting action ------------------------------------------------------
@@ -50,19 +68,12 @@ class MoveFeedback(RosMessage):
 def move_to_start(lab, goal: Empty, handle: GoalHandle) -> MoveResult:
     """Drive the robot to the start pose with a smooth joint motion (lifting must be stopped)."""
 
-    def begin(world):
-        if world.params.running:
-            raise RuntimeError("cooperative lifting is running: stop it first")
-        if world.error:
-            raise RuntimeError(f"the robot is in error ({world.error}): call /error_recovery first")
-        return world.move_to_start().duration
-
-    duration = lab.call(begin)
+    duration = lab.call(cmd.begin_move_to_start)
     while True:
         if handle.wait(0.1):
-            lab.call(lambda world: world.stop_motion())
+            lab.call(World.stop_motion)
             return MoveResult(success=False, message="canceled: the robot braked to rest")
-        progress, moving, error = lab.call(lambda w: (w.motion.progress if w.motion else 1.0, w.motion is not None, w.error))
+        progress, moving, error = lab.call(cmd.motion_progress)
         if error:
             raise RuntimeError(f"robot reflex: {error}")
         handle.feedback(MoveFeedback(progress=progress))
@@ -114,6 +125,52 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
     return ExperimentResult(trials=len(results), successes=sum(r.success for r in results), table=format_table(results))
 
 
+# --- /compare_controllers ----------------------------------------------------------------------
+class CompareGoal(RosMessage):
+    controllers: Annotated[str, Field(pattern=_names(BUILTIN)), RosType("string", "comma-separated, e.g. sp,patch")] = "sp,patch"
+    trials: Annotated[int, Field(ge=1, le=5), RosType("int32", "tries per participant")] = 1
+    participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
+                            RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
+    seed: Int64 = 0
+
+
+class CompareResult(RosMessage):
+    controllers: string_array()
+    successes: int32_array()  # per controller
+    trials: int32_array()  # per controller
+    table: String
+
+
+class CompareFeedback(RosMessage):
+    controller: String
+    participant: String
+    trial: Int32
+    of: Int32
+    success: Bool
+    duration: Float64
+    reason: String
+
+
+def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareResult:
+    """The same participants and seeds with each controller (headless worlds in a worker process;
+    the live robot is untouched); feedback per trial; a cancel stops after the running trial."""
+    names = goal.controllers.split(",")
+    people = goal.participants.split(",") if goal.participants else None
+    total = len(names) * goal.trials * len(people or COMPARISON_PARTICIPANTS)
+    done = []
+
+    def feedback(item: ComparedTrial, result: TrialResult) -> None:
+        done.append(result)
+        handle.feedback(CompareFeedback(controller=item.controller, participant=result.participant, trial=len(done), of=total,
+                                        success=result.success, duration=result.duration, reason=result.reason))
+
+    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback,
+                             cancelled=lambda: handle.cancel_requested, mp_context=multiprocessing.get_context("spawn"))
+    runs = [[r for rs in results[name].values() for r in rs] for name in names]
+    return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
+                         trials=[len(rs) for rs in runs], table=format_comparison(results))
+
+
 ACTIONS = [
     Action("/count", "hri_lab/Count", CountGoal, CountResult, CountFeedback, count,
            "Count up to `count`, one number a second (the seed's action)."),
@@ -121,4 +178,7 @@ ACTIONS = [
            "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it."),
     Action("/run_experiment", "hri_lab/RunExperiment", ExperimentGoal, ExperimentResult, ExperimentFeedback, run_experiment,
            "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial."),
+    Action("/compare_controllers", "hri_lab/CompareControllers", CompareGoal, CompareResult, CompareFeedback,
+           compare_controllers,
+           "Run the same participants and seeds with each controller (sp, patch) and compare them side by side."),
 ]

@@ -6,7 +6,10 @@ from pydantic import Field
 
 from sim import planar_arm
 from sim.guard import ControllerFault
+from sim.plugin import BUILTIN
+from sim.world import World
 
+from . import world_commands as cmd
 from .lab_params import F_N_MIN_RANGE
 from .ros_types import (
     INT64_MAX,
@@ -36,24 +39,27 @@ class Message(RosMessage):
 # --- cooperative lifting --------------------------------------------------------------------
 class StartRequest(RosMessage):
     force: Annotated[float, Field(ge=F_N_MIN_RANGE[0], le=F_N_MIN_RANGE[1], allow_inf_nan=False), RosType("float64")]
+    controller: Annotated[str, Field(pattern="^(|" + "|".join(BUILTIN) + ")$"),
+                          RosType("string", "'' keeps the current one; " + " or ".join(BUILTIN))] = ""
 
 
 def start(lab, request: StartRequest) -> Message:
-    message = _lifting_handler(lab, lambda world: world.start_lifting(request.force))
+    """Select the controller (when given) and start, in one step of the simulation."""
+    message = _lifting_handler(lab, cmd.start_lifting, request.force, request.controller)
     lab.info("cooperative_lifting", message)
     return Message(message=message)
 
 
-def _lifting_handler(lab, fn) -> str:
+def _lifting_handler(lab, fn, *args) -> str:
     """start/stop run the controller's own handler when it has one: its failure is the call's."""
     try:
-        return str(lab.call(fn))
+        return str(lab.call(fn, *args))
     except ControllerFault as fault:
         raise ServiceFailure(str(fault)) from None
 
 
 def stop(lab, request: Empty) -> Message:
-    message = _lifting_handler(lab, lambda world: world.stop_lifting())
+    message = _lifting_handler(lab, World.stop_lifting)
     lab.info("cooperative_lifting", message)
     return Message(message=message)
 
@@ -222,20 +228,21 @@ def get_target_position(lab, request: TargetRequest) -> Pixel:
 
 
 def error_recovery(lab, request: Empty) -> Trigger:
-    error = lab.call(lambda world: (world.error, world.recover())[0])
+    error = lab.call(cmd.recover)
     if error is None:
         return Trigger(success=True, message="No error to recover from.")
     return Trigger(success=True, message=f"Recovered from: {error}")
 
 
 def reset_simulation(lab, request: Empty) -> Trigger:
-    lab.call(lambda world: world.reset())
+    lab.call(World.reset)
     return Trigger(success=True, message="Simulation reset: robot at the start pose, box held in front of the plate.")
 
 
 SERVICES = ServiceRegistry([
     Service("/start_cooperative_lifting", "hri_lab/StartCooperativeLifting", StartRequest, Message, start,
-            "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (5 N)."),
+            "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (5 N); "
+            "controller 'sp' or 'patch' selects the lifting controller first ('' keeps the current one)."),
     Service("/stop_cooperative_lifting", "hri_lab/StopCooperativeLifting", Empty, Message, stop,
             "Stop cooperative lifting: f_n_min = 0, the robot stops (zero twist)."),
     Service("/compute_torques", "hri_lab/ComputeTorques", WrenchRequest, Torques, compute_torques,

@@ -105,7 +105,7 @@ class ParameterServer:
         if param.choices and value not in param.choices:
             raise ParameterRefused(f"Parameter {{{name}}} must be one of {', '.join(param.choices)}.")
         if param.apply is not None:
-            self.lab.call(lambda world: param.apply(world, value))
+            self.lab.call(param.apply, value)
         self.values[(param.node, param.name)] = value
 
     def items(self) -> list[tuple[Parameter, Any]]:

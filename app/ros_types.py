@@ -14,9 +14,10 @@ INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
 
 @dataclass(frozen=True)
 class RosType:
-    """The ROS type name of a field (shown in the .srv text)."""
+    """The ROS type name of a field (shown in the .srv text), with an optional comment."""
 
     name: str
+    comment: str = ""
 
 
 Float64 = Annotated[float, Field(allow_inf_nan=False), RosType("float64")]
@@ -32,6 +33,14 @@ def float64_array(min_length: int | None = None, max_length: int | None = None):
     return Annotated[list[FiniteFloat], Field(min_length=min_length, max_length=max_length), RosType("float64[]")]
 
 
+def int32_array():
+    return Annotated[list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX)]], Field(max_length=10_000), RosType("int32[]")]
+
+
+def string_array():
+    return Annotated[list[Annotated[str, Field(max_length=10_000)]], Field(max_length=10_000), RosType("string[]")]
+
+
 class RosMessage(BaseModel):
     model_config = ConfigDict(strict=True, extra="forbid", populate_by_name=True)
 
@@ -43,7 +52,7 @@ def definition(model: type[BaseModel]) -> str:
         ros = next((m for m in field.metadata if isinstance(m, RosType)), None)
         if ros is None:
             raise TypeError(f"{model.__name__}.{name} has no ROS type")
-        lines.append(f"{ros.name} {field.alias or name}")
+        lines.append(f"{ros.name} {field.alias or name}" + (f"  # {ros.comment}" if ros.comment else ""))
     return "\n".join(lines)
 
 

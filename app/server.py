@@ -11,6 +11,7 @@ from fastapi.staticfiles import StaticFiles
 from pydantic import BaseModel, ConfigDict
 
 from sim.teleop import key_twist
+from sim.world import World
 
 from . import params as params_api
 from . import robot_model
@@ -74,7 +75,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         speeds = (lab.params.get("keytwist", "linear_speed"), lab.params.get("keytwist", "angular_speed"))
         twist = key_twist(body.key, *speeds)
         try:
-            lab.call(lambda world: world.start_jog(twist))
+            lab.call(World.start_jog, twist)
         except RuntimeError as exc:
             return JSONResponse({"successful": False, "reason": str(exc)}, status_code=409)
         return JSONResponse({"successful": True, "twist": twist.tolist()})
@@ -84,16 +85,18 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         stats = lab.loop.stats()
         snapshot = lab.snapshot()
         return {
-            "loop_alive": lab.loop.alive,
+            "loop_alive": stats.alive,
             "sim_time": snapshot.time,
             "ticks": stats.ticks,
             "rate_hz": stats.rate_hz,
             "lateness_p50_ms": stats.lateness_p50 * 1e3,
             "lateness_p99_ms": stats.lateness_p99 * 1e3,
             "overruns": stats.overruns,
-            "step_errors": lab.loop.step_errors,
-            "loop_restarts": lab.loop.restarts,
-            "last_loop_death": lab.loop.last_death,
+            "realtime_priority": stats.realtime_priority,
+            "step_errors": stats.step_errors,
+            "last_step_error": stats.last_step_error,
+            "loop_restarts": stats.restarts,
+            "last_loop_death": stats.last_death,
             "error": snapshot.error,
         }
 

@@ -6,10 +6,13 @@ same service registry and action server as the API (no second code path).
 The scene is redrawn from the loop's snapshot at `rate_hz` inside `server.atomic()`. Light mode
 draws the collision meshes (simple, few triangles) for software-rendered browsers.
 """
+import hashlib
 import math
+import os
 import threading
 import time
 from collections import deque
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -20,6 +23,8 @@ from sim.assets import panda_urdf, robot_data_share
 from sim.human import PARTICIPANTS
 from sim.robot import PandaModel
 from sim.world import Snapshot
+
+from . import world_commands
 
 FORCE_SCALE = 0.01  # m of arrow per N
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
@@ -80,6 +85,37 @@ def cone_mesh(mu: float, height: float = 0.08, segments: int = 24) -> tuple[np.n
     return vertices.astype(np.float32), faces.astype(np.int32)
 
 
+def mesh_cache() -> Path:
+    """Where converted meshes are kept: $HRI_LAB_CACHE, else $XDG_CACHE_HOME/hri-lab, else ~/.cache/hri-lab."""
+    if os.environ.get("HRI_LAB_CACHE"):
+        return Path(os.environ["HRI_LAB_CACHE"])
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "hri-lab"
+
+
+def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
+    """The mesh as GLB bytes for viser. Converting the Panda's .dae files with trimesh takes
+    seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version."""
+    stat = mesh_path.stat()
+    key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, trimesh.__version__))
+                       .encode()).hexdigest()
+    cached = mesh_cache() / f"{mesh_path.stem}-{key[:16]}.glb"
+    try:
+        return cached.read_bytes()
+    except OSError:
+        pass
+    mesh = trimesh.load(str(mesh_path), force="scene")
+    mesh.apply_scale(np.asarray(scale))
+    data = mesh.export(file_type="glb")
+    try:  # best effort: a read-only home only costs the conversion next time
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = cached.with_suffix(f".{os.getpid()}.tmp")
+        partial.write_bytes(data)
+        partial.replace(cached)  # atomic: a concurrent start never reads half a file
+    except OSError:
+        pass
+    return data
+
+
 class RobotMeshes:
     """The Panda's meshes under viser frames, placed from q with pinocchio's geometry model."""
 
@@ -93,11 +129,9 @@ class RobotMeshes:
         for index, obj in enumerate(geometry.geometryObjects):
             if obj.name.startswith(NOT_SHOWN) or not obj.meshPath.lower().endswith((".dae", ".stl", ".obj")):
                 continue
-            mesh = trimesh.load(obj.meshPath, force="scene")
-            mesh.apply_scale(np.asarray(obj.meshScale))
             frame = server.scene.add_frame(f"/robot/{obj.name}", show_axes=False)
-            server.scene.add_glb(f"/robot/{obj.name}/mesh", mesh.export(file_type="glb"), cast_shadow=not light,
-                                 receive_shadow=not light)
+            server.scene.add_glb(f"/robot/{obj.name}/mesh", glb_of(Path(obj.meshPath), tuple(obj.meshScale)),
+                                 cast_shadow=not light, receive_shadow=not light)
             self.frames.append((index, frame))
 
     def place(self, q: np.ndarray) -> None:
@@ -214,7 +248,7 @@ class LabView:
     # --- controls -----------------------------------------------------------------------------
     def _build_gui(self) -> None:
         gui = self.server.gui
-        gui.add_markdown("**hri-lab** — cooperative lifting (SP)")
+        gui.add_markdown("**hri-lab** — cooperative lifting")
         self.status = gui.add_markdown("")
         if self.controls:
             self._build_controls()
@@ -289,7 +323,7 @@ class LabView:
     def _on_gizmo(self, _event) -> None:
         target = np.array(self.gizmo.position, dtype=float)
         try:
-            self.lab.call(lambda world: world.human.set_target(target))
+            self.lab.call(world_commands.set_hand_target, target)
         except Exception as exc:  # noqa: BLE001
             self.status_message = f"hand target refused: {exc}"
 

@@ -15,6 +15,7 @@ from app.lab import Lab
 from app.lab_actions import ACTIONS
 from app.lab_services import SERVICES
 from app.view3d import LabView
+from sim.world import World
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -32,7 +33,7 @@ def main() -> None:
     lab.start()
     view = LabView(lab, ActionServer(ACTIONS, lab), SERVICES, port=0, light=args.light)
     view.start()
-    lab.world.start_lifting(10.0)  # a moving scene
+    lab.call(World.start_lifting, 10.0)  # a moving scene
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
@@ -44,7 +45,6 @@ def main() -> None:
         time.sleep(3.0)  # the viewer loads the meshes
         view.frame_times.clear()
         ticks0, t0 = lab.loop.stats().ticks, time.perf_counter()
-        lab.loop._lateness.clear()
         time.sleep(args.seconds)
         stats = lab.loop.stats()
         rate = (stats.ticks - ticks0) / (time.perf_counter() - t0)

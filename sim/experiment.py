@@ -233,21 +233,85 @@ def format_table(results: list[TrialResult]) -> str:
     return "\n".join(lines)
 
 
-
 COMPARISON_PARTICIPANTS = ("calm", "average", "hasty", "brisk", "tilting")
+Comparison = dict[str, dict[str, list[TrialResult]]]  # controller -> participant -> trials
 
 
-def format_comparison(results: dict[str, dict[str, list[TrialResult]]]) -> str:
+@dataclass(frozen=True)
+class ComparedTrial:
+    """One trial of a comparison: the same (participant, attempt, seed) runs once per controller."""
+
+    controller: str
+    index: int
+    participant: Participant
+    attempt: int
+    seed: int
+
+
+def comparison_plan(controllers: list[str], trials: int, participants: list[str] | None = None,
+                    seed: int = 0) -> list[ComparedTrial]:
+    """`trials` tries of each participant (default COMPARISON_PARTICIPANTS), the same seeds for
+    every controller."""
+    people = participants or list(COMPARISON_PARTICIPANTS)
+    return [ComparedTrial(name, index, person, attempt, trial_seed)
+            for name in controllers for who in people
+            for index, person, attempt, trial_seed in plan(trials, who, seed)]
+
+
+def run_comparison(
+    controllers: list[str],
+    trials: int,
+    participants: list[str] | None = None,
+    seed: int = 0,
+    controller_factory: Callable[[str], Callable[[], Controller]] | None = None,
+    on_result: Callable[[ComparedTrial, TrialResult], None] | None = None,
+    cancelled: Callable[[], bool] = lambda: False,
+    jobs: int = 1,
+    mp_context=None,
+) -> Comparison:
+    """Run the comparison (in `jobs` processes; stops handing out trials once `cancelled()`).
+    controller_factory(name) -> factory of new controllers (default: the built-in ones)."""
+    from .plugin import controller_factory as default_factory
+
+    make = controller_factory or default_factory
+    work = comparison_plan(controllers, trials, participants, seed)
+    results: Comparison = {name: {} for name in controllers}
+    with ProcessPoolExecutor(max_workers=max(1, jobs), mp_context=mp_context) as pool:
+        running = {}
+        queue = list(work)
+        while queue or running:
+            while queue and len(running) < max(1, jobs) and not cancelled():
+                item = queue.pop(0)
+                running[pool.submit(run_trial, item.index, item.participant, item.attempt, item.seed,
+                                    TrialRules(), make(item.controller))] = item
+            if not running:
+                break
+            future = next(as_completed(running))
+            item = running.pop(future)
+            result = future.result()
+            results[item.controller].setdefault(item.participant.name, []).append(result)
+            if on_result:
+                on_result(item, result)
+    for by_person in results.values():
+        for rs in by_person.values():
+            rs.sort(key=lambda r: r.index)
+    return results
+
+
+def format_comparison(results: Comparison) -> str:
     """Per participant, per controller: successes, mean time, f_n range, friction margin, slip."""
     names = list(results)
     header = f"{'participant':<11} " + " | ".join(f"{n:^44}" for n in names)
     sub = f"{'':<11} " + " | ".join(f"{'ok':>4} {'time s':>7} {'f_n min..max':>13} {'|ft|/mu fn':>10} {'slip mm':>7}" for _ in names)
     lines = [header, sub, "-" * len(sub)]
-    people = list(next(iter(results.values())))
+    people = list(dict.fromkeys(person for by in results.values() for person in by))
     for person in people:
         cells = []
         for name in names:
-            rs = results[name][person]
+            rs = results[name].get(person, [])
+            if not rs:  # not run (a cancelled comparison)
+                cells.append(f"{'-':^44}")
+                continue
             ok = [r for r in rs if r.success]
             time_s = f"{np.mean([r.duration for r in ok]):.1f}" if ok else "-"
             f_lo, f_hi = np.mean([r.f_n_min for r in rs]), np.mean([r.f_n_max for r in rs])

@@ -25,6 +25,9 @@ const api = async (method, path, body, raw) => {
   return { status: response.status, data };
 };
 const show = (value) => (typeof value === "string" ? value : JSON.stringify(value, null, 1));
+// An action result field by field; a text of several lines (a table) as it is.
+const showResult = (result) => Object.entries(result || {})
+  .map(([k, v]) => (typeof v === "string" && v.includes("\n") ? `${k}:\n${v}` : `${k}: ${JSON.stringify(v)}`)).join("\n");
 
 // A request form from a pydantic JSON schema: one input per field, typed from the schema.
 function schemaForm(schema, submitLabel, onSubmit) {
@@ -130,7 +133,7 @@ async function renderActions() {
       const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
       ws.onmessage = (e) => {
         const m = JSON.parse(e.data);
-        out.textContent += m.feedback ? `feedback: ${show(m.feedback)}\n` : `${m.status}: ${show(m.result)}\n`;
+        out.textContent += m.feedback ? `feedback: ${JSON.stringify(m.feedback)}\n` : `${m.status}: ${m.message || ""}\n${showResult(m.result)}\n`;
       };
     });
     root.append($("div", { class: "item action", "data-name": name },

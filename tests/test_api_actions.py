@@ -4,6 +4,7 @@ import time
 import numpy as np
 import pytest
 
+from sim.experiment import format_comparison, run_comparison
 from sim.robot import SIDE_Q
 
 
@@ -17,7 +18,8 @@ def wait_terminal(client, action, goal_id, timeout=30.0):
 
 
 def test_action_list_and_definitions(client):
-    assert {a["name"] for a in client.get("/actions").json()} == {"/count", "/move_to_start", "/run_experiment"}
+    assert {a["name"] for a in client.get("/actions").json()} == {"/count", "/move_to_start", "/run_experiment",
+                                                                        "/compare_controllers"}
     assert client.get("/actions/count").json()["definition"] == "int32 count\n---\nint32 final_count\n---\nint32 current_number"
     assert client.get("/actions/nope").status_code == 404
 
@@ -120,6 +122,29 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
     assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
     assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
+
+
+def test_compare_controllers_action_runs_the_same_trials_with_each_controller(client):
+    """The action's figures are the headless comparison's (same participants, same seeds)."""
+    goal = {"controllers": "sp,patch", "trials": 1, "participants": "calm", "seed": 3}
+    goal_id = client.post("/actions/compare_controllers/goals", json=goal).json()["goal_id"]
+    view = wait_terminal(client, "compare_controllers", goal_id, timeout=180)
+    assert view["status"] == "succeeded", view
+    result = view["result"]
+    assert result["controllers"] == ["sp", "patch"] and result["trials"] == [1, 1]
+    assert [(f["controller"], f["participant"], f["trial"], f["of"]) for f in view["feedback"]] == [
+        ("sp", "calm", 1, 2), ("patch", "calm", 2, 2)]
+    direct = run_comparison(["sp", "patch"], 1, ["calm"], seed=3)
+    assert result["successes"] == [int(direct[name]["calm"][0].success) for name in ("sp", "patch")]
+    assert [f["duration"] for f in view["feedback"]] == [direct[name]["calm"][0].duration for name in ("sp", "patch")]
+    assert result["table"] == format_comparison(direct)
+
+
+def test_compare_controllers_refusals(client):
+    for goal, field in (({"controllers": "sp,pid"}, "controllers"), ({"trials": 0}, "trials"),
+                        ({"participants": "calm,sleepy"}, "participants")):
+        refused = client.post("/actions/compare_controllers/goals", json=goal)
+        assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == field
 
 
 def test_robot_model(client):

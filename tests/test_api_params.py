@@ -1,8 +1,12 @@
 """Parameters over HTTP: ROS 2 refusal messages, describe, dump/load round trip, live effect."""
 import time
 
+from operator import attrgetter
+
 import pytest
 import yaml
+
+from app import world_commands as cmd
 
 
 def put(client, node, name, value):
@@ -55,11 +59,11 @@ def test_undeclared_get_and_describe(client):
 
 def test_set_reaches_the_running_simulation(client, lab):
     assert put(client, "cooperative_lifting", "k_t", 0.25).json() == {"successful": True, "reason": ""}
-    assert lab.call(lambda w: w.params.k_t) == 0.25
+    assert lab.call(cmd.get_lifting, "k_t") == 0.25
     assert put(client, "sim", "box_mass", 2).json()["successful"] is True  # an integer for a double
-    assert lab.call(lambda w: w.box.params.mass) == 2.0
+    assert lab.call(attrgetter("box.params.mass")) == 2.0
     assert put(client, "human", "profile", "hasty").json()["successful"] is True
-    assert lab.call(lambda w: w.human.participant.name) == "hasty"
+    assert lab.call(cmd.get_person, "name") == "hasty"
     put(client, "human", "profile", "calm")
     put(client, "sim", "box_mass", 1.0)
     put(client, "cooperative_lifting", "k_t", 0.1)
@@ -82,11 +86,11 @@ def test_a_changed_gain_changes_the_controller(client):
 
 def test_controller_parameter_swaps_the_controller(client, lab):
     assert put(client, "cooperative_lifting", "controller", "patch").json()["successful"] is True
-    assert type(lab.call(lambda w: w.controller)).__name__ == "PatchController"
+    assert lab.call(cmd.controller_name) == "PatchController"
     assert put(client, "cooperative_lifting", "controller", "pid").json()["reason"] == \
         "Parameter {controller} must be one of sp, patch."
     assert put(client, "cooperative_lifting", "controller", "sp").json()["successful"] is True
-    assert type(lab.call(lambda w: w.controller)).__name__ == "SPController"
+    assert lab.call(cmd.controller_name) == "SPController"
 
 
 def test_start_service_and_parameter_agree(client):

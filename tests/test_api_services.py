@@ -5,6 +5,7 @@ import time
 import numpy as np
 import pytest
 
+from app import world_commands as cmd
 from sim import planar_arm
 
 EXPECTED = {
@@ -48,7 +49,7 @@ def test_service_list_and_types(client):
 
 def test_service_definitions(client):
     start = client.get("/services/start_cooperative_lifting").json()
-    assert start["srv"] == "float64 force\n---\nstring message"
+    assert start["srv"] == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message"
     assert client.get("/services/error_recovery").json()["srv"] == "---\nbool success\nstring message"
     assert client.get("/services/echo").json()["srv"] == "string in\n---\nstring out"
     assert client.get("/services/planar_torques").json()["srv"] == "float64[] q\nfloat64[] force\n---\nfloat64[] torques"
@@ -65,7 +66,7 @@ def test_start_moves_the_robot_to_the_box_and_stop_zeroes_the_command(client, la
     assert "10" in response.json()["message"]
     state = client.get("/topics/lifting_state").json()
     assert (state["started"], state["f_n_min"], state["f_n_max"]) == (True, 10.0, 15.0)
-    assert lab.call(lambda w: (w.params.f_n_min, w.params.f_n_max)) == (10.0, 15.0)
+    assert lab.call(cmd.lifting_state)[1::2] == (10.0, 15.0)
     # the robot approaches: F_ext f_z rises within a few hundred ms of real time
     fz = wait_for(lambda: (f := client.get("/topics/franka_state_controller/F_ext").json()["wrench"]["force"]["z"]) > 5 and f)
     assert fz > 5
@@ -168,8 +169,12 @@ def test_camera_projection_follows_the_box():
     assert x == 320 and y < 240
 
 
+def _too_fast(world) -> None:
+    world.arm.command_twist(np.array([0.0, 0.0, 5.0, 0, 0, 0]), 1e-3)  # 5 m/s: a reflex
+
+
 def test_error_recovery_and_reset(client, lab):
-    lab.call(lambda w: w.arm.command_twist(np.array([0.0, 0.0, 5.0, 0, 0, 0]), 1e-3))  # a reflex
+    lab.call(_too_fast)
     assert "cartesian velocity limit" in client.get("/topics/lifting_state").json()["error"]
     body = client.post("/services/error_recovery").json()
     assert body["success"] is True and "cartesian velocity limit" in body["message"]
@@ -236,18 +241,26 @@ def test_topic_stream_refusals(client):
                 ws.receive_json()
 
 
-def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
-    """A bug inside a step (here: the human model raising) puts the robot in an error state; the
-    loop keeps ticking and answers; once fixed, error_recovery clears it."""
+def _break_human(world) -> None:
     def broken(*args, **kwargs):
         raise ValueError("injected fault")
 
-    lab.call(lambda w: setattr(w.human, "step", broken))
-    wait_for(lambda: lab.loop.step_errors > 10)
+    world.human.step = broken
+
+
+def _fix_human(world) -> None:
+    del world.human.step  # back to the class's method
+
+
+def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
+    """A bug inside a step (here: the human model raising) puts the robot in an error state; the
+    loop keeps ticking and answers; once fixed, error_recovery clears it."""
+    lab.call(_break_human)
+    wait_for(lambda: lab.loop.stats().step_errors > 10)
     health = client.get("/health").json()
     assert health["loop_alive"] is True and health["step_errors"] > 10
     assert "simulation error: ValueError: injected fault" in client.get("/topics/lifting_state").json()["error"]
-    lab.call(lambda w: delattr(w.human, "step"))  # back to the class's method
+    lab.call(_fix_human)
     assert client.post("/services/error_recovery").json()["success"] is True
     ticks = lab.loop.stats().ticks
     wait_for(lambda: lab.loop.stats().ticks > ticks + 100)

@@ -39,7 +39,7 @@ def test_dashboard_in_chromium(server, page):
     # the service list, generated from the API, with the .srv text
     start = page.locator(".service[data-name='/start_cooperative_lifting']")
     start.wait_for()
-    assert "float64 force\n---\nstring message" in start.locator("pre.srv").inner_text()
+    assert "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message" in start.locator("pre.srv").inner_text()
 
     # call divide_ints through its form
     divide = page.locator(".service[data-name='/divide_ints']")
@@ -74,3 +74,17 @@ def test_dashboard_in_chromium(server, page):
     SCREENSHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SCREENSHOTS / "dashboard.png"))
     assert (SCREENSHOTS / "dashboard.png").stat().st_size > 10_000
+
+    # the controller comparison, as an action from the page: the table arrives in the goal's output
+    page.locator("nav button[data-tab=actions]").dispatch_event("click")
+    compare = page.locator(".action[data-name='/compare_controllers']")
+    compare.locator("input[name=participants]").fill("calm")
+    compare.locator("button[type=submit]").dispatch_event("click")
+    page.wait_for_function("document.querySelector(\".action[data-name='/compare_controllers'] pre.feedback\")"
+                           ".textContent.includes('succeeded: ')", timeout=180_000)
+    output = compare.locator("pre.feedback").inner_text()
+    assert '"controller":"patch","participant":"calm","trial":2,"of":2' in output
+    table = output.split("table:\n", 1)[1]
+    assert table.splitlines()[0].split() == ["participant", "sp", "|", "patch"] and "calm" in table
+    compare.locator("pre.feedback").scroll_into_view_if_needed()
+    page.screenshot(path=str(SCREENSHOTS / "compare.png"))

@@ -46,7 +46,7 @@ def test_service_cli(server):
     assert "response:\nhri_lab.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
     bad = cli(url, "service", "call", "/add_two_ints", "{a: 1, b: x}")
     assert bad.returncode == 1 and "b: Input should be a valid integer" in bad.stderr
-    assert cli(url, "service", "show", "/start_cooperative_lifting").stdout == "float64 force\n---\nstring message\n"
+    assert cli(url, "service", "show", "/start_cooperative_lifting").stdout == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message\n"
 
 
 def test_param_cli(server, tmp_path):

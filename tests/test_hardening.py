@@ -1,5 +1,7 @@
 """Faults, concurrency and access: the server holds."""
+import os
 import random
+import signal
 import subprocess
 import sys
 import threading
@@ -8,6 +10,7 @@ import time
 import httpx
 import pytest
 
+from app import world_commands as cmd
 from app.access import is_loopback
 from app.launch import running_server
 
@@ -34,7 +37,7 @@ def test_concurrent_start_stop_and_parameter_writes_never_mix_the_state(client, 
 
     def watcher() -> None:
         while not stop.is_set():
-            seen.append(lab.call(lambda w: (w.params.running, w.params.f_n_min, w.params.f_n_band, w.params.f_n_max)))
+            seen.append(lab.call(cmd.lifting_state))
 
     threads = [threading.Thread(target=worker, args=(k,)) for k in range(8)]
     watch = threading.Thread(target=watcher)
@@ -55,16 +58,21 @@ def test_concurrent_start_stop_and_parameter_writes_never_mix_the_state(client, 
     client.put("/params/cooperative_lifting/f_n_band", json={"value": 5.0})
 
 
+def _kill_the_loop_thread(world) -> None:
+    """The next step raises SystemExit (which no `except Exception` catches), once."""
+    def step() -> None:
+        del world.step
+        raise SystemExit("killed by a test")
+
+    world.step = step
+
+
 def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
     """Something escapes a step and kills the loop thread (SystemExit): /health reports it and the
     watchdog starts a new loop on the same world."""
-    world = lab.world
-    original = world.step
-    world.step = lambda: (_ for _ in ()).throw(SystemExit("killed by a test"))
-    time.sleep(0.1)
-    world.step = original
+    lab.call(_kill_the_loop_thread)
     deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and lab.loop.restarts == 0:
+    while time.monotonic() < deadline and lab.loop.stats().restarts == 0:
         time.sleep(0.05)
     health = client.get("/health").json()
     assert health["loop_restarts"] >= 1 and "SystemExit: killed by a test" in health["last_loop_death"]
@@ -72,6 +80,25 @@ def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
     time.sleep(0.3)
     assert client.get("/health").json()["sim_time"] > t0 + 0.1  # stepping again
     assert client.get("/health").json()["loop_alive"] is True
+
+
+def test_a_killed_simulation_process_is_reported_and_restarted(client, lab):
+    """The simulation runs in its own process: SIGKILL it (as a crash in native code would end it).
+    /health says so, a fresh simulation process takes over and the API keeps answering."""
+    pid = lab.loop._process.pid
+    os.kill(pid, signal.SIGKILL)
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and (lab.loop._process is None or lab.loop._process.pid == pid):
+        time.sleep(0.05)
+    health = client.get("/health").json()
+    assert health["last_loop_death"] == "simulation process killed by SIGKILL" and health["loop_restarts"] >= 1
+    assert health["loop_alive"] is True
+    t0 = health["sim_time"]
+    time.sleep(0.3)
+    assert client.get("/health").json()["sim_time"] > t0 + 0.1  # the new process steps
+    assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
+    assert lab.call(cmd.lifting_state)[:2] == (True, 10.0)
+    client.post("/services/stop_cooperative_lifting")
 
 
 def test_loopback_detection():

@@ -80,3 +80,26 @@ def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
     assert world.box.position[2] - box_before > 0.06  # the box went up with the hand
     assert world.arm.transform_ee_to_base[2, 3] - ee_before > 0.05  # and the robot followed
     assert world.plate_state.normal_force > 5.0 and world.error is None
+
+
+def test_converted_meshes_are_cached(tmp_path, monkeypatch):
+    """The .dae -> GLB conversion (seconds for the full Panda) happens once; later starts read the cache."""
+    from pathlib import Path
+
+    import pinocchio as pin
+
+    from app.view3d import glb_of
+    from sim.assets import panda_urdf, robot_data_share
+    from sim.robot import PandaModel
+
+    monkeypatch.setenv("HRI_LAB_CACHE", str(tmp_path))
+    geometry = pin.buildGeomFromUrdf(PandaModel().model, str(panda_urdf()), pin.GeometryType.VISUAL,
+                                     package_dirs=[str(robot_data_share())])
+    mesh = next(o for o in geometry.geometryObjects if o.meshPath.endswith(".dae"))
+    first = glb_of(Path(mesh.meshPath), tuple(mesh.meshScale))
+    assert first[:4] == b"glTF"
+    (cached,) = tmp_path.glob("*.glb")
+    assert cached.read_bytes() == first
+    cached.write_bytes(b"glTF from the cache")
+    assert glb_of(Path(mesh.meshPath), tuple(mesh.meshScale)) == b"glTF from the cache"
+    assert glb_of(Path(mesh.meshPath), (2.0, 2.0, 2.0)) != b"glTF from the cache"  # another scale, another entry

@@ -186,3 +186,22 @@ def test_cli_experiment_json():
     assert "participant" in table and "hasty" in table and "success: " in table
     bad = subprocess.run([sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True)
     assert bad.returncode == 2 and "--trials" in bad.stderr
+
+
+def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller():
+    out = subprocess.run(
+        [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "calm",
+         "--seed", "3", "--json", "--jobs", "2"],
+        capture_output=True, text=True, check=True, timeout=300,
+    )
+    data = json.loads(out.stdout)
+    assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["calm"]
+    (sp,), (patch,) = data["sp"]["calm"], data["patch"]["calm"]
+    assert sp["seed"] == patch["seed"] == plan(1, "calm", 3)[0][3]
+    table = subprocess.run(
+        [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "calm",
+         "--seed", "3"], capture_output=True, text=True, check=True, timeout=300,
+    ).stdout
+    header, _, _, row, _, total = table.splitlines()
+    assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("calm")
+    assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"

@@ -5,7 +5,8 @@ import pytest
 from sim.box import Box, BoxParams
 from sim.contact import ContactParams, PatchContact, PatchGeometry
 from sim.controller import LiftingParams, start_lifting
-from sim.patch_controller import PatchController, patch_grip
+from sim.patch_controller import PatchController, kern_ratio, patch_grip
+from sim.robot import Plate
 from sim.sensor import wrench_at_ee
 from sim.sp_controller import SPController
 
@@ -70,18 +71,79 @@ def params() -> LiftingParams:
     return p
 
 
-def test_patch_holds_a_moment_the_patch_can_hold_sp_complies():
-    # 0.2 Nm about EE x at f_n = 12 N: the plate holds up to 0.7 * 0.05 * 12 = 0.42 Nm
-    wrench = np.array([0, 0, 12.0, 0.2, 0, 0])
+def test_kern_ratio():
+    """k = 6|p_x|/W + 6|p_y|/H on the 0.10 x 0.10 m plate: the middle third along one axis is
+    |p| <= W/6 = 16.7 mm; a corner of the kern (k = 1) is shared between the axes."""
+    plate = Plate()
+    assert kern_ratio(np.array([0.10 / 6, 0.0]), plate) == pytest.approx(1.0)
+    assert kern_ratio(np.array([0.0, -0.10 / 6]), plate) == pytest.approx(1.0)
+    assert kern_ratio(np.array([0.01, 0.01]), plate) == pytest.approx(1.2)  # a square's corner is outside
+
+
+def test_patch_holds_a_moment_inside_the_kern_sp_complies():
+    # 0.15 Nm about EE x at f_n = 12 N: p_y = 0.15/12 = 12.5 mm, k = 6 * 0.0125 / 0.1 = 0.75 <= 1: held
+    wrench = np.array([0, 0, 12.0, 0.15, 0, 0])
     assert np.linalg.norm(PatchController().twist_ee(wrench, params())[3:]) == pytest.approx(0.0)
-    assert np.linalg.norm(SPController().twist_ee(wrench, params())[3:]) > 0.05
-    # beyond what it can hold it complies with the excess only: w_x = -k_w (0.6 - 0.42)
+    assert np.linalg.norm(SPController().twist_ee(wrench, params())[3:]) > 0.04
+    # beyond the kern it complies with the excess only: 0.6 Nm -> k = 3, held = 1/3 (0.2 Nm = the
+    # kern's 12 N x 0.1 m / 6), w_x = -k_w (1 - 1/3) 0.6 = -0.4 rad/s
     w = PatchController().twist_ee(np.array([0, 0, 12.0, 0.6, 0, 0]), params())[3:]
-    assert w == pytest.approx([-(0.6 - 0.42), 0, 0], abs=1e-9)
+    assert w == pytest.approx([-0.4, 0, 0], abs=1e-9)
+
+
+def test_tipping_along_a_diagonal_is_brought_back_to_the_kern_boundary():
+    # p = (10, 10) mm at 12 N: m_c,xy = (p_y f_n, -p_x f_n) = (0.12, -0.12) Nm, k = 1.2: the
+    # radial projection onto the kern keeps 1/1.2 of it and turns with the rest, same direction
+    wrench = np.array([0, 0, 12.0, 0.12, -0.12, 0])
+    w = PatchController().twist_ee(wrench, params())[3:]
+    assert w == pytest.approx([-(1 - 1 / 1.2) * 0.12, (1 - 1 / 1.2) * 0.12, 0], abs=1e-9)
+
+
+def test_moments_below_the_noise_floor_are_held_even_at_a_light_grip():
+    # at f_n = 2 N the kern holds only 2 * 0.1 / 6 = 0.033 Nm; 0.08 Nm is under the 0.1 Nm deadband
+    assert PatchController().twist_ee(np.array([0, 0, 2.0, 0.08, 0, 0]), params())[3:] == pytest.approx(np.zeros(3))
+    # 0.2 Nm at 2 N (k = 6): the deadband (0.1 Nm) is the larger hold: w_x = -(1 - 0.1/0.2) 0.2 = -0.1
+    w = PatchController().twist_ee(np.array([0, 0, 2.0, 0.2, 0, 0]), params())[3:]
+    assert w == pytest.approx([-0.1, 0, 0], abs=1e-9)
 
 
 def test_patch_follows_the_person_like_sp_beyond_the_limit_surface():
     # the person lifts: 8 N of friction down (EE +x) at 12 N, no torsion: beyond 0.8 * 0.5 * 12 = 4.8 N
-    v = PatchController().twist_ee(np.array([8.0, 0, 12.0, 0, 0, 0]), params())[:3]
+    wrench = np.array([8.0, 0, 12.0, 0, D * 8.0, 0])  # applied at the plate centre: m = p_c x f
+    v = PatchController().twist_ee(wrench, params())[:3]
     assert v[0] == pytest.approx(-0.1 * (8 - 4.8))
     assert v[2] > 0  # and the grip is raised
+    # without torsion the limit-surface law is exactly SP's cone law
+    assert PatchController().twist_ee(wrench, params())[:3] == pytest.approx(SPController().twist_ee(wrench, params())[:3])
+
+
+def test_torsion_beyond_the_limit_surface_turns_about_the_normal_and_raises_the_grip():
+    # m_n = 0.3 Nm at 12 N, no f_t: m_n' = 0.3 - 0.025 = 0.275 (deadband), s = (0.275 / (6 r_eq))^2;
+    # excess e = 1 - 0.8 / sqrt(s), w_z = -k_w e m_n', no tangential motion, grip raised
+    wrench = np.array([0, 0, 12.0, 0, 0, 0.3])
+    s = (0.275 / (0.5 * 12 * R_EQ)) ** 2
+    assert s > 0.8**2
+    twist = PatchController().twist_ee(wrench, params())
+    assert twist[5] == pytest.approx(-(1 - 0.8 / np.sqrt(s)) * 0.275)
+    assert twist[:2] == pytest.approx([0, 0]) and twist[2] > 0
+
+
+def test_torsion_the_patch_holds_and_torsion_noise_do_not_move_it():
+    # 0.1 Nm at 12 N: s = (0.075 / (6 r_eq))^2 = 0.11 < 0.64: held (SP would turn with it)
+    assert PatchController().twist_ee(np.array([0, 0, 12.0, 0, 0, 0.1]), params()) == pytest.approx(np.zeros(6))
+    assert SPController().twist_ee(np.array([0, 0, 12.0, 0, 0, 0.12]), params())[5] < 0
+    # f_t just inside the cone margin (4.7 < 4.8 N) plus torsion noise under the deadband: no motion
+    wrench = np.array([4.7, 0, 12.0, 0, D * 4.7, 0.02])
+    assert PatchController().twist_ee(wrench, params()) == pytest.approx(np.zeros(6))
+
+
+def test_torsion_and_friction_share_the_limit_surface():
+    # f_t = 4 N (inside the cone margin 4.8 N alone) with m_n = 0.2 Nm (inside alone: s_m = 0.59):
+    # together s = (4/6)^2 + (0.175/(6 r_eq))^2 = 0.44 + 0.59 > 0.64: both follow with the same excess e
+    wrench = np.array([4.0, 0, 12.0, 0, D * 4.0, 0.2])
+    s = (4 / 6) ** 2 + (0.175 / (6 * R_EQ)) ** 2
+    e = 1 - 0.8 / np.sqrt(s)
+    twist = PatchController().twist_ee(wrench, params())
+    assert twist[0] == pytest.approx(-0.1 * e * 4.0)
+    assert twist[5] == pytest.approx(-e * 0.175)
+    assert twist[3:5] == pytest.approx([0, 0], abs=1e-12)  # the friction at the surface is no tipping moment

@@ -135,7 +135,7 @@ class SimulationLoop:
     # --- the loop ---------------------------------------------------------------------------
     def _run(self) -> None:
         if self.realtime:
-            self.realtime_priority = _raise_priority()
+            self.realtime_priority = raise_priority()
         try:
             self._tick_forever()
         except BaseException as exc:  # noqa: BLE001 - recorded; the watchdog starts a new thread
@@ -193,7 +193,7 @@ class SimulationLoop:
 REALTIME_PRIORITY = 10  # SCHED_FIFO priority of the loop thread (1..99; libfranka's control thread asks for 80)
 
 
-def _raise_priority() -> bool:
+def raise_priority() -> bool:
     """Run the calling thread with real-time scheduling (SCHED_FIFO), as libfranka does for its
     control loop, when the system allows it (root or CAP_SYS_NICE); otherwise go on as before.
     The loop sleeps most of each period, and Linux caps real-time threads at 95 % of a core."""

@@ -20,6 +20,7 @@ import itertools
 import multiprocessing
 import pickle
 import signal
+import sys
 import threading
 import time
 from concurrent.futures import Future
@@ -30,7 +31,7 @@ from typing import Any, Callable
 from sim.world import Snapshot, World
 
 from .shared_snapshot import SharedSnapshot
-from .sim_loop import LoopStats, SimulationLoop
+from .sim_loop import LoopStats, SimulationLoop, raise_priority
 
 _FORK = multiprocessing.get_context("fork")
 
@@ -191,6 +192,9 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the server's to handle; it stops us
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if realtime:  # every thread of this process (they inherit it), so none holding the
+        raise_priority()  # interpreter lock is preempted while the loop waits for it
+    sys.setswitchinterval(0.0005)  # s; the loop waits at most this long for the lock
     loop = SimulationLoop(world, realtime=realtime, publish=shared.write)
     send_lock = threading.Lock()
 

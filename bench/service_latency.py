@@ -1,6 +1,8 @@
 """Service latency over loopback at a steady request rate, measured by `wrk` (Debian package,
-installed by `make bench`): `connections` connections, each waiting connections/rate between
-requests, so the offered load is `rate` requests per second; wrk reports the latency percentiles.
+installed by `make bench`): `connections` connections, each waiting a random time, uniform in
+[0, 2 connections/rate], before each request, so the offered load is `rate` requests per second
+spread over time (a fixed wait would keep the connections in step: bursts of `connections`
+requests at once); wrk reports the latency percentiles.
 (A Python load generator cannot offer 500 req/s on these 2 cores without becoming the bottleneck.)
 
     .venv/bin/python -m bench.service_latency [--rate 500] [--seconds 10] [--repeats 3]
@@ -22,7 +24,8 @@ SCRIPT = """
 wrk.method = "POST"
 wrk.body = '{"a": 20, "b": 22}'
 wrk.headers["Content-Type"] = "application/json"
-function delay() return %d end
+function init(args) math.randomseed(os.time()) end
+function delay() return math.random(0, 2 * %d) end
 """
 
 

@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import trimesh
 import viser
 
 from sim.assets import panda_urdf, robot_data_share
@@ -94,15 +93,20 @@ def mesh_cache() -> Path:
 
 def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
     """The mesh as GLB bytes for viser. Converting the Panda's .dae files with trimesh takes
-    seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version."""
+    seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version
+    (trimesh itself, 0.7 s to import, is only imported to convert)."""
+    from importlib.metadata import version
+
     stat = mesh_path.stat()
-    key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, trimesh.__version__))
+    key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh")))
                        .encode()).hexdigest()
     cached = mesh_cache() / f"{mesh_path.stem}-{key[:16]}.glb"
     try:
         return cached.read_bytes()
     except OSError:
         pass
+    import trimesh
+
     mesh = trimesh.load(str(mesh_path), force="scene")
     mesh.apply_scale(np.asarray(scale))
     data = mesh.export(file_type="glb")

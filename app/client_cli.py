@@ -185,14 +185,26 @@ def topic(args) -> int:
     return 0
 
 
+class _Dumper(yaml.SafeDumper):
+    """YAML with a text of several lines (a results table) as a literal block, readable as printed."""
+
+
+_Dumper.add_representer(str, lambda dumper, text: dumper.represent_scalar(
+    "tag:yaml.org,2002:str", text, style="|" if "\n" in text else None))
+
+
+def _dump(value, **options) -> str:
+    return yaml.dump(value, Dumper=_Dumper, sort_keys=False, allow_unicode=True, **options)
+
+
 def _print_message(message: dict) -> None:
-    print(yaml.safe_dump(message, sort_keys=False), end="")
+    print(_dump(message), end="")
     print("---", flush=True)
 
 
 # --- action -----------------------------------------------------------------------------------
 def _indented(values: dict | None) -> str:
-    text = yaml.safe_dump(values or {}, sort_keys=False, width=200).rstrip()
+    text = _dump(values or {}, width=200).rstrip()
     return "\n".join("    " + line for line in text.splitlines()) if values else "    {}"
 
 

@@ -324,4 +324,4 @@ def format_comparison(results: Comparison) -> str:
         totals.append(f"{sum(r.success for r in rs)}/{len(rs)} succeeded")
     lines.append("-" * len(sub))
     lines.append(f"{'all':<11} " + " | ".join(f"{t:^44}" for t in totals))
-    return "\n".join(lines)
+    return "\n".join(line.rstrip() for line in lines)

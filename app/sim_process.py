@@ -89,12 +89,12 @@ class SimulationProcess:
         with self._lock:
             process, conn = self._process, self._conn
             self._process = None
-        if process is None:
-            return
-        try:
-            conn.send(None)  # asks the child to stop its loop and exit
-        except OSError:
-            pass
+            if process is None:
+                return
+            try:
+                conn.send(None)  # asks the child to stop its loop and exit
+            except OSError:
+                pass
         process.join(timeout=2.0)
         if process.is_alive():
             process.kill()

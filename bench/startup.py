@@ -12,20 +12,21 @@ import statistics
 from app.launch import ServerProcess
 
 
-def rss_mb(pid: int) -> float:
-    with open(f"/proc/{pid}/status") as status:
-        for line in status:
-            if line.startswith("VmRSS:"):
+def _proc_mb(pid: int, file: str, key: str) -> float:
+    """A `key: N kB` line of /proc/PID/FILE, in MB."""
+    with open(f"/proc/{pid}/{file}") as lines:
+        for line in lines:
+            if line.startswith(key):
                 return int(line.split()[1]) / 1024.0
     return 0.0
+
+
+def rss_mb(pid: int) -> float:
+    return _proc_mb(pid, "status", "VmRSS:")
 
 
 def pss_mb(pid: int) -> float:
-    with open(f"/proc/{pid}/smaps_rollup") as rollup:
-        for line in rollup:
-            if line.startswith("Pss:"):
-                return int(line.split()[1]) / 1024.0
-    return 0.0
+    return _proc_mb(pid, "smaps_rollup", "Pss:")
 
 
 def children(pid: int) -> list[int]:

@@ -101,7 +101,7 @@ class SimulationLoop:
         """Run fn(world) on the loop thread before the next step; the future holds its result."""
         future: Future = Future()
         if not self.alive:  # not running (e.g. before start): run here, nobody else steps
-            _resolve(future, fn, self.world)
+            resolve(future, fn, self.world)
             return future
         self._commands.put((fn, future))
         return future
@@ -204,8 +204,9 @@ def raise_priority() -> bool:
         return False
 
 
-def _resolve(future: Future, fn: Callable[[World], object], world: World) -> None:
+def resolve(future: Future, fn: Callable[..., object], world: World, *args: object) -> None:
+    """future <- fn(world, *args), its result or its exception."""
     try:
-        future.set_result(fn(world))
+        future.set_result(fn(world, *args))
     except BaseException as exc:  # noqa: BLE001 - handed back to the caller
         future.set_exception(exc)

@@ -22,7 +22,6 @@ import pickle
 import signal
 import sys
 import threading
-import time
 from concurrent.futures import Future
 from dataclasses import replace
 from multiprocessing.connection import Connection
@@ -31,7 +30,7 @@ from typing import Any, Callable
 from sim.world import Snapshot, World
 
 from .shared_snapshot import SharedSnapshot
-from .sim_loop import LoopStats, SimulationLoop, raise_priority
+from .sim_loop import LoopStats, SimulationLoop, raise_priority, resolve
 
 _FORK = multiprocessing.get_context("fork")
 
@@ -114,7 +113,10 @@ class SimulationProcess:
         future: Future = Future()
         with self._lock:
             if self._process is None:  # not started (or stopped): nobody else steps this world
-                _resolve_here(future, fn, self.world, args, target)
+                if target == "world":
+                    resolve(future, fn, self.world, *args)
+                else:
+                    future.set_exception(SimulationDied("the simulation is not running"))
                 return future
             try:
                 data = pickle.dumps((fn, args))
@@ -173,16 +175,6 @@ def _describe_exit(code: int | None) -> str:
     if code is not None and code < 0:
         return f"simulation process killed by {signal.Signals(-code).name}"
     return f"simulation process exited with code {code}"
-
-
-def _resolve_here(future: Future, fn: Callable, world: World, args: tuple, target: str) -> None:
-    if target != "world":
-        future.set_exception(SimulationDied("the simulation is not running"))
-        return
-    try:
-        future.set_result(fn(world, *args))
-    except BaseException as exc:  # noqa: BLE001 - handed back to the caller
-        future.set_exception(exc)
 
 
 # --- the child ------------------------------------------------------------------------------

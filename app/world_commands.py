@@ -18,7 +18,7 @@ from sim.world import World
 def start_lifting(world: World, force: float, controller: str = "") -> str:
     """The start service: optionally select a built-in controller first, then start."""
     if controller:
-        world.set_controller(builtin(controller))
+        set_controller(world, controller)
     return world.start_lifting(force)
 
 

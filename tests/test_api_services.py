@@ -265,3 +265,19 @@ def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
     ticks = lab.loop.stats().ticks
     wait_for(lambda: lab.loop.stats().ticks > ticks + 100)
     assert client.get("/topics/lifting_state").json()["error"] == ""
+
+
+def test_start_selects_the_controller(client, lab):
+    """The start service's `controller` selects sp or patch before starting; '' keeps the current one."""
+    client.post("/services/stop_cooperative_lifting")
+    assert client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "patch"}).status_code == 200
+    assert lab.call(cmd.controller_name) == "PatchController" and lab.call(cmd.lifting_state)[:2] == (True, 10.0)
+    assert client.get("/params/cooperative_lifting/controller").json()["value"] == "patch"
+    client.post("/services/stop_cooperative_lifting")
+    client.post("/services/start_cooperative_lifting", json={"force": 12})
+    assert lab.call(cmd.controller_name) == "PatchController"  # kept
+    refused = client.post("/services/start_cooperative_lifting", json={"force": 12, "controller": "pid"})
+    assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == "controller"
+    client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "sp"})
+    assert lab.call(cmd.controller_name) == "SPController"
+    client.post("/services/stop_cooperative_lifting")

@@ -13,7 +13,7 @@ import httpx
 import schemathesis
 from hypothesis import HealthCheck, given, settings
 
-from app.launch import running_server
+from app.cli.launch import running_server
 
 
 def check(case, response) -> None:

@@ -12,7 +12,7 @@ import time
 
 import httpx
 
-from app.launch import free_port, running_server
+from app.cli.launch import free_port, running_server
 from bench.service_latency import run_wrk
 
 

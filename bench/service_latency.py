@@ -18,7 +18,7 @@ import tempfile
 
 import httpx
 
-from app.launch import running_server
+from app.cli.launch import running_server
 
 SCRIPT = """
 wrk.method = "POST"

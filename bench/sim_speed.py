@@ -13,8 +13,8 @@ import pstats
 import statistics
 import time
 
-from sim.experiment import run_experiment
-from sim.human import PARTICIPANTS
+from sim.procedures.experiment import run_experiment
+from sim.person.human import PARTICIPANTS
 from sim.world import World
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import statistics
 
-from app.launch import ServerProcess
+from app.cli.launch import ServerProcess
 
 
 def _proc_mb(pid: int, file: str, key: str) -> float:

@@ -10,11 +10,11 @@ import shutil
 import statistics
 import time
 
-from app.actions import ActionServer
-from app.lab import Lab
-from app.lab_actions import ACTIONS
-from app.lab_services import SERVICES
-from app.view3d import LabView
+from app.ros.actions import ActionServer
+from app.lab.lab import Lab
+from app.lab.actions import ACTIONS
+from app.lab.services import SERVICES
+from app.view.view3d import LabView
 from sim.world import World
 
 

@@ -15,18 +15,18 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .box import Box, BoxParams
-from .cartesian_velocity import CartesianVelocityInterface
-from .contact import ContactParams, ContactResult, PatchContact, PatchGeometry
-from .controller import Controller, LiftingParams, start_lifting, stop_lifting
-from .guard import ControllerFault
-from .human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
-from .joint_trajectory import JointBrake, JointTrajectory
-from .robot import SIDE_Q, PandaModel, Plate
-from .sensor import SensorParams, WrenchSensor, wrench_at_ee
-from .sp_controller import SPController
-from .spatial import cross3, norm3
-from .teleop import Jog
+from sim.physics.box import Box, BoxParams
+from sim.robot.cartesian_velocity import CartesianVelocityInterface
+from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
+from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
+from sim.controllers.guard import ControllerFault
+from sim.person.human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
+from sim.robot.joint_trajectory import JointBrake, JointTrajectory
+from sim.robot.panda import SIDE_Q, PandaModel, Plate
+from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
+from sim.controllers.sp import SPController
+from sim.spatial import cross3, norm3
+from sim.robot.teleop import Jog
 
 
 @dataclass(frozen=True)

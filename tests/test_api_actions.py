@@ -4,8 +4,8 @@ import time
 import numpy as np
 import pytest
 
-from sim.experiment import format_comparison, run_comparison
-from sim.robot import SIDE_Q
+from sim.procedures.experiment import format_comparison, run_comparison
+from sim.robot.panda import SIDE_Q
 
 
 def wait_terminal(client, action, goal_id, timeout=30.0):

@@ -6,7 +6,7 @@ from operator import attrgetter
 import pytest
 import yaml
 
-from app import world_commands as cmd
+from app.lab import commands as cmd
 
 
 def put(client, node, name, value):

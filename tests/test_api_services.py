@@ -5,8 +5,8 @@ import time
 import numpy as np
 import pytest
 
-from app import world_commands as cmd
-from sim import planar_arm
+from app.lab import commands as cmd
+from sim.robot import planar_arm
 
 EXPECTED = {
     "/start_cooperative_lifting": "hri_lab/StartCooperativeLifting",
@@ -162,7 +162,7 @@ def test_echo_login_and_camera(client):
 def test_camera_projection_follows_the_box():
     """The projection by hand: a point on the optical axis lands in the image centre; a point
     higher up lands above it (smaller y)."""
-    from app.lab_services import CAMERA_TARGET, project
+    from app.lab.services import CAMERA_TARGET, project
 
     assert project(CAMERA_TARGET) == (320, 240)
     x, y = project(CAMERA_TARGET + [0.0, 0.0, 0.1])

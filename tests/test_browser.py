@@ -7,7 +7,7 @@ from pathlib import Path
 import httpx
 import pytest
 
-from app.launch import free_port, running_server
+from app.cli.launch import free_port, running_server
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"

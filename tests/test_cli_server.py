@@ -8,7 +8,7 @@ import time
 import httpx
 import pytest
 
-from app.launch import running_server
+from app.cli.launch import running_server
 
 
 @pytest.fixture(scope="module")

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from sim.box import GRAVITY, Box, BoxParams
-from sim.contact import ContactParams, PatchContact, PatchGeometry
+from sim.physics.box import GRAVITY, Box, BoxParams
+from sim.physics.contact import ContactParams, PatchContact, PatchGeometry
 from sim.spatial import rotation_exp
 
 HALF = 0.1  # half size of the default box (m)

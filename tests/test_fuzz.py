@@ -2,7 +2,7 @@
 cases per operation (the longer run: `python -m bench.fuzz`)."""
 import pytest
 
-from app.launch import running_server
+from app.cli.launch import running_server
 from bench.fuzz import fuzz
 
 

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from sim.grading import PROBES, grade, probe_items
-from sim.plugin import PluginError, PluginFactory
+from sim.procedures.grading import PROBES, grade, probe_items
+from sim.controllers.plugin import PluginError, PluginFactory
 
 CONTROLLERS = Path(__file__).parent / "controllers"
 REFERENCE = str(CONTROLLERS / "reference_sp.py")
@@ -96,7 +96,7 @@ def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
 
     import httpx
 
-    from app.launch import running_server
+    from app.cli.launch import running_server
 
     with running_server("--view", "none", "--controller", f"{BROKEN}:Raising") as server:
         url = server.url

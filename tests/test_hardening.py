@@ -10,9 +10,9 @@ import time
 import httpx
 import pytest
 
-from app import world_commands as cmd
-from app.access import is_loopback
-from app.launch import running_server
+from app.lab import commands as cmd
+from app.api.access import is_loopback
+from app.cli.launch import running_server
 
 
 def test_concurrent_start_stop_and_parameter_writes_never_mix_the_state(client, lab):

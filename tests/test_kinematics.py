@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from sim import planar_arm
-from sim.robot import READY_Q, SIDE_Q, PandaModel
+from sim.robot import planar_arm
+from sim.robot.panda import READY_Q, SIDE_Q, PandaModel
 
 
 @pytest.fixture(scope="module")

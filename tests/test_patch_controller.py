@@ -2,13 +2,13 @@
 import numpy as np
 import pytest
 
-from sim.box import Box, BoxParams
-from sim.contact import ContactParams, PatchContact, PatchGeometry
-from sim.controller import LiftingParams, start_lifting
-from sim.patch_controller import PatchController, kern_ratio, patch_grip
-from sim.robot import Plate
-from sim.sensor import wrench_at_ee
-from sim.sp_controller import SPController
+from sim.physics.box import Box, BoxParams
+from sim.physics.contact import ContactParams, PatchContact, PatchGeometry
+from sim.controllers.interface import LiftingParams, start_lifting
+from sim.controllers.patch import PatchController, kern_ratio, patch_grip
+from sim.robot.panda import Plate
+from sim.physics.sensor import wrench_at_ee
+from sim.controllers.sp import SPController
 
 D = 0.02  # plate offset (m)
 R_EQ = PatchGeometry(0.10, 0.10).mean_radius

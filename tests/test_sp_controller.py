@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from sim.controller import LiftingParams, ZeroController, start_lifting, stop_lifting
-from sim.sp_controller import SPController
+from sim.controllers.interface import LiftingParams, ZeroController, start_lifting, stop_lifting
+from sim.controllers.sp import SPController
 
 IDENTITY = np.eye(4)
 

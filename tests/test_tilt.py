@@ -27,10 +27,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pytest
 
-from sim.experiment import Trial, plan
-from sim.patch_controller import PatchController
-from sim.robot import Plate
-from sim.sp_controller import SPController
+from sim.procedures.experiment import Trial, plan
+from sim.controllers.patch import PatchController
+from sim.robot.panda import Plate
+from sim.controllers.sp import SPController
 from sim.spatial import rotation_log
 
 TILT = math.radians(45.0)

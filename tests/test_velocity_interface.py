@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from sim.cartesian_velocity import CartesianVelocityInterface
-from sim.robot import SIDE_Q, PandaModel
+from sim.robot.cartesian_velocity import CartesianVelocityInterface
+from sim.robot.panda import SIDE_Q, PandaModel
 
 DT = 1e-3
 

@@ -2,12 +2,12 @@
 import numpy as np
 import pytest
 
-from app.actions import ActionServer
-from app.lab import Lab
-from app.lab_actions import ACTIONS
-from app.lab_services import SERVICES
-from app.topics import wrench_stamped
-from app.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
+from app.ros.actions import ActionServer
+from app.lab.lab import Lab
+from app.lab.actions import ACTIONS
+from app.lab.services import SERVICES
+from app.ros.topics import wrench_stamped
+from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
 
 
 @pytest.fixture(scope="module")
@@ -88,9 +88,9 @@ def test_converted_meshes_are_cached(tmp_path, monkeypatch):
 
     import pinocchio as pin
 
-    from app.view3d import glb_of
-    from sim.assets import panda_urdf, robot_data_share
-    from sim.robot import PandaModel
+    from app.view.view3d import glb_of
+    from sim.robot.assets import panda_urdf, robot_data_share
+    from sim.robot.panda import PandaModel
 
     monkeypatch.setenv("HRI_LAB_CACHE", str(tmp_path))
     geometry = pin.buildGeomFromUrdf(PandaModel().model, str(panda_urdf()), pin.GeometryType.VISUAL,

@@ -6,10 +6,10 @@ import sys
 import numpy as np
 import pytest
 
-from sim.experiment import Trial, TrialRules, plan, run_experiment
-from sim.human import PARTICIPANTS, HandPath, PickAndPlace, minimum_jerk
-from sim.robot import READY_Q, SIDE_Q
-from sim.sensor import SensorParams, WrenchSensor
+from sim.procedures.experiment import Trial, TrialRules, plan, run_experiment
+from sim.person.human import PARTICIPANTS, HandPath, PickAndPlace, minimum_jerk
+from sim.robot.panda import READY_Q, SIDE_Q
+from sim.physics.sensor import SensorParams, WrenchSensor
 from sim.world import World, WorldConfig
 
 

@@ -3,8 +3,8 @@ import time
 
 import numpy as np
 
-from sim.controller import LiftingParams
-from sim.sp_controller import SPController
+from sim.controllers.interface import LiftingParams
+from sim.controllers.sp import SPController
 
 
 class FlippedNormal(SPController):

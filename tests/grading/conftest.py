@@ -15,7 +15,7 @@ def lab_url():
     if url:
         yield url.rstrip("/")
         return
-    from app.launch import running_server
+    from app.cli.launch import running_server
 
     with running_server("--view", "none") as server:
         yield server.url

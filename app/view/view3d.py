@@ -1,0 +1,333 @@
+"""The 3D view (viser, same process as the API, bound to 127.0.0.1): the Panda with its meshes, the
+plate, the box, the person's palm, F_ext split into its normal and tangential parts, the person's
+force, a translucent friction cone, the box's path; and the lab's controls. The controls call the
+same service registry and action server as the API (no second code path).
+
+The scene is redrawn from the loop's snapshot at `rate_hz` inside `server.atomic()`. Light mode
+draws the collision meshes (simple, few triangles) for software-rendered browsers.
+"""
+import hashlib
+import math
+import os
+import threading
+import time
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import viser
+
+from sim.robot.assets import panda_urdf, robot_data_share
+from sim.person.human import PARTICIPANTS
+from sim.robot.panda import PandaModel
+from sim.world import Snapshot
+
+from app.lab import commands as world_commands
+
+FORCE_SCALE = 0.01  # m of arrow per N
+NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
+COLOURS = {  # state -> RGB
+    "below": (80, 140, 255),
+    "inside": (60, 190, 90),
+    "above": (255, 160, 40),
+    "slipping": (170, 80, 220),
+    "error": (230, 50, 50),
+    "idle": (200, 170, 120),
+}
+
+
+def wxyz(rotation: np.ndarray) -> np.ndarray:
+    q = pin.Quaternion(np.asarray(rotation))
+    return np.array([q.w, q.x, q.y, q.z])
+
+
+def state_of(s: Snapshot) -> str:
+    """What the colours tell: error, slipping, below/inside/above the band, or idle."""
+    if s.error:
+        return "error"
+    if s.plate.points_slipping > 0 and s.plate.normal_force > 0:
+        return "slipping"
+    if not s.lifting.running:
+        return "idle"
+    f_n = s.plate.normal_force
+    if f_n < s.lifting.f_n_min:
+        return "below"
+    return "above" if f_n > s.lifting.f_n_max else "inside"
+
+
+def arrows_of(s: Snapshot, plate_offset: float) -> dict[str, np.ndarray]:
+    """Arrow segments (start, end) in the base frame: F_ext's normal and tangential parts at the
+    plate centre, and the person's push at the palm (FORCE_SCALE m per N)."""
+    transform = s.transform_ee_to_base
+    rotation = transform[:3, :3]
+    centre = transform[:3, 3] + rotation[:, 2] * plate_offset
+    force_world = rotation @ s.wrench_ee[:3]  # F_ext in the base frame
+    normal = rotation[:, 2]
+    f_normal = (force_world @ normal) * normal
+    f_tangential = force_world - f_normal
+    palm_force = s.palm.force_box
+    return {
+        "normal": np.array([centre, centre + FORCE_SCALE * f_normal]),
+        "tangential": np.array([centre, centre + FORCE_SCALE * f_tangential]),
+        "human": np.array([s.palm_position - FORCE_SCALE * palm_force, s.palm_position]),
+    }
+
+
+def cone_mesh(mu: float, height: float = 0.08, segments: int = 24) -> tuple[np.ndarray, np.ndarray]:
+    """Friction cone in the plate frame: apex at the centre, axis +z (into the box), half angle atan(mu)."""
+    radius = height * mu
+    angles = np.linspace(0.0, 2.0 * math.pi, segments, endpoint=False)
+    ring = np.column_stack((radius * np.cos(angles), radius * np.sin(angles), np.full(segments, height)))
+    vertices = np.vstack(([0.0, 0.0, 0.0], ring))
+    faces = np.array([[0, 1 + i, 1 + (i + 1) % segments] for i in range(segments)])
+    return vertices.astype(np.float32), faces.astype(np.int32)
+
+
+def mesh_cache() -> Path:
+    """Where converted meshes are kept: $HRI_LAB_CACHE, else $XDG_CACHE_HOME/hri-lab, else ~/.cache/hri-lab."""
+    if os.environ.get("HRI_LAB_CACHE"):
+        return Path(os.environ["HRI_LAB_CACHE"])
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "hri-lab"
+
+
+def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
+    """The mesh as GLB bytes for viser. Converting the Panda's .dae files with trimesh takes
+    seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version
+    (trimesh itself, 0.7 s to import, is only imported to convert)."""
+    from importlib.metadata import version
+
+    stat = mesh_path.stat()
+    key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh")))
+                       .encode()).hexdigest()
+    cached = mesh_cache() / f"{mesh_path.stem}-{key[:16]}.glb"
+    try:
+        return cached.read_bytes()
+    except OSError:
+        pass
+    import trimesh
+
+    mesh = trimesh.load(str(mesh_path), force="scene")
+    mesh.apply_scale(np.asarray(scale))
+    data = mesh.export(file_type="glb")
+    try:  # best effort: a read-only home only costs the conversion next time
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = cached.with_suffix(f".{os.getpid()}.tmp")
+        partial.write_bytes(data)
+        partial.replace(cached)  # atomic: a concurrent start never reads half a file
+    except OSError:
+        pass
+    return data
+
+
+class RobotMeshes:
+    """The Panda's meshes under viser frames, placed from q with pinocchio's geometry model."""
+
+    def __init__(self, server: viser.ViserServer, light: bool) -> None:
+        self.model = PandaModel()
+        kind = pin.GeometryType.COLLISION if light else pin.GeometryType.VISUAL
+        geometry = pin.buildGeomFromUrdf(self.model.model, str(panda_urdf()), kind, package_dirs=[str(robot_data_share())])
+        self.geometry = geometry
+        self.geometry_data = pin.GeometryData(geometry)
+        self.frames: list[tuple[int, viser.FrameHandle]] = []
+        for index, obj in enumerate(geometry.geometryObjects):
+            if obj.name.startswith(NOT_SHOWN) or not obj.meshPath.lower().endswith((".dae", ".stl", ".obj")):
+                continue
+            frame = server.scene.add_frame(f"/robot/{obj.name}", show_axes=False)
+            server.scene.add_glb(f"/robot/{obj.name}/mesh", glb_of(Path(obj.meshPath), tuple(obj.meshScale)),
+                                 cast_shadow=not light, receive_shadow=not light)
+            self.frames.append((index, frame))
+
+    def place(self, q: np.ndarray) -> None:
+        pin.framesForwardKinematics(self.model.model, self.model.data, q)
+        pin.updateGeometryPlacements(self.model.model, self.model.data, self.geometry, self.geometry_data)
+        for index, frame in self.frames:
+            placement = self.geometry_data.oMg[index]
+            frame.position = placement.translation
+            frame.wxyz = wxyz(placement.rotation)
+
+
+class LabView:
+    def __init__(self, lab, actions, services, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
+                 rate_hz: float = 30.0, controls: bool = True) -> None:
+        self.lab, self.actions, self.services = lab, actions, services
+        self.light = light
+        self.rate_hz = rate_hz
+        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        self.server.scene.set_up_direction("+z")
+        self.server.initial_camera.position = (1.6, 1.5, 1.0)
+        self.server.initial_camera.look_at = (0.45, 0.2, 0.35)
+        if light:
+            self.server.scene.configure_default_lights(cast_shadow=False)
+        self.robot = RobotMeshes(self.server, light)
+        self.controls = controls  # off when the API needs a token: the view then only shows
+        self._build_scene()
+        self._build_gui()
+        self.status_message = "Ready. Start lifting with a force."
+        self.frame_times: deque[float] = deque(maxlen=1000)
+        self._path: deque[np.ndarray] = deque(maxlen=300)
+        self._plot: deque[tuple[float, ...]] = deque(maxlen=int(10 * rate_hz))
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="view3d", daemon=True)
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+
+    def start(self) -> None:
+        self.update(self.lab.snapshot())
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=2.0)
+        self.server.stop()
+
+    # --- scene ------------------------------------------------------------------------------
+    def _build_scene(self) -> None:
+        scene = self.server.scene
+        s = self.lab.snapshot()
+        world = self.lab.world
+        plate = world.config.plate
+        self.plate_offset = plate.offset
+        scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
+        self.plate_frame = scene.add_frame("/plate", show_axes=False)
+        scene.add_box("/plate/pad", dimensions=(plate.width, plate.height, 0.006), color=(60, 60, 60), position=(0, 0, -0.003))
+        vertices, faces = cone_mesh(s.lifting.mu)
+        self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
+                                          side="double")
+        self.cone_mu = s.lifting.mu
+        size = world.config.box.size
+        self.box = scene.add_box("/box", dimensions=size, color=COLOURS["idle"])
+        palm = world.config.palm_size
+        self.palm = scene.add_box("/palm", dimensions=(palm[0], palm[1], 0.015), color=(240, 190, 160))
+        self.arrows = {
+            "normal": scene.add_arrows("/forces/normal", np.zeros((1, 2, 3)), (230, 50, 50), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
+            "tangential": scene.add_arrows("/forces/tangential", np.zeros((1, 2, 3)), (40, 120, 255), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
+            "human": scene.add_arrows("/forces/human", np.zeros((1, 2, 3)), (240, 140, 40), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
+        }
+        self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
+        self.gizmo = scene.add_transform_controls("/hand_target", scale=0.15, disable_rotations=True,
+                                                  position=s.palm_position, visible=self.controls)
+        if self.controls:
+            self.gizmo.on_update(self._on_gizmo)
+
+    def update(self, s: Snapshot) -> None:
+        """Redraw everything that moves from one snapshot."""
+        started = time.perf_counter()
+        transform = s.transform_ee_to_base
+        arrows = arrows_of(s, self.plate_offset)
+        state = state_of(s)
+        self._path.append(s.box_position.copy())
+        with self.server.atomic():
+            self.robot.place(s.q)
+            self.plate_frame.position = transform[:3, 3] + transform[:3, 2] * self.plate_offset
+            self.plate_frame.wxyz = wxyz(transform[:3, :3])
+            self.box.position = s.box_position
+            self.box.wxyz = wxyz(s.box_rotation)
+            self.box.color = COLOURS[state]
+            self.palm.position = s.palm_position
+            self.palm.wxyz = wxyz(s.palm_rotation)
+            if s.human_phase != "manual":  # the gizmo waits on the palm until someone drags it
+                self.gizmo.position = s.palm_position
+            for name, handle in self.arrows.items():
+                handle.points = arrows[name][None]
+            if abs(s.lifting.mu - self.cone_mu) > 1e-9:
+                self.cone.vertices = cone_mesh(s.lifting.mu)[0]
+                self.cone_mu = s.lifting.mu
+            if len(self._path) >= 2 and len(self._path) % 5 == 0:
+                points = np.array(self._path)
+                self.path.points = np.stack((points[:-1], points[1:]), axis=1)
+        self._update_gui(s, state)
+        self.frame_times.append(time.perf_counter() - started)
+
+    def _run(self) -> None:
+        period = 1.0 / self.rate_hz
+        while not self._stop.wait(period):
+            try:
+                self.update(self.lab.snapshot())
+            except Exception as exc:  # noqa: BLE001 - a drawing problem never stops the lab
+                self.status_message = f"view error: {exc}"
+
+    # --- controls -----------------------------------------------------------------------------
+    def _build_gui(self) -> None:
+        gui = self.server.gui
+        gui.add_markdown("**hri-lab** — cooperative lifting")
+        self.status = gui.add_markdown("")
+        if self.controls:
+            self._build_controls()
+        self._build_plot()
+
+    def _build_controls(self) -> None:
+        gui = self.server.gui
+        with gui.add_folder("Lifting"):
+            self.force = gui.add_number("Force (N)", initial_value=10.0, min=0.0, max=60.0, step=0.5)
+            gui.add_button("Start lifting").on_click(lambda _: self._call("/start_cooperative_lifting", force=float(self.force.value)))
+            gui.add_button("Stop lifting").on_click(lambda _: self._call("/stop_cooperative_lifting"))
+            gui.add_button("Move to start").on_click(lambda _: self._move_to_start())
+            gui.add_button("Reset").on_click(lambda _: self._call("/reset_simulation"))
+            gui.add_button("Error recovery").on_click(lambda _: self._call("/error_recovery"))
+        with gui.add_folder("Person"):
+            self.participant = gui.add_dropdown("Participant", tuple(PARTICIPANTS), initial_value="calm")
+            gui.add_button("Run scripted participant").on_click(lambda _: self._run_participant())
+            gui.add_markdown("Drag the gizmo on the palm to lift and carry the box yourself.")
+
+    def _build_plot(self) -> None:
+        t = np.zeros(1)
+        self.plot = self.server.gui.add_uplot(
+            data=(t, t, t, t, t),
+            series=(
+                viser.uplot.Series(label="t (s)"),
+                viser.uplot.Series(label="f_n (N)", stroke="red", width=2),
+                viser.uplot.Series(label="f_n_min", stroke="gray", dash=[5, 5]),
+                viser.uplot.Series(label="f_n_max", stroke="gray", dash=[5, 5]),
+                viser.uplot.Series(label="|f_t|/(mu f_n)", stroke="purple", scale="ratio"),
+            ),
+            scales={"x": viser.uplot.Scale(time=False), "ratio": viser.uplot.Scale(range=(0.0, 2.0))},
+            title="Normal force and friction ratio",
+            aspect=1.6,
+        )
+
+    def _update_gui(self, s: Snapshot, state: str) -> None:
+        plate = s.plate
+        ratio = plate.friction_ratio / s.lifting.mu if s.lifting.mu > 0 else 0.0
+        self._plot.append((s.time, plate.normal_force, s.lifting.f_n_min, s.lifting.f_n_max, ratio))
+        data = np.array(self._plot).T
+        self.plot.data = tuple(data)
+        lifting = f"lifting at [{s.lifting.f_n_min:g}, {s.lifting.f_n_max:g}] N" if s.lifting.running else "lifting stopped"
+        self.status.content = (
+            f"{self.status_message}\n\n`{state}` · {lifting} · f_n = {plate.normal_force:.1f} N · "
+            f"person: {s.human_phase}" + (f"\n\n**reflex:** {s.error}" if s.error else "")
+        )
+
+    def _call(self, name: str, **request) -> None:
+        """A service of the registry, exactly as POST /services{name} calls it."""
+        service = self.services.get(name)
+        try:
+            response = service.handler(self.lab, service.request(**request))
+            self.status_message = f"{name}: " + "; ".join(f"{v}" for v in response.model_dump().values())
+        except Exception as exc:  # noqa: BLE001 - shown to the person, the view goes on
+            self.status_message = f"{name} failed: {exc}"
+
+    def _move_to_start(self) -> None:
+        action = self.actions.get("/move_to_start")
+        handle = self.actions.send_goal(action, action.goal())
+        self.status_message = f"/move_to_start: goal {handle.status.value}" + (f" ({handle.message})" if handle.message else "")
+
+    def _run_participant(self) -> None:
+        try:
+            self.lab.params.set("human", "profile", self.participant.value)
+        except Exception as exc:  # noqa: BLE001
+            self.status_message = f"participant refused: {exc}"
+            return
+        self._call("/reset_simulation")
+        self._call("/start_cooperative_lifting", force=float(self.force.value))
+        self.gizmo.position = self.lab.snapshot().palm_position
+
+    def _on_gizmo(self, _event) -> None:
+        target = np.array(self.gizmo.position, dtype=float)
+        try:
+            self.lab.call(world_commands.set_hand_target, target)
+        except Exception as exc:  # noqa: BLE001
+            self.status_message = f"hand target refused: {exc}"
+

@@ -1,0 +1,110 @@
+"""The Single Point (SP) controller: the lab's Algorithm 1 (Marullo et al., IEEE RA-L 2020) as
+hri-lab reconstructs it. The paper's text was not at hand: every step, gain and sign below is our
+reconstruction, documented here and in the README, and configurable through LiftingParams.
+
+Model: the plate touches the box at a single point (the plate centre p_c) with Coulomb friction
+mu. A point contact holds no moment, and its friction holds only inside the cone |f_t| <= mu f_n.
+
+Sign convention: F_ext (wrench_ee) is the wrench the ROBOT applies to the box (franka's
+K_F_ext_hat_K). Pressing gives f_n > 0. When the person lifts the box, the plate's friction
+holds the box back, so f_t points DOWN and the robot must move UP: against f_t.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sim.controllers.interface import LiftingParams
+
+
+class SPController:
+    """Single Point method: normal-force band, friction-cone tangential following, moment compliance."""
+
+    def __init__(self) -> None:
+        self.reset()
+
+    def reset(self) -> None:
+        self.twist_base = np.zeros(6)  # last command (for the rate limiter)
+        self.wrench_filtered: np.ndarray | None = None
+        self.slipping = False  # |f_t| beyond the cone margin in the last step
+
+    def step(
+        self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float
+    ) -> np.ndarray:
+        # Step 0: low-pass the measured wrench against the sensor noise (first order, cut-off
+        # filter_hz): w_f <- w_f + a (w - w_f), a = dt / (1/(2 pi f_c) + dt).
+        if self.wrench_filtered is None or params.filter_hz <= 0.0:
+            self.wrench_filtered = np.array(wrench_ee, dtype=float)
+        else:
+            a = dt / (1.0 / (2.0 * math.pi * params.filter_hz) + dt)
+            self.wrench_filtered = self.wrench_filtered + a * (wrench_ee - self.wrench_filtered)
+        twist_ee = self.twist_ee(self.wrench_filtered, params) if params.running else np.zeros(6)
+        # Step 5b: twist_base = blockdiag(R, R) twist_ee, R = rotation EE -> base.
+        rotation = transform_ee_to_base[:3, :3]
+        target = np.concatenate((rotation @ twist_ee[:3], rotation @ twist_ee[3:]))
+        # Step 6: rate limit (franka's limitRate idea), so noise never trips the robot's
+        # acceleration reflex: |dv| <= a_max dt, |dw| <= dw_max dt per control period.
+        self.twist_base = self.twist_base + _rate_limit(target - self.twist_base, params, dt)
+        return self.twist_base.copy()
+
+    def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
+        """Steps 1-5a: the EE twist in the EE frame (m/s, rad/s), before the rate limit."""
+        # Step 1: decompose. n = EE z (plate normal); f_n = n.f; f_t = f - f_n n;
+        # m_c = m - p_c x f (moment about the plate centre p_c = [0, 0, d]; p_c x f = [-d fy, d fx, 0]).
+        fx, fy, fz, mx, my, mz = np.asarray(wrench_ee, dtype=float).tolist()
+        d = params.plate_offset
+        f_n = fz
+        mcx, mcy, mcz = mx + d * fy, my - d * fx, mz
+        in_contact = f_n >= params.f_contact
+
+        # Step 2: normal band [f_n_min, f_n_max]:
+        #   f_n < f_n_min -> v_n = +k_n (f_n_min - f_n)   (press, along +n)
+        #   f_n > f_n_max -> v_n = -k_n (f_n - f_n_max)   (release, along -n)
+        #   otherwise     -> v_n = 0
+        f_n_max = params.f_n_max
+        if f_n < params.f_n_min:
+            v_n = params.k_n * (params.f_n_min - f_n)
+        elif f_n > f_n_max:
+            v_n = -params.k_n * (f_n - f_n_max)
+        else:
+            v_n = 0.0
+
+        # Step 3: tangential following, only while in contact (without contact there is no cone,
+        # and sensor noise alone must not move the robot sideways).
+        #   limit = alpha mu f_n; |f_t| <= limit -> the contact holds: v_t = 0
+        #   beyond: e_t = f_t - limit f_t/|f_t|, v_t = -k_t e_t (move against f_t, with the person)
+        #   and raise the grip toward f_n_max: v_n = max(v_n, k_n (f_n_max - f_n)).
+        vx = vy = 0.0
+        ft_norm = math.hypot(fx, fy)
+        limit = params.alpha * params.mu * max(f_n, 0.0)
+        self.slipping = in_contact and ft_norm > limit
+        if self.slipping:
+            excess = 1.0 - limit / ft_norm  # e_t = excess * f_t
+            vx, vy = -params.k_t * excess * fx, -params.k_t * excess * fy
+            if f_n < f_n_max:
+                v_n = max(v_n, params.k_n * (f_n_max - f_n))
+
+        # Step 4: rotation. A single point holds no moment: comply with it,
+        #   w = -k_w (|m_c| - db)+ m_c/|m_c|   (deadband db against noise).
+        wx = wy = wz = 0.0
+        mc_norm = math.sqrt(mcx * mcx + mcy * mcy + mcz * mcz)
+        if in_contact and mc_norm > params.moment_deadband:
+            gain = -params.k_w * (1.0 - params.moment_deadband / mc_norm)
+            wx, wy, wz = gain * mcx, gain * mcy, gain * mcz
+
+        # Step 5a: twist_ee = [v_t + v_n n, w], saturated at v_max, w_max (direction kept).
+        v = _saturate(np.array([vx, vy, v_n]), params.v_max)
+        w = _saturate(np.array([wx, wy, wz]), params.w_max)
+        return np.concatenate((v, w))
+
+
+def _saturate(x: np.ndarray, limit: float) -> np.ndarray:
+    """x scaled down to |x| = limit if longer (direction kept)."""
+    a, b, c = x.tolist()
+    norm = math.sqrt(a * a + b * b + c * c)
+    return x * (limit / norm) if norm > limit else x
+
+
+def _rate_limit(delta: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
+    return np.concatenate((_saturate(delta[:3], params.a_max * dt), _saturate(delta[3:], params.dw_max * dt)))

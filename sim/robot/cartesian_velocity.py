@@ -1,0 +1,191 @@
+"""franka-like Cartesian velocity interface with libfranka-style reflexes.
+
+A command is the twist of the flange (EE) origin expressed in the base frame,
+twist_base = [vx, vy, vz, wx, wy, wz] (m/s, rad/s), one per 1 ms control period.
+It is turned into joint velocities with damped least squares and integrated:
+
+    qdot = J^T (J J^T + lambda^2 I)^-1 twist_base + (I - J^+ J) k_null (q_rest - q)
+    q    <- q + qdot dt
+
+The null-space term keeps the redundant 7th DoF near the start posture; it does not move the EE.
+A command that would break a limit is not followed: the robot stops (qdot = 0) and an error
+state with the reason is raised, like libfranka's reflexes, until `recover()`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from sim.robot import panda
+from sim.robot.panda import PandaModel
+
+
+@dataclass
+class VelocityLimits:
+    """Panda limits checked on every command (SI units)."""
+
+    cartesian_velocity: float = panda.CARTESIAN_VELOCITY_LIMIT  # m/s
+    cartesian_angular_velocity: float = panda.CARTESIAN_ANGULAR_VELOCITY_LIMIT  # rad/s
+    cartesian_acceleration: float = panda.CARTESIAN_ACCELERATION_LIMIT  # m/s^2
+    cartesian_angular_acceleration: float = panda.CARTESIAN_ANGULAR_ACCELERATION_LIMIT  # rad/s^2
+    joint_acceleration: np.ndarray | None = None  # rad/s^2, default Panda datasheet
+
+
+class Reflex(Exception):
+    """A limit violation (the message is the error reason)."""
+
+
+class CartesianVelocityInterface:
+    """The robot's joint state driven by Cartesian velocity (or joint velocity) commands."""
+
+    damping = 0.02  # lambda of damped least squares (m)
+    null_space_gain = 1.0  # 1/s, pull of the posture toward q_rest
+
+    def __init__(self, model: PandaModel, q: np.ndarray, limits: VelocityLimits | None = None) -> None:
+        self.model = model
+        self.limits = limits or VelocityLimits()
+        self.qdd_max = (
+            self.limits.joint_acceleration
+            if self.limits.joint_acceleration is not None
+            else panda.JOINT_ACCELERATION_LIMITS
+        )
+        self.reset(q)
+
+    def reset(self, q: np.ndarray) -> None:
+        """Put the robot at rest at q (rad) with no error."""
+        self.q = np.array(q, dtype=float)
+        self.q_rest = self.q.copy()
+        self.qdot = np.zeros(self.model.nq)
+        self.twist_base = np.zeros(6)  # last executed EE twist (base frame)
+        self.twist_command = np.zeros(6)  # last accepted command (for the acceleration check)
+        self.error: str | None = None
+        self.update_kinematics()
+
+    def update_kinematics(self) -> None:
+        self.transform_ee_to_base, self.jacobian = self.model.kinematics(self.q)
+
+    # --- commands ---------------------------------------------------------------------------
+    def command_twist(self, twist_base: np.ndarray, dt: float) -> None:
+        """Execute one control period of an EE twist in the base frame (m/s, rad/s)."""
+        if self.error is not None:
+            self._halt()
+            return
+        try:
+            self._check_twist(twist_base, dt)
+            qdot = self._dls(twist_base)
+            self._apply(qdot, dt)
+            self.twist_command = np.array(twist_base, dtype=float)
+        except Reflex as reflex:
+            self._trip(str(reflex))
+
+    def command_joint_velocity(self, qdot: np.ndarray, dt: float) -> None:
+        """Execute one control period of joint velocities (rad/s), e.g. a joint-space motion."""
+        if self.error is not None:
+            self._halt()
+            return
+        try:
+            qdot = np.asarray(qdot, dtype=float)
+            if qdot.shape != (self.model.nq,) or not np.all(np.isfinite(qdot)):
+                raise Reflex("invalid command: joint velocity must be 7 finite numbers")
+            self._apply(qdot, dt)
+            self.twist_command = self.twist_base.copy()
+        except Reflex as reflex:
+            self._trip(str(reflex))
+
+    def recover(self) -> None:
+        """Clear the reflex error (franka's automatic error recovery); the robot stays at rest."""
+        self.error = None
+        self.qdot[:] = 0.0
+        self.twist_base[:] = 0.0
+        self.twist_command[:] = 0.0
+
+    # --- internals --------------------------------------------------------------------------
+    def _check_twist(self, twist_base: np.ndarray, dt: float) -> None:
+        twist = np.asarray(twist_base, dtype=float)
+        if twist.shape != (6,) or not np.all(np.isfinite(twist)):
+            raise Reflex("invalid command: twist must be 6 finite numbers")
+        lim = self.limits
+        vx, vy, vz, wx, wy, wz = twist.tolist()
+        v, w = math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(wx * wx + wy * wy + wz * wz)
+        if v > lim.cartesian_velocity:
+            raise Reflex(f"cartesian velocity limit: |v| = {v:.3f} m/s > {lim.cartesian_velocity} m/s")
+        if w > lim.cartesian_angular_velocity:
+            raise Reflex(
+                f"cartesian velocity limit: |w| = {w:.3f} rad/s > {lim.cartesian_angular_velocity} rad/s"
+            )
+        ax, ay, az, bx, by, bz = (twist - self.twist_command).tolist()
+        a, alpha = math.sqrt(ax * ax + ay * ay + az * az) / dt, math.sqrt(bx * bx + by * by + bz * bz) / dt
+        if a > lim.cartesian_acceleration:
+            raise Reflex(f"cartesian acceleration limit: {a:.1f} m/s^2 > {lim.cartesian_acceleration} m/s^2")
+        if alpha > lim.cartesian_angular_acceleration:
+            raise Reflex(
+                f"cartesian acceleration limit: {alpha:.1f} rad/s^2 > {lim.cartesian_angular_acceleration} rad/s^2"
+            )
+
+    def _dls(self, twist_base: np.ndarray) -> np.ndarray:
+        posture = self.null_space_gain * (self.q_rest - self.q)
+        return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), posture, self.damping**2)
+
+    def _apply(self, qdot: np.ndarray, dt: float) -> None:
+        model = self.model
+        kind, j, value = check_joint_limits(
+            qdot, self.qdot, self.q, dt, model.qdot_max, self.qdd_max, model.q_min, model.q_max
+        )
+        if kind == VELOCITY:
+            raise Reflex(f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})")
+        if kind == ACCELERATION:
+            raise Reflex(f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})")
+        if kind == POSITION:
+            raise Reflex(
+                f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
+                f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"
+            )
+        self.q = self.q + qdot * dt
+        self.qdot = qdot
+        self.update_kinematics()
+        self.twist_base = self.jacobian @ qdot
+
+    def _halt(self) -> None:
+        self.qdot[:] = 0.0
+        self.twist_base[:] = 0.0
+        self.twist_command[:] = 0.0
+
+    def _trip(self, reason: str) -> None:
+        self.error = reason
+        self._halt()
+
+
+OK, VELOCITY, ACCELERATION, POSITION = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def damped_least_squares(jac, twist, posture, damping2):
+    """qdot = J^T (J J^T + lambda^2 I)^-1 twist + (I - J^T (J J^T)^-1 J) posture.
+    The null-space projector is undamped so that the posture term never moves the EE."""
+    gram = jac @ jac.T
+    damped = gram.copy()
+    for i in range(6):
+        damped[i, i] += damping2
+        gram[i, i] += 1e-10
+    qdot = jac.T @ np.linalg.solve(damped, twist)
+    return qdot + posture - jac.T @ np.linalg.solve(gram, jac @ posture)
+
+
+@njit(cache=True)
+def check_joint_limits(qdot, qdot_prev, q, dt, qdot_max, qdd_max, q_min, q_max):
+    """(kind, joint, value) of the first limit the step q + qdot dt would break; kind OK if none."""
+    for j in range(q.shape[0]):
+        if abs(qdot[j]) > qdot_max[j]:
+            return VELOCITY, j, qdot[j]
+    for j in range(q.shape[0]):
+        qdd = abs(qdot[j] - qdot_prev[j]) / dt
+        if qdd > qdd_max[j]:
+            return ACCELERATION, j, qdd
+    for j in range(q.shape[0]):
+        q_next = q[j] + qdot[j] * dt
+        if q_next < q_min[j] or q_next > q_max[j]:
+            return POSITION, j, q_next
+    return OK, -1, 0.0

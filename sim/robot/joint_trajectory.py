@@ -1,0 +1,67 @@
+"""Smooth joint-space motion (the lab's move_to_start / move_to_side): minimum-jerk in q.
+
+    q_ref(t) = q0 + (q1 - q0) s(t/T),  s = 10 tau^3 - 15 tau^4 + 6 tau^5
+    T = 1.875 max|q1 - q0| / qdot_peak   (so the fastest joint peaks at qdot_peak)
+    qdot_cmd = q_ref'(t) + k (q_ref(t) - q)   (tracking feedback against integration drift)
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from sim.person.human import minimum_jerk
+
+
+def minimum_jerk_rate(tau: float) -> float:
+    """ds/dtau = 30 tau^2 - 60 tau^3 + 30 tau^4."""
+    if tau <= 0.0 or tau >= 1.0:
+        return 0.0
+    return 30.0 * tau * tau * (1.0 - tau) ** 2
+
+
+class JointTrajectory:
+    """Minimum-jerk from q_start to q_goal; `command(q, dt)` gives the joint velocity to send."""
+
+    feedback_gain = 10.0  # 1/s
+
+    def __init__(self, q_start: np.ndarray, q_goal: np.ndarray, peak_velocity: float = 0.5) -> None:
+        self.q_start = np.array(q_start, float)
+        self.q_goal = np.array(q_goal, float)
+        distance = float(np.max(np.abs(self.q_goal - self.q_start)))
+        self.duration = max(1.875 * distance / peak_velocity, 0.1)  # s
+        self.time = 0.0
+
+    @property
+    def progress(self) -> float:
+        """0..1 share of the motion done."""
+        return min(self.time / self.duration, 1.0)
+
+    @property
+    def done(self) -> bool:
+        return self.time >= self.duration
+
+    def command(self, q: np.ndarray, dt: float) -> np.ndarray:
+        """Joint velocity (rad/s) for the next period dt (s)."""
+        self.time += dt
+        tau = self.progress
+        delta = self.q_goal - self.q_start
+        q_ref = self.q_start + delta * minimum_jerk(tau)
+        qdot_ref = delta * minimum_jerk_rate(tau) / self.duration
+        return qdot_ref + self.feedback_gain * (q_ref - q)
+
+
+class JointBrake:
+    """Bring the joints to rest at a constant deceleration (a cancelled motion, like franka's stop)."""
+
+    def __init__(self, qdot: np.ndarray, deceleration: float = 2.0) -> None:
+        self.qdot = np.array(qdot, float)
+        self.deceleration = deceleration  # rad/s^2, below every Panda joint's limit
+        self.progress = 1.0
+
+    @property
+    def done(self) -> bool:
+        return not np.any(self.qdot)
+
+    def command(self, q: np.ndarray, dt: float) -> np.ndarray:
+        step = self.deceleration * dt
+        self.qdot = np.sign(self.qdot) * np.maximum(np.abs(self.qdot) - step, 0.0)
+        return self.qdot.copy()

@@ -22,7 +22,7 @@ from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
 from app.lab.services import SERVICES
 
-STATIC = Path(__file__).resolve().parent.parent / "static"
+STATIC = Path(__file__).resolve().parents[2] / "static"
 
 
 def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080,

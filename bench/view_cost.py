@@ -44,9 +44,9 @@ def main() -> None:
         page.goto(view.url)
         time.sleep(3.0)  # the viewer loads the meshes
         view.frame_times.clear()
-        ticks0, t0 = lab.loop.stats().ticks, time.perf_counter()
+        ticks0, t0 = lab.runtime.health().stats.ticks, time.perf_counter()
         time.sleep(args.seconds)
-        stats = lab.loop.stats()
+        stats = lab.runtime.health().stats
         rate = (stats.ticks - ticks0) / (time.perf_counter() - t0)
         frames = list(view.frame_times)
         browser.close()

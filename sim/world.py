@@ -18,7 +18,7 @@ import numpy as np
 from sim.physics.box import Box, BoxParams
 from sim.robot.cartesian_velocity import CartesianVelocityInterface
 from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
-from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
+from sim.controllers.interface import Controller, LiftingParams
 from sim.controllers.guard import ControllerFault
 from sim.person.human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
 from sim.robot.joint_trajectory import JointBrake, JointTrajectory
@@ -136,13 +136,12 @@ class World:
 
     # --- commands (what the lab's services do) -----------------------------------------------
     def start_lifting(self, force: float) -> str:
-        """The start service: the controller's own handler if it has one (a plug-in), else the lab's."""
-        start = getattr(self.controller, "start", None)
-        return start(self.params, force) if callable(start) else start_lifting(self.params, force)
+        """The start service: the controller's handler (the lab's semantics for the built-ins)."""
+        return self.controller.start(self.params, force)
 
     def stop_lifting(self) -> str:
-        stop = getattr(self.controller, "stop", None)
-        return stop(self.params) if callable(stop) else stop_lifting(self.params)
+        """The stop service: the controller's handler."""
+        return self.controller.stop(self.params)
 
     def move_to_start(self, peak_velocity: float = 0.5) -> JointTrajectory:
         """Drive the robot to the start pose with a smooth joint motion (controller paused)."""
@@ -184,6 +183,10 @@ class World:
         if self.params.running:
             raise RuntimeError("teleop is disabled while cooperative lifting runs")
         self.jog = Jog(twist_base, duration).start_from(self.twist_command)
+
+    def fail(self, reason: str) -> None:
+        """Stop the robot with an error (like a reflex): zero command until recover()."""
+        self.arm.stop_with_error(reason)
 
     def recover(self) -> None:
         """Clear the reflex error (error_recovery); the controller restarts from rest."""
@@ -238,13 +241,13 @@ class World:
                 self.controller.step(self.wrench_ee.copy(), transform.copy(), self.params, dt), dtype=float
             )
         except ControllerFault as fault:
-            self.arm.error = f"controller error: {fault}"
+            self.fail(f"controller error: {fault}")
             return np.zeros(6)
         except Exception as exc:  # noqa: BLE001 - any controller failure stops the robot
-            self.arm.error = "controller error: " + "".join(traceback.format_exception_only(exc)).strip()
+            self.fail("controller error: " + "".join(traceback.format_exception_only(exc)).strip())
             return np.zeros(6)
         if twist.shape != (6,):
-            self.arm.error = f"controller error: twist must have shape (6,), got {twist.shape}"
+            self.fail(f"controller error: twist must have shape (6,), got {twist.shape}")
             return np.zeros(6)
         return twist
 

@@ -1,4 +1,65 @@
+import ctypes
+import os
+import signal
+import time
+
 import pytest
+
+PR_SET_CHILD_SUBREAPER = 36
+
+
+def _children() -> list[int]:
+    """Live child processes of this test run (orphans of its descendants come back to it)."""
+    pids = []
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            with open(f"/proc/self/task/{tid}/children") as handle:
+                pids += [int(p) for p in handle.read().split()]
+        except OSError:
+            pass
+    return pids
+
+
+def _reap() -> None:
+    while True:
+        try:
+            pid, _ = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
+def _describe(pid: int) -> str:
+    try:
+        with open(f"/proc/{pid}/cmdline", "rb") as handle:
+            return f"{pid}: " + handle.read().replace(b"\0", b" ").decode(errors="replace")[:120]
+    except OSError:
+        return f"{pid}: (gone)"
+
+
+@pytest.fixture(scope="session", autouse=True)
+def no_process_left_behind():
+    """Fails the run when a test leaves a process behind. This run is made the subreaper of its
+    descendants, so a worker orphaned by its parent comes back to it and is seen here."""
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
+    yield
+    deadline = time.monotonic() + 15.0  # processes told to stop may take a moment
+    while True:
+        _reap()
+        left = _children()
+        if not left or time.monotonic() > deadline:
+            break
+        time.sleep(0.1)
+    if left:
+        described = [_describe(pid) for pid in left]
+        for pid in left:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        _reap()
+        pytest.fail("processes left behind by the tests:\n" + "\n".join(described))
 
 
 @pytest.fixture(scope="module")

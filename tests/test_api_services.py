@@ -162,7 +162,7 @@ def test_echo_login_and_camera(client):
 def test_camera_projection_follows_the_box():
     """The projection by hand: a point on the optical axis lands in the image centre; a point
     higher up lands above it (smaller y)."""
-    from app.lab.services import CAMERA_TARGET, project
+    from sim.camera import CAMERA_TARGET, project
 
     assert project(CAMERA_TARGET) == (320, 240)
     x, y = project(CAMERA_TARGET + [0.0, 0.0, 0.1])
@@ -212,7 +212,7 @@ def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
         else:
             response = client.post(f"/services{name}", json=body)
         assert response.status_code < 500, (name, body, response.text)
-    assert lab.loop.alive
+    assert lab.runtime.health().alive
     assert client.get("/health").json()["loop_alive"] is True
 
 
@@ -256,14 +256,14 @@ def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
     """A bug inside a step (here: the human model raising) puts the robot in an error state; the
     loop keeps ticking and answers; once fixed, error_recovery clears it."""
     lab.call(_break_human)
-    wait_for(lambda: lab.loop.stats().step_errors > 10)
+    wait_for(lambda: lab.runtime.health().stats.step_errors > 10)
     health = client.get("/health").json()
     assert health["loop_alive"] is True and health["step_errors"] > 10
     assert "simulation error: ValueError: injected fault" in client.get("/topics/lifting_state").json()["error"]
     lab.call(_fix_human)
     assert client.post("/services/error_recovery").json()["success"] is True
-    ticks = lab.loop.stats().ticks
-    wait_for(lambda: lab.loop.stats().ticks > ticks + 100)
+    ticks = lab.runtime.health().stats.ticks
+    wait_for(lambda: lab.runtime.health().stats.ticks > ticks + 100)
     assert client.get("/topics/lifting_state").json()["error"] == ""
 
 

@@ -68,11 +68,11 @@ def _kill_the_loop_thread(world) -> None:
 
 
 def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
-    """Something escapes a step and kills the loop thread (SystemExit): /health reports it and the
-    watchdog starts a new loop on the same world."""
+    """Something escapes a step and ends the loop (SystemExit): /health reports why, and the
+    supervisor starts a fresh simulation process."""
     lab.call(_kill_the_loop_thread)
     deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and lab.loop.stats().restarts == 0:
+    while time.monotonic() < deadline and lab.runtime.health().restarts == 0:
         time.sleep(0.05)
     health = client.get("/health").json()
     assert health["loop_restarts"] >= 1 and "SystemExit: killed by a test" in health["last_loop_death"]
@@ -85,10 +85,10 @@ def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
 def test_a_killed_simulation_process_is_reported_and_restarted(client, lab):
     """The simulation runs in its own process: SIGKILL it (as a crash in native code would end it).
     /health says so, a fresh simulation process takes over and the API keeps answering."""
-    pid = lab.loop._process.pid
+    pid = lab.runtime.pid
     os.kill(pid, signal.SIGKILL)
     deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and (lab.loop._process is None or lab.loop._process.pid == pid):
+    while time.monotonic() < deadline and lab.runtime.pid in (None, pid):
         time.sleep(0.05)
     health = client.get("/health").json()
     assert health["last_loop_death"] == "simulation process killed by SIGKILL" and health["loop_restarts"] >= 1

@@ -6,7 +6,7 @@ from app.ros.actions import ActionServer
 from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
 from app.lab.services import SERVICES
-from app.ros.topics import wrench_stamped
+from app.lab.topics import wrench_stamped
 from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
 
 
@@ -20,9 +20,9 @@ def view():
 
 def test_force_arrow_follows_f_ext(view):
     lab = view.lab
-    lab.world.start_lifting(10.0)
-    lab.world.run(1.5)  # pressing the box
-    snapshot = lab.world.snapshot()
+    lab.runtime.world.start_lifting(10.0)
+    lab.runtime.world.run(1.5)  # pressing the box
+    snapshot = lab.runtime.world.snapshot()
     view.update(snapshot)
     message = wrench_stamped(snapshot)  # what /franka_state_controller/F_ext publishes
     f_ee = np.array([message["wrench"]["force"][k] for k in "xyz"])
@@ -30,7 +30,7 @@ def test_force_arrow_follows_f_ext(view):
     normal = rotation[:, 2]
     f_world = rotation @ f_ee
     start, end = view.arrows["normal"].points[0]
-    centre = snapshot.transform_ee_to_base[:3, 3] + normal * lab.world.config.plate.offset
+    centre = snapshot.transform_ee_to_base[:3, 3] + normal * lab.runtime.world.config.plate.offset
     assert start == pytest.approx(centre, abs=1e-6)  # viser stores float32
     assert end - start == pytest.approx(FORCE_SCALE * (f_world @ normal) * normal, abs=1e-6)
     start_t, end_t = view.arrows["tangential"].points[0]
@@ -42,7 +42,7 @@ def test_force_arrow_follows_f_ext(view):
 
 
 def test_colours_tell_the_state(view):
-    world = view.lab.world
+    world = view.lab.runtime.world
     snapshot = world.snapshot()
     assert state_of(snapshot) in ("inside", "below", "above", "slipping")
     world.stop_lifting()
@@ -62,7 +62,7 @@ def test_friction_cone_opening_is_mu():
 def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
     """The gizmo's callback moves the person's hand target; the robot follows only through the SP
     controller (pressing, then friction beyond the cone margin)."""
-    world = view.lab.world
+    world = view.lab.runtime.world
     world.reset()
     world.start_lifting(10.0)
     while not world.human.holding_by_contact:  # the person lets go once the grip is in the band

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from sim.procedures.experiment import Trial, TrialRules, plan, run_experiment
-from sim.person.human import PARTICIPANTS, HandPath, PickAndPlace, minimum_jerk
+from sim.person.human import PARTICIPANTS, HandPath, PickAndPlace
+from sim.signals import minimum_jerk
 from sim.robot.panda import READY_Q, SIDE_Q
 from sim.physics.sensor import SensorParams, WrenchSensor
 from sim.world import World, WorldConfig

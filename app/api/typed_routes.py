@@ -7,17 +7,18 @@ from fastapi import Body
 from pydantic import BaseModel
 
 
-def with_body(model: type[BaseModel], handle: Callable[[BaseModel], Any], name: str) -> Callable:
-    """A route function taking the JSON body as `model` (optional when the model has no field)."""
+def with_body(model: type[BaseModel], handle: Callable[..., Any], name: str, **dependencies: Any) -> Callable:
+    """A route function taking the JSON body as `model` (optional when the model has no field);
+    handle(body, **dependencies) with each dependency a typed FastAPI dependency (e.g. lab=LabDep)."""
     has_fields = bool(model.model_fields)
 
-    def endpoint(body: BaseModel | None = None):
-        return handle(body if body is not None else model())
+    def endpoint(body: BaseModel | None = None, **resolved: Any):
+        return handle(body if body is not None else model(), **resolved)
 
     default = Body(...) if has_fields else Body(None)
     annotation = model if has_fields else model | None
-    endpoint.__signature__ = inspect.Signature(
-        [inspect.Parameter("body", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]
-    )
+    parameters = [inspect.Parameter("body", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]
+    parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, annotation=a) for n, a in dependencies.items()]
+    endpoint.__signature__ = inspect.Signature(parameters)
     endpoint.__name__ = name
     return endpoint

@@ -7,6 +7,8 @@ import sys
 import httpx
 import yaml
 
+from app.ros.names import absolute, node_name
+
 DEFAULT_URL = "http://127.0.0.1:8000"
 
 
@@ -65,7 +67,7 @@ def _print_list(args, path: str) -> int:
 
 def _lookup(args, kind: str) -> tuple[str, httpx.Response]:
     """`/name` and the server's answer for GET /{kind}/name; a clear error when there is none."""
-    name = "/" + args.name.lstrip("/")
+    name = absolute(args.name)
     response = _request(args, "GET", f"/{kind}{name}")
     if response.status_code != 200:
         raise CliError(f"{kind[:-1]} '{name}' is not available: {_detail(response)}")
@@ -100,7 +102,7 @@ VALUE_WORDS = {"double": "Double", "integer": "Integer", "string": "String", "bo
 
 
 def param(args) -> int:
-    node = (getattr(args, "node", None) or "").strip("/")
+    node = node_name(getattr(args, "node", None) or "")
     if args.action == "list":
         current = None
         for p in _request(args, "GET", "/params").json():

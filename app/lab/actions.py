@@ -1,4 +1,4 @@
-"""The lab's actions (DESIGN.md section 7), one declaration each."""
+"""The lab's actions (docs/design.md, "Actions"), one declaration each."""
 import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -17,8 +17,7 @@ from sim.procedures.experiment import (
     run_trial,
 )
 from sim.person.human import PARTICIPANTS
-from sim.controllers.plugin import BUILTIN
-from sim.world import World
+from sim.controllers.builtin import BUILTIN
 
 from app.lab import commands as cmd
 from app.ros.actions import Action, GoalHandle
@@ -71,7 +70,7 @@ def move_to_start(lab, goal: Empty, handle: GoalHandle) -> MoveResult:
     duration = lab.call(cmd.begin_move_to_start)
     while True:
         if handle.wait(0.1):
-            lab.call(World.stop_motion)
+            lab.call(cmd.stop_motion)
             return MoveResult(success=False, message="canceled: the robot braked to rest")
         progress, moving, error = lab.call(cmd.motion_progress)
         if error:

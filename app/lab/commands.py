@@ -1,5 +1,7 @@
-"""What the server asks of the simulation: functions fn(world, *args), run in the simulation
-process between two steps (Lab.call). They live at module level so they travel by name."""
+"""Every command the server sends into the simulation: functions fn(world, *args), run in the
+simulation process between two steps (`lab.call(fn, *args)`, app/runtime/process.py). This is the
+only way into the world from app/: services, parameters, actions, teleop and the 3D view all call
+these. They live at module level so they travel by name."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -7,10 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from sim.controllers.builtin import builtin, builtin_name
 from sim.person.human import PARTICIPANTS
-from sim.controllers.patch import PatchController
-from sim.controllers.plugin import builtin
-from sim.controllers.sp import SPController
 from sim.world import World
 
 
@@ -20,6 +20,16 @@ def start_lifting(world: World, force: float, controller: str = "") -> str:
     if controller:
         set_controller(world, controller)
     return world.start_lifting(force)
+
+
+def stop_lifting(world: World) -> str:
+    """The stop service (the controller's handler)."""
+    return world.stop_lifting()
+
+
+def reset(world: World) -> None:
+    """Robot at the start pose, box held by the person in front of the plate."""
+    world.reset()
 
 
 def lifting_state(world: World) -> tuple[bool, float, float, float]:
@@ -50,8 +60,26 @@ def motion_progress(world: World) -> tuple[float, bool, str | None]:
     return (motion.progress if motion else 1.0), motion is not None, world.error
 
 
+def stop_motion(world: World) -> None:
+    """Cancel move_to_start: the joints brake to rest."""
+    world.stop_motion()
+
+
+def start_jog(world: World, twist_base: np.ndarray) -> None:
+    """Teleop: move the EE with twist_base (m/s, rad/s) for a moment (only while lifting is stopped)."""
+    world.start_jog(twist_base)
+
+
 def set_hand_target(world: World, position: np.ndarray) -> None:
+    """The palm's target (m, base frame): the person follows it (the 3D view's gizmo)."""
     world.human.set_target(position)
+
+
+def scene_geometry(world: World) -> dict[str, Any]:
+    """What the 3D view draws that does not move: plate (width, height, offset), box size, palm size (m)."""
+    cfg = world.config
+    return {"plate": (cfg.plate.width, cfg.plate.height, cfg.plate.offset), "box": tuple(cfg.box.size),
+            "palm": tuple(cfg.palm_size)}
 
 
 def controller_name(world: World) -> str:
@@ -60,7 +88,7 @@ def controller_name(world: World) -> str:
 
 def controller_choice(world: World) -> str:
     """The `controller` parameter: "sp", "patch", or "plugin" (a file given to `serve --controller`)."""
-    return {SPController: "sp", PatchController: "patch"}.get(type(world.controller), "plugin")
+    return builtin_name(world.controller) or "plugin"
 
 
 # --- parameters: apply(world, value) and read(world) ----------------------------------------
@@ -88,9 +116,12 @@ def set_profile(world: World, value: str) -> None:
     world.set_participant(PARTICIPANTS[value])
 
 
+_CONFIGURE = {"sensor": World.set_sensor, "box": World.set_box, "plate_contact": World.set_plate_contact}
+
+
 def set_config(world: World, value: Any, part: str, field: str) -> None:
     """A field of the world's configuration: part "sensor", "box" or "plate_contact"."""
-    getattr(world, f"set_{part}")(**{field: value})
+    _CONFIGURE[part](world, **{field: value})
 
 
 def get_config(world: World, part: str, field: str) -> Any:

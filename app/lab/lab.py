@@ -1,14 +1,14 @@
-"""The Lab: the server's one simulation (world + real-time loop in its own process), its
-parameters and its log."""
+"""The Lab: the server's one simulation (in its own process, app/runtime), its parameters and its log."""
 import time
 from collections import deque
-from typing import Callable, TypeVar
+from typing import Any, Callable, TypeVar
 
 from sim.controllers.interface import Controller
-from sim.robot.panda import PandaModel
 from sim.controllers.sp import SPController
+from sim.robot.panda import PandaModel
 from sim.world import Snapshot, World, WorldConfig
 
+from app.lab.params import LAB_PARAMETERS
 from app.ros.params import ParameterServer
 from app.runtime.process import SimulationProcess
 
@@ -17,28 +17,25 @@ T = TypeVar("T")
 
 class Lab:
     def __init__(self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None) -> None:
-        # the world the simulation process starts from (live state: snapshot() and call())
-        self.world = World(config or WorldConfig(), controller or SPController())
-        self.loop = SimulationProcess(self.world, realtime=realtime)
-        self.model = PandaModel()  # for computations on snapshots (not the loop's pinocchio data)
+        self.runtime = SimulationProcess(World(config or WorldConfig(), controller or SPController()), realtime=realtime)
+        self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
-        from app.lab.params import LAB_PARAMETERS
-
         self.params = ParameterServer(LAB_PARAMETERS, self)
 
     def start(self) -> None:
-        self.loop.start()
+        self.runtime.start()
 
     def stop(self) -> None:
-        self.loop.stop()
+        self.runtime.stop()
 
-    def call(self, fn: Callable[..., T], *args, timeout: float = 10.0) -> T:
-        """Run fn(world, *args) in the simulation between two steps and return its result; fn is
-        sent by name (a function of app/world_commands.py or a method of World)."""
-        return self.loop.call(fn, *args, timeout=timeout)
+    def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
+        """Run fn(world, *args) in the simulation between two steps and return its result; fn is a
+        function of app/lab/commands.py (sent by name)."""
+        return self.runtime.call(fn, *args, timeout=timeout)
 
     def snapshot(self) -> Snapshot:
-        return self.loop.snapshot()
+        """The latest published state of the world."""
+        return self.runtime.snapshot()
 
     def info(self, node: str, message: str) -> None:
         """A log line (like rosout)."""

@@ -1,9 +1,9 @@
-"""The lab's parameters (DESIGN.md section 7): one declaration each. apply/read are functions of
-app/world_commands.py, run in the simulation process."""
+"""The lab's parameters (docs/design.md, "Parameters"): one declaration each. apply/read are
+functions of app/lab/commands.py, run in the simulation process."""
 from functools import partial
 
 from sim.person.human import PARTICIPANTS
-from sim.controllers.plugin import BUILTIN
+from sim.controllers.builtin import BUILTIN
 
 from app.lab import commands as cmd
 from app.ros.params import Parameter

@@ -1,7 +1,5 @@
-"""GET /robot: the Panda's links and joints with their limits (the `check_urdf` view)."""
+"""The Panda's links and joints with their limits, as `check_urdf` shows them (served at GET /robot)."""
 import xml.etree.ElementTree as ElementTree
-
-from fastapi import APIRouter
 
 from sim.robot.assets import panda_urdf
 
@@ -32,14 +30,3 @@ def robot_description() -> dict:
         "joints": joints,
         "end_effector": "panda_link8",
     }
-
-
-def router() -> APIRouter:
-    r = APIRouter(tags=["robot"])
-    description = robot_description()
-
-    @r.get("/robot", summary="Links and joints with limits (check_urdf)")
-    def robot() -> dict:
-        return description
-
-    return r

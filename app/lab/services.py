@@ -1,13 +1,13 @@
-"""The lab's services (DESIGN.md section 6), one declaration each: request, response, handler."""
+"""The lab's services (docs/design.md, "Services"), one declaration each: request, response, handler."""
 from typing import Annotated
 
 import numpy as np
 from pydantic import Field
 
+from sim import camera
 from sim.robot import planar_arm
 from sim.controllers.guard import ControllerFault
-from sim.controllers.plugin import BUILTIN
-from sim.world import World
+from sim.controllers.builtin import BUILTIN
 
 from app.lab import commands as cmd
 from app.lab.params import F_N_MIN_RANGE
@@ -59,7 +59,7 @@ def _lifting_handler(lab, fn, *args) -> str:
 
 
 def stop(lab, request: Empty) -> Message:
-    message = _lifting_handler(lab, World.stop_lifting)
+    message = _lifting_handler(lab, cmd.stop_lifting)
     lab.info("cooperative_lifting", message)
     return Message(message=message)
 
@@ -196,34 +196,14 @@ class Pixel(RosMessage):
     y: Int32
 
 
-# A fixed virtual camera at the person's side looking at the workspace (pinhole, 640 x 480).
-CAMERA_POSITION = np.array([0.45, 1.60, 0.60])  # m, base frame
-CAMERA_TARGET = np.array([0.45, 0.20, 0.40])
-CAMERA_FOCAL = 500.0  # px
-CAMERA_SIZE = (640, 480)
-
-
-def project(point: np.ndarray) -> tuple[int, int]:
-    """Pixel (x right, y down) of a base-frame point in the virtual camera."""
-    forward = CAMERA_TARGET - CAMERA_POSITION
-    forward /= np.linalg.norm(forward)
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
-    down = np.cross(forward, right)
-    rel = point - CAMERA_POSITION
-    depth = rel @ forward
-    if depth <= 1e-6:
-        raise ServiceFailure("the box is behind the camera")
-    u = CAMERA_SIZE[0] / 2 + CAMERA_FOCAL * (rel @ right) / depth
-    v = CAMERA_SIZE[1] / 2 + CAMERA_FOCAL * (rel @ down) / depth
-    return int(round(u)), int(round(v))
-
-
 def get_target_position(lab, request: TargetRequest) -> Pixel:
     if not request.get:
         lab.info("get_target_position", "get is false: no target position computed")
         return Pixel(x=0, y=0)
-    x, y = project(lab.snapshot().box_position)
+    try:
+        x, y = camera.project(lab.snapshot().box_position)
+    except ValueError:
+        raise ServiceFailure("the box is behind the camera") from None
     return Pixel(x=x, y=y)
 
 
@@ -235,7 +215,7 @@ def error_recovery(lab, request: Empty) -> Trigger:
 
 
 def reset_simulation(lab, request: Empty) -> Trigger:
-    lab.call(World.reset)
+    lab.call(cmd.reset)
     return Trigger(success=True, message="Simulation reset: robot at the start pose, box held in front of the plate.")
 
 

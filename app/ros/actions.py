@@ -8,11 +8,10 @@ publishes feedback with `handle.feedback(...)`, checks `handle.cancel_requested`
 with `handle.wait(s)`, which wakes on cancel) and returns the result. Returning while a cancel
 is requested ends PREEMPTED; raising ends ABORTED with the reason; returning ends SUCCEEDED.
 
-REST: POST /actions/{name}/goals (typed goal) -> goal id and status; GET .../goals/{id}
-(long-poll with ?after=N&wait=S for feedback beyond the N-th); POST .../goals/{id}/cancel;
-WebSocket .../goals/{id}/stream (every feedback and the final state).
+Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal id and status;
+GET .../goals/{id} (long-poll with ?after=N&wait=S for feedback beyond the N-th);
+POST .../goals/{id}/cancel; WebSocket .../goals/{id}/stream (every feedback and the final state).
 """
-import asyncio
 import threading
 import time
 import traceback
@@ -21,11 +20,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Callable
 
-from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
-from fastapi.responses import JSONResponse
-
 from app.ros.messages import RosMessage, definition
-from app.api.typed_routes import with_body
+from app.ros.names import absolute
 
 
 class GoalStatus(str, Enum):
@@ -130,7 +126,12 @@ class ActionServer:
         self._lock = threading.Lock()
 
     def get(self, name: str) -> Action | None:
-        return self.actions.get("/" + name.lstrip("/"))
+        return self.actions.get(absolute(name))
+
+    def goal(self, name: str, goal_id: str) -> GoalHandle | None:
+        """The goal `goal_id` of action `name` (None if there is no such goal of that action)."""
+        handle = self.goals.get(goal_id)
+        return handle if handle is not None and handle.action.name == absolute(name) else None
 
     def send_goal(self, action: Action, goal: RosMessage) -> GoalHandle:
         handle = GoalHandle(action, goal)
@@ -171,74 +172,3 @@ class ActionServer:
             return
         final = GoalStatus.PREEMPTED if handle.cancel_requested else GoalStatus.SUCCEEDED
         handle.set_status(final, "canceled" if final == GoalStatus.PREEMPTED else "done", result.model_dump(by_alias=True))
-
-    # --- HTTP -------------------------------------------------------------------------------
-    def router(self) -> APIRouter:
-        r = APIRouter(tags=["actions"])
-
-        def goal_of(name: str, goal_id: str) -> GoalHandle:
-            handle = self.goals.get(goal_id)
-            if handle is None or handle.action.name != "/" + name.lstrip("/"):
-                raise HTTPException(404, f"no goal {goal_id} of action /{name.lstrip('/')}")
-            return handle
-
-        @r.get("/actions", summary="Actions with their types (ros2 action list -t)")
-        def list_actions() -> list[dict]:
-            return [{"name": a.name, "type": a.type} for a in self.actions.values()]
-
-        for action in self.actions.values():
-            r.add_api_route(
-                f"/actions{action.name}/goals",
-                with_body(action.goal, lambda goal, a=action: self._accept(a, goal), "send_goal" + action.name.replace("/", "_")),
-                methods=["POST"], status_code=202, summary=f"send a goal to {action.name} ({action.type})",
-                description=f"{action.description}\n\n```\n{action.definition}\n```",
-            )
-
-        @r.get("/actions/{name}", summary="Type and .action definition of an action")
-        def action_info(name: str) -> dict:
-            action = self.get(name)
-            if action is None:
-                raise HTTPException(404, f"action '/{name.lstrip('/')}' does not exist")
-            return {"name": action.name, "type": action.type, "definition": action.definition,
-                    "description": action.description, "goal_schema": action.goal.model_json_schema(by_alias=True)}
-
-        @r.get("/actions/{name}/goals/{goal_id}", summary="Status, feedback and result of a goal (long-poll)")
-        def goal_status(name: str, goal_id: str, after: int = Query(0, ge=0), wait: float = Query(0.0, ge=0.0, le=30.0)) -> dict:
-            handle = goal_of(name, goal_id)
-            if wait > 0:
-                handle.wait_for_update(after, wait)
-            return handle.view(after)
-
-        @r.post("/actions/{name}/goals/{goal_id}/cancel", summary="Cancel a goal")
-        def cancel(name: str, goal_id: str) -> dict:
-            handle = goal_of(name, goal_id)
-            self.cancel(handle)
-            return handle.view(len(handle.feedbacks))
-
-        @r.websocket("/actions/{name}/goals/{goal_id}/stream")
-        async def stream(websocket: WebSocket, name: str, goal_id: str) -> None:
-            handle = self.goals.get(goal_id)
-            if handle is None or handle.action.name != "/" + name.lstrip("/"):
-                await websocket.close(code=1008, reason="no such goal")
-                return
-            await websocket.accept()
-            sent = 0
-            try:
-                while True:
-                    await asyncio.to_thread(handle.wait_for_update, sent, 0.5)
-                    view = handle.view(sent)
-                    for fb in view["feedback"]:
-                        await websocket.send_json({"feedback": fb})
-                    sent = view["feedback_count"]
-                    if handle.status in TERMINAL:
-                        await websocket.send_json({"status": view["status"], "result": view["result"], "message": view["message"]})
-                        await websocket.close()
-                        return
-            except (WebSocketDisconnect, RuntimeError):
-                return
-
-        return r
-
-    def _accept(self, action: Action, goal: RosMessage) -> JSONResponse:
-        handle = self.send_goal(action, goal)
-        return JSONResponse(handle.view(), status_code=202 if handle.status != GoalStatus.REJECTED else 409)

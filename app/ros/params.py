@@ -1,7 +1,7 @@
 """Parameters as ROS 2 has them: declared with a type, default, description, range and read-only
 flag, per node; get / set / list / describe / dump / load (YAML) with rclcpp's refusal messages.
 
-One declaration per parameter; `apply` runs on the simulation loop thread so a change takes effect
+One declaration per parameter (HTTP: app/api/params.py); `apply` runs in the simulation so a change takes effect
 in the running controller or simulation; `read` (when given) reads the value from the world, for
 values that services also change (f_n_min is set by start/stop_cooperative_lifting).
 Deviation from ROS 2: JSON has one number type, so an integer is accepted for a double.
@@ -11,9 +11,8 @@ from dataclasses import dataclass
 from typing import Any, Callable, Literal
 
 import yaml
-from fastapi import APIRouter, Body, HTTPException, Request
-from fastapi.responses import JSONResponse, PlainTextResponse
-from pydantic import BaseModel, ConfigDict
+
+from app.ros.names import node_name
 
 ParamType = Literal["double", "integer", "string", "bool"]
 PY_TYPES = {"double": (float, int), "integer": (int,), "string": (str,), "bool": (bool,)}
@@ -72,13 +71,13 @@ class ParameterServer:
         self.values = {(p.node, p.name): p.default for p in declarations}
 
     def declaration(self, node: str, name: str) -> Parameter:
-        param = self.declarations.get((node.strip("/"), name))
+        param = self.declarations.get((node_name(node), name))
         if param is None:
             raise ParameterRefused(f"parameter '{name}' cannot be set because it was not declared", 404)
         return param
 
     def get(self, node: str, name: str) -> Any:
-        param = self.declarations.get((node.strip("/"), name))
+        param = self.declarations.get((node_name(node), name))
         if param is None:
             raise ParameterRefused("Parameter not set.", 404)
         if param.read is not None:
@@ -115,7 +114,7 @@ class ParameterServer:
         """YAML like `ros2 param dump`: node: {ros__parameters: {name: value}}."""
         tree: dict[str, dict] = {}
         for param, value in self.items():
-            if node is None or param.node == node.strip("/"):
+            if node is None or param.node == node_name(node):
                 tree.setdefault(param.node, {"ros__parameters": {}})["ros__parameters"][param.name] = value
         return yaml.safe_dump(tree, sort_keys=False)
 
@@ -135,61 +134,7 @@ class ParameterServer:
             for name, value in params.items():
                 try:
                     self.set(str(node), str(name), value, force=force)
-                    results.append({"node": str(node).strip("/"), "name": name, "successful": True, "reason": ""})
+                    results.append({"node": node_name(str(node)), "name": name, "successful": True, "reason": ""})
                 except ParameterRefused as refused:
-                    results.append({"node": str(node).strip("/"), "name": name, "successful": False, "reason": str(refused)})
+                    results.append({"node": node_name(str(node)), "name": name, "successful": False, "reason": str(refused)})
         return results
-
-
-class SetParameter(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    value: Any
-
-
-def router(server: ParameterServer) -> APIRouter:
-    r = APIRouter(tags=["parameters"])
-
-    def refused(exc: ParameterRefused) -> JSONResponse:
-        return JSONResponse({"successful": False, "reason": str(exc)}, status_code=exc.status)
-
-    @r.get("/params", summary="All parameters with their values (ros2 param list)")
-    def list_params() -> list[dict]:
-        return [{"node": p.node, "name": p.name, "type": p.type, "value": v} for p, v in server.items()]
-
-    @r.get("/params/dump", response_class=PlainTextResponse, summary="YAML of all (or one node's) parameters")
-    def dump(node: str | None = None) -> str:
-        return server.dump(node)
-
-    @r.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)")
-    async def load(request: Request):
-        text = (await request.body()).decode("utf-8", errors="replace")
-        try:
-            results = server.load(text)
-        except ParameterRefused as exc:
-            return refused(exc)
-        return {"successful": all(x["successful"] for x in results), "results": results}
-
-    @r.get("/params/{node}/{name}", summary="Value of a parameter (ros2 param get)")
-    def get(node: str, name: str):
-        try:
-            value = server.get(node, name)
-        except ParameterRefused as exc:
-            return refused(exc)
-        return {"node": node, "name": name, "type": server.declaration(node, name).type, "value": value}
-
-    @r.get("/params/{node}/{name}/describe", summary="Descriptor of a parameter (ros2 param describe)")
-    def describe(node: str, name: str):
-        param = server.declarations.get((node, name))
-        if param is None:
-            raise HTTPException(404, "Parameter not set.")
-        return param.describe()
-
-    @r.put("/params/{node}/{name}", summary="Set a parameter (ros2 param set)")
-    def set_param(node: str, name: str, body: SetParameter = Body(...)):
-        try:
-            server.set(node, name, body.value)
-        except ParameterRefused as exc:
-            return refused(exc)
-        return {"successful": True, "reason": ""}
-
-    return r

@@ -1,19 +1,16 @@
-"""The service registry: one declaration per service gives its HTTP route (a typed entry in the
-OpenAPI schema, so /docs calls it), its introspection (`GET /services`, `GET /services/{name}`,
-like `ros2 service list -t` and `ros2 interface show`) and what the CLI and the dashboard list.
+"""The service registry: one declaration per service gives its HTTP route (app/api/services.py:
+a typed entry in the OpenAPI schema, so /docs calls it), its introspection (like
+`ros2 service list -t` and `ros2 interface show`) and what the CLI, the dashboard and the 3D view
+list and call.
 
-A handler gets the Lab and the validated request and returns the response. A `ServiceFailure`
-becomes HTTP 400 with the reason; any other exception HTTP 500; both are service failure
-responses (JSON), the server and the simulation go on.
+A handler gets the Lab and the validated request and returns the response; `call` is the one way
+to run it. A `ServiceFailure` is a failed call with a reason (HTTP 400).
 """
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from fastapi import APIRouter, HTTPException
-from fastapi.responses import JSONResponse
-
 from app.ros.messages import RosMessage, definition
-from app.api.typed_routes import with_body
+from app.ros.names import absolute
 
 
 class ServiceFailure(Exception):
@@ -61,54 +58,12 @@ class ServiceRegistry:
         return iter(self._services.values())
 
     def get(self, name: str) -> Service | None:
-        return self._services.get(name if name.startswith("/") else "/" + name)
+        return self._services.get(absolute(name))
 
     def call(self, lab: Any, name: str, request: RosMessage) -> RosMessage:
+        """Run the service's handler (raises ServiceFailure when the call fails, KeyError when
+        there is no such service)."""
         service = self.get(name)
         if service is None:
-            raise KeyError(name)
+            raise KeyError(absolute(name))
         return service.handler(lab, request)
-
-    def router(self, lab: Any) -> APIRouter:
-        router = APIRouter()
-
-        @router.get("/services", tags=["services"], summary="List services with their types (ros2 service list -t)")
-        def list_services() -> list[dict]:
-            return [{"name": s.name, "type": s.type} for s in self]
-
-        @router.get("/services/{name:path}", tags=["services"], summary="Type and .srv of a service (ros2 interface show)")
-        def service_info(name: str) -> dict:
-            service = self.get(name)
-            if service is None:
-                raise HTTPException(404, f"service '/{name.lstrip('/')}' is not advertised")
-            return service.info()
-
-        for service in self:
-            router.add_api_route(
-                f"/services{service.name}",
-                _endpoint(lab, service),
-                methods=["POST"],
-                response_model=service.response,
-                tags=["services"],
-                summary=f"call {service.name} ({service.type})",
-                description=f"{service.description}\n\n```\n{service.srv}\n```",
-                operation_id="call" + service.name.replace("/", "_"),
-                responses={400: {"description": "service failure"}},
-            )
-        return router
-
-
-def _endpoint(lab: Any, service: Service) -> Callable:
-    """The route of a service call: validated request in, response or failure response out."""
-
-    def call(request: RosMessage):
-        try:
-            response = service.handler(lab, request)
-        except ServiceFailure as failure:
-            return JSONResponse({"service": service.name, "success": False, "detail": str(failure)}, status_code=400)
-        except Exception as exc:  # noqa: BLE001 - a handler bug is a failure response, not a crash
-            detail = f"{type(exc).__name__}: {exc}"
-            return JSONResponse({"service": service.name, "success": False, "detail": detail}, status_code=500)
-        return response.model_dump(by_alias=True)
-
-    return with_body(service.request, call, "call" + service.name.replace("/", "_"))

@@ -1,57 +1,71 @@
-"""The real-time loop in its own process, so the server's Python (HTTP, WebSockets, the 3D view)
-never holds the interpreter lock the 1 kHz loop needs.
+"""The simulation process and its supervisor: the 1 kHz loop runs in a process of its own, so the
+server's Python (HTTP, WebSockets, the 3D view) never holds the interpreter lock the loop needs.
 
-The parent forks the process from its world (numba kernels compiled, robot model loaded), so the
-child starts in milliseconds and shares the parent's memory pages until it writes them. Then:
-- snapshots: the child writes one after every step into shared memory (app/shared_snapshot.py);
-  the server reads it with no round trip;
-- commands: `call(fn, *args)` pickles (fn, args) down a pipe; the child's SimulationLoop runs
-  fn(world, *args) between two steps and sends back the result or the exception. fn must be a
-  module-level function (app/world_commands.py, or a method of World), so it pickles by name;
-- health: a loop query (`stats`) runs in the child beside the loop, not between its steps;
-- faults: the child's own watchdog restarts a dead loop thread on the same world; should the whole
-  process die (a crash in native code, a kill), the parent notices within `watch_period`, fails the
-  calls in flight, reports why and forks a fresh one from its pristine world (the state is lost,
-  as when a real robot's controller restarts).
+- start: the supervisor forks the process from its pristine world (numba kernels compiled, robot
+  model loaded), so the child starts in milliseconds. The child closes every socket it inherited
+  (the server's listening socket and client connections stay the server's alone).
+- snapshot(): the child publishes the snapshot and the loop's figures after every step into shared
+  memory (app/runtime/shared_snapshot.py); the server reads them with no round trip.
+- call(fn, *args): one pickle of (fn, args) down a pipe; the loop runs fn(world, *args) between
+  two steps and sends back one pickle of the result or the exception. fn must be a module-level
+  function (app/lab/commands.py) so it travels by name.
+- one watchdog: should the process die (a crash in native code, a kill, a loop that ended), the
+  supervisor notices within `watch_period`, fails the calls in flight with `SimulationRestarting`,
+  records why and forks a fresh process from its pristine world (the state is lost, as when a real
+  robot's controller restarts). A loop that stops ticking for `stall_timeout` is killed and restarted.
 """
 from __future__ import annotations
 
 import itertools
 import multiprocessing
+import os
 import pickle
 import signal
+import stat
 import sys
 import threading
+import time
 from concurrent.futures import Future
-from dataclasses import replace
+from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from typing import Any, Callable
 
 from sim.world import Snapshot, World
 
+from app.runtime.loop import LoopStats, Published, SimulationLoop, raise_priority
 from app.runtime.shared_snapshot import SharedSnapshot
-from app.runtime.loop import LoopStats, SimulationLoop, raise_priority, resolve
 
 _FORK = multiprocessing.get_context("fork")
 
 
-class SimulationDied(RuntimeError):
-    """The simulation process ended while a call was waiting for it."""
+class SimulationRestarting(RuntimeError):
+    """The simulation process ended (and is being restarted) while a call was waiting for it."""
+
+
+@dataclass(frozen=True)
+class Health:
+    """The loop's figures plus what the supervisor knows."""
+
+    stats: LoopStats
+    alive: bool
+    restarts: int  # simulation processes started after one died
+    last_death: str
 
 
 class SimulationProcess:
-    watch_period = 0.2  # s between the parent's looks at the child
+    watch_period = 0.2  # s between the supervisor's looks at the process
+    stall_timeout = 10.0  # s without a tick before a live process is declared stuck
 
     def __init__(self, world: World, realtime: bool = True) -> None:
         self.world = world  # the pristine world each (re)started process begins from
         self.realtime = realtime
-        self.restarts = 0  # times the whole process was restarted
+        self.restarts = 0
         self.last_death = ""
-        self._shared = SharedSnapshot(world.snapshot())
-        self._shared.write(world.snapshot())
+        self._shared = SharedSnapshot(Published(world.snapshot(), LoopStats()))
+        self._shared.write(Published(world.snapshot(), LoopStats()))
         self._ids = itertools.count()
         self._pending: dict[int, Future] = {}
-        self._lock = threading.Lock()  # _pending, _conn, sending
+        self._lock = threading.Lock()  # _pending, _conn, _process, sending
         self._process: multiprocessing.Process | None = None
         self._conn: Connection | None = None
         self._stop = threading.Event()
@@ -62,7 +76,7 @@ class SimulationProcess:
         if self._process is None:
             self.world.step()
             self._spawn()
-            threading.Thread(target=self._watch, name="sim-process-watchdog", daemon=True).start()
+            threading.Thread(target=self._watch, name="sim-supervisor", daemon=True).start()
 
     def _spawn(self) -> None:
         parent_end, child_end = _FORK.Pipe()
@@ -72,16 +86,26 @@ class SimulationProcess:
         child_end.close()
         with self._lock:
             self._conn, self._process = parent_end, process
-        threading.Thread(target=self._receive, args=(parent_end,), name="sim-process-results", daemon=True).start()
+        threading.Thread(target=self._receive, args=(parent_end,), name="sim-results", daemon=True).start()
 
     def _watch(self) -> None:
+        ticks, since = -1, time.monotonic()
         while not self._stop.wait(self.watch_period):
             process = self._process
-            if process is not None and not process.is_alive() and not self._stop.is_set():
-                self.last_death = _describe_exit(process.exitcode)
+            if process is None:
+                continue
+            now_ticks = self._shared.read().stats.ticks
+            if now_ticks != ticks:
+                ticks, since = now_ticks, time.monotonic()
+            elif process.is_alive() and time.monotonic() - since > self.stall_timeout:
+                process.kill()  # stuck: restarted below once it is gone
+                process.join(timeout=2.0)
+            if not process.is_alive() and not self._stop.is_set():
+                self.last_death = self._shared.read().stats.fatal or _describe_exit(process.exitcode)
                 self.restarts += 1
-                self._fail_pending(SimulationDied(self.last_death))
+                self._fail_pending(SimulationRestarting(f"the simulation restarted ({self.last_death}); call again"))
                 self._spawn()
+                ticks, since = -1, time.monotonic()
 
     def stop(self) -> None:
         self._stop.set()
@@ -91,7 +115,7 @@ class SimulationProcess:
             if process is None:
                 return
             try:
-                conn.send(None)  # asks the child to stop its loop and exit
+                conn.send_bytes(b"")  # asks the child to stop its loop and exit
             except OSError:
                 pass
         process.join(timeout=2.0)
@@ -99,24 +123,24 @@ class SimulationProcess:
             process.kill()
             process.join(timeout=2.0)
         conn.close()
-        self._fail_pending(SimulationDied("the simulation was stopped"))
+        self._fail_pending(SimulationRestarting("the simulation was stopped"))
 
     @property
-    def alive(self) -> bool:
+    def pid(self) -> int | None:
         process = self._process
-        return process is not None and process.is_alive()
+        return process.pid if process is not None else None
 
     # --- talking to the world ---------------------------------------------------------------
-    def submit(self, fn: Callable[..., Any], *args: Any, target: str = "world") -> Future:
-        """Run fn(world, *args) in the simulation process between two steps (target "loop":
-        fn(loop, *args) beside the loop); the future holds its result or its exception."""
+    def submit(self, fn: Callable[..., Any], *args: Any) -> Future:
+        """Run fn(world, *args) in the simulation between two steps; the future holds its result
+        or its exception."""
         future: Future = Future()
         with self._lock:
             if self._process is None:  # not started (or stopped): nobody else steps this world
-                if target == "world":
-                    resolve(future, fn, self.world, *args)
-                else:
-                    future.set_exception(SimulationDied("the simulation is not running"))
+                try:
+                    future.set_result(fn(self.world, *args))
+                except Exception as exc:  # noqa: BLE001 - handed back to the caller
+                    future.set_exception(exc)
                 return future
             try:
                 data = pickle.dumps((fn, args))
@@ -126,37 +150,35 @@ class SimulationProcess:
             call_id = next(self._ids)
             self._pending[call_id] = future
             try:
-                self._conn.send((call_id, target, data))
-            except OSError as exc:  # the child is gone (the watchdog restarts it)
+                self._conn.send_bytes(call_id.to_bytes(8, "little") + data)
+            except OSError:  # the child is gone (the watchdog restarts it)
                 del self._pending[call_id]
-                future.set_exception(SimulationDied(str(exc)))
+                future.set_exception(SimulationRestarting("the simulation process is gone; it is being restarted"))
         return future
 
     def call(self, fn: Callable[..., Any], *args: Any, timeout: float = 10.0) -> Any:
+        """fn(world, *args) run in the simulation between two steps; its result (or its exception)."""
         return self.submit(fn, *args).result(timeout=timeout)
 
     def snapshot(self) -> Snapshot:
-        return self._shared.read()
+        """The latest published snapshot."""
+        return self._shared.read().snapshot
 
-    def stats(self) -> LoopStats:
-        """The child's loop figures (a dead process reports alive = False and its restart)."""
-        try:
-            stats = self.submit(SimulationLoop.stats, target="loop").result(timeout=2.0)
-        except Exception:  # noqa: BLE001 - dead or stuck: say so
-            stats = LoopStats(ticks=self._shared.written, rate_hz=0.0, lateness_p50=0.0, lateness_p99=0.0, overruns=0,
-                              alive=False)
-        return replace(stats, restarts=stats.restarts + self.restarts,
-                       last_death=self.last_death if self.last_death else stats.last_death)
+    def health(self) -> Health:
+        process = self._process
+        return Health(self._shared.read().stats, process is not None and process.is_alive(), self.restarts,
+                      self.last_death)
 
-    # --- results ----------------------------------------------------------------------------
+    # --- answers ----------------------------------------------------------------------------
     def _receive(self, conn: Connection) -> None:
         while True:
             try:
-                call_id, ok, data = conn.recv()
+                message = conn.recv_bytes()
             except (EOFError, OSError):
                 return
+            call_id, ok = int.from_bytes(message[:8], "little"), message[8] == 1
             try:
-                value = pickle.loads(data)
+                value = pickle.loads(message[9:])
             except Exception as exc:  # noqa: BLE001 - e.g. an exception type that does not rebuild here
                 ok, value = False, RuntimeError(f"the simulation's answer could not be read: {type(exc).__name__}: {exc}")
             with self._lock:
@@ -178,16 +200,29 @@ def _describe_exit(code: int | None) -> str:
 
 
 # --- the child ------------------------------------------------------------------------------
+def _close_inherited_sockets(keep: int) -> None:
+    """Close every socket this fork inherited from the server but `keep` (our pipe)."""
+    for name in os.listdir("/proc/self/fd"):
+        fd = int(name)
+        if fd == keep:
+            continue
+        try:
+            if stat.S_ISSOCK(os.fstat(fd).st_mode):
+                os.close(fd)
+        except OSError:
+            pass
+
+
 def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Connection, parent_end: Connection) -> None:
-    """Run the loop, publish its snapshots, serve the parent's calls until told to stop (or the
-    parent is gone: the pipe ends)."""
+    """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
+    the supervisor is gone: the pipe ends)."""
     parent_end.close()
+    _close_inherited_sockets(conn.fileno())
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the server's to handle; it stops us
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if realtime:  # every thread of this process (they inherit it), so none holding the
         raise_priority()  # interpreter lock is preempted while the loop waits for it
     sys.setswitchinterval(0.0005)  # s; the loop waits at most this long for the lock
-    loop = SimulationLoop(world, realtime=realtime, publish=shared.write)
     send_lock = threading.Lock()
 
     def reply(call_id: int, ok: bool, value: Any) -> None:
@@ -196,29 +231,29 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
         except Exception as exc:  # noqa: BLE001 - the value does not pickle: say what it was
             ok, data = False, pickle.dumps(RuntimeError(f"the result could not be sent back: {type(exc).__name__}: {exc}"))
         with send_lock:
-            conn.send((call_id, ok, data))
+            conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 
-    loop.start()
-    while True:
-        try:
-            message = conn.recv()
-        except (EOFError, OSError):
-            break
-        if message is None:
-            break
-        call_id, target, data = message
-        try:
-            fn, args = pickle.loads(data)
-        except Exception as exc:  # noqa: BLE001 - e.g. a function this process cannot import
-            reply(call_id, False, exc)
-            continue
-        if target == "loop":
+    loop = SimulationLoop(world, shared.write, reply, realtime=realtime)
+
+    def receive() -> None:
+        while True:
             try:
-                reply(call_id, True, fn(loop, *args))
-            except Exception as exc:  # noqa: BLE001
+                message = conn.recv_bytes()
+            except (EOFError, OSError):
+                break
+            if not message:  # the supervisor's stop
+                break
+            call_id = int.from_bytes(message[:8], "little")
+            try:
+                fn, args = pickle.loads(message[8:])
+            except Exception as exc:  # noqa: BLE001 - e.g. a function this process cannot import
                 reply(call_id, False, exc)
-            continue
-        future = loop.submit(lambda w, fn=fn, args=args: fn(w, *args))
-        future.add_done_callback(lambda f, call_id=call_id: reply(call_id, f.exception() is None,
-                                                                  f.exception() or f.result()))
-    loop.stop()
+                continue
+            loop.submit(call_id, fn, args)
+        loop.stop()
+
+    threading.Thread(target=receive, name="sim-commands", daemon=True).start()
+    try:
+        loop.run()
+    except BaseException:  # noqa: BLE001 - `fatal` is published; exit so the supervisor restarts us
+        os._exit(70)

@@ -23,7 +23,7 @@ from sim.person.human import PARTICIPANTS
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
 
-from app.lab import commands as world_commands
+from app.lab import commands
 
 FORCE_SCALE = 0.01  # m of arrow per N
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
@@ -187,19 +187,17 @@ class LabView:
     def _build_scene(self) -> None:
         scene = self.server.scene
         s = self.lab.snapshot()
-        world = self.lab.world
-        plate = world.config.plate
-        self.plate_offset = plate.offset
+        geometry = self.lab.call(commands.scene_geometry)
+        plate_width, plate_height, self.plate_offset = geometry["plate"]
         scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
         self.plate_frame = scene.add_frame("/plate", show_axes=False)
-        scene.add_box("/plate/pad", dimensions=(plate.width, plate.height, 0.006), color=(60, 60, 60), position=(0, 0, -0.003))
+        scene.add_box("/plate/pad", dimensions=(plate_width, plate_height, 0.006), color=(60, 60, 60), position=(0, 0, -0.003))
         vertices, faces = cone_mesh(s.lifting.mu)
         self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
                                           side="double")
         self.cone_mu = s.lifting.mu
-        size = world.config.box.size
-        self.box = scene.add_box("/box", dimensions=size, color=COLOURS["idle"])
-        palm = world.config.palm_size
+        self.box = scene.add_box("/box", dimensions=geometry["box"], color=COLOURS["idle"])
+        palm = geometry["palm"]
         self.palm = scene.add_box("/palm", dimensions=(palm[0], palm[1], 0.015), color=(240, 190, 160))
         self.arrows = {
             "normal": scene.add_arrows("/forces/normal", np.zeros((1, 2, 3)), (230, 50, 50), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
@@ -302,9 +300,8 @@ class LabView:
 
     def _call(self, name: str, **request) -> None:
         """A service of the registry, exactly as POST /services{name} calls it."""
-        service = self.services.get(name)
         try:
-            response = service.handler(self.lab, service.request(**request))
+            response = self.services.call(self.lab, name, self.services.get(name).request(**request))
             self.status_message = f"{name}: " + "; ".join(f"{v}" for v in response.model_dump().values())
         except Exception as exc:  # noqa: BLE001 - shown to the person, the view goes on
             self.status_message = f"{name} failed: {exc}"
@@ -327,7 +324,7 @@ class LabView:
     def _on_gizmo(self, _event) -> None:
         target = np.array(self.gizmo.position, dtype=float)
         try:
-            self.lab.call(world_commands.set_hand_target, target)
+            self.lab.call(commands.set_hand_target, target)
         except Exception as exc:  # noqa: BLE001
             self.status_message = f"hand target refused: {exc}"
 

@@ -67,12 +67,30 @@ class Controller(Protocol):
         """wrench_ee: F_ext (6,) in the EE frame. Returns the twist (6,) of the EE in the base frame."""
         ...
 
+    def start(self, params: LiftingParams, force: float) -> str:
+        """The start_cooperative_lifting handler (its message)."""
+        ...
 
-class ZeroController:
-    """Commands zero twist (a robot that does not follow)."""
+    def stop(self, params: LiftingParams) -> str:
+        """The stop_cooperative_lifting handler (its message)."""
+        ...
+
+
+class LiftingController:
+    """Base of the lab's controllers: the lab's start/stop semantics."""
 
     def reset(self) -> None:
         pass
+
+    def start(self, params: LiftingParams, force: float) -> str:
+        return start_lifting(params, force)
+
+    def stop(self, params: LiftingParams) -> str:
+        return stop_lifting(params)
+
+
+class ZeroController(LiftingController):
+    """Commands zero twist (a robot that does not follow)."""
 
     def step(self, wrench_ee, transform_ee_to_base, params, dt) -> np.ndarray:
         return np.zeros(6)

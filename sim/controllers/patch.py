@@ -55,8 +55,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim.controllers.interface import LiftingParams
+from sim.controllers.lifting_law import band_speed, grip_raise, saturate_twist
+from sim.controllers.sp import SPController
+from sim.physics.contact import PatchGeometry
 from sim.robot.panda import Plate
-from sim.controllers.sp import SPController, _saturate
 
 
 @dataclass(frozen=True)
@@ -98,8 +100,6 @@ class PatchController(SPController):
     def __init__(self, plate: Plate | None = None, r_eq: float | None = None, kern_scale: float = 1.0) -> None:
         """kern_scale scales the region where tipping moments are held (1 = the kern, step 4;
         larger values hold the centre of pressure further out, with part of the plate lifted off)."""
-        from sim.physics.contact import PatchGeometry
-
         self.plate = plate if plate is not None else Plate()
         self.r_eq = r_eq if r_eq is not None else PatchGeometry(self.plate.width, self.plate.height).mean_radius
         self.kern_scale = kern_scale
@@ -109,13 +109,7 @@ class PatchController(SPController):
         grip = patch_grip(wrench_ee, params.plate_offset, params.mu, self.r_eq)
         f_n = grip.f_n
         in_contact = f_n >= params.f_contact
-        # step 5: the normal band
-        if f_n < params.f_n_min:
-            v_n = params.k_n * (params.f_n_min - f_n)
-        elif f_n > params.f_n_max:
-            v_n = -params.k_n * (f_n - params.f_n_max)
-        else:
-            v_n = 0.0
+        v_n = band_speed(f_n, params)  # step 5: the normal band
         v_t = np.zeros(2)
         w = np.zeros(3)
         self.slipping = False
@@ -130,9 +124,7 @@ class PatchController(SPController):
                 excess = 1.0 - params.alpha / math.sqrt(s)
                 v_t = -params.k_t * excess * grip.f_t
                 w[2] = -params.k_w * excess * m_n
-                # step 5: raise the grip toward f_n_max while beyond the margin
-                if f_n < params.f_n_max:
-                    v_n = max(v_n, params.k_n * (params.f_n_max - f_n))
+                v_n = grip_raise(v_n, f_n, params)  # step 5: toward f_n_max while beyond the margin
             # step 7: tipping moments held inside the kern (and the noise floor), excess complied with
             m_xy = grip.m_c[:2]
             m_norm = float(np.linalg.norm(m_xy))
@@ -140,5 +132,4 @@ class PatchController(SPController):
                 k = kern_ratio(grip.cop, self.plate) / self.kern_scale
                 held = min(1.0, max(1.0 / k if k > 0.0 else math.inf, params.moment_deadband / m_norm))
                 w[:2] = -params.k_w * (1.0 - held) * m_xy
-        v = np.array([v_t[0], v_t[1], v_n])
-        return np.concatenate((_saturate(v, params.v_max), _saturate(w, params.w_max)))
+        return saturate_twist(np.array([v_t[0], v_t[1], v_n]), w, params)  # step 8 (SP's 5a)

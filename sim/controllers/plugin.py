@@ -13,28 +13,10 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from sim.controllers.builtin import BUILTIN, BuiltinFactory
 from sim.controllers.guard import Budget, GuardedController
 
 DEFAULT_CLASS = "CooperativeLifting"
-BUILTIN = ("sp", "patch")  # controllers selectable by name
-
-
-def builtin(name: str):
-    """A new built-in controller: "sp" (Single Point) or "patch" (patch-aware)."""
-    from sim.controllers.patch import PatchController
-    from sim.controllers.sp import SPController
-
-    return {"sp": SPController, "patch": PatchController}[name]()
-
-
-@dataclass(frozen=True)
-class BuiltinFactory:
-    """A picklable factory of a built-in controller."""
-
-    name: str
-
-    def __call__(self):
-        return builtin(self.name)
 
 
 def controller_factory(spec: str | None):

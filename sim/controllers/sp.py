@@ -16,37 +16,17 @@ import math
 import numpy as np
 
 from sim.controllers.interface import LiftingParams
+from sim.controllers.lifting_law import LiftingLawController, band_speed, grip_raise, saturate_twist
 
 
-class SPController:
-    """Single Point method: normal-force band, friction-cone tangential following, moment compliance."""
+class SPController(LiftingLawController):
+    """Single Point method: normal-force band, friction-cone tangential following, moment compliance.
+
+    Step 0 (low-pass of F_ext), 5b (to the base frame) and 6 (rate limit) are the shared
+    LiftingLawController's (sim/controllers/lifting_law.py); steps 1-5a are here."""
 
     def __init__(self) -> None:
         self.reset()
-
-    def reset(self) -> None:
-        self.twist_base = np.zeros(6)  # last command (for the rate limiter)
-        self.wrench_filtered: np.ndarray | None = None
-        self.slipping = False  # |f_t| beyond the cone margin in the last step
-
-    def step(
-        self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float
-    ) -> np.ndarray:
-        # Step 0: low-pass the measured wrench against the sensor noise (first order, cut-off
-        # filter_hz): w_f <- w_f + a (w - w_f), a = dt / (1/(2 pi f_c) + dt).
-        if self.wrench_filtered is None or params.filter_hz <= 0.0:
-            self.wrench_filtered = np.array(wrench_ee, dtype=float)
-        else:
-            a = dt / (1.0 / (2.0 * math.pi * params.filter_hz) + dt)
-            self.wrench_filtered = self.wrench_filtered + a * (wrench_ee - self.wrench_filtered)
-        twist_ee = self.twist_ee(self.wrench_filtered, params) if params.running else np.zeros(6)
-        # Step 5b: twist_base = blockdiag(R, R) twist_ee, R = rotation EE -> base.
-        rotation = transform_ee_to_base[:3, :3]
-        target = np.concatenate((rotation @ twist_ee[:3], rotation @ twist_ee[3:]))
-        # Step 6: rate limit (franka's limitRate idea), so noise never trips the robot's
-        # acceleration reflex: |dv| <= a_max dt, |dw| <= dw_max dt per control period.
-        self.twist_base = self.twist_base + _rate_limit(target - self.twist_base, params, dt)
-        return self.twist_base.copy()
 
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
         """Steps 1-5a: the EE twist in the EE frame (m/s, rad/s), before the rate limit."""
@@ -58,17 +38,11 @@ class SPController:
         mcx, mcy, mcz = mx + d * fy, my - d * fx, mz
         in_contact = f_n >= params.f_contact
 
-        # Step 2: normal band [f_n_min, f_n_max]:
+        # Step 2: normal band [f_n_min, f_n_max] (lifting_law.band_speed):
         #   f_n < f_n_min -> v_n = +k_n (f_n_min - f_n)   (press, along +n)
         #   f_n > f_n_max -> v_n = -k_n (f_n - f_n_max)   (release, along -n)
         #   otherwise     -> v_n = 0
-        f_n_max = params.f_n_max
-        if f_n < params.f_n_min:
-            v_n = params.k_n * (params.f_n_min - f_n)
-        elif f_n > f_n_max:
-            v_n = -params.k_n * (f_n - f_n_max)
-        else:
-            v_n = 0.0
+        v_n = band_speed(f_n, params)
 
         # Step 3: tangential following, only while in contact (without contact there is no cone,
         # and sensor noise alone must not move the robot sideways).
@@ -82,8 +56,7 @@ class SPController:
         if self.slipping:
             excess = 1.0 - limit / ft_norm  # e_t = excess * f_t
             vx, vy = -params.k_t * excess * fx, -params.k_t * excess * fy
-            if f_n < f_n_max:
-                v_n = max(v_n, params.k_n * (f_n_max - f_n))
+            v_n = grip_raise(v_n, f_n, params)
 
         # Step 4: rotation. A single point holds no moment: comply with it,
         #   w = -k_w (|m_c| - db)+ m_c/|m_c|   (deadband db against noise).
@@ -94,17 +67,4 @@ class SPController:
             wx, wy, wz = gain * mcx, gain * mcy, gain * mcz
 
         # Step 5a: twist_ee = [v_t + v_n n, w], saturated at v_max, w_max (direction kept).
-        v = _saturate(np.array([vx, vy, v_n]), params.v_max)
-        w = _saturate(np.array([wx, wy, wz]), params.w_max)
-        return np.concatenate((v, w))
-
-
-def _saturate(x: np.ndarray, limit: float) -> np.ndarray:
-    """x scaled down to |x| = limit if longer (direction kept)."""
-    a, b, c = x.tolist()
-    norm = math.sqrt(a * a + b * b + c * c)
-    return x * (limit / norm) if norm > limit else x
-
-
-def _rate_limit(delta: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
-    return np.concatenate((_saturate(delta[:3], params.a_max * dt), _saturate(delta[3:], params.dw_max * dt)))
+        return saturate_twist(np.array([vx, vy, v_n]), np.array([wx, wy, wz]), params)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from sim.physics.contact import BoxPose
+from sim.signals import LowPass, minimum_jerk
 from sim.spatial import cross3, norm3, rotation_exp, rotation_log
 
 
@@ -66,12 +67,6 @@ class PickAndPlace:
     lower: float = 0.20
     hold: float = 1.0
     carry_direction: tuple[float, float, float] = (-1.0, 0.0, 0.0)  # base frame
-
-
-def minimum_jerk(tau: float) -> float:
-    """s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 on [0, 1] (peak speed 1.875 / T)."""
-    tau = min(max(tau, 0.0), 1.0)
-    return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
 class HandPath:
@@ -160,7 +155,7 @@ class VirtualHuman:
         self.phase = "grasping"
         self.phase_time = 0.0
         self.grip_time = 0.0  # s the robot's grip has been in the band
-        self.felt_grip = 0.0  # N, the robot's push as the person feels it (low-passed)
+        self.felt_grip = LowPass(0.0)  # N, the robot's push as the person feels it
         self.letting_go = False
         self.box_level: np.ndarray | None = None  # box orientation the person keeps once let go
         self.grasp_weight = 1.0
@@ -235,12 +230,12 @@ class VirtualHuman:
         self.position = new
 
     def _behave(self, dt: float, plate_force: float, band: tuple[float, float] | None) -> None:
-        """The scripted trial (section 8 of DESIGN.md) or the manual target follower. In both, the
+        """The scripted trial (docs/design.md, "The experiment") or the manual target follower. In both, the
         person lets go of the grasp once the robot's grip, as felt, stays in the band."""
         p = self.params
         if not self.letting_go:
-            self.felt_grip += dt / (p.feel_time_constant + dt) * (plate_force - self.felt_grip)
-            in_band = band is not None and band[0] > 0.0 and band[0] <= self.felt_grip <= band[1]
+            felt = self.felt_grip.update(plate_force, dt, p.feel_time_constant)
+            in_band = band is not None and band[0] > 0.0 and band[0] <= felt <= band[1]
             self.grip_time = self.grip_time + dt if in_band else 0.0
             if self.grip_time >= p.grip_dwell:
                 self.release()

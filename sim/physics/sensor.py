@@ -5,16 +5,16 @@ the flange frame:
     f_ee = R^T f,   m_ee = R^T (m_c + (p_c - p_ee) x f)
 with f, m_c the plate's contact force and moment on the box about the plate centre p_c (world),
 R = rotation EE -> base. Pressing the plate on the box gives f_n = f_ee . z > 0.
-Then Gaussian noise (N, Nm) and an optional first-order low-pass:
+Then Gaussian noise (N, Nm) and an optional first-order low-pass (sim.signals.LowPass):
     y <- y + a (x - y),  a = dt / (tau + dt),  tau = 1 / (2 pi f_c).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from sim.signals import LowPass
 from sim.spatial import cross3
 
 
@@ -43,10 +43,10 @@ class WrenchSensor:
     def __init__(self, params: SensorParams, rng: np.random.Generator) -> None:
         self.params = params
         self.rng = rng
-        self.filtered: np.ndarray | None = None
+        self.filter = LowPass()
 
     def reset(self) -> None:
-        self.filtered = None
+        self.filter.reset()
 
     def measure(self, wrench_ee: np.ndarray, dt: float) -> np.ndarray:
         """One sample (6,) of F_ext from the true wrench_ee."""
@@ -54,13 +54,4 @@ class WrenchSensor:
         noise = self.rng.standard_normal(6)
         noise[:3] *= p.force_noise_std
         noise[3:] *= p.moment_noise_std
-        sample = wrench_ee + noise
-        if p.filter_cutoff_hz <= 0.0:
-            self.filtered = None
-            return sample
-        if self.filtered is None:
-            self.filtered = sample
-        else:
-            tau = 1.0 / (2.0 * math.pi * p.filter_cutoff_hz)
-            self.filtered = self.filtered + dt / (tau + dt) * (sample - self.filtered)
-        return self.filtered.copy()
+        return self.filter.update_hz(wrench_ee + noise, dt, p.filter_cutoff_hz)

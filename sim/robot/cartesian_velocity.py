@@ -79,7 +79,7 @@ class CartesianVelocityInterface:
             self._apply(qdot, dt)
             self.twist_command = np.array(twist_base, dtype=float)
         except Reflex as reflex:
-            self._trip(str(reflex))
+            self.stop_with_error(str(reflex))
 
     def command_joint_velocity(self, qdot: np.ndarray, dt: float) -> None:
         """Execute one control period of joint velocities (rad/s), e.g. a joint-space motion."""
@@ -93,7 +93,7 @@ class CartesianVelocityInterface:
             self._apply(qdot, dt)
             self.twist_command = self.twist_base.copy()
         except Reflex as reflex:
-            self._trip(str(reflex))
+            self.stop_with_error(str(reflex))
 
     def recover(self) -> None:
         """Clear the reflex error (franka's automatic error recovery); the robot stays at rest."""
@@ -153,7 +153,8 @@ class CartesianVelocityInterface:
         self.twist_base[:] = 0.0
         self.twist_command[:] = 0.0
 
-    def _trip(self, reason: str) -> None:
+    def stop_with_error(self, reason: str) -> None:
+        """Halt (zero velocity) with `reason` as the error, as a reflex does."""
         self.error = reason
         self._halt()
 

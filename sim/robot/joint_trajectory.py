@@ -8,14 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sim.person.human import minimum_jerk
-
-
-def minimum_jerk_rate(tau: float) -> float:
-    """ds/dtau = 30 tau^2 - 60 tau^3 + 30 tau^4."""
-    if tau <= 0.0 or tau >= 1.0:
-        return 0.0
-    return 30.0 * tau * tau * (1.0 - tau) ** 2
+from sim.signals import minimum_jerk, minimum_jerk_rate
 
 
 class JointTrajectory:

@@ -42,11 +42,6 @@ class Plate:
     height: float = 0.10  # along flange y
     offset: float = 0.02  # centre along flange +z
 
-    @property
-    def centre_ee(self) -> np.ndarray:
-        """Plate centre p_c in the EE frame (m)."""
-        return np.array([0.0, 0.0, self.offset])
-
 
 class PandaModel:
     """Pinocchio model of the 7 arm joints (fingers locked) with FK and the flange Jacobian."""
@@ -95,6 +90,3 @@ class PandaModel:
         with np.errstate(over="ignore", invalid="ignore"):  # huge inputs: inf/nan, refused by the caller
             wrench, *_ = np.linalg.lstsq(jt, tau, rcond=None)
             return wrench, float(np.linalg.norm(jt @ wrench - tau))
-
-    def joint_names(self) -> list[str]:
-        return [name for name in self.model.names[1:]]

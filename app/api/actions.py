@@ -1,0 +1,86 @@
+"""/actions: send goals, follow their feedback (long-poll or WebSocket) and cancel them
+(ros2 action list / send_goal), for every action of the server."""
+import asyncio
+
+from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
+from fastapi.responses import JSONResponse
+
+from app.api.deps import ActionsDep
+from app.api.typed_routes import with_body
+from app.ros.actions import TERMINAL, Action, ActionServer, GoalHandle, GoalStatus
+from app.ros.messages import RosMessage
+from app.ros.names import absolute
+
+
+def router(actions: list[Action]) -> APIRouter:
+    r = APIRouter(tags=["actions"])
+
+    def goal_of(server: ActionServer, name: str, goal_id: str) -> GoalHandle:
+        handle = server.goal(name, goal_id)
+        if handle is None:
+            raise HTTPException(404, f"no goal {goal_id} of action {absolute(name)}")
+        return handle
+
+    @r.get("/actions", summary="Actions with their types (ros2 action list -t)")
+    def list_actions() -> list[dict]:
+        return [{"name": a.name, "type": a.type} for a in actions]
+
+    for action in actions:
+        r.add_api_route(
+            f"/actions{action.name}/goals",
+            with_body(action.goal, lambda goal, server, a=action: _accept(server, a, goal),
+                      "send_goal" + action.name.replace("/", "_"), server=ActionsDep),
+            methods=["POST"], status_code=202, summary=f"send a goal to {action.name} ({action.type})",
+            description=f"{action.description}\n\n```\n{action.definition}\n```",
+        )
+
+    @r.get("/actions/{name}", summary="Type and .action definition of an action")
+    def action_info(name: str, server: ActionsDep) -> dict:
+        action = server.get(name)
+        if action is None:
+            raise HTTPException(404, f"action '{absolute(name)}' does not exist")
+        return {"name": action.name, "type": action.type, "definition": action.definition,
+                "description": action.description, "goal_schema": action.goal.model_json_schema(by_alias=True)}
+
+    @r.get("/actions/{name}/goals/{goal_id}", summary="Status, feedback and result of a goal (long-poll)")
+    def goal_status(name: str, goal_id: str, server: ActionsDep, after: int = Query(0, ge=0),
+                    wait: float = Query(0.0, ge=0.0, le=30.0)) -> dict:
+        handle = goal_of(server, name, goal_id)
+        if wait > 0:
+            handle.wait_for_update(after, wait)
+        return handle.view(after)
+
+    @r.post("/actions/{name}/goals/{goal_id}/cancel", summary="Cancel a goal")
+    def cancel(name: str, goal_id: str, server: ActionsDep) -> dict:
+        handle = goal_of(server, name, goal_id)
+        server.cancel(handle)
+        return handle.view(len(handle.feedbacks))
+
+    @r.websocket("/actions/{name}/goals/{goal_id}/stream")
+    async def stream(websocket: WebSocket, name: str, goal_id: str, server: ActionsDep) -> None:
+        handle = server.goal(name, goal_id)
+        if handle is None:
+            await websocket.close(code=1008, reason="no such goal")
+            return
+        await websocket.accept()
+        sent = 0
+        try:
+            while True:
+                await asyncio.to_thread(handle.wait_for_update, sent, 0.5)
+                view = handle.view(sent)
+                for fb in view["feedback"]:
+                    await websocket.send_json({"feedback": fb})
+                sent = view["feedback_count"]
+                if handle.status in TERMINAL:
+                    await websocket.send_json({"status": view["status"], "result": view["result"], "message": view["message"]})
+                    await websocket.close()
+                    return
+        except (WebSocketDisconnect, RuntimeError):
+            return
+
+    return r
+
+
+def _accept(server: ActionServer, action: Action, goal: RosMessage) -> JSONResponse:
+    handle = server.send_goal(action, goal)
+    return JSONResponse(handle.view(), status_code=202 if handle.status != GoalStatus.REJECTED else 409)

@@ -1,0 +1,68 @@
+"""/params: ROS 2 parameters over HTTP (ros2 param list / get / set / describe / dump / load)."""
+from typing import Any
+
+from fastapi import APIRouter, Body, HTTPException, Request
+from fastapi.responses import JSONResponse, PlainTextResponse
+from pydantic import BaseModel, ConfigDict
+
+from app.api.deps import ParamsDep
+from app.ros.names import node_name
+from app.ros.params import ParameterRefused
+
+
+class SetParameter(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    value: Any
+
+
+def _refused(exc: ParameterRefused) -> JSONResponse:
+    return JSONResponse({"successful": False, "reason": str(exc)}, status_code=exc.status)
+
+
+router = APIRouter(tags=["parameters"])
+
+
+@router.get("/params", summary="All parameters with their values (ros2 param list)")
+def list_params(server: ParamsDep) -> list[dict]:
+    return [{"node": p.node, "name": p.name, "type": p.type, "value": v} for p, v in server.items()]
+
+
+@router.get("/params/dump", response_class=PlainTextResponse, summary="YAML of all (or one node's) parameters")
+def dump(server: ParamsDep, node: str | None = None) -> str:
+    return server.dump(node)
+
+
+@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)")
+async def load(request: Request, server: ParamsDep):
+    text = (await request.body()).decode("utf-8", errors="replace")
+    try:
+        results = server.load(text)
+    except ParameterRefused as exc:
+        return _refused(exc)
+    return {"successful": all(x["successful"] for x in results), "results": results}
+
+
+@router.get("/params/{node}/{name}", summary="Value of a parameter (ros2 param get)")
+def get(node: str, name: str, server: ParamsDep):
+    try:
+        value = server.get(node, name)
+    except ParameterRefused as exc:
+        return _refused(exc)
+    return {"node": node, "name": name, "type": server.declaration(node, name).type, "value": value}
+
+
+@router.get("/params/{node}/{name}/describe", summary="Descriptor of a parameter (ros2 param describe)")
+def describe(node: str, name: str, server: ParamsDep):
+    param = server.declarations.get((node_name(node), name))
+    if param is None:
+        raise HTTPException(404, "Parameter not set.")
+    return param.describe()
+
+
+@router.put("/params/{node}/{name}", summary="Set a parameter (ros2 param set)")
+def set_param(node: str, name: str, server: ParamsDep, body: SetParameter = Body(...)):
+    try:
+        server.set(node, name, body.value)
+    except ParameterRefused as exc:
+        return _refused(exc)
+    return {"successful": True, "reason": ""}

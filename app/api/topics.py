@@ -1,0 +1,55 @@
+"""/topics: the latest message of a topic (GET) and a rate-limited stream of them (WebSocket).
+
+A stream (`/topics/{name}/stream?rate=HZ`) sends the newest message at most `rate` times a second.
+It only reads snapshots, so it never blocks the simulation; a client that reads slowly gets fewer,
+always fresh, messages (the ones it could not take are dropped)."""
+import asyncio
+
+from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
+
+from app.api.deps import LabDep
+from app.ros.names import absolute
+from app.ros.topics import Topic
+
+MAX_RATE_HZ = 1000.0
+
+
+def router(topics: list[Topic]) -> APIRouter:
+    by_name = {t.name: t for t in topics}
+    r = APIRouter(tags=["topics"])
+
+    @r.get("/topics", summary="Topics with their types (ros2 topic list -t)")
+    def list_topics() -> list[dict]:
+        return [{"name": t.name, "type": t.type} for t in topics]
+
+    @r.get("/topics/{name:path}", summary="Latest message of a topic (ros2 topic echo --once)")
+    def latest(name: str, lab: LabDep) -> dict:
+        topic = by_name.get(absolute(name))
+        if topic is None:
+            raise HTTPException(404, f"topic '{absolute(name)}' does not exist")
+        return topic.build(lab.snapshot())
+
+    @r.websocket("/topics/{name:path}/stream")
+    async def stream(websocket: WebSocket, name: str, lab: LabDep,
+                     rate: float = Query(10.0, gt=0.0, le=MAX_RATE_HZ)) -> None:
+        topic = by_name.get(absolute(name))
+        if topic is None:
+            await websocket.close(code=1008, reason=f"topic '{absolute(name)}' does not exist")
+            return
+        await websocket.accept()
+        period = 1.0 / rate
+        loop = asyncio.get_running_loop()
+        next_send = loop.time()
+        last_time = None
+        try:
+            while True:
+                snapshot = lab.snapshot()
+                if snapshot.time != last_time:  # one message per new simulation state
+                    last_time = snapshot.time
+                    await websocket.send_json(topic.build(snapshot))
+                next_send = max(next_send + period, loop.time())  # behind: skip, never queue up
+                await asyncio.sleep(next_send - loop.time())
+        except (WebSocketDisconnect, RuntimeError):
+            return
+
+    return r

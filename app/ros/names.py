@@ -1,0 +1,11 @@
+"""ROS names: the one helper that turns what a user typed into the absolute name."""
+
+
+def absolute(name: str) -> str:
+    """`add_two_ints`, `/add_two_ints` -> `/add_two_ints` (no trailing or doubled slash)."""
+    return "/" + name.strip().strip("/")
+
+
+def node_name(name: str) -> str:
+    """A node as parameters key it: `/cooperative_lifting` -> `cooperative_lifting`."""
+    return name.strip().strip("/")

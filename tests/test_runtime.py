@@ -1,0 +1,84 @@
+"""The simulation process under its supervisor: a killed simulation is restarted, calls in the gap
+are a 503 naming the restart, and the restarted process holds none of the server's sockets."""
+import os
+import signal
+import stat
+import time
+
+import httpx
+
+from app.cli.launch import running_server
+
+
+def _children(pid: int) -> list[int]:
+    pids = []
+    for tid in os.listdir(f"/proc/{pid}/task"):
+        with open(f"/proc/{pid}/task/{tid}/children") as handle:
+            pids += [int(p) for p in handle.read().split()]
+    return pids
+
+
+def _sockets(pid: int) -> int:
+    count = 0
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            count += stat.S_ISSOCK(os.stat(f"/proc/{pid}/fd/{fd}").st_mode)
+        except OSError:
+            pass
+    return count
+
+
+def _wait_for(predicate, timeout: float = 30.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError("condition not met in time")
+
+
+def test_a_keep_alive_client_goes_on_across_a_restart_of_the_simulation():
+    with running_server("--view", "none") as server, httpx.Client(base_url=server.url, timeout=20.0) as client:
+        assert client.post("/services/add_two_ints", json={"a": 1, "b": 2}).json() == {"sum": 3}  # connection kept
+        (simulation,) = _children(server.proc.pid)
+        os.kill(simulation, signal.SIGKILL)
+        statuses = []
+        for _ in range(20):  # the same kept-alive connection, during and after the restart
+            response = client.post("/services/start_cooperative_lifting", json={"force": 10})
+            statuses.append(response.status_code)
+            if response.status_code == 503:
+                assert "restart" in response.json()["detail"]
+            time.sleep(0.05)
+        assert set(statuses) <= {200, 503}, statuses
+        assert _wait_for(lambda: client.get("/health").json()["loop_restarts"] >= 1)
+        assert client.get("/health").json()["last_loop_death"] == "simulation process killed by SIGKILL"
+        assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
+        (restarted,) = _children(server.proc.pid)
+        assert restarted != simulation
+        assert _sockets(restarted) == 1  # its own pipe to the server, none of the server's sockets
+        assert _sockets(server.proc.pid) > 1  # (the server's listening socket and connection, for contrast)
+
+
+def _die(world) -> None:
+    """A command that ends the simulation process the way a crash in native code would."""
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def test_a_call_while_the_simulation_restarts_is_a_503_naming_the_restart(client, lab):
+    """The call in flight when the simulation dies fails with the restart's reason; over HTTP that
+    is a 503 with Retry-After, and the lab answers again once the fresh process runs."""
+    from app.runtime.process import SimulationRestarting
+
+    client.app.add_api_route("/test/die", lambda: lab.call(_die), methods=["POST"])
+    response = client.post("/test/die")
+    assert response.status_code == 503 and response.headers["retry-after"] == "1"
+    assert response.json()["detail"] == "the simulation restarted (simulation process killed by SIGKILL); call again"
+    _wait_for(lambda: client.get("/params/cooperative_lifting/mu").status_code == 200)
+    try:
+        lab.call(_die)
+    except SimulationRestarting as exc:
+        assert "killed by SIGKILL" in str(exc)
+    else:
+        raise AssertionError("a call whose process died must fail")
+    _wait_for(lambda: client.get("/health").json()["loop_alive"])

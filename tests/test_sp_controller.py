@@ -1,4 +1,4 @@
-"""The SP law, branch by branch, with hand-computed twists (DESIGN.md section 4)."""
+"""The SP law, branch by branch, with hand-computed twists (docs/design.md, "The SP method")."""
 import numpy as np
 import pytest
 

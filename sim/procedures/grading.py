@@ -11,7 +11,7 @@
    expected to keep up with them; see README).
 3. Robustness (10 points each): a calm trial with three times the sensor noise; a calm trial in
    which the person jerks the box 3 cm sideways in 0.3 s while carrying it.
-The controller runs guarded (sim/guard.py): exceptions, bad twists and slow steps cost the items
+The controller runs guarded (sim/controllers/guard.py): exceptions, bad twists and slow steps cost the items
 they break, with the reason in the report. Deterministic for a given seed (timing aside).
 """
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """The lab's services over HTTP against the real app and its live loop."""
 import math
-import time
 
 import numpy as np
 import pytest
+
+from tests.waiting import wait_for
 
 from app.lab import commands as cmd
 from sim.robot import planar_arm
@@ -30,16 +31,6 @@ def refused(response, field):
     assert response.status_code == 422, response.text
     locs = [e["loc"] for e in response.json()["detail"]]
     assert any(field in loc for loc in locs), locs
-
-
-def wait_for(predicate, timeout=5.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.02)
-    raise AssertionError("condition not met in time")
 
 
 def test_service_list_and_types(client):

@@ -8,6 +8,7 @@ import time
 import httpx
 
 from app.cli.launch import running_server
+from tests.waiting import wait_for
 
 
 def _children(pid: int) -> list[int]:
@@ -28,16 +29,6 @@ def _sockets(pid: int) -> int:
     return count
 
 
-def _wait_for(predicate, timeout: float = 30.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError("condition not met in time")
-
-
 def test_a_keep_alive_client_goes_on_across_a_restart_of_the_simulation():
     with running_server("--view", "none") as server, httpx.Client(base_url=server.url, timeout=20.0) as client:
         assert client.post("/services/add_two_ints", json={"a": 1, "b": 2}).json() == {"sum": 3}  # connection kept
@@ -51,7 +42,7 @@ def test_a_keep_alive_client_goes_on_across_a_restart_of_the_simulation():
                 assert "restart" in response.json()["detail"]
             time.sleep(0.05)
         assert set(statuses) <= {200, 503}, statuses
-        assert _wait_for(lambda: client.get("/health").json()["loop_restarts"] >= 1)
+        assert wait_for(lambda: client.get("/health").json()["loop_restarts"] >= 1)
         assert client.get("/health").json()["last_loop_death"] == "simulation process killed by SIGKILL"
         assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
         (restarted,) = _children(server.proc.pid)
@@ -74,11 +65,11 @@ def test_a_call_while_the_simulation_restarts_is_a_503_naming_the_restart(client
     response = client.post("/test/die")
     assert response.status_code == 503 and response.headers["retry-after"] == "1"
     assert response.json()["detail"] == "the simulation restarted (simulation process killed by SIGKILL); call again"
-    _wait_for(lambda: client.get("/params/cooperative_lifting/mu").status_code == 200)
+    wait_for(lambda: client.get("/params/cooperative_lifting/mu").status_code == 200)
     try:
         lab.call(_die)
     except SimulationRestarting as exc:
         assert "killed by SIGKILL" in str(exc)
     else:
         raise AssertionError("a call whose process died must fail")
-    _wait_for(lambda: client.get("/health").json()["loop_alive"])
+    wait_for(lambda: client.get("/health").json()["loop_alive"])

@@ -12,6 +12,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from sim.robot.panda import Plate
+
 
 @dataclass
 class LiftingParams:
@@ -32,7 +34,7 @@ class LiftingParams:
     a_max: float = 1.0  # m/s^2, rate limit of the commanded linear velocity
     dw_max: float = 2.0  # rad/s^2, rate limit of the commanded angular velocity
     filter_hz: float = 10.0  # Hz, cut-off of the controller's low-pass on F_ext (0 = none)
-    plate_offset: float = 0.02  # m, plate centre along EE +z
+    plate_offset: float = Plate.offset  # m, plate centre along EE +z (the mounted plate's)
 
     @property
     def f_n_max(self) -> float:

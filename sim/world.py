@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from sim.physics.box import Box, BoxParams
-from sim.robot.cartesian_velocity import CartesianVelocityInterface
+from sim.robot.cartesian_velocity import CartesianVelocityInterface, Reflex
 from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
 from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
 from sim.controllers.guard import ControllerFault
@@ -239,6 +239,9 @@ class World:
             )
         except ControllerFault as fault:
             self.arm.error = f"controller error: {fault}"
+            return np.zeros(6)
+        except Reflex as reflex:  # a reflex the controller reports (e.g. an external command went stale)
+            self.arm.error = str(reflex)
             return np.zeros(6)
         except Exception as exc:  # noqa: BLE001 - any controller failure stops the robot
             self.arm.error = "controller error: " + "".join(traceback.format_exception_only(exc)).strip()

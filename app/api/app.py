@@ -20,17 +20,23 @@ from app.api.access import TokenMiddleware
 from app.ros.actions import ActionServer
 from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
-from app.lab.services import SERVICES
+from app.lab.services import EXERCISES, SERVICES
+from app.api import node_services as node_services_api
+from app.rosbridge import bridge as rosbridge
+from app.rosbridge.nodes import NodeServices
 
 STATIC = Path(__file__).resolve().parents[2] / "static"
 
 
 def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080,
-               token: str | None = None) -> FastAPI:
+               token: str | None = None, exercises: bool = False) -> FastAPI:
     """The app around `lab` (a new Lab if none); the loop runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
-    token: when set, state-changing requests must carry it (app/access.py)."""
+    token: when set, state-changing requests must carry it (app/access.py).
+    exercises: the handout's exercise services are left to the students' nodes (rosbridge)."""
     lab = lab or Lab()
+    nodes = NodeServices(SERVICES, lab, EXERCISES if exercises else ())  # this app's registry: SERVICES + nodes'
+    services = nodes.registry
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
@@ -38,7 +44,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         if view != "none":
             from app.view.view3d import LabView
 
-            app.state.view = LabView(lab, app.state.actions, SERVICES, view_host, view_port, light=view == "light",
+            app.state.view = LabView(lab, app.state.actions, services, view_host, view_port, light=view == "light",
                                      controls=token is None)
             app.state.view.start()
         try:
@@ -63,12 +69,15 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
         """422 naming the field; the offending input is echoed JSON-safe (NaN/inf as text)."""
         return JSONResponse({"detail": json_safe(exc.errors())}, status_code=422)
-    app.include_router(SERVICES.router(lab))
+    app.include_router(services.router(lab))
+    app.include_router(node_services_api.router(nodes, lab))  # after the typed routes: names added at run time
     app.include_router(params_api.router(lab.params))
     app.include_router(topics_api.router(lab))
     app.include_router(robot_model.router())
     app.state.actions = ActionServer(ACTIONS, lab)
     app.include_router(app.state.actions.router())
+    app.state.bridge = rosbridge.Bridge(lab, nodes, app.state.actions, token)
+    app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
 
     @app.post("/teleop/key", tags=["teleop"], summary="Jog the EE with a key (w/s: +-x, a/d: +-yaw, q: stop)")
     def teleop(body: TeleopKey) -> JSONResponse:

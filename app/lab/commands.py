@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from sim.person.human import PARTICIPANTS
+from sim.controllers.external import ExternalCommand
 from sim.controllers.patch import PatchController
 from sim.controllers.plugin import builtin
 from sim.controllers.sp import SPController
@@ -60,7 +61,24 @@ def controller_name(world: World) -> str:
 
 def controller_choice(world: World) -> str:
     """The `controller` parameter: "sp", "patch", or "plugin" (a file given to `serve --controller`)."""
-    return {SPController: "sp", PatchController: "patch"}.get(type(world.controller), "plugin")
+    return {SPController: "sp", PatchController: "patch", ExternalCommand: "node"}.get(type(world.controller), "plugin")
+
+
+def external_twist(world: World, twist_base: np.ndarray) -> None:
+    """A node's command on /cartesian_velocity_controller/command (the one path of node commands
+    into the simulation): the first one selects the external-command controller."""
+    if not isinstance(world.controller, ExternalCommand):
+        world.set_controller(ExternalCommand())
+    world.controller.command(twist_base)
+
+
+def lifting_effect(world: World, start: bool, force: float = 0.0) -> None:
+    """What a node's start/stop service means for the lab: the band the person expects
+    (f_n_min = force, f_n_max = force + f_n_band) and the running flag; no controller change."""
+    if start:
+        world.params.f_n_min, world.params.running = float(force), True
+    else:
+        world.params.f_n_min, world.params.running = 0.0, False
 
 
 # --- parameters: apply(world, value) and read(world) ----------------------------------------

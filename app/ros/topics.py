@@ -5,6 +5,7 @@ A stream (`/topics/{name}/stream?rate=HZ`, WebSocket) sends the newest message a
 times a second. It only reads snapshots, so it never blocks the simulation; a client that reads
 slowly gets fewer, always fresh, messages (the ones it could not take are dropped)."""
 import asyncio
+import threading
 from dataclasses import dataclass
 from typing import Callable
 
@@ -79,6 +80,25 @@ def lifting_state(s: Snapshot) -> dict:
     }
 
 
+_MODEL_LOCK = threading.Lock()
+_MODEL = []  # one PandaModel for the Jacobian (pinocchio's data is not shared between threads)
+
+
+def franka_state(s: Snapshot) -> dict:
+    """What franka_state_controller publishes, the lab's subset: q, dq, O_T_EE (4x4, column-major),
+    K_F_ext_hat_K (= F_ext) and O_Jac_EE, the flange Jacobian in the base frame (6x7,
+    column-major like libfranka's zeroJacobian: twist_base = J qdot)."""
+    from sim.robot.panda import PandaModel
+
+    with _MODEL_LOCK:
+        if not _MODEL:
+            _MODEL.append(PandaModel())
+        jacobian = np.array(_MODEL[0].jacobian_base(s.q))
+    return {"header": header(s, "panda_link0"), "q": s.q.tolist(), "dq": s.qdot.tolist(),
+            "O_T_EE": s.transform_ee_to_base.flatten(order="F").tolist(),
+            "K_F_ext_hat_K": s.wrench_ee.tolist(), "O_Jac_EE": jacobian.flatten(order="F").tolist()}
+
+
 @dataclass(frozen=True)
 class Topic:
     name: str
@@ -94,6 +114,7 @@ TOPICS = [
     Topic("/human_hand_pose", "geometry_msgs/PoseStamped", hand_pose),
     Topic("/contact_state", "hri_lab/ContactState", contact_state),
     Topic("/lifting_state", "hri_lab/LiftingState", lifting_state),
+    Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state),
 ]
 
 

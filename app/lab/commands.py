@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from sim.person.human import PARTICIPANTS
-from sim.controllers.external import ExternalCommand
+from sim.controllers.external import COMMAND_PERIOD, ExternalCommand
 from sim.controllers.patch import PatchController
 from sim.controllers.plugin import builtin
 from sim.controllers.sp import SPController
@@ -68,8 +68,19 @@ def external_twist(world: World, twist_base: np.ndarray) -> None:
     """A node's command on /cartesian_velocity_controller/command (the one path of node commands
     into the simulation): the first one selects the external-command controller."""
     if not isinstance(world.controller, ExternalCommand):
-        world.set_controller(ExternalCommand())
+        world.set_controller(ExternalCommand(get_command_period(world)))
     world.controller.command(twist_base)
+
+
+def set_command_period(world: World, value: float) -> None:
+    """The external command's watchdog period (s; parameter /sim command_period), kept on the world."""
+    world.command_period = value
+    if isinstance(world.controller, ExternalCommand):
+        world.controller.period = value
+
+
+def get_command_period(world: World) -> float:
+    return getattr(world, "command_period", COMMAND_PERIOD)
 
 
 def lifting_effect(world: World, start: bool, force: float = 0.0) -> None:

@@ -9,12 +9,13 @@ a token set, every mutating op needs it (the upgrade's `Authorization: Bearer <t
 """
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 from fastapi import APIRouter, WebSocket
 
 from app.rosbridge.nodes import NodeServices
-from app.ros.topics import TOPICS
+from app.ros.topics import TOPICS, franka_state
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 
@@ -37,6 +38,8 @@ class Bridge:
         self.node_topics: dict[str, NodeTopic] = {}
         self.sessions: list[Any] = []
         self._counter = 0
+        # load franka_states' robot model now, not on the event loop when a node first subscribes
+        threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
 
     @property
     def services(self):

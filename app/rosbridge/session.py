@@ -36,6 +36,7 @@ from app.rosbridge.protocol import LEVELS, MAX_FRAME, BadFrame, field, name_fiel
 
 MAX_CALLS_IN_FLIGHT = 64  # per client: service calls and goals being served at once
 MAX_QUEUE = 1000  # queue_length cap
+MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 GOAL_STATUS = {GoalStatus.SUCCEEDED: 4, GoalStatus.PREEMPTED: 5, GoalStatus.ABORTED: 6, GoalStatus.REJECTED: 6}
 MUTATING = {"advertise", "publish", "advertise_service", "unadvertise_service", "service_response",
             "send_action_goal", "cancel_action_goal"}
@@ -102,6 +103,7 @@ class Session:
         self._send_lock = asyncio.Lock()
         self._command: list[float] | None = None  # newest Twist not yet handed to the simulation
         self._commanding = False
+        self._commands_in_flight = 0
 
     # --- connection -------------------------------------------------------------------------
     async def run(self) -> None:
@@ -244,15 +246,19 @@ class Session:
             stream.configure()
 
     async def _sample(self, stream: Stream, topic) -> None:
-        """A lab topic from the snapshot, at most once per new simulation state and per period."""
+        """A lab topic from the snapshot: at most one message per throttle_rate of simulation time
+        (rosbridge's minimum gap), paced by the wall clock; behind, it skips, it never queues up."""
         loop = asyncio.get_running_loop()
         due, last = loop.time(), None
         while True:
             snapshot = self.lab.snapshot()
-            if snapshot.time != last:
+            period = stream.period
+            if last is None or snapshot.time - last >= period - 0.0005:
                 last = snapshot.time
                 stream.offer(topic.build(snapshot))
-            due = max(due + stream.period, loop.time())  # behind: skip, never queue up
+                due = max(due + period, loop.time())
+            else:  # early (the wall clock ran ahead of the simulation): wait for the rest
+                due = loop.time() + period - (snapshot.time - last)
             await asyncio.sleep(due - loop.time())
 
     async def op_unsubscribe(self, message: dict, id_: Any) -> None:
@@ -315,16 +321,24 @@ class Session:
             stream.offer(msg, now)
 
     async def _forward_commands(self) -> None:
-        """Node commands into the simulation, one at a time, newest first (a flood is coalesced)."""
+        """Node commands into the simulation, newest first: sent without waiting for the step that
+        applies them, at most MAX_COMMANDS_IN_FLIGHT unanswered (beyond, a flood is coalesced)."""
         try:
             while self._command is not None:
+                if self._commands_in_flight >= MAX_COMMANDS_IN_FLIGHT:
+                    await asyncio.sleep(0.001)
+                    continue
                 twist, self._command = self._command, None
-                try:
-                    await asyncio.to_thread(self.lab.call, cmd.external_twist, twist)
-                except Exception as exc:  # noqa: BLE001
-                    await self.report("error", f"publish {COMMAND_TOPIC}: {exc}")
+                self._commands_in_flight += 1
+                future = self.lab.loop.submit(cmd.external_twist, twist)
+                future.add_done_callback(lambda f: self.loop.call_soon_threadsafe(self._command_done, f))
         finally:
             self._commanding = False
+
+    def _command_done(self, future) -> None:
+        self._commands_in_flight -= 1
+        if future.exception() is not None:
+            self.spawn(self.report("error", f"publish {COMMAND_TOPIC}: {future.exception()}"))
 
     # --- services ---------------------------------------------------------------------------
     async def op_advertise_service(self, message: dict, id_: Any) -> None:

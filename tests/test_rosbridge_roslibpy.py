@@ -220,3 +220,26 @@ def test_action_goal_with_feedback_and_cancel(ros):
     count.cancel_goal(goal)
     count.wait_goal(goal, 15)
     assert results[0]["status"] == roslibpy.core.GoalStatus.CANCELED and results[0]["values"]["final_count"] < 30
+
+
+def test_the_printed_templates_run_as_printed(lab, tmp_path):
+    services, lifting = tmp_path / "services_node.py", tmp_path / "lifting_node.py"
+    services.write_text(cli(lab.url, "template", "services").stdout)
+    lifting.write_text(cli(lab.url, "template", "node").stdout)
+    assert "class CooperativeLifting" in cli(lab.url, "template").stdout  # the plug-in's, as before
+    nodes = []
+    try:
+        for script in (services, lifting):
+            nodes.append(subprocess.Popen([sys.executable, str(script), "--port", str(lab.port)],
+                                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True))
+            assert nodes[-1].stdout.readline().startswith("node ready")
+        assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 3}, timeout=10).json() == {"sum": 5}
+        assert httpx.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200  # TODO: wrong, well-formed
+        deadline = time.monotonic() + 10
+        while httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] != "node":
+            assert time.monotonic() < deadline  # the lifting node's zero twists drive the robot
+            time.sleep(0.05)
+    finally:
+        for node in nodes:
+            stop_node(node)
+    httpx.post(f"{lab.url}/services/error_recovery")

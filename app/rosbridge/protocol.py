@@ -1,6 +1,6 @@
 """rosbridge v2 frames: parsing with limits, field checks, status messages.
 
-A frame is a JSON object with a string `op` (rosbridge_suite's ROSBRIDGE_PROTOCOL.md). Limits keep
+A frame is a JSON object with a string `op` (the rosbridge v2 protocol of rosbridge_suite). Limits keep
 a bad client from costing the server: a frame longer than MAX_FRAME characters closes the socket
 (1009), nesting deeper than MAX_DEPTH is refused; every refusal is a `status` message at level
 error that names the op and the field.

@@ -166,6 +166,8 @@ class NodeServices:
         try:
             asyncio.run_coroutine_threadsafe(provider.session.send(message), provider.session.loop)
             ok, values = future.result(timeout=self.timeout)
+        except RuntimeError as exc:  # the node's connection is closing (its loop is gone)
+            raise NodeFailure(f"service {name}: node {provider.session.name} is gone ({exc})") from None
         except FutureTimeout:
             raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
                               f"{self.timeout:g} s") from None

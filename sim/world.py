@@ -16,8 +16,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from sim.physics.box import Box, BoxParams
-from sim.robot.cartesian_velocity import CartesianVelocityInterface
+from sim.robot.cartesian_velocity import CartesianVelocityInterface, Reflex
 from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
+from sim.controllers.external import COMMAND_PERIOD
 from sim.controllers.interface import Controller, LiftingParams
 from sim.controllers.guard import ControllerFault
 from sim.person.human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
@@ -49,6 +50,7 @@ class WorldConfig:
     start_gap: float = 0.03  # m between plate and box at the start
     start_q: tuple[float, ...] = tuple(SIDE_Q)
     seed: int = 0
+    command_period: float = COMMAND_PERIOD  # s, a node's velocity command must be renewed within this
 
 
 @dataclass
@@ -242,6 +244,9 @@ class World:
             )
         except ControllerFault as fault:
             self.fail(f"controller error: {fault}")
+            return np.zeros(6)
+        except Reflex as reflex:  # a reflex the controller reports (e.g. an external command went stale)
+            self.arm.error = str(reflex)
             return np.zeros(6)
         except Exception as exc:  # noqa: BLE001 - any controller failure stops the robot
             self.fail("controller error: " + "".join(traceback.format_exception_only(exc)).strip())

@@ -5,7 +5,6 @@ import signal
 import subprocess
 import sys
 import threading
-import time
 
 import httpx
 import pytest
@@ -13,6 +12,7 @@ import pytest
 from app.lab import commands as cmd
 from app.api.access import is_loopback
 from app.cli.launch import running_server
+from tests.waiting import wait_for
 
 
 def test_concurrent_start_stop_and_parameter_writes_never_mix_the_state(client, lab):
@@ -71,14 +71,11 @@ def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
     """Something escapes a step and ends the loop (SystemExit): /health reports why, and the
     supervisor starts a fresh simulation process."""
     lab.call(_kill_the_loop_thread)
-    deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and lab.runtime.health().restarts == 0:
-        time.sleep(0.05)
+    wait_for(lambda: lab.runtime.health().restarts >= 1)
     health = client.get("/health").json()
     assert health["loop_restarts"] >= 1 and "SystemExit: killed by a test" in health["last_loop_death"]
     t0 = client.get("/health").json()["sim_time"]
-    time.sleep(0.3)
-    assert client.get("/health").json()["sim_time"] > t0 + 0.1  # stepping again
+    wait_for(lambda: client.get("/health").json()["sim_time"] > t0 + 0.1)  # stepping again
     assert client.get("/health").json()["loop_alive"] is True
 
 
@@ -87,15 +84,12 @@ def test_a_killed_simulation_process_is_reported_and_restarted(client, lab):
     /health says so, a fresh simulation process takes over and the API keeps answering."""
     pid = lab.runtime.pid
     os.kill(pid, signal.SIGKILL)
-    deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and lab.runtime.pid in (None, pid):
-        time.sleep(0.05)
+    wait_for(lambda: lab.runtime.pid not in (None, pid) and lab.runtime.health().alive)
     health = client.get("/health").json()
     assert health["last_loop_death"] == "simulation process killed by SIGKILL" and health["loop_restarts"] >= 1
     assert health["loop_alive"] is True
     t0 = health["sim_time"]
-    time.sleep(0.3)
-    assert client.get("/health").json()["sim_time"] > t0 + 0.1  # the new process steps
+    wait_for(lambda: client.get("/health").json()["sim_time"] > t0 + 0.1)  # the new process steps
     assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
     assert lab.call(cmd.lifting_state)[:2] == (True, 10.0)
     client.post("/services/stop_cooperative_lifting")

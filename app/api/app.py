@@ -10,6 +10,7 @@ from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 
 from app.api import actions as actions_api
+from app.api import node_services as node_services_api
 from app.api import params as params_api
 from app.api import robot as robot_api
 from app.api import services as services_api
@@ -19,18 +20,23 @@ from app.api import topics as topics_api
 from app.api.access import TokenMiddleware
 from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
-from app.lab.services import SERVICES
+from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
 from app.ros.actions import ActionServer
+from app.rosbridge import bridge as rosbridge
+from app.rosbridge.nodes import NodeServices
 from app.runtime.process import SimulationRestarting
 
 
 def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080,
-               token: str | None = None) -> FastAPI:
+               token: str | None = None, exercises: bool = False) -> FastAPI:
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
-    token: when set, state-changing requests must carry it (app/api/access.py)."""
+    token: when set, state-changing requests must carry it (app/api/access.py).
+    exercises: the handout's exercise services are left to the students' nodes (rosbridge)."""
     lab = lab or Lab()
+    nodes = NodeServices(SERVICES, lab, EXERCISES if exercises else ())  # this app's registry: SERVICES + nodes'
+    services = nodes.registry
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
@@ -38,7 +44,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         if view != "none":
             from app.view.view3d import LabView  # viser only when a view is asked for
 
-            app.state.view = LabView(lab, app.state.actions, SERVICES, view_host, view_port, light=view == "light",
+            app.state.view = LabView(lab, app.state.actions, services, view_host, view_port, light=view == "light",
                                      controls=token is None)
             app.state.view.start()
         try:
@@ -76,12 +82,15 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
                             headers={"Retry-After": "1"})
 
     app.include_router(system_api.router)
-    app.include_router(services_api.router(SERVICES))
+    app.include_router(services_api.router(services))
+    app.include_router(node_services_api.router(nodes))  # after the typed routes: names added at run time
     app.include_router(params_api.router)
     app.include_router(topics_api.router(TOPICS))
     app.include_router(actions_api.router(ACTIONS))
     app.include_router(teleop_api.router)
     app.include_router(robot_api.router)
+    app.state.bridge = rosbridge.Bridge(lab, nodes, app.state.actions, token)
+    app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
     return app
 

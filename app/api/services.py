@@ -48,7 +48,7 @@ def _endpoint(registry: ServiceRegistry, service: Service):
         except SimulationRestarting:
             raise  # a 503 (app/api/app.py)
         except ServiceFailure as failure:
-            return JSONResponse({"service": service.name, "success": False, "detail": str(failure)}, status_code=400)
+            return JSONResponse({"service": service.name, "success": False, "detail": str(failure)}, status_code=failure.status)
         except Exception as exc:  # noqa: BLE001 - a handler bug is a failure response, not a crash
             detail = f"{type(exc).__name__}: {exc}"
             return JSONResponse({"service": service.name, "success": False, "detail": detail}, status_code=500)

@@ -88,9 +88,15 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
     srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
                      help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
+    srv.add_argument("--exercises", action="store_true",
+                     help="leave the handout's exercise services to the students' nodes (rosbridge): "
+                          "each answers 'not provided yet' until a node advertises it")
     srv.set_defaults(func=_serve)
 
-    tpl = sub.add_parser("template", help="print the student's starting file (hri-lab template > cooperative_lifting.py)")
+    tpl = sub.add_parser("template", help="print a starting file: the controller (default), a services node or the lifting node")
+    tpl.add_argument("kind", nargs="?", choices=("controller", "services", "node"), default="controller",
+                     help="controller: cooperative_lifting.py (plug-in); services: a roslibpy node with the handout's "
+                          "servers; node: the lifting application as a roslibpy node")
     tpl.set_defaults(func=_template)
 
     grd = sub.add_parser("grade", help="grade a student's controller file (probes, the nine trials, robustness)")
@@ -108,7 +114,7 @@ def _serve(args: argparse.Namespace) -> int:
     from app.cli.serve import serve
 
     factory = _controller_factory(args.controller)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token)
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token, args.exercises)
 
 
 def _grade(args: argparse.Namespace) -> int:
@@ -122,9 +128,13 @@ def _grade(args: argparse.Namespace) -> int:
 
 
 def _template(args: argparse.Namespace) -> int:
-    from sim.controllers import template as student_template
+    if args.kind == "controller":
+        from sim.controllers import template as student_template
 
-    print(Path(student_template.__file__).read_text(encoding="utf-8"), end="")
+        path = Path(student_template.__file__)
+    else:
+        path = Path(__file__).parent / "templates" / {"services": "services_node.py", "node": "lifting_node.py"}[args.kind]
+    print(path.read_text(encoding="utf-8"), end="")
     return 0
 
 

@@ -7,6 +7,7 @@ from app.api.access import TOKEN_ENV, is_loopback
 from app.lab.lab import Lab
 from app.ros.params import ParameterRefused
 from app.api.app import create_app
+from app.rosbridge.protocol import MAX_FRAME
 
 
 def load_parameter_file(lab: Lab, path: str) -> None:
@@ -20,7 +21,7 @@ def load_parameter_file(lab: Lab, path: str) -> None:
 
 
 def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
-          view_port: int = 8080, controller=None, token: str | None = None) -> int:
+          view_port: int = 8080, controller=None, token: str | None = None, exercises: bool = False) -> int:
     if not is_loopback(host) and not token:
         print(f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr)
         return 2
@@ -31,8 +32,10 @@ def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = N
         except (OSError, ParameterRefused) as exc:
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
-    app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token)
-    config = uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False)
+    app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises)
+    config = uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False,
+                            ws_max_size=2 * MAX_FRAME)  # bytes; a longer rosbridge frame is refused by the session
+
     server = AnnouncingServer(config)
     server.run()
     return 0 if server.started else 1
@@ -50,6 +53,7 @@ class AnnouncingServer(uvicorn.Server):
                 f"hri-lab is running: open {base}/\n"
                 f"  API       {base}/services  {base}/params  {base}/topics  {base}/actions\n"
                 f"  API docs  {base}/docs\n"
+                f"  rosbridge ws://{self.config.host}:{self.config.port}/  (roslibpy.Ros('{self.config.host}', {self.config.port}))\n"
                 + (f"  3D view   {view.url}\n" if view is not None else "")
                 + "Press Ctrl+C to stop.",
                 flush=True,

@@ -11,6 +11,8 @@ import numpy as np
 
 from sim.controllers.builtin import builtin, builtin_name
 from sim.person.human import PARTICIPANTS
+from sim.controllers.external import ExternalCommand
+from sim.controllers.interface import start_lifting as start_band, stop_lifting as stop_band
 from sim.world import World
 
 
@@ -87,8 +89,39 @@ def controller_name(world: World) -> str:
 
 
 def controller_choice(world: World) -> str:
-    """The `controller` parameter: "sp", "patch", or "plugin" (a file given to `serve --controller`)."""
+    """The `controller` parameter: "sp", "patch", "node" (a node's commands drive the robot) or
+    "plugin" (a file given to `serve --controller`)."""
+    if isinstance(world.controller, ExternalCommand):
+        return "node"
     return builtin_name(world.controller) or "plugin"
+
+
+def external_twist(world: World, twist_base: np.ndarray) -> None:
+    """A node's command on /cartesian_velocity_controller/command (the one path of node commands
+    into the simulation): the first one selects the external-command controller."""
+    if not isinstance(world.controller, ExternalCommand):
+        world.set_controller(ExternalCommand(get_command_period(world)))
+    world.controller.command(twist_base)
+
+
+def set_command_period(world: World, value: float) -> None:
+    """The external command's watchdog period (s; parameter /sim command_period), now and after resets."""
+    world.config = replace(world.config, command_period=value)
+    if isinstance(world.controller, ExternalCommand):
+        world.controller.period = value
+
+
+def get_command_period(world: World) -> float:
+    return world.config.command_period
+
+
+def lifting_effect(world: World, start: bool, force: float = 0.0) -> None:
+    """What a node's start/stop service means for the lab: the band the person expects
+    (f_n_min = force, f_n_max = force + f_n_band) and the running flag; no controller change."""
+    if start:
+        start_band(world.params, force)
+    else:
+        stop_band(world.params)
 
 
 # --- parameters: apply(world, value) and read(world) ----------------------------------------

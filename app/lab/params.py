@@ -61,6 +61,10 @@ LAB_PARAMETERS = [
               **_config("box", "mass")),
     Parameter("sim", "contact_stiffness", "double", 2.0e4, "normal stiffness of the plate contact (N/m)", (1.0e3, 1.0e5),
               **_config("plate_contact", "normal_stiffness")),
+    Parameter("sim", "command_period", "double", 0.1,
+              "a node's command on /cartesian_velocity_controller/command older than this stops the robot "
+              "(s of simulation time; franka's communication constraints)", (0.01, 10.0),
+              apply=cmd.set_command_period, read=cmd.get_command_period),
     _person("squeeze_force", "squeeze_force", "force the person presses the box with (N)", 14.0, 0.0, 60.0),
     _person("speed", "peak_speed", "peak hand speed of the pick-and-place path (m/s)", 0.08, 0.01, 0.5),
     Parameter("human", "profile", "string", "calm", "the scripted participant", choices=tuple(PARTICIPANTS),

@@ -243,3 +243,7 @@ SERVICES = ServiceRegistry([
     Service("/reset_simulation", "std_srvs/Trigger", Empty, Trigger, reset_simulation,
             "Reset the world: robot at the start pose, box held by the person in front of the plate."),
 ])
+
+# `hri-lab serve --exercises`: these stay declared but are left to the students' nodes
+EXERCISES = ("/add_two_ints", "/divide_ints", "/multiply_three", "/echo", "/login", "/planar_torques",
+             "/compute_torques", "/compute_wrench", "/start_cooperative_lifting", "/stop_cooperative_lifting")

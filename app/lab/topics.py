@@ -1,6 +1,10 @@
 """The lab's topics (docs/design.md, "Topics"), one declaration each: name, ROS type, builder."""
+import threading
+
+import numpy as np
+
 from app.ros.topics import Topic, header, pose, vector3
-from sim.robot.panda import ARM_JOINTS
+from sim.robot.panda import ARM_JOINTS, PandaModel
 from sim.world import Snapshot
 
 
@@ -52,6 +56,23 @@ def lifting_state(s: Snapshot) -> dict:
     }
 
 
+_MODEL_LOCK = threading.Lock()
+_MODEL: list[PandaModel] = []  # one model for the Jacobian, made on first use (pinocchio's data is not thread-safe)
+
+
+def franka_state(s: Snapshot) -> dict:
+    """What franka_state_controller publishes, the lab's subset: q, dq, O_T_EE (4x4, column-major),
+    K_F_ext_hat_K (= F_ext) and O_Jac_EE, the flange Jacobian in the base frame (6x7,
+    column-major like libfranka's zeroJacobian: twist_base = J qdot)."""
+    with _MODEL_LOCK:
+        if not _MODEL:
+            _MODEL.append(PandaModel())
+        jacobian = np.array(_MODEL[0].jacobian_base(s.q))
+    return {"header": header(s, "panda_link0"), "q": s.q.tolist(), "dq": s.qdot.tolist(),
+            "O_T_EE": s.transform_ee_to_base.flatten(order="F").tolist(),
+            "K_F_ext_hat_K": s.wrench_ee.tolist(), "O_Jac_EE": jacobian.flatten(order="F").tolist()}
+
+
 TOPICS = [
     Topic("/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", wrench_stamped),
     Topic("/joint_states", "sensor_msgs/JointState", joint_state),
@@ -60,4 +81,5 @@ TOPICS = [
     Topic("/human_hand_pose", "geometry_msgs/PoseStamped", hand_pose),
     Topic("/contact_state", "hri_lab/ContactState", contact_state),
     Topic("/lifting_state", "hri_lab/LiftingState", lifting_state),
+    Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state),
 ]

@@ -14,7 +14,27 @@ from app.ros.names import absolute
 
 
 class ServiceFailure(Exception):
-    """A service call that could not be done (the reason is the message)."""
+    """A service call that could not be done (the reason is the message); `status` is its HTTP code."""
+
+    status = 400
+
+
+class NotProvided(ServiceFailure):
+    """A service left to a node that no node provides yet (HTTP 404)."""
+
+    status = 404
+
+
+class NodeTimeout(ServiceFailure):
+    """The node that provides a service did not answer in time (HTTP 504)."""
+
+    status = 504
+
+
+class NodeFailure(ServiceFailure):
+    """The node answered with something that is not the service's response (HTTP 502)."""
+
+    status = 502
 
 
 @dataclass(frozen=True)
@@ -54,8 +74,12 @@ class ServiceRegistry:
             raise ValueError(f"service {service.name} declared twice")
         self._services[service.name] = service
 
+    def remove(self, name: str) -> Service | None:
+        """Take a service away (a node's, when it unadvertises or disconnects)."""
+        return self._services.pop(absolute(name), None)
+
     def __iter__(self):
-        return iter(self._services.values())
+        return iter(list(self._services.values()))
 
     def get(self, name: str) -> Service | None:
         return self._services.get(absolute(name))

@@ -1,0 +1,1 @@
+"""The roslibpy nodes `hri-lab template services|node` prints (scripts, not imported)."""

@@ -1,0 +1,74 @@
+"""The rosbridge v2 endpoint: a WebSocket at `/` on the lab's own port (roslibpy's
+`Ros(host, port)` connects to ws://host:port/). The HTTP page stays at `/`: Starlette matches a
+route by the scope's type, so GET / is the page and a WebSocket upgrade on / is rosbridge.
+
+One more front end onto the same service registry, parameters, topics and actions as the HTTP
+API and the dashboard (app/rosbridge/session.py has the ops). Access follows the API's rules: with
+a token set, every mutating op needs it (the upgrade's `Authorization: Bearer <token>` or
+`X-HRI-Lab-Token` header, or rosauth's `{"op": "auth", "mac": "<token>"}`); reading is open.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from fastapi import APIRouter, WebSocket
+
+from app.rosbridge.nodes import NodeServices
+from app.lab.topics import TOPICS, franka_state
+
+COMMAND_TOPIC = "/cartesian_velocity_controller/command"
+
+
+class NodeTopic:
+    """A topic that nodes publish (not one of the lab's): its type and who is on it."""
+
+    def __init__(self, type_name: str) -> None:
+        self.type = type_name
+        self.publishers: set[Any] = set()
+        self.subscriptions: set[Any] = set()  # app.rosbridge.session.Subscription
+
+
+class Bridge:
+    """What every session shares: the lab, its registries, the node-provided services and topics."""
+
+    def __init__(self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None) -> None:
+        self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
+        self.topics = {t.name: t for t in TOPICS}
+        self.node_topics: dict[str, NodeTopic] = {}
+        self.sessions: list[Any] = []
+        self._counter = 0
+        # load franka_states' robot model now, not on the event loop when a node first subscribes
+        threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
+
+    @property
+    def services(self):
+        return self.nodes.registry
+
+    def next_name(self) -> str:
+        self._counter += 1
+        return f"/rosbridge_client_{self._counter}"
+
+    def topic_types(self) -> dict[str, str]:
+        types = {t.name: t.type for t in TOPICS}
+        types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
+        return types
+
+    def forget(self, topic: str) -> None:
+        """A node topic nobody publishes or subscribes to any more goes away."""
+        entry = self.node_topics.get(topic)
+        if entry is not None and not entry.publishers and not entry.subscriptions:
+            del self.node_topics[topic]
+
+
+def router(bridge: Bridge) -> APIRouter:
+    from app.rosbridge.session import Session
+
+    r = APIRouter()
+
+    @r.websocket("/")
+    async def rosbridge(websocket: WebSocket) -> None:
+        """rosbridge v2 (JSON over WebSocket)."""
+        await Session(bridge, websocket).run()
+
+    return r

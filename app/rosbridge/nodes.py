@@ -1,0 +1,228 @@
+"""Services provided by nodes: a rosbridge client advertises a service, the lab lists it with the
+others (`GET /services`, `service list -t`, the page) and every caller — HTTP, the CLI, the
+dashboard, another node — reaches it through the same registry entry, whose handler sends the
+request to the node and waits for its `service_response`.
+
+- The request is validated with the service type's model before it leaves (422 naming the
+  field over HTTP); the node's answer is validated with the response model (502 naming the field
+  when it is not one), so a caller only ever sees a well-formed response.
+- A node that does not answer within `timeout` (NODE_SERVICE_TIMEOUT) fails the call with 504
+  naming the service; a node that disconnects takes its services with it (calls in flight fail).
+- A node may serve a name the lab declares (same type, .srv and route): its answers replace the
+  lab's while it is connected, the lab's come back when it leaves. Exercise mode (`hri-lab serve
+  --exercises`): the handout's exercise services stay declared but are left to the students:
+  "not provided yet" (404) until a node advertises the name. A node's successful
+  start/stop_cooperative_lifting also applies its effect to the lab (the band the person
+  expects, the running flag), as the lab's own service does.
+"""
+from __future__ import annotations
+
+import asyncio
+import itertools
+import threading
+from concurrent.futures import Future, TimeoutError as FutureTimeout
+from dataclasses import dataclass
+from typing import Any
+
+from pydantic import ConfigDict, ValidationError
+
+from app.lab import commands as cmd
+from app.ros.messages import Bool, Empty, RosMessage, String
+from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
+
+NODE_SERVICE_TIMEOUT = 2.0  # s a node has to answer a call
+
+
+class OpenMessage(RosMessage):
+    """A message of a type the lab does not know: any JSON object, passed through."""
+
+    model_config = ConfigDict(strict=True, extra="allow")
+
+
+class SetBoolRequest(RosMessage):
+    data: Bool
+
+
+class SetBoolResponse(RosMessage):
+    success: Bool
+    message: String
+
+
+def service_types(registry: ServiceRegistry) -> dict[str, tuple[type[RosMessage], type[RosMessage]]]:
+    """Service type -> (request, response) models: the lab's declared types and common std ones."""
+    types = {s.type: (s.request, s.response) for s in registry}
+    types.setdefault("std_srvs/Empty", (Empty, Empty))
+    types["std_srvs/SetBool"] = (SetBoolRequest, SetBoolResponse)
+    for alias in ("example_interfaces/AddTwoInts", "rospy_tutorials/AddTwoInts"):
+        types[alias] = types["hri_lab/AddTwoInts"]
+    return types
+
+
+def normalise_type(name: str) -> str:
+    """`pkg/srv/Name` (ROS 2 spelling) -> `pkg/Name`."""
+    parts = name.strip("/").split("/")
+    return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 and parts[1] in ("srv", "msg", "action") else name.strip("/")
+
+
+@dataclass
+class Provider:
+    session: Any  # app.rosbridge.session.Session: has `name`, `loop` and `async send(dict)`
+    type: str
+
+
+class NodeServices:
+    def __init__(self, base: ServiceRegistry, lab: Any, exercises: tuple[str, ...] = (),
+                 timeout: float = NODE_SERVICE_TIMEOUT) -> None:
+        self.lab = lab
+        self.timeout = timeout
+        self.slots = {name for name in exercises if base.get(name) is not None}
+        self.declared = {s.name for s in base}
+        self.registry = ServiceRegistry([self._declared(s) for s in base])
+        self.types = service_types(base)
+        self.providers: dict[str, Provider] = {}
+        self._pending: dict[str, tuple[Future, Any]] = {}
+        self._ids = itertools.count(1)
+        self._lock = threading.Lock()
+
+    # --- declarations -----------------------------------------------------------------------
+    def _declared(self, service: Service) -> Service:
+        """A declared service: a node's answer while one provides it, else the lab's (or, for an
+        exercise, "not provided yet")."""
+        own = None if service.name in self.slots else service.handler
+        name = service.name
+
+        def handler(lab, request: RosMessage) -> RosMessage:
+            if own is None or name in self.providers:
+                return self.call(name, request)
+            return own(lab, request)
+
+        note = " Left to the students: a node provides it." if own is None else ""
+        return Service(name, service.type, service.request, service.response, handler, service.description + note)
+
+    def _handler(self, name: str):
+        def handler(lab, request: RosMessage) -> RosMessage:
+            return self.call(name, request)
+
+        return handler
+
+    def advertise(self, name: str, type_name: str, session: Any) -> None:
+        """A node provides `name`; raises ServiceFailure with the reason it cannot."""
+        with self._lock:
+            current = self.providers.get(name)
+            if current is not None and current.session is not session:
+                raise ServiceFailure(f"service {name} is already provided by node {current.session.name}")
+            self.providers[name] = Provider(session, type_name)
+            if name not in self.declared:
+                request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
+                self.registry.remove(name)
+                self.registry.add(Service(name, type_name, request, response, self._handler(name),
+                                          f"provided by node {session.name}"
+                                          + ("" if request is not OpenMessage else
+                                             f"; type {type_name} is unknown to the lab: request and response are "
+                                             f"passed through as JSON objects")))
+
+    def unadvertise(self, name: str, session: Any) -> bool:
+        with self._lock:
+            provider = self.providers.get(name)
+            if provider is None or provider.session is not session:
+                return False
+            del self.providers[name]
+            if name not in self.declared:
+                self.registry.remove(name)
+            failed = [f for f, s in self._pending.values() if s is session]
+        for future in failed:  # its calls in flight fail now, not after the timeout
+            _fail(future, NodeFailure(f"node {session.name} withdrew service {name} before answering"))
+        return True
+
+    def drop(self, session: Any) -> None:
+        """A node disconnected: its services go with it."""
+        for name in [n for n, p in list(self.providers.items()) if p.session is session]:
+            self.unadvertise(name, session)
+
+    def provided_by(self, name: str) -> Provider | None:
+        return self.providers.get(name)
+
+    def goes_to_node(self, name: str) -> bool:
+        """A call of `name` is a node's to answer (provided, or an exercise left to the nodes)."""
+        return name in self.providers or name in self.slots
+
+    # --- calls ------------------------------------------------------------------------------
+    def _request(self, name: str) -> tuple[str, Future, Provider]:
+        with self._lock:
+            provider = self.providers.get(name)
+            if provider is None:
+                if name in self.slots:
+                    raise NotProvided(f"service {name} is not provided yet: a node must advertise it")
+                raise NotProvided(f"service {name} is not advertised")
+            call_id = f"lab:{name}:{next(self._ids)}"
+            future: Future = Future()
+            self._pending[call_id] = (future, provider.session)
+        return call_id, future, provider
+
+    def call(self, name: str, request: RosMessage) -> RosMessage:
+        """Call the node's service from any thread (HTTP, CLI, dashboard, 3D view); blocks."""
+        call_id, future, provider = self._request(name)
+        message = {"op": "call_service", "id": call_id, "service": name, "args": request.model_dump(by_alias=True)}
+        try:
+            asyncio.run_coroutine_threadsafe(provider.session.send(message), provider.session.loop)
+            ok, values = future.result(timeout=self.timeout)
+        except RuntimeError as exc:  # the node's connection is closing (its loop is gone)
+            raise NodeFailure(f"service {name}: node {provider.session.name} is gone ({exc})") from None
+        except FutureTimeout:
+            raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
+                              f"{self.timeout:g} s") from None
+        finally:
+            with self._lock:
+                self._pending.pop(call_id, None)
+        response = self._response(name, ok, values)
+        self._effect(name, request)
+        return response
+
+    async def call_async(self, name: str, request: RosMessage) -> RosMessage:
+        """The same from the server's event loop (a node calling another node's service)."""
+        call_id, future, provider = self._request(name)
+        message = {"op": "call_service", "id": call_id, "service": name, "args": request.model_dump(by_alias=True)}
+        try:
+            await provider.session.send(message)
+            ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
+        except asyncio.TimeoutError:
+            raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
+                              f"{self.timeout:g} s") from None
+        finally:
+            with self._lock:
+                self._pending.pop(call_id, None)
+        response = self._response(name, ok, values)
+        await asyncio.to_thread(self._effect, name, request)
+        return response
+
+    def answer(self, session: Any, call_id: Any, ok: bool, values: Any) -> bool:
+        """A node's service_response; False when no call of this node waits for it."""
+        with self._lock:
+            pending = self._pending.get(call_id) if isinstance(call_id, str) else None
+            if pending is None or pending[1] is not session:
+                return False
+            del self._pending[call_id]
+        pending[0].set_result((ok, values))
+        return True
+
+    def _response(self, name: str, ok: bool, values: Any) -> RosMessage:
+        service = self.registry.get(name)
+        if not ok:
+            raise ServiceFailure(f"service {name} failed in its node: {values}")
+        try:
+            return service.response.model_validate(values if values is not None else {})
+        except ValidationError as exc:
+            where = "; ".join(f"{'.'.join(str(x) for x in e['loc']) or 'response'}: {e['msg']}" for e in exc.errors())
+            raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
+
+    def _effect(self, name: str, request: RosMessage) -> None:
+        """A node's start/stop answered: the lab applies the service's meaning to the world."""
+        if name == "/start_cooperative_lifting":
+            self.lab.call(cmd.lifting_effect, True, request.force)
+        elif name == "/stop_cooperative_lifting":
+            self.lab.call(cmd.lifting_effect, False)
+
+
+def _fail(future: Future, error: Exception) -> None:
+    if not future.done():
+        future.set_exception(error)

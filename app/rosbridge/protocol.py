@@ -1,0 +1,85 @@
+"""rosbridge v2 frames: parsing with limits, field checks, status messages.
+
+A frame is a JSON object with a string `op` (the rosbridge v2 protocol of rosbridge_suite). Limits keep
+a bad client from costing the server: a frame longer than MAX_FRAME characters closes the socket
+(1009), nesting deeper than MAX_DEPTH is refused; every refusal is a `status` message at level
+error that names the op and the field.
+"""
+from __future__ import annotations
+
+import json
+from typing import Any
+
+MAX_FRAME = 1_000_000  # characters of one frame
+MAX_DEPTH = 32  # nesting of objects and arrays in one frame
+LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it
+
+
+class BadFrame(Exception):
+    """A frame refused; the message names the op and the field."""
+
+
+def parse(text: str) -> dict:
+    """The frame as a dict with a string `op`, or BadFrame."""
+    try:
+        message = json.loads(text)
+    except (ValueError, RecursionError) as exc:
+        raise BadFrame(f"not a JSON message: {str(exc)[:200]}") from None
+    if not isinstance(message, dict):
+        raise BadFrame("a rosbridge message is a JSON object with an 'op' field")
+    if depth(message) > MAX_DEPTH:
+        raise BadFrame(f"message nested deeper than {MAX_DEPTH} levels")
+    if not isinstance(message.get("op"), str):
+        raise BadFrame("field 'op' must be a string (e.g. \"call_service\")")
+    return message
+
+
+def depth(value: Any) -> int:
+    """Nesting depth of a JSON value (iterative: no recursion limit to hit)."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        item, level = stack.pop()
+        if isinstance(item, dict):
+            items = item.values()
+        elif isinstance(item, list):
+            items = item
+        else:
+            continue
+        deepest = max(deepest, level)
+        if deepest > MAX_DEPTH:
+            return deepest
+        stack.extend((child, level + 1) for child in items)
+    return deepest
+
+
+def field(message: dict, name: str, kind: type | tuple[type, ...], default: Any = ..., *, allow_none: bool = False) -> Any:
+    """message[name] if it is of `kind` (a bool is not an int), the default when absent, else BadFrame."""
+    op = message.get("op")
+    if name not in message or (message[name] is None and default is not ...):
+        if default is ...:
+            raise BadFrame(f"{op}: field '{name}' is required")
+        return default
+    value = message[name]
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) and bool not in kinds or not isinstance(value, kinds):
+        names = " or ".join({str: "a string", int: "an integer", float: "a number", bool: "a boolean", dict: "an object",
+                             list: "an array"}.get(k, k.__name__) for k in kinds)
+        raise BadFrame(f"{op}: field '{name}' must be {names}, got {json.dumps(value)[:80]}")
+    return value
+
+
+def name_field(message: dict, key: str) -> str:
+    """A topic/service/action name field, absolute (`/name`)."""
+    value = field(message, key, str)
+    if not value.strip("/") or len(value) > 256 or any(c.isspace() for c in value):
+        raise BadFrame(f"{message.get('op')}: field '{key}' must be a ROS name like /add_two_ints, got {value[:80]!r}")
+    return "/" + value.strip("/")
+
+
+def status(level: str, msg: str, id_: Any = None) -> dict:
+    out = {"op": "status", "level": level, "msg": msg}
+    if id_ is not None:
+        out["id"] = id_
+    return out

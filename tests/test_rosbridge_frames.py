@@ -1,0 +1,125 @@
+"""The rosbridge endpoint against bad frames and without the token (the real app, in-process
+WebSocket): a status message naming the op and field, or a closed socket; never a stuck server
+or a stopped simulation."""
+import json
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
+
+from app.api.app import create_app
+from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app()) as c:
+        yield c
+
+
+def exchange(ws, frame) -> dict:
+    ws.send_text(frame if isinstance(frame, str) else json.dumps(frame))
+    return ws.receive_json()
+
+
+def call(ws, service, args, id_="c"):
+    """A call_service answered (status messages before the response are skipped)."""
+    ws.send_json({"op": "call_service", "id": id_, "service": service, "args": args})
+    while True:
+        message = ws.receive_json()
+        if message["op"] == "service_response":
+            return message
+
+
+@pytest.mark.parametrize("frame, says", [
+    ("{not json", "not a JSON message"),
+    ("[1, 2]", "JSON object with an 'op' field"),
+    ({"op": 7}, "field 'op' must be a string"),
+    ({"op": "explode"}, "unknown op 'explode'"),
+    ({"op": "subscribe"}, "subscribe: field 'topic' is required"),
+    ({"op": "subscribe", "topic": 5}, "subscribe: field 'topic' must be a string"),
+    ({"op": "subscribe", "topic": "/joint_states", "throttle_rate": "fast"}, "field 'throttle_rate' must be an integer"),
+    ({"op": "subscribe", "topic": "/joint_states", "type": "std_msgs/String"}, "is of type sensor_msgs/JointState"),
+    ({"op": "subscribe", "topic": "/nowhere"}, "topic /nowhere does not exist"),
+    ({"op": "publish", "topic": "/joint_states", "msg": {}}, "published by the lab"),
+    ({"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": "1"}}},
+     "'msg.linear.x' must be a finite number"),
+    ('{"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": NaN}}}',
+     "'msg.linear.x' must be a finite number"),
+    ({"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {}, "speed": 1}},
+     "has no field 'speed'"),
+    ({"op": "publish", "topic": "/chatter", "msg": {"data": "hi"}}, "advertise /chatter first"),
+    ({"op": "advertise_service", "service": "/x"}, "advertise_service: field 'type' is required"),
+    ({"op": "call_service", "service": "/add_two_ints", "args": 3}, "field 'args' must be an object"),
+    ({"op": "send_action_goal", "action": "/nope", "action_type": "x/Y"}, "action /nope does not exist"),
+    ({"op": "cancel_action_goal", "id": "g1", "action": "/count"}, "no goal with id \"g1\""),
+    ({"op": "fragment", "id": "f", "data": "{", "num": 0, "total": 2}, "not supported"),
+    ({"op": "subscribe", "topic": "/a", "type": "x/Y", "deep": json.loads("[" * (MAX_DEPTH + 5) + "]" * (MAX_DEPTH + 5))},
+     f"nested deeper than {MAX_DEPTH}"),
+])
+def test_a_bad_frame_gets_a_status_message_naming_the_field(client, frame, says):
+    with client.websocket_connect("/") as ws:
+        reply = exchange(ws, frame)
+        if reply["op"] == "action_result":  # a goal to a missing action is also answered as failed
+            assert reply["result"] is False
+            reply = ws.receive_json()
+        assert reply["op"] == "status" and reply["level"] == "error", reply
+        assert says in reply["msg"], reply["msg"]
+        assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}  # the connection goes on
+
+
+def test_wrong_request_fields_fail_the_call_naming_them(client):
+    with client.websocket_connect("/") as ws:
+        response = call(ws, "/add_two_ints", {"a": 1, "b": "2"})
+        assert response["result"] is False and "b: Input should be a valid integer" in response["values"]
+        assert call(ws, "/divide_ints", [7, 2])["values"] == {"result": 3.5, "message": "Division ok."}  # positional args
+        assert call(ws, "/no_such", {})["values"] == "service /no_such does not exist"
+
+
+def test_a_huge_frame_closes_the_socket_and_the_lab_goes_on(client):
+    with client.websocket_connect("/") as ws:
+        ws.send_text(json.dumps({"op": "publish", "topic": "/chatter", "msg": {"data": "x" * MAX_FRAME}}))
+        assert "limit" in ws.receive_json()["msg"]
+        with pytest.raises(WebSocketDisconnect) as closed:
+            ws.receive_json()
+        assert closed.value.code == 1009
+    assert client.get("/health").json()["loop_alive"] is True
+
+
+def test_a_publish_flood_is_relayed_without_stalling(client):
+    """2000 publishes on a node topic, then a call: answered; a subscriber with queue_length 10 gets
+    the newest ones; the simulation loop still runs."""
+    with client.websocket_connect("/") as listener, client.websocket_connect("/") as talker:
+        listener.send_json({"op": "subscribe", "topic": "/chatter", "type": "std_msgs/String", "queue_length": 10})
+        talker.send_json({"op": "advertise", "topic": "/chatter", "type": "std_msgs/String"})
+        for i in range(2000):
+            talker.send_text(json.dumps({"op": "publish", "topic": "/chatter", "msg": {"data": str(i)}}))
+        talker.send_json({"op": "publish", "topic": "/cartesian_velocity_controller/command",
+                          "msg": {"linear": {"x": 0, "y": 0, "z": 0}, "angular": {"x": 0, "y": 0, "z": 0}}})
+        assert call(talker, "/add_two_ints", {"a": 2, "b": 40})["values"] == {"sum": 42}
+        last = None
+        while last != "1999":
+            message = listener.receive_json()
+            assert message["op"] == "publish" and message["topic"] == "/chatter"
+            last = message["msg"]["data"]
+    health = client.get("/health").json()
+    assert health["loop_alive"] is True and health["step_errors"] == 0
+    client.post("/services/error_recovery")  # the one command above may have gone stale
+
+
+def test_with_a_token_changes_need_it_reading_does_not():
+    with TestClient(create_app(token="s3cret")) as c:
+        with c.websocket_connect("/") as ws:
+            refused = exchange(ws, {"op": "call_service", "id": 1, "service": "/add_two_ints", "args": {"a": 1, "b": 2}})
+            assert refused["op"] == "status" and "needs a token" in refused["msg"] and refused["id"] == 1
+            refused = exchange(ws, {"op": "advertise_service", "service": "/mine", "type": "std_srvs/Trigger"})
+            assert "needs a token" in refused["msg"]
+            names = call(ws, "/rosapi/get_param_names", {})["values"]["names"]  # reading stays open
+            assert "/cooperative_lifting:mu" in names
+            assert "needs a token" in exchange(ws, {"op": "call_service", "service": "/rosapi/set_param",
+                                                    "args": {"name": "/cooperative_lifting:mu", "value": "0.6"}})["msg"]
+            assert exchange(ws, {"op": "auth", "mac": "wrong"})["msg"] == "auth: wrong token"
+            ws.send_json({"op": "auth", "mac": "s3cret"})
+            assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}
+        with c.websocket_connect("/", headers={"Authorization": "Bearer s3cret"}) as ws:
+            assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}

@@ -18,7 +18,7 @@ class Message(NamedTuple):
     topic: str
     schema: str
     log_time: int  # ns
-    data: dict
+    data: dict | bytes  # bytes when read with decode=False
 
 
 class RecordingError(Exception):
@@ -35,18 +35,20 @@ def _summary(path: Path):
         return None
 
 
-def messages(path: str | Path, topics: list[str] | None = None) -> Iterator[Message]:
-    """Every message in log-time order (file order for a file cut short), decoded from JSON."""
+def messages(path: str | Path, topics: list[str] | None = None, decode: bool = True) -> Iterator[Message]:
+    """Every message in log-time order (file order for a file cut short), decoded from JSON
+    (decode=False: the raw bytes)."""
     path = Path(path)
     if not path.is_file():
         raise RecordingError(f"{path}: no such file")
     complete = _summary(path) is not None
     with open(path, "rb") as f:
         reader = make_reader(f) if complete else NonSeekingReader(f)
-        iterator = reader.iter_messages(topics=topics, log_time_order=True) if complete else reader.iter_messages(topics=topics)
+        iterator = reader.iter_messages(topics=topics, log_time_order=True) if complete else reader.iter_messages(topics=topics, log_time_order=False)
         try:
             for schema, channel, message in iterator:
-                yield Message(channel.topic, schema.name if schema else "", message.log_time, json.loads(message.data))
+                yield Message(channel.topic, schema.name if schema else "", message.log_time,
+                              json.loads(message.data) if decode else bytes(message.data))
         except Exception as exc:  # noqa: BLE001 - the tail of a file cut short
             if complete:
                 raise RecordingError(f"{path}: {exc}") from exc

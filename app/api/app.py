@@ -67,6 +67,9 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app.include_router(params_api.router(lab.params))
     app.include_router(topics_api.router(lab))
     app.include_router(robot_model.router())
+    from app.api import files as files_api
+
+    app.include_router(files_api.router(lab))
     app.state.actions = ActionServer(ACTIONS, lab)
     app.include_router(app.state.actions.router())
 

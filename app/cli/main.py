@@ -120,6 +120,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
     srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
     srv.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
+    srv.add_argument("--output-dir", default=".", metavar="DIR",
+                     help="where live recordings (DIR/recordings) and the actions' figures (DIR/figures) go")
     srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
                      help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
     srv.set_defaults(func=_serve)
@@ -136,6 +138,9 @@ def build_parser() -> argparse.ArgumentParser:
     grd.set_defaults(func=_grade)
 
     client_cli.add_parsers(sub)
+    from app.cli import bag
+
+    bag.add_parsers(sub)
     return parser
 
 
@@ -143,7 +148,7 @@ def _serve(args: argparse.Namespace) -> int:
     from app.cli.serve import serve
 
     factory = _controller_factory(args.controller)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token)
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token, args.output_dir)
 
 
 def _grade(args: argparse.Namespace) -> int:

@@ -25,11 +25,18 @@ class Lab:
         from app.lab.params import LAB_PARAMETERS
 
         self.params = ParameterServer(LAB_PARAMETERS, self)
+        from app.lab.recorder import DEFAULT_DIR
+
+        self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
+        self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
+        self.recorder = None  # the live recording (app/lab/recorder.py), one at a time
 
     def start(self) -> None:
         self.loop.start()
 
     def stop(self) -> None:
+        if self.recorder is not None:  # a recording is finished (indexed) on shutdown
+            self.recorder.stop()
         self.loop.stop()
 
     def call(self, fn: Callable[..., T], *args, timeout: float = 10.0) -> T:

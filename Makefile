@@ -33,6 +33,7 @@ bench: $(STAMP) chromium
 	$(BIN)/python -m bench.loop_latency
 	$(BIN)/python -m bench.view_cost
 	$(BIN)/python -m bench.rosbridge
+	$(BIN)/python -m bench.recording
 
 clean:
 	rm -rf $(VENV) *.egg-info

@@ -23,6 +23,8 @@ EXPECTED = {
     "/get_target_position": "hri_lab/GetObjectPosition",
     "/error_recovery": "std_srvs/Trigger",
     "/reset_simulation": "std_srvs/Trigger",
+    "/start_recording": "hri_lab/StartRecording",
+    "/stop_recording": "hri_lab/StopRecording",
 }
 
 

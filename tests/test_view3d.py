@@ -6,7 +6,7 @@ from app.ros.actions import ActionServer
 from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
 from app.lab.services import SERVICES
-from app.lab.topics import wrench_stamped
+from sim.messages import wrench_stamped
 from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
 
 

@@ -10,6 +10,7 @@ from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 
 from app.api import actions as actions_api
+from app.api import files as files_api
 from app.api import node_services as node_services_api
 from app.api import params as params_api
 from app.api import robot as robot_api
@@ -89,6 +90,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app.include_router(actions_api.router(ACTIONS))
     app.include_router(teleop_api.router)
     app.include_router(robot_api.router)
+    app.include_router(files_api.router)
     app.state.bridge = rosbridge.Bridge(lab, nodes, app.state.actions, token)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")

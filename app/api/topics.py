@@ -9,7 +9,7 @@ from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconn
 
 from app.api.deps import LabDep
 from app.ros.names import absolute
-from app.ros.topics import Topic
+from sim.messages import Topic
 
 MAX_RATE_HZ = 1000.0
 

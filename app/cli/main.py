@@ -42,7 +42,8 @@ def _experiment(args: argparse.Namespace) -> int:
             bar.update(1)
 
         results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
-                                 on_result=progress, jobs=args.jobs)
+                                 on_result=progress, jobs=args.jobs, outputs=_outputs(args))
+    _summary_figure(args, {args.controller or "sp": results})
     if args.json:
         print(json.dumps({"summary": summary(results), "trials": [r.as_dict() for r in results]}, indent=2))
     else:
@@ -55,12 +56,44 @@ def _compare(args: argparse.Namespace) -> int:
     names = [n.strip() for n in args.compare.split(",") if n.strip()]
     factories = {name: _controller_factory(name) for name in names}
     people = [args.participant] if args.participant else None
-    results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs)
+    results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs,
+                             outputs=_outputs(args))
+    _summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
     if args.json:
         print(json.dumps({n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}, indent=2))
     else:
         print(format_comparison(results))
     return 0
+
+
+def _outputs(args: argparse.Namespace):
+    """--record DIR / --plots DIR: an MCAP recording and a figure of every trial."""
+    if not (getattr(args, "record", None) or getattr(args, "plots", None)):
+        return None
+    from sim.recording.trial import TrialOutputs
+
+    for folder in (args.record, args.plots):
+        try:
+            if folder:
+                Path(folder).mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise SystemExit(f"hri-lab: cannot write to {folder}: {exc}") from None
+    return TrialOutputs(args.record, args.plots)
+
+
+def _summary_figure(args: argparse.Namespace, results: dict) -> None:
+    if args.record:
+        print(f"recordings: {args.record}/*.mcap (open them in Foxglove or with `hri-lab play`)", file=sys.stderr)
+    if args.plots:
+        from sim.recording.figures import save_summary_figure
+
+        paths = save_summary_figure(results, args.plots)
+        print(f"figures: {args.plots}/*.png, *.svg (summary: {paths['png']})", file=sys.stderr)
+
+
+def _add_output_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
+    parser.add_argument("--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -76,6 +109,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
     exp.add_argument("--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_output_options(exp)
     exp.set_defaults(func=_experiment)
 
     srv = sub.add_parser("serve", help="start the lab's server (HTTP API on 127.0.0.1)")
@@ -86,6 +120,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
     srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
     srv.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
+    srv.add_argument("--output-dir", default=".", metavar="DIR",
+                     help="where live recordings (DIR/recordings) and the actions' figures (DIR/figures) go")
     srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
                      help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
     srv.add_argument("--exercises", action="store_true",
@@ -104,9 +140,13 @@ def build_parser() -> argparse.ArgumentParser:
     grd.add_argument("--json", metavar="OUT.json", help="also write the report as JSON")
     grd.add_argument("--seed", type=int, default=0)
     grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
+    _add_output_options(grd)
     grd.set_defaults(func=_grade)
 
     client_cli.add_parsers(sub)
+    from app.cli import bag
+
+    bag.add_parsers(sub)
     return parser
 
 
@@ -114,14 +154,19 @@ def _serve(args: argparse.Namespace) -> int:
     from app.cli.serve import serve
 
     factory = _controller_factory(args.controller)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token, args.exercises)
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token,
+                 exercises=args.exercises, output_dir=args.output_dir)
 
 
 def _grade(args: argparse.Namespace) -> int:
     from sim.procedures.grading import grade
 
-    report = grade(_controller_factory(args.controller), args.controller, args.seed, args.jobs)
+    report = grade(_controller_factory(args.controller), args.controller, args.seed, args.jobs, _outputs(args))
     print(report.text())
+    if args.record:
+        print(f"recordings: {args.record}/*.mcap", file=sys.stderr)
+    if args.plots:
+        print(f"figures: {args.plots}/*.png, *.svg", file=sys.stderr)
     if args.json:
         Path(args.json).write_text(report.json(), encoding="utf-8")
     return 0 if report.passed else 1

@@ -1,5 +1,6 @@
 """`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file)."""
 import sys
+from pathlib import Path
 
 import uvicorn
 
@@ -21,11 +22,13 @@ def load_parameter_file(lab: Lab, path: str) -> None:
 
 
 def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
-          view_port: int = 8080, controller=None, token: str | None = None, exercises: bool = False) -> int:
+          view_port: int = 8080, controller=None, token: str | None = None, exercises: bool = False,
+          output_dir: str = ".") -> int:
     if not is_loopback(host) and not token:
         print(f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr)
         return 2
     lab = Lab(controller=controller)
+    lab.recordings_dir, lab.figures_dir = Path(output_dir) / "recordings", Path(output_dir) / "figures"
     if params_file:
         try:
             load_parameter_file(lab, params_file)

@@ -4,6 +4,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import Annotated
 
+from pathlib import Path
+
 from pydantic import Field
 
 from sim.procedures.experiment import (
@@ -85,12 +87,36 @@ class ExperimentGoal(RosMessage):
     trials: Annotated[int, Field(ge=1, le=27), RosType("int32")] = 9
     participant: Annotated[str, Field(pattern="^(|" + "|".join(PARTICIPANTS) + ")$"), RosType("string")] = ""
     seed: Int64 = 0
+    plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
 
 
 class ExperimentResult(RosMessage):
     trials: Int32
     successes: Int32
     table: String
+    figures: string_array() = []  # URLs (GET /figures/RUN/NAME.png), the summary first
+
+
+def _figures_of(lab, handle: GoalHandle):
+    """Where a goal's figures go (lab.figures_dir/<goal id>) as TrialOutputs, and their URLs."""
+    from sim.recording.trial import TrialOutputs
+
+    folder = Path(lab.figures_dir) / handle.id
+    folder.mkdir(parents=True, exist_ok=True)
+    return TrialOutputs(plots_dir=str(folder)), folder
+
+
+def save_summary_figure(results: dict, folder: str) -> dict:
+    """In a worker process (matplotlib is never imported by the server)."""
+    from sim.recording.figures import save_summary_figure as save
+
+    return save(results, folder)
+
+
+def _figure_urls(folder: Path) -> list[str]:
+    names = sorted(p.name for p in folder.glob("*.png"))
+    names.sort(key=lambda n: n != "summary.png")
+    return [f"/figures/{folder.name}/{n}" for n in names]
 
 
 class ExperimentFeedback(RosMessage):
@@ -107,10 +133,11 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
     its 1 kHz loop are untouched); a cancel stops after the running trial."""
     work = plan(goal.trials, goal.participant or None, goal.seed)
     results = []
+    outputs, folder = _figures_of(lab, handle) if goal.plots else (None, None)
     context = multiprocessing.get_context("spawn")  # never fork the server's threads
     with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
         for index, person, attempt, seed in work:
-            future = pool.submit(run_trial, index, person, attempt, seed)
+            future = pool.submit(run_trial, index, person, attempt, seed, outputs=outputs)
             while not future.done():
                 time.sleep(0.05)
             result = future.result()
@@ -121,7 +148,10 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
             ))
             if handle.cancel_requested:
                 break
-    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results), table=format_table(results))
+        if folder is not None:  # matplotlib in the worker, not in the server
+            pool.submit(save_summary_figure, {"sp": results}, str(folder)).result()
+    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results), table=format_table(results),
+                            figures=_figure_urls(folder) if folder is not None else [])
 
 
 # --- /compare_controllers ----------------------------------------------------------------------
@@ -131,6 +161,7 @@ class CompareGoal(RosMessage):
     participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
                             RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
     seed: Int64 = 0
+    plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
 
 
 class CompareResult(RosMessage):
@@ -138,6 +169,7 @@ class CompareResult(RosMessage):
     successes: int32_array()  # per controller
     trials: int32_array()  # per controller
     table: String
+    figures: string_array() = []  # URLs (GET /figures/RUN/NAME.png), the summary first
 
 
 class CompareFeedback(RosMessage):
@@ -163,11 +195,17 @@ def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareRe
         handle.feedback(CompareFeedback(controller=item.controller, participant=result.participant, trial=len(done), of=total,
                                         success=result.success, duration=result.duration, reason=result.reason))
 
+    outputs, folder = _figures_of(lab, handle) if goal.plots else (None, None)
+    context = multiprocessing.get_context("spawn")
     results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback,
-                             cancelled=lambda: handle.cancel_requested, mp_context=multiprocessing.get_context("spawn"))
+                             cancelled=lambda: handle.cancel_requested, mp_context=context, outputs=outputs)
     runs = [[r for rs in results[name].values() for r in rs] for name in names]
+    if folder is not None:
+        with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:  # matplotlib off the server
+            pool.submit(save_summary_figure, dict(zip(names, runs)), str(folder)).result()
     return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
-                         trials=[len(rs) for rs in runs], table=format_comparison(results))
+                         trials=[len(rs) for rs in runs], table=format_comparison(results),
+                         figures=_figure_urls(folder) if folder is not None else [])
 
 
 ACTIONS = [

@@ -13,7 +13,7 @@ from sim.controllers.builtin import builtin, builtin_name
 from sim.person.human import PARTICIPANTS
 from sim.controllers.external import ExternalCommand
 from sim.controllers.interface import start_lifting as start_band, stop_lifting as stop_band
-from sim.world import World
+from sim.world import World, WorldConfig
 
 
 # --- lifting and motion ---------------------------------------------------------------------
@@ -75,6 +75,11 @@ def start_jog(world: World, twist_base: np.ndarray) -> None:
 def set_hand_target(world: World, position: np.ndarray) -> None:
     """The palm's target (m, base frame): the person follows it (the 3D view's gizmo)."""
     world.human.set_target(position)
+
+
+def world_config(world: World) -> WorldConfig:
+    """The world's configuration as it is now (parameters change it)."""
+    return world.config
 
 
 def scene_geometry(world: World) -> dict[str, Any]:

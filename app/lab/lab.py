@@ -9,6 +9,7 @@ from sim.robot.panda import PandaModel
 from sim.world import Snapshot, World, WorldConfig
 
 from app.lab.params import LAB_PARAMETERS
+from app.lab.recorder import DEFAULT_DIR, LiveRecorder
 from app.ros.params import ParameterServer
 from app.runtime.process import SimulationProcess
 
@@ -21,11 +22,16 @@ class Lab:
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
         self.params = ParameterServer(LAB_PARAMETERS, self)
+        self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
+        self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
+        self.recorder: LiveRecorder | None = None  # the live recording (app/lab/recorder.py), one at a time
 
     def start(self) -> None:
         self.runtime.start()
 
     def stop(self) -> None:
+        if self.recorder is not None:  # a recording is finished (indexed) on shutdown
+            self.recorder.stop()
         self.runtime.stop()
 
     def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:

@@ -219,6 +219,57 @@ def reset_simulation(lab, request: Empty) -> Trigger:
     return Trigger(success=True, message="Simulation reset: robot at the start pose, box held in front of the plate.")
 
 
+# --- recording (app/lab/recorder.py) ---------------------------------------------------------
+class StartRecordingRequest(RosMessage):
+    name: Annotated[str, Field(pattern=r"^([A-Za-z0-9_-][A-Za-z0-9_.-]{0,63})?$"),
+                    RosType("string", "file name in the server's recordings folder; '' = hri-lab_<date>_<time>")] = ""
+    max_mb: Annotated[float, Field(gt=0.0, le=10240.0, allow_inf_nan=False),
+                      RosType("float64", "size cap (MiB): the recording stops there")] = 1024.0
+
+
+class RecordingResponse(RosMessage):
+    success: Bool
+    message: String
+    path: String  # on the server; download: GET /recordings/NAME
+    messages: Int64
+    bytes: Int64
+
+
+def start_recording(lab, request: StartRecordingRequest) -> RecordingResponse:
+    """Record the live lab to MCAP (topics 100 Hz, /tf and /scene 25 Hz) until /stop_recording."""
+    import time
+    from pathlib import Path
+
+    from app.lab.recorder import LiveRecorder
+
+    if lab.recorder is not None and lab.recorder.running:
+        raise ServiceFailure(f"already recording to {lab.recorder.path}: call /stop_recording first")
+    name = request.name or time.strftime("hri-lab_%Y%m%d_%H%M%S")
+    path = Path(lab.recordings_dir) / (name if name.endswith(".mcap") else name + ".mcap")
+    if path.exists():
+        raise ServiceFailure(f"{path} exists: choose another name")
+    try:
+        lab.recorder = LiveRecorder(lab, path, int(request.max_mb * 2**20))
+    except OSError as exc:
+        raise ServiceFailure(f"cannot write {path}: {exc.strerror or exc}") from None
+    lab.info("recorder", f"recording to {path}")
+    return RecordingResponse(success=True, message=f"recording to {path}", path=str(path), messages=0, bytes=0)
+
+
+def stop_recording(lab, request: Empty) -> RecordingResponse:
+    recorder = lab.recorder
+    if recorder is None:
+        raise ServiceFailure("not recording: call /start_recording first")
+    early = recorder.stop()
+    lab.recorder = None
+    size = recorder.recording.size
+    message = (f"{early}; " if early else "") + (f"recorded {recorder.recording.messages} messages, "
+                                                 f"{size / 2**20:.2f} MiB to {recorder.path}")
+    lab.info("recorder", message)
+    return RecordingResponse(success=not early, message=message, path=str(recorder.path),
+                             messages=recorder.recording.messages, bytes=size)
+
+
 SERVICES = ServiceRegistry([
     Service("/start_cooperative_lifting", "hri_lab/StartCooperativeLifting", StartRequest, Message, start,
             "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (5 N); "
@@ -242,6 +293,10 @@ SERVICES = ServiceRegistry([
             "Clear the robot's reflex error (franka's error recovery)."),
     Service("/reset_simulation", "std_srvs/Trigger", Empty, Trigger, reset_simulation,
             "Reset the world: robot at the start pose, box held by the person in front of the plate."),
+    Service("/start_recording", "hri_lab/StartRecording", StartRecordingRequest, RecordingResponse, start_recording,
+            "Record the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it."),
+    Service("/stop_recording", "hri_lab/StopRecording", Empty, RecordingResponse, stop_recording,
+            "Stop the recording and finish the file (index, summary); download it with GET /recordings/NAME."),
 ])
 
 # `hri-lab serve --exercises`: these stay declared but are left to the students' nodes

@@ -21,57 +21,17 @@ import viser
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.person.human import PARTICIPANTS
 from sim.robot.panda import PandaModel
+from sim.recording.scene import COLOURS, FORCE_SCALE, arrows_of, state_of  # noqa: F401 - shared with recordings
 from sim.world import Snapshot
 
 from app.lab import commands
 
-FORCE_SCALE = 0.01  # m of arrow per N
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
-COLOURS = {  # state -> RGB
-    "below": (80, 140, 255),
-    "inside": (60, 190, 90),
-    "above": (255, 160, 40),
-    "slipping": (170, 80, 220),
-    "error": (230, 50, 50),
-    "idle": (200, 170, 120),
-}
 
 
 def wxyz(rotation: np.ndarray) -> np.ndarray:
     q = pin.Quaternion(np.asarray(rotation))
     return np.array([q.w, q.x, q.y, q.z])
-
-
-def state_of(s: Snapshot) -> str:
-    """What the colours tell: error, slipping, below/inside/above the band, or idle."""
-    if s.error:
-        return "error"
-    if s.plate.points_slipping > 0 and s.plate.normal_force > 0:
-        return "slipping"
-    if not s.lifting.running:
-        return "idle"
-    f_n = s.plate.normal_force
-    if f_n < s.lifting.f_n_min:
-        return "below"
-    return "above" if f_n > s.lifting.f_n_max else "inside"
-
-
-def arrows_of(s: Snapshot, plate_offset: float) -> dict[str, np.ndarray]:
-    """Arrow segments (start, end) in the base frame: F_ext's normal and tangential parts at the
-    plate centre, and the person's push at the palm (FORCE_SCALE m per N)."""
-    transform = s.transform_ee_to_base
-    rotation = transform[:3, :3]
-    centre = transform[:3, 3] + rotation[:, 2] * plate_offset
-    force_world = rotation @ s.wrench_ee[:3]  # F_ext in the base frame
-    normal = rotation[:, 2]
-    f_normal = (force_world @ normal) * normal
-    f_tangential = force_world - f_normal
-    palm_force = s.palm.force_box
-    return {
-        "normal": np.array([centre, centre + FORCE_SCALE * f_normal]),
-        "tangential": np.array([centre, centre + FORCE_SCALE * f_tangential]),
-        "human": np.array([s.palm_position - FORCE_SCALE * palm_force, s.palm_position]),
-    }
 
 
 def cone_mesh(mu: float, height: float = 0.08, segments: int = 24) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,7 @@ Nine trials = three participants x three tries.
 from __future__ import annotations
 
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -50,6 +50,7 @@ class TrialResult:
     slip: float  # m, max slip of the box in the palm
     reason: str  # why it failed ("" on success)
     steps: int = 0
+    files: dict = field(default_factory=dict)  # what the trial left: recording, png, svg (paths)
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -67,6 +68,7 @@ class Trial:
     params: LiftingParams = field(default_factory=LiftingParams)
     index: int = 0
     attempt: int = 1
+    observer: Callable[["Trial"], None] | None = None  # called after every step (recording, figures)
 
     def __post_init__(self) -> None:
         rng = np.random.default_rng(self.seed)
@@ -102,6 +104,8 @@ class Trial:
             self._finish(f"time limit: goal not reached in {self.rules.time_limit:g} s")
         elif human.phase == "grasping" and world.time >= self.rules.approach_limit:
             self._finish(f"no grip: the robot did not press the box into the band in {self.rules.approach_limit:g} s")
+        if self.observer is not None:
+            self.observer(self)
         return not self.finished
 
     def _monitor_hold(self) -> None:
@@ -177,8 +181,18 @@ def run_trial(
     seed: int,
     rules: TrialRules = TrialRules(),
     controller_factory: Callable[[], Controller] = SPController,
+    outputs=None,
 ) -> TrialResult:
-    return Trial(person, seed, controller_factory(), rules=rules, index=index, attempt=attempt).run()
+    """outputs: a sim.recording.trial.TrialOutputs (recording and figure of the trial) or None."""
+    trial = Trial(person, seed, controller_factory(), rules=rules, index=index, attempt=attempt)
+    if outputs is None or not outputs.wanted:
+        return trial.run()
+    from sim.recording.trial import TrialObserver
+
+    trial.observer = TrialObserver(trial, outputs)
+    result = trial.run()
+    result.files = trial.observer.finish(result)
+    return result
 
 
 def run_experiment(
@@ -189,10 +203,12 @@ def run_experiment(
     controller_factory: Callable[[], Controller] = SPController,
     on_result: Callable[[TrialResult], None] | None = None,
     jobs: int = 1,
+    outputs=None,
 ) -> list[TrialResult]:
     """Run the trials, in `jobs` processes when jobs > 1 (each trial has its own seed, so the
-    results are the same whatever the number of processes); returned in plan order."""
-    work = [(*item, rules, controller_factory) for item in plan(trials, participant, seed)]
+    results are the same whatever the number of processes); returned in plan order.
+    outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial."""
+    work = [(*item, rules, controller_factory, outputs) for item in plan(trials, participant, seed)]
     if jobs <= 1:
         results = []
         for args in work:
@@ -268,9 +284,11 @@ def run_comparison(
     cancelled: Callable[[], bool] = lambda: False,
     jobs: int = 1,
     mp_context=None,
+    outputs=None,
 ) -> Comparison:
     """Run the comparison (in `jobs` processes; stops handing out trials once `cancelled()`).
-    controller_factory(name) -> factory of new controllers (default: the built-in ones)."""
+    controller_factory(name) -> factory of new controllers (default: the built-in ones).
+    outputs: a TrialOutputs to record and plot every trial (files prefixed with the controller)."""
     from sim.controllers.plugin import controller_factory as default_factory
 
     make = controller_factory or default_factory
@@ -282,8 +300,9 @@ def run_comparison(
         while queue or running:
             while queue and len(running) < max(1, jobs) and not cancelled():
                 item = queue.pop(0)
+                mine = replace(outputs, prefix=f"{item.controller}_", label=item.controller) if outputs else None
                 running[pool.submit(run_trial, item.index, item.participant, item.attempt, item.seed,
-                                    TrialRules(), make(item.controller))] = item
+                                    TrialRules(), make(item.controller), mine)] = item
             if not running:
                 break
             future = next(as_completed(running))

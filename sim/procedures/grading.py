@@ -204,8 +204,12 @@ def probe_items(factory: Callable[[], Controller]) -> list[Item]:
 
 
 # --- 2. the experiment ----------------------------------------------------------------------------
-def experiment_items(factory: Callable[[], Controller], seed: int, jobs: int = 1) -> list[Item]:
-    results = run_experiment(9, seed=seed, controller_factory=factory, jobs=jobs)
+def experiment_items(factory: Callable[[], Controller], seed: int, jobs: int = 1, outputs=None) -> list[Item]:
+    results = run_experiment(9, seed=seed, controller_factory=factory, jobs=jobs, outputs=outputs)
+    if outputs is not None and outputs.plots_dir:
+        from sim.recording.figures import save_summary_figure
+
+        save_summary_figure({"": results}, outputs.plots_dir)
     items = []
     for r in results:
         worth = 0.0 if r.participant == "hasty" else 5.0
@@ -217,14 +221,32 @@ def experiment_items(factory: Callable[[], Controller], seed: int, jobs: int = 1
 
 
 # --- 3. robustness --------------------------------------------------------------------------------
-def _noisy_trial(factory, seed: int) -> TrialResult:
+def _observed(trial: Trial, outputs, prefix: str):
+    """Record / plot a robustness trial when asked (files named robust_<prefix>...)."""
+    if outputs is None or not outputs.wanted:
+        return None
+    from dataclasses import replace
+
+    from sim.recording.trial import TrialObserver
+
+    trial.observer = TrialObserver(trial, replace(outputs, prefix=f"robust_{prefix}_"))
+    return trial.observer
+
+
+def _noisy_trial(factory, seed: int, outputs=None) -> TrialResult:
     config = WorldConfig(sensor=SensorParams(force_noise_std=1.5, moment_noise_std=0.15))
-    return Trial(PARTICIPANTS["calm"], seed, factory(), config=config).run()
+    trial = Trial(PARTICIPANTS["calm"], seed, factory(), config=config)
+    observer = _observed(trial, outputs, "noise")
+    result = trial.run()
+    if observer:
+        result.files = observer.finish(result)
+    return result
 
 
-def _pull_trial(factory, seed: int) -> TrialResult:
+def _pull_trial(factory, seed: int, outputs=None) -> TrialResult:
     """2 s into the carry the person jerks the box 3 cm along the carry in 0.3 s (0.1 m/s on top of the path)."""
     trial = Trial(PARTICIPANTS["calm"], seed, factory())
+    observer = _observed(trial, outputs, "pull")
     human = trial.world.human
     pulled = 0
     direction = np.asarray(human.path_spec.carry_direction, float)
@@ -232,23 +254,27 @@ def _pull_trial(factory, seed: int) -> TrialResult:
         if human.phase == "carrying" and human.phase_time >= 2.0 and pulled < 300:
             human.start = human.start + direction * 0.0001
             pulled += 1
-    return trial.result()
+    result = trial.result()
+    if observer:
+        result.files = observer.finish(result)
+    return result
 
 
-def robustness_items(factory: Callable[[], Controller], seed: int) -> list[Item]:
+def robustness_items(factory: Callable[[], Controller], seed: int, outputs=None) -> list[Item]:
     items = []
     for name, run in (("three times the sensor noise (calm trial)", _noisy_trial),
                       ("a sudden 3 cm pull while carrying (calm trial)", _pull_trial)):
-        result = run(factory, trial_seed(seed, 100 + len(items)))
+        result = run(factory, trial_seed(seed, 100 + len(items)), outputs)
         items.append(Item("robustness", name, 10.0 if result.success else 0.0, 10.0, result.reason))
     return items
 
 
-def grade(factory: Callable[[], Controller], name: str, seed: int = 0, jobs: int = 1) -> Report:
+def grade(factory: Callable[[], Controller], name: str, seed: int = 0, jobs: int = 1, outputs=None) -> Report:
+    """outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial."""
     report = Report(name, seed)
     report.items += probe_items(factory)
-    report.items += experiment_items(factory, seed, jobs)
-    report.items += robustness_items(factory, seed)
+    report.items += experiment_items(factory, seed, jobs, outputs)
+    report.items += robustness_items(factory, seed, outputs)
     return report
 
 

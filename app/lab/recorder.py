@@ -1,0 +1,63 @@
+"""Recording the live lab (`/start_recording`, `/stop_recording`, `hri-lab record`).
+
+A thread of the server process reads the loop's snapshot from shared memory every POLL_PERIOD
+(reading never touches the 1 kHz loop, which runs in its own process) and hands it to a
+sim.recording Recording, which keeps the topics every 10 ms (100 Hz) and /tf + /scene every
+40 ms (25 Hz) of simulated time. Log times are the wall clock (what `ros2 bag record` stamps);
+the messages' header stamps are the simulated time. The file is finished (index, summary) on
+stop, on the server's shutdown and when the thread fails; a size cap (max_mb) or a free-disk
+floor stops it with a message; a file cut short by a crash of the server is still readable.
+"""
+from __future__ import annotations
+
+import threading
+import time
+import traceback
+from pathlib import Path
+
+from app.lab import commands
+from sim.recording.writer import MIN_FREE_BYTES, Recording
+
+POLL_PERIOD = 0.005  # s between two reads of the snapshot (every new 10 ms sample is seen)
+DEFAULT_DIR = Path("recordings")
+
+
+class LiveRecorder:
+    def __init__(self, lab, path: Path, max_bytes: int, min_free_bytes: int = MIN_FREE_BYTES) -> None:
+        self.lab = lab
+        self.path = path
+        self.recording = Recording(path, lab.call(commands.world_config), source="live", max_bytes=max_bytes,
+                                   min_free_bytes=min_free_bytes)
+        self.started = time.time()
+        self.failure: str | None = None
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="recorder", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        last = None
+        try:
+            while not self._stop.wait(POLL_PERIOD):
+                snapshot = self.lab.snapshot()
+                if snapshot.time == last:
+                    continue
+                last = snapshot.time
+                if not self.recording.add(snapshot, log_time=time.time_ns()):
+                    self.lab.info("recorder", self.recording.stopped or "recording stopped")
+                    return
+        except Exception as exc:  # noqa: BLE001 - the file is finished whatever went wrong
+            self.failure = "recording failed: " + "".join(traceback.format_exception_only(exc)).strip()
+            self.lab.info("recorder", self.failure)
+        finally:
+            self.recording.close({"failure": self.failure} if self.failure else None)
+
+    @property
+    def running(self) -> bool:
+        return self._thread.is_alive()
+
+    def stop(self) -> str:
+        """Stop and finish the file; why it had stopped before, if it had."""
+        self._stop.set()
+        self._thread.join(timeout=10.0)
+        self.recording.close()
+        return self.failure or self.recording.stopped or ""

@@ -1,0 +1,90 @@
+"""The lab's topics as ROS messages of a world Snapshot: one declaration per topic (name, type,
+builder(snapshot) -> dict shaped like the ROS message it mirrors). The live server serves them
+(app/lab/topics.py, app/api/topics.py) and recordings store them (sim/recording)."""
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import pinocchio as pin
+
+from sim.robot.panda import ARM_JOINTS
+from sim.world import Snapshot
+
+def header(s: Snapshot, frame_id: str) -> dict:
+    sec = int(s.time)
+    return {"stamp": {"sec": sec, "nanosec": int(round((s.time - sec) * 1e9))}, "frame_id": frame_id}
+
+
+def vector3(v) -> dict:
+    return {"x": float(v[0]), "y": float(v[1]), "z": float(v[2])}
+
+
+def pose(position, rotation) -> dict:
+    q = pin.Quaternion(np.asarray(rotation))  # ROS orders x, y, z, w
+    return {"position": vector3(position), "orientation": {"x": q.x, "y": q.y, "z": q.z, "w": q.w}}
+
+
+def wrench_stamped(s: Snapshot) -> dict:
+    return {"header": header(s, "panda_K"), "wrench": {"force": vector3(s.wrench_ee[:3]), "torque": vector3(s.wrench_ee[3:])}}
+
+
+def joint_state(s: Snapshot) -> dict:
+    return {"header": header(s, ""), "name": list(ARM_JOINTS), "position": s.q.tolist(), "velocity": s.qdot.tolist(), "effort": []}
+
+
+def twist(s: Snapshot) -> dict:
+    return {"linear": vector3(s.twist_command[:3]), "angular": vector3(s.twist_command[3:])}
+
+
+def object_pose(s: Snapshot) -> dict:
+    return {"header": header(s, "panda_link0"), "pose": pose(s.box_position, s.box_rotation)}
+
+
+def hand_pose(s: Snapshot) -> dict:
+    return {"header": header(s, "panda_link0"), "pose": pose(s.palm_position, s.palm_rotation)}
+
+
+def contact_state(s: Snapshot) -> dict:
+    plate, palm = s.plate, s.palm
+    mu = s.lifting.mu
+    return {
+        "header": header(s, "panda_link0"),
+        "normal_force": plate.normal_force,
+        "tangential_force": vector3(plate.tangential_force),
+        "friction_ratio": plate.friction_ratio / mu if mu > 0 else 0.0,
+        "centre_of_pressure": {"x": float(plate.centre_of_pressure[0]), "y": float(plate.centre_of_pressure[1])},
+        "robot_contact": plate.points_in_contact > 0,
+        "robot_slipping": plate.points_slipping > 0,
+        "human_contact": palm.points_in_contact > 0,
+        "human_slipping": palm.points_slipping > 0,
+        "human_normal_force": palm.normal_force,
+    }
+
+
+def lifting_state(s: Snapshot) -> dict:
+    return {
+        "header": header(s, ""),
+        "started": s.lifting.running,
+        "f_n_min": s.lifting.f_n_min,
+        "f_n_max": s.lifting.f_n_max,
+        "error": s.error or "",
+        "human_phase": s.human_phase,
+    }
+
+
+@dataclass(frozen=True)
+class Topic:
+    name: str
+    type: str
+    build: Callable[[Snapshot], dict]
+
+
+TOPICS = [
+    Topic("/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", wrench_stamped),
+    Topic("/joint_states", "sensor_msgs/JointState", joint_state),
+    Topic("/cartesian_velocity_controller/command", "geometry_msgs/Twist", twist),
+    Topic("/object_pose", "geometry_msgs/PoseStamped", object_pose),
+    Topic("/human_hand_pose", "geometry_msgs/PoseStamped", hand_pose),
+    Topic("/contact_state", "hri_lab/ContactState", contact_state),
+    Topic("/lifting_state", "hri_lab/LiftingState", lifting_state),
+]

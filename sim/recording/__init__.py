@@ -1,0 +1,1 @@
+"""Recordings (MCAP), their replay, and figures of trials."""

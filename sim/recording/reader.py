@@ -1,0 +1,155 @@
+"""Reading recordings back (the `mcap` library): messages, metadata and `bag info`.
+
+A finished file is read through its index and summary; a file cut short (its writer was killed)
+has neither: it is read front to back up to the last complete chunk, and `complete` says so.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Iterator, NamedTuple
+
+from mcap.reader import NonSeekingReader, make_reader
+
+
+class Message(NamedTuple):
+    topic: str
+    schema: str
+    log_time: int  # ns
+    data: dict | bytes  # bytes when read with decode=False
+
+
+class RecordingError(Exception):
+    """Not a readable recording (the reason is the message)."""
+
+
+def _summary(path: Path):
+    try:
+        with open(path, "rb") as f:
+            return make_reader(f).get_summary()
+    except Exception as exc:  # noqa: BLE001 - a file cut short has no summary
+        if isinstance(exc, OSError) and not path.exists():
+            raise RecordingError(f"{path}: no such file") from None
+        return None
+
+
+def messages(path: str | Path, topics: list[str] | None = None, decode: bool = True) -> Iterator[Message]:
+    """Every message in log-time order (file order for a file cut short), decoded from JSON
+    (decode=False: the raw bytes)."""
+    path = Path(path)
+    if not path.is_file():
+        raise RecordingError(f"{path}: no such file")
+    complete = _summary(path) is not None
+    with open(path, "rb") as f:
+        reader = make_reader(f) if complete else NonSeekingReader(f)
+        iterator = reader.iter_messages(topics=topics, log_time_order=True) if complete else reader.iter_messages(topics=topics, log_time_order=False)
+        try:
+            for schema, channel, message in iterator:
+                yield Message(channel.topic, schema.name if schema else "", message.log_time,
+                              json.loads(message.data) if decode else bytes(message.data))
+        except Exception as exc:  # noqa: BLE001 - the tail of a file cut short
+            if complete:
+                raise RecordingError(f"{path}: {exc}") from exc
+
+
+def metadata(path: str | Path) -> dict[str, dict]:
+    """name -> record of the file's metadata (values decoded from JSON where they are JSON)."""
+    path = Path(path)
+    out: dict[str, dict] = {}
+    complete = _summary(path) is not None
+    with open(path, "rb") as f:
+        reader = make_reader(f) if complete else NonSeekingReader(f)
+        try:
+            for record in reader.iter_metadata():
+                out[record.name] = {k: _json_or_text(v) for k, v in record.metadata.items()}
+        except Exception:  # noqa: BLE001 - a file cut short: what was written so far
+            pass
+    return out
+
+
+def _json_or_text(value: str):
+    try:
+        return json.loads(value)
+    except ValueError:
+        return value
+
+
+@dataclass
+class TopicInfo:
+    name: str
+    type: str
+    count: int
+    encoding: str = "json"
+
+
+@dataclass
+class BagInfo:
+    path: Path
+    size: int  # bytes
+    complete: bool  # False: cut short (no index/summary); figures from what could be read
+    start: int  # ns
+    end: int  # ns
+    messages: int
+    topics: list[TopicInfo] = field(default_factory=list)
+
+    @property
+    def duration(self) -> float:
+        """s"""
+        return (self.end - self.start) / 1e9 if self.messages else 0.0
+
+    def as_dict(self) -> dict:
+        return {"path": str(self.path), "size": self.size, "complete": self.complete, "duration": self.duration,
+                "start": self.start, "end": self.end, "messages": self.messages,
+                "topics": [vars(t) for t in self.topics]}
+
+
+def info(path: str | Path) -> BagInfo:
+    """What `ros2 bag info` tells: size, duration, start, end, message count, topics with type and count."""
+    path = Path(path)
+    if not path.is_file():
+        raise RecordingError(f"{path}: no such file")
+    summary = _summary(path)
+    if summary is not None and summary.statistics is not None:
+        stats = summary.statistics
+        topics = [TopicInfo(c.topic, summary.schemas[c.schema_id].name if c.schema_id in summary.schemas else "",
+                            stats.channel_message_counts.get(cid, 0), c.message_encoding)
+                  for cid, c in sorted(summary.channels.items())]
+        return BagInfo(path, path.stat().st_size, True, stats.message_start_time, stats.message_end_time,
+                       stats.message_count, topics)
+    counts: dict[str, TopicInfo] = {}
+    start, end, total = None, None, 0
+    for m in messages(path):
+        counts.setdefault(m.topic, TopicInfo(m.topic, m.schema, 0)).count += 1
+        start = m.log_time if start is None else min(start, m.log_time)
+        end = m.log_time if end is None else max(end, m.log_time)
+        total += 1
+    return BagInfo(path, path.stat().st_size, False, start or 0, end or 0, total, list(counts.values()))
+
+
+def _when(ns: int) -> str:
+    t = datetime.fromtimestamp(ns / 1e9, tz=timezone.utc)
+    return f"{t:%b %d %Y %H:%M:%S}.{int(ns % 1_000_000_000) // 1_000_000:03d} ({ns / 1e9:.3f})"
+
+
+def format_info(bag: BagInfo) -> str:
+    """The layout of `ros2 bag info`."""
+    size = bag.size
+    human = f"{size / 2**20:.1f} MiB" if size >= 2**20 else f"{size / 2**10:.1f} KiB"
+    lines = [
+        f"Files:             {bag.path.name}",
+        f"Bag size:          {human}",
+        "Storage id:        mcap" + ("" if bag.complete else "  (cut short: no index; read up to the last complete chunk)"),
+        f"Duration:          {bag.duration:.3f}s",
+        f"Start:             {_when(bag.start)}",
+        f"End:               {_when(bag.end)}",
+        f"Messages:          {bag.messages}",
+    ]
+    width = max((len(t.name) for t in bag.topics), default=0)
+    type_width = max((len(t.type) for t in bag.topics), default=0)
+    for i, t in enumerate(bag.topics):
+        prefix = "Topic information: " if i == 0 else " " * 19
+        lines.append(f"{prefix}Topic: {t.name:<{width}} | Type: {t.type:<{type_width}} | Count: {t.count} | "
+                     f"Serialization Format: {t.encoding}")
+    return "\n".join(lines)

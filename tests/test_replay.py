@@ -1,0 +1,87 @@
+"""`hri-lab play`: a recorded trial in the replay view (slider in a real browser) and its topics
+over the replay's API."""
+import os
+import shutil
+import time
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+
+from app.cli.launch import free_port
+from app.view.replay import ReplayView, replay_app
+from sim.procedures.experiment import plan, run_trial
+from sim.recording.playback import Playback
+from sim.recording.trial import TrialOutputs
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ARGS = ["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync", "--no-first-run"]
+
+
+@pytest.fixture(scope="module")
+def view(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("replay")
+    result = run_trial(*plan(1, "hasty", 0)[0], outputs=TrialOutputs(record_dir=str(folder)))  # ~3 s: lifted, dropped
+    view = ReplayView(Playback(result.files["recording"]), port=free_port(), light=True)
+    view.start()
+    yield view
+    view.stop()
+
+
+def placements(view) -> np.ndarray:
+    return np.array([frame.position for _, frame in view.robot.frames])
+
+
+def test_replay_api_serves_the_recorded_topics_at_the_playback_time(view):
+    playback = view.playback
+    with TestClient(replay_app(view)) as client:
+        names = {t["name"]: t["type"] for t in client.get("/topics").json()}
+        assert names["/franka_state_controller/F_ext"] == "geometry_msgs/WrenchStamped"
+        assert "/tf" not in names and "/scene" not in names  # the 3D view's channels are drawn, not served
+        view.seek(2.0)
+        pose = client.get("/topics/object_pose").json()
+        stamp = pose["header"]["stamp"]["sec"] + pose["header"]["stamp"]["nanosec"] * 1e-9
+        assert 1.99 - 0.01 < stamp - playback.start / 1e9 <= 2.0 + 1e-9  # the last 10 ms sample at or before t
+        assert client.get("/replay").json()["time"] == pytest.approx(2.0)
+        assert client.get("/topics/nope").status_code == 404
+
+
+def test_the_slider_moves_the_robot_in_the_browser(view):
+    from playwright.sync_api import sync_playwright
+
+    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
+    view.seek(0.0)
+    at_start = placements(view)
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 900, "height": 600})
+        page.set_default_timeout(60_000)
+        page.goto(view.url)
+        thumb = page.locator("[role=slider]").first
+        thumb.wait_for()
+        thumb.focus()
+        page.keyboard.press("End")  # scrub to the end, as a person drags the slider there
+        page.wait_for_function("document.querySelector('[role=slider]').getAttribute('aria-valuenow') "
+                               f"=== '{view.slider.max:g}'")
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and view.time < view.slider.max:
+            time.sleep(0.1)
+        browser.close()
+    frame = view.playback.frame_at(view.time)
+    assert view.time == pytest.approx(view.playback.duration)
+    moved = placements(view)
+    assert np.max(np.linalg.norm(moved - at_start, axis=1)) > 0.02  # the robot followed the box up
+    view.robot.place(frame.q)  # where the recorded q puts the meshes
+    np.testing.assert_allclose(moved, placements(view), atol=1e-6)
+    np.testing.assert_allclose(view.box.position, frame.poses["box"][0], atol=1e-6)
+
+
+def test_play_advances_and_stops_at_the_end(view):
+    view.seek(view.playback.duration - 0.2)
+    view.speed = 4.0
+    view.play()
+    deadline = time.monotonic() + 10
+    while view.playing and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not view.playing and view.time == view.playback.duration

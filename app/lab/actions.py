@@ -1,10 +1,8 @@
-"""The lab's actions (DESIGN.md section 7), one declaration each."""
+"""The lab's actions, one declaration each."""
 import multiprocessing
-import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Annotated
 
-from pydantic import Field
+from pydantic import AfterValidator, Field
 
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
@@ -12,17 +10,32 @@ from sim.procedures.experiment import (
     TrialResult,
     format_comparison,
     format_table,
-    plan,
     run_comparison,
-    run_trial,
+    run_experiment as run_trials,
 )
 from sim.person.human import PARTICIPANTS
 from sim.controllers.plugin import BUILTIN
 from sim.world import World
 
 from app.lab import commands as cmd
+from app.lab import overrides
 from app.ros.actions import Action, GoalHandle
+from app.ros.params import ParameterRefused
 from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, int32_array, string_array
+
+
+def _check_set(text: str) -> str:
+    """A goal's `set` field is checked like `param set` (the refusal names the parameter)."""
+    try:
+        overrides.parse_set(text)
+    except ParameterRefused as refused:
+        raise ValueError(str(refused)) from None
+    return text
+
+
+# `set`: parameters for every trial of the goal
+SetField = Annotated[str, Field(max_length=2000, alias="set"), AfterValidator(_check_set),
+                     RosType("string", "parameters for every trial, e.g. 'alpha=0.5 k_t=0.2'")]
 
 
 def _names(choices) -> str:
@@ -86,6 +99,7 @@ class ExperimentGoal(RosMessage):
     trials: Annotated[int, Field(ge=1, le=27), RosType("int32")] = 9
     participant: Annotated[str, Field(pattern="^(|" + "|".join(PARTICIPANTS) + ")$"), RosType("string")] = ""
     seed: Int64 = 0
+    set_: SetField = ""
 
 
 class ExperimentResult(RosMessage):
@@ -103,26 +117,24 @@ class ExperimentFeedback(RosMessage):
     reason: String
 
 
+SPAWN = multiprocessing.get_context("spawn")  # worker processes never fork the server's threads
+
+
 def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentResult:
     """The Table 1 trials headless, each on its own world in a worker process (the live robot and
     its 1 kHz loop are untouched); a cancel stops after the running trial."""
-    work = plan(goal.trials, goal.participant or None, goal.seed)
-    results = []
-    context = multiprocessing.get_context("spawn")  # never fork the server's threads
-    with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
-        for index, person, attempt, seed in work:
-            future = pool.submit(run_trial, index, person, attempt, seed)
-            while not future.done():
-                time.sleep(0.05)
-            result = future.result()
-            results.append(result)
-            handle.feedback(ExperimentFeedback(
-                trial=index + 1, of=len(work), participant=result.participant, success=result.success,
-                duration=result.duration, reason=result.reason,
-            ))
-            if handle.cancel_requested:
-                break
-    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results), table=format_table(results))
+    found = overrides.parse_set(goal.set_)
+    done = []
+
+    def feedback(result: TrialResult) -> None:
+        done.append(result)
+        handle.feedback(ExperimentFeedback(trial=len(done), of=goal.trials, participant=result.participant,
+                                           success=result.success, duration=result.duration, reason=result.reason))
+
+    results = run_trials(goal.trials, goal.participant or None, goal.seed, on_result=feedback,
+                         setup=overrides.setup_of(found), cancelled=lambda: handle.cancel_requested, mp_context=SPAWN)
+    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results),
+                            table=format_table(results, overrides.describe(found)))
 
 
 # --- /compare_controllers ----------------------------------------------------------------------
@@ -132,6 +144,7 @@ class CompareGoal(RosMessage):
     participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
                             RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
     seed: Int64 = 0
+    set_: SetField = ""
 
 
 class CompareResult(RosMessage):
@@ -164,11 +177,12 @@ def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareRe
         handle.feedback(CompareFeedback(controller=item.controller, participant=result.participant, trial=len(done), of=total,
                                         success=result.success, duration=result.duration, reason=result.reason))
 
-    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback,
-                             cancelled=lambda: handle.cancel_requested, mp_context=multiprocessing.get_context("spawn"))
+    found = overrides.parse_set(goal.set_)
+    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback, setup=overrides.setup_of(found),
+                             cancelled=lambda: handle.cancel_requested, mp_context=SPAWN)
     runs = [[r for rs in results[name].values() for r in rs] for name in names]
     return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
-                         trials=[len(rs) for rs in runs], table=format_comparison(results))
+                         trials=[len(rs) for rs in runs], table=format_comparison(results, overrides.describe(found)))
 
 
 ACTIONS = [

@@ -1,6 +1,6 @@
 """The lab's experiment (Table 1 of the handout), headless and faster than real time.
 
-A trial (DESIGN.md section 8): the robot at the start pose; the person holds the box grasped a
+A trial: the robot at the start pose; the person holds the box grasped a
 few cm in front of the plate; lifting starts with f_n_min (default 10 N) and the robot approaches
 until it presses the box; once the grip is in the band the person lets go of the grasp and only
 pushes with the palm; then carries the box along the pick-and-place path.

@@ -195,6 +195,8 @@ def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller()
         capture_output=True, text=True, check=True, timeout=300,
     )
     data = json.loads(out.stdout)
+    assert data["set"] == {} and data["seed"] == 3
+    data = data["results"]
     assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["calm"]
     (sp,), (patch,) = data["sp"]["calm"], data["patch"]["calm"]
     assert sp["seed"] == patch["seed"] == plan(1, "calm", 3)[0][3]
@@ -202,7 +204,8 @@ def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller()
         [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "calm",
          "--seed", "3"], capture_output=True, text=True, check=True, timeout=300,
     ).stdout
-    header, _, _, row, _, total = table.splitlines()
+    title, header, _, _, row, _, total = table.splitlines()
+    assert title == "seed 3; parameters: the defaults"
     assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("calm")
     assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"
 

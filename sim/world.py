@@ -53,6 +53,22 @@ class WorldConfig:
     command_period: float = COMMAND_PERIOD  # s, a node's velocity command must be renewed within this
 
 
+def stable_substeps(config: WorldConfig) -> int:
+    """Physics substeps that keep the box's explicit integration stable (at least
+    config.physics_substeps). Explicit Euler of m v' = -c v is stable for c dt/m < 2; we keep
+    c dt_sub / m <= 1.5 for the dampings that can act on the box at once:
+        c_lin = plate and palm (normal + tangential) + grasp          (N s/m, on m in kg)
+        c_rot = c_lin_tangential (0.1 m lever) + grasp + wrist           (Nm s/rad, on I_min in kg m^2)
+    (a 1 kg box needs 1 substep; a 0.05 kg box, 8)."""
+    plate, palm, human, box = config.plate_contact, config.palm_contact, config.human, config.box
+    c_tangential = plate.tangential_damping + palm.tangential_damping
+    c_lin = plate.normal_damping + palm.normal_damping + c_tangential + human.grasp_damping
+    lever = max(box.size) / 2.0  # m, a face's contact to the box centre
+    c_rot = c_tangential * lever**2 + human.grasp_rot_damping + human.wrist_damping
+    rate = config.dt * max(c_lin / box.mass, c_rot / float(np.min(np.diag(box.inertia_body))))
+    return max(config.physics_substeps, int(np.ceil(rate / 1.5)))
+
+
 @dataclass
 class Snapshot:
     """A consistent copy of the world's state (what the server publishes)."""
@@ -91,6 +107,7 @@ class World:
         )
         self.palm_contact = PatchContact(PatchGeometry(*cfg.palm_size, *cfg.palm_grid), cfg.palm_contact)
         self.params.plate_offset = cfg.plate.offset
+        self.substeps = stable_substeps(cfg)  # physics substeps per step (recomputed when the box or contact changes)
         self.participant: Participant | None = None  # overrides config.participant when set
         self.reset()
 
@@ -159,11 +176,13 @@ class World:
         """Change the box (BoxParams fields) now and for later resets."""
         self.config = replace(self.config, box=replace(self.config.box, **changes))
         self.box.set_params(self.config.box)
+        self.substeps = stable_substeps(self.config)
 
     def set_plate_contact(self, **changes) -> None:
         """Change the plate's contact material (ContactParams fields) now and for later resets."""
         self.config = replace(self.config, plate_contact=replace(self.config.plate_contact, **changes))
         self.plate_contact.set_params(self.config.plate_contact)
+        self.substeps = stable_substeps(self.config)
 
     def set_controller(self, controller: Controller) -> None:
         """Swap the controller (from rest: it starts with a zero command)."""
@@ -226,8 +245,8 @@ class World:
         palm_load = norm3(palm.tangential_force)
         self.human.step(dt, palm.normal_force, palm_load, self.plate_state.normal_force, band, self.box.rotation)
         # 5. physics
-        sub_dt = dt / self.config.physics_substeps
-        for _ in range(self.config.physics_substeps):
+        sub_dt = dt / self.substeps
+        for _ in range(self.substeps):
             self._physics(sub_dt)
         self.time += dt
 

@@ -115,10 +115,12 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     time.sleep(0.2)
     q_before = lab.snapshot().q.copy()
     sim_before = lab.snapshot().time
-    goal_id = client.post("/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "seed": 3}).json()["goal_id"]
+    goal = {"trials": 1, "participant": "hasty", "seed": 3, "set": "alpha=0.9 k_t=0.2"}
+    goal_id = client.post("/actions/run_experiment/goals", json=goal).json()["goal_id"]
     view = wait_terminal(client, "run_experiment", goal_id, timeout=120)
     assert view["status"] == "succeeded", view
     assert view["result"]["trials"] == 1 and "hasty" in view["result"]["table"]
+    assert view["result"]["table"].splitlines()[0] == "parameters: alpha = 0.9 (default 0.8), k_t = 0.2 (default 0.1)"
     assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
     assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
     assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
@@ -126,18 +128,18 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
 
 def test_compare_controllers_action_runs_the_same_trials_with_each_controller(client):
     """The action's figures are the headless comparison's (same participants, same seeds)."""
-    goal = {"controllers": "sp,patch", "trials": 1, "participants": "calm", "seed": 3}
+    goal = {"controllers": "sp,patch", "trials": 1, "participants": "hasty", "seed": 3}  # short trials (dropped at ~3 s)
     goal_id = client.post("/actions/compare_controllers/goals", json=goal).json()["goal_id"]
     view = wait_terminal(client, "compare_controllers", goal_id, timeout=180)
     assert view["status"] == "succeeded", view
     result = view["result"]
     assert result["controllers"] == ["sp", "patch"] and result["trials"] == [1, 1]
     assert [(f["controller"], f["participant"], f["trial"], f["of"]) for f in view["feedback"]] == [
-        ("sp", "calm", 1, 2), ("patch", "calm", 2, 2)]
-    direct = run_comparison(["sp", "patch"], 1, ["calm"], seed=3)
-    assert result["successes"] == [int(direct[name]["calm"][0].success) for name in ("sp", "patch")]
-    assert [f["duration"] for f in view["feedback"]] == [direct[name]["calm"][0].duration for name in ("sp", "patch")]
-    assert result["table"] == format_comparison(direct)
+        ("sp", "hasty", 1, 2), ("patch", "hasty", 2, 2)]
+    direct = run_comparison(["sp", "patch"], 1, ["hasty"], seed=3)
+    assert result["successes"] == [int(direct[name]["hasty"][0].success) for name in ("sp", "patch")]
+    assert [f["duration"] for f in view["feedback"]] == [direct[name]["hasty"][0].duration for name in ("sp", "patch")]
+    assert result["table"] == format_comparison(direct, "parameters: the defaults")
 
 
 def test_compare_controllers_refusals(client):
@@ -145,6 +147,18 @@ def test_compare_controllers_refusals(client):
                         ({"participants": "calm,sleepy"}, "participants")):
         refused = client.post("/actions/compare_controllers/goals", json=goal)
         assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == field
+
+
+def test_experiment_goals_refuse_a_bad_set_with_the_parameter_servers_message(client):
+    for action in ("run_experiment", "compare_controllers"):
+        for text, message in (("alpha=3", "Parameter {alpha} doesn't comply with floating point range."),
+                              ("k_t=fast", "Wrong parameter type, parameter {k_t} is of type {double}"),
+                              ("f_n_min=5", "parameter 'f_n_min' does not apply to a headless experiment")):
+            refused = client.post(f"/actions/{action}/goals", json={"set": text})
+            assert refused.status_code == 422, refused.text
+            detail = refused.json()["detail"][0]
+            assert detail["loc"][-1] == "set" and message in detail["msg"]
+    assert "string set" in client.get("/actions/run_experiment").json()["definition"]
 
 
 def test_robot_model(client):

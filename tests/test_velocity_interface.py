@@ -91,3 +91,27 @@ def test_invalid_commands_stop_the_robot(arm):
     arm.command_twist(np.array([0.0, 0.0]), DT)
     assert "invalid command" in arm.error
     assert np.all(np.isfinite(arm.q))
+
+
+def test_after_recovery_the_posture_term_ramps_instead_of_re_tripping():
+    """Far from the rest posture (the elbow drifted while following), recover() leaves the robot
+    at rest; the null-space term k (q_rest - q) alone would jump qdot beyond the joint acceleration
+    limit in one period and trip again, forever. It is ramped: no reflex, the elbow comes back."""
+    def drifted(ramp):
+        arm = CartesianVelocityInterface(PandaModel(), SIDE_Q)
+        arm.null_space_ramp = ramp
+        arm.q_rest = arm.q + np.array([0.3, 0.0, -0.3, 0.0, 0.3, 0.0, 0.3])
+        arm.error = "a reflex before"
+        arm.recover()
+        return arm
+
+    unramped = drifted(np.inf)
+    unramped.command_twist(np.zeros(6), DT)
+    assert unramped.error is not None and "joint acceleration limit" in unramped.error
+    arm = drifted(CartesianVelocityInterface.null_space_ramp)
+    q_start, ee_start = arm.q.copy(), arm.transform_ee_to_base[:3, 3].copy()
+    for _ in range(1000):
+        arm.command_twist(np.zeros(6), DT)
+        assert arm.error is None
+    assert np.linalg.norm(arm.q - q_start) > 0.05
+    assert arm.transform_ee_to_base[:3, 3] == pytest.approx(ee_start, abs=2e-3)  # the null space does not move the EE

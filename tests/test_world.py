@@ -196,11 +196,56 @@ def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller()
         capture_output=True, text=True, check=True, timeout=300,
     )
     data = json.loads(out.stdout)
+    assert data["set"] == {} and data["seed"] == 3
+    data = data["results"]
     assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["calm"]
     (sp,), (patch,) = data["sp"]["calm"], data["patch"]["calm"]
     assert sp["seed"] == patch["seed"] == plan(1, "calm", 3)[0][3]
     # the table the CLI prints without --json, from these results
     results = {name: {"calm": [TrialResult(**r) for r in data[name]["calm"]]} for name in data}
-    header, _, _, row, _, total = format_comparison(results).splitlines()
+    title, header, _, _, row, _, total = format_comparison(results, "seed 3; parameters: the defaults").splitlines()
+    assert title == "seed 3; parameters: the defaults"
     assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("calm")
     assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"
+
+
+def _sim_ends():
+    """The ends of every accepted `sim` parameter's range: box mass x contact stiffness (what decides
+    the integration's stability), the sensor at its noisiest and unfiltered; and everything at its low end."""
+    from itertools import product
+
+    from app.lab.params import LAB_PARAMETERS
+
+    ranges = {p.name: (p, p.range) for p in LAB_PARAMETERS if p.node == "sim" and p.offline is not None}
+    noisy = {name: high for name, (_, (low, high)) in ranges.items() if name not in ("box_mass", "contact_stiffness")}
+    cases = [{"box_mass": m, "contact_stiffness": k, **noisy} for m, k in product(ranges["box_mass"][1], ranges["contact_stiffness"][1])]
+    cases.append({name: low for name, (_, (low, high)) in ranges.items()})
+    return [(case, [(ranges[name][0], value) for name, value in case.items()]) for case in cases]
+
+
+@pytest.mark.parametrize("case, overrides", _sim_ends(), ids=lambda c: "-".join(f"{v:g}" for v in c.values()) if isinstance(c, dict) else "")
+def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
+    """Grip and release at the ends of the ranges: the box stays where the hands hold it (an
+    unstable integration blows it away within a few steps: a 0.05 kg box without substeps did
+    at the 12th)."""
+    from app.lab.overrides import setup_of
+    from sim.procedures.experiment import make_trial
+
+    index, person, attempt, seed = plan(1, "calm", 0)[0]
+    trial = make_trial(index, person, attempt, seed, setup=setup_of(overrides))
+    box, start = trial.world.box, trial.world.box.position.copy()
+    for _ in range(1000):  # the robot presses the box into the band, the person lets go
+        if not trial.step():
+            break
+        assert np.all(np.isfinite(box.position)) and np.linalg.norm(box.velocity) < 0.5
+    assert np.linalg.norm(box.position - start) < 0.1
+
+
+def test_reset_gives_a_sane_world_at_every_box_mass():
+    world = World()
+    for mass in (0.05, 5.0):
+        world.set_box(mass=mass)
+        world.reset()
+        start = world.box.position.copy()
+        world.run(0.3)
+        assert np.all(np.isfinite(world.box.position)) and np.linalg.norm(world.box.position - start) < 0.02

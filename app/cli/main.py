@@ -9,11 +9,14 @@ from pathlib import Path
 
 from sim.procedures.experiment import (
     format_comparison,
+    format_sweep,
     format_table,
     plan,
     run_comparison,
     run_experiment,
+    run_sweep,
     summary,
+    sweep_json,
 )
 from sim.person.human import PARTICIPANTS
 from sim.controllers.plugin import PluginError, controller_factory
@@ -28,41 +31,85 @@ def _controller_factory(spec: str | None):
     return factory
 
 
-def _experiment(args: argparse.Namespace) -> int:
+def _overrides(args: argparse.Namespace) -> list:
+    """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
+    from app.lab import overrides
+
+    found = []
+    if args.params:
+        found, ignored = overrides.parse_file(Path(args.params).read_text(encoding="utf-8"))
+        if ignored and not args.quiet:
+            print(f"hri-lab: {args.params}: not applicable to a headless trial, ignored: {', '.join(ignored)}", file=sys.stderr)
+    return found + overrides.parse_set(args.set or [])
+
+
+def _progress_bar(args: argparse.Namespace, total: int):
     from tqdm import tqdm
 
+    return tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet)
+
+
+def _experiment(args: argparse.Namespace) -> int:
+    from app.lab import overrides
+    from app.ros.params import ParameterRefused
+
+    try:
+        found = _overrides(args)
+        axes = overrides.parse_sweep(args.sweep) if args.sweep else None
+    except (OSError, ParameterRefused) as exc:
+        print(f"hri-lab: {exc}", file=sys.stderr)
+        return 2
+    title, changed = overrides.describe(found), overrides.changed(found)
     if args.compare:
-        return _compare(args)
+        if axes:
+            print("hri-lab: --sweep runs one controller (pick it with --controller), not --compare", file=sys.stderr)
+            return 2
+        return _compare(args, overrides.setup_of(found), title, changed)
     factory = _controller_factory(args.controller)
-    total = len(plan(args.trials, args.participant, args.seed))
-    with tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet) as bar:
+    trials = len(plan(args.trials, args.participant, args.seed))
+    points = overrides.sweep_points(axes, found) if axes else None
+    with _progress_bar(args, trials * len(points or [None])) as bar:
 
         def progress(result) -> None:
             bar.set_postfix_str(f"{result.participant} #{result.attempt}: {'ok' if result.success else 'FAILED'}")
             bar.update(1)
 
-        results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
-                                 on_result=progress, jobs=args.jobs, outputs=_outputs(args))
-    _summary_figure(args, {args.controller or "sp": results})
-    if args.json:
-        print(json.dumps({"summary": summary(results), "trials": [r.as_dict() for r in results]}, indent=2))
+        if points:
+            rows = run_sweep(points, args.trials, args.participant, args.seed, factory, progress, args.jobs)
+        else:
+            results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
+                                     on_result=progress, jobs=args.jobs, setup=overrides.setup_of(found),
+                                     outputs=_outputs(args))
+    controller = args.controller or "sp"
+    if not points:
+        _summary_figure(args, {controller: results})
+    if points and args.json:
+        print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, **sweep_json(rows)}, indent=2))
+    elif points:
+        swept = " x ".join(p.name for p, _ in axes)
+        print(format_sweep(rows, f"sweep of {swept}, controller {controller}, seed {args.seed}; {title}"))
+    elif args.json:
+        print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, "summary": summary(results),
+                          "trials": [r.as_dict() for r in results]}, indent=2))
     else:
-        print(format_table(results))
+        print(format_table(results, f"controller {controller}, seed {args.seed}; {title}"))
     return 0
 
 
-def _compare(args: argparse.Namespace) -> int:
+def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
     """The same participants and seeds with each controller, side by side."""
     names = [n.strip() for n in args.compare.split(",") if n.strip()]
     factories = {name: _controller_factory(name) for name in names}
     people = [args.participant] if args.participant else None
     results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs,
-                             outputs=_outputs(args))
+                             setup=setup, outputs=_outputs(args))
     _summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
     if args.json:
-        print(json.dumps({n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}, indent=2))
+        print(json.dumps({"seed": args.seed, "set": changed,
+                          "results": {n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}},
+                         indent=2))
     else:
-        print(format_comparison(results))
+        print(format_comparison(results, f"seed {args.seed}; {title}"))
     return 0
 
 
@@ -108,6 +155,11 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
     exp.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
     exp.add_argument("--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side")
+    exp.add_argument("--set", action="append", metavar="NAME=VALUE",
+                     help="a parameter for every trial, e.g. --set alpha=0.5 --set k_t=0.2 (checked like `param set`)")
+    exp.add_argument("--params", metavar="FILE.yaml", help="parameters for every trial, a `param dump` file (--set wins)")
+    exp.add_argument("--sweep", action="append", metavar="NAME=V1,V2,...",
+                     help="run the same trials at each value (twice: a grid of two parameters); one table")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_output_options(exp)
     exp.set_defaults(func=_experiment)

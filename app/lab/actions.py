@@ -1,12 +1,10 @@
 """The lab's actions (docs/design.md, "Actions"), one declaration each."""
 import multiprocessing
-import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Annotated
 
 from pathlib import Path
 
-from pydantic import Field
+from pydantic import AfterValidator, Field
 
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
@@ -14,16 +12,33 @@ from sim.procedures.experiment import (
     TrialResult,
     format_comparison,
     format_table,
-    plan,
     run_comparison,
-    run_trial,
+    run_experiment as run_trials,
 )
 from sim.person.human import PARTICIPANTS
 from sim.controllers.builtin import BUILTIN
+from sim.procedures.workers import worker_pool
+from sim.recording.trial import TrialOutputs
 
 from app.lab import commands as cmd
+from app.lab import overrides
 from app.ros.actions import Action, GoalHandle
+from app.ros.params import ParameterRefused
 from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, int32_array, string_array
+
+
+def _check_set(text: str) -> str:
+    """A goal's `set` field is checked like `param set` (the refusal names the parameter)."""
+    try:
+        overrides.parse_set(text)
+    except ParameterRefused as refused:
+        raise ValueError(str(refused)) from None
+    return text
+
+
+# `set`: parameters for every trial of the goal
+SetField = Annotated[str, Field(max_length=2000, alias="set"), AfterValidator(_check_set),
+                     RosType("string", "parameters for every trial, e.g. 'alpha=0.5 k_t=0.2'")]
 
 
 def _names(choices) -> str:
@@ -88,6 +103,7 @@ class ExperimentGoal(RosMessage):
     participant: Annotated[str, Field(pattern="^(|" + "|".join(PARTICIPANTS) + ")$"), RosType("string")] = ""
     seed: Int64 = 0
     plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
+    set_: SetField = ""
 
 
 class ExperimentResult(RosMessage):
@@ -99,11 +115,14 @@ class ExperimentResult(RosMessage):
 
 def _figures_of(lab, handle: GoalHandle):
     """Where a goal's figures go (lab.figures_dir/<goal id>) as TrialOutputs, and their URLs."""
-    from sim.recording.trial import TrialOutputs
-
     folder = Path(lab.figures_dir) / handle.id
     folder.mkdir(parents=True, exist_ok=True)
     return TrialOutputs(plots_dir=str(folder)), folder
+
+
+def _summary_figure(results: dict, folder: Path) -> None:
+    with worker_pool(1, SPAWN) as pool:  # matplotlib in a worker, off the server
+        pool.submit(save_summary_figure, results, str(folder)).result()
 
 
 def save_summary_figure(results: dict, folder: str) -> dict:
@@ -128,29 +147,28 @@ class ExperimentFeedback(RosMessage):
     reason: String
 
 
+SPAWN = multiprocessing.get_context("spawn")  # worker processes never fork the server's threads
+
+
 def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentResult:
     """The Table 1 trials headless, each on its own world in a worker process (the live robot and
     its 1 kHz loop are untouched); a cancel stops after the running trial."""
-    work = plan(goal.trials, goal.participant or None, goal.seed)
-    results = []
+    found = overrides.parse_set(goal.set_)
     outputs, folder = _figures_of(lab, handle) if goal.plots else (None, None)
-    context = multiprocessing.get_context("spawn")  # never fork the server's threads
-    with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
-        for index, person, attempt, seed in work:
-            future = pool.submit(run_trial, index, person, attempt, seed, outputs=outputs)
-            while not future.done():
-                time.sleep(0.05)
-            result = future.result()
-            results.append(result)
-            handle.feedback(ExperimentFeedback(
-                trial=index + 1, of=len(work), participant=result.participant, success=result.success,
-                duration=result.duration, reason=result.reason,
-            ))
-            if handle.cancel_requested:
-                break
-        if folder is not None:  # matplotlib in the worker, not in the server
-            pool.submit(save_summary_figure, {"sp": results}, str(folder)).result()
-    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results), table=format_table(results),
+    done = []
+
+    def feedback(result: TrialResult) -> None:
+        done.append(result)
+        handle.feedback(ExperimentFeedback(trial=len(done), of=goal.trials, participant=result.participant,
+                                           success=result.success, duration=result.duration, reason=result.reason))
+
+    results = run_trials(goal.trials, goal.participant or None, goal.seed, on_result=feedback,
+                         setup=overrides.setup_of(found), cancelled=lambda: handle.cancel_requested, mp_context=SPAWN,
+                         outputs=outputs)
+    if folder is not None:
+        _summary_figure({"sp": results}, folder)
+    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results),
+                            table=format_table(results, overrides.describe(found)),
                             figures=_figure_urls(folder) if folder is not None else [])
 
 
@@ -162,6 +180,7 @@ class CompareGoal(RosMessage):
                             RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
     seed: Int64 = 0
     plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
+    set_: SetField = ""
 
 
 class CompareResult(RosMessage):
@@ -195,16 +214,15 @@ def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareRe
         handle.feedback(CompareFeedback(controller=item.controller, participant=result.participant, trial=len(done), of=total,
                                         success=result.success, duration=result.duration, reason=result.reason))
 
+    found = overrides.parse_set(goal.set_)
     outputs, folder = _figures_of(lab, handle) if goal.plots else (None, None)
-    context = multiprocessing.get_context("spawn")
-    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback,
-                             cancelled=lambda: handle.cancel_requested, mp_context=context, outputs=outputs)
+    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback, setup=overrides.setup_of(found),
+                             cancelled=lambda: handle.cancel_requested, mp_context=SPAWN, outputs=outputs)
     runs = [[r for rs in results[name].values() for r in rs] for name in names]
     if folder is not None:
-        with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:  # matplotlib off the server
-            pool.submit(save_summary_figure, dict(zip(names, runs)), str(folder)).result()
+        _summary_figure(dict(zip(names, runs)), folder)
     return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
-                         trials=[len(rs) for rs in runs], table=format_comparison(results),
+                         trials=[len(rs) for rs in runs], table=format_comparison(results, overrides.describe(found)),
                          figures=_figure_urls(folder) if folder is not None else [])
 
 

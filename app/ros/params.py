@@ -30,6 +30,7 @@ class Parameter:
     choices: tuple[str, ...] = ()  # allowed strings (checked like an on_set callback)
     apply: Callable[[Any, Any], None] | None = None  # (world, value), on the loop thread
     read: Callable[[Any], Any] | None = None  # (world) -> value, on the loop thread
+    offline: Callable[[Any, Any], Any] | None = None  # (setup, value) -> setup of a headless run; None: not applicable
 
     def describe(self) -> dict:
         out = {"node": self.node, "name": self.name, "type": self.type, "description": self.description,
@@ -86,6 +87,13 @@ class ParameterServer:
 
     def set(self, node: str, name: str, value: Any, force: bool = False) -> None:
         """Set or raise ParameterRefused with rclcpp's reason. force: skip read-only (start-up files)."""
+        param, value = self.validate(node, name, value, force)
+        if param.apply is not None:
+            self.lab.call(param.apply, value)
+        self.values[(param.node, param.name)] = value
+
+    def validate(self, node: str, name: str, value: Any, force: bool = False) -> tuple[Parameter, Any]:
+        """(declaration, value as stored) or ParameterRefused with rclcpp's reason; changes nothing."""
         param = self.declaration(node, name)
         if param.read_only and not force:
             raise ParameterRefused(f"parameter '{name}' cannot be set because it is read-only")
@@ -103,9 +111,7 @@ class ParameterServer:
                 raise ParameterRefused(f"Parameter {{{name}}} doesn't comply with {kind} range.")
         if param.choices and value not in param.choices:
             raise ParameterRefused(f"Parameter {{{name}}} must be one of {', '.join(param.choices)}.")
-        if param.apply is not None:
-            self.lab.call(param.apply, value)
-        self.values[(param.node, param.name)] = value
+        return param, value
 
     def items(self) -> list[tuple[Parameter, Any]]:
         return [(p, self.get(p.node, p.name)) for p in self.declarations.values()]

@@ -11,15 +11,18 @@ Nine trials = three participants x three tries.
 """
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import asdict, dataclass, field, replace
-from typing import Callable
+from typing import Any, Callable, Iterable
 
 import numpy as np
 
 from sim.controllers.interface import Controller, LiftingParams
 from sim.person.human import PARTICIPANTS, TABLE_1, Participant
 from sim.controllers.sp import SPController
+from sim.controllers.plugin import controller_factory as default_factory
+from sim.procedures.workers import worker_pool
+from sim.recording.trial import TrialObserver
 from sim.spatial import norm3
 from sim.world import World, WorldConfig
 
@@ -34,6 +37,30 @@ class TrialRules:
     max_slip: float = 0.02  # m, box relative to the palm (tangential)
     contact_force: float = 0.5  # N, plate normal force below this = no contact
     max_contact_loss: float = 0.2  # s
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What an experiment changes from the defaults (the app turns parameter overrides into it):
+    the controller's LiftingParams, the world's WorldConfig, and fields of every participant
+    (set before a try varies speed and squeeze)."""
+
+    params: LiftingParams = field(default_factory=LiftingParams)
+    config: WorldConfig = field(default_factory=WorldConfig)
+    person: tuple[tuple[str, Any], ...] = ()  # (Participant field, value)
+
+    def with_lifting(self, name: str, value: Any) -> Setup:
+        return replace(self, params=replace(self.params, **{name: value}))
+
+    def with_config(self, part: str, name: str, value: Any) -> Setup:
+        """A field of a part of WorldConfig (sensor, box, plate_contact, ...)."""
+        return replace(self, config=replace(self.config, **{part: replace(getattr(self.config, part), **{name: value})}))
+
+    def with_person(self, name: str, value: Any) -> Setup:
+        return replace(self, person=tuple((k, v) for k, v in self.person if k != name) + ((name, value),))
+
+    def participant(self, person: Participant) -> Participant:
+        return replace(person, **dict(self.person))
 
 
 @dataclass
@@ -181,18 +208,81 @@ def run_trial(
     seed: int,
     rules: TrialRules = TrialRules(),
     controller_factory: Callable[[], Controller] = SPController,
+    setup: Setup = Setup(),
     outputs=None,
 ) -> TrialResult:
     """outputs: a sim.recording.trial.TrialOutputs (recording and figure of the trial) or None."""
-    trial = Trial(person, seed, controller_factory(), rules=rules, index=index, attempt=attempt)
+    trial = make_trial(index, person, attempt, seed, rules, controller_factory, setup)
     if outputs is None or not outputs.wanted:
         return trial.run()
-    from sim.recording.trial import TrialObserver
-
     trial.observer = TrialObserver(trial, outputs)
     result = trial.run()
     result.files = trial.observer.finish(result)
     return result
+
+
+def make_trial(index: int, person: Participant, attempt: int, seed: int, rules: TrialRules = TrialRules(),
+               controller_factory: Callable[[], Controller] = SPController, setup: Setup = Setup()) -> Trial:
+    """A trial of `person` with the setup's parameters (its own copy of them)."""
+    return Trial(setup.participant(person), seed, controller_factory(), config=setup.config, rules=rules,
+                 params=replace(setup.params), index=index, attempt=attempt)
+
+
+@dataclass(frozen=True)
+class Job:
+    """One trial of a batch: `key` says where its result belongs (controller, sweep point, ...)."""
+
+    key: Any
+    index: int
+    participant: Participant
+    attempt: int
+    seed: int
+    controller_factory: Callable[[], Controller] = SPController
+    setup: Setup = Setup()
+    rules: TrialRules = TrialRules()
+    outputs: Any = None  # a TrialOutputs (sim/recording/trial.py): record and plot the trial
+
+    def run(self) -> TrialResult:
+        return run_trial(self.index, self.participant, self.attempt, self.seed, self.rules,
+                         self.controller_factory, self.setup, self.outputs)
+
+
+def run_jobs(
+    work: list[Job],
+    jobs: int = 1,
+    on_result: Callable[[Job, TrialResult], None] | None = None,
+    cancelled: Callable[[], bool] = lambda: False,
+    mp_context=None,
+) -> list[TrialResult | None]:
+    """Run the trials, in order of `work`; in `jobs` worker processes (they die with this process)
+    unless jobs == 1 and no mp_context is given (then here). Each trial has its own seed, so the
+    results do not depend on `jobs`. Once `cancelled()`, no further trial starts (None in its
+    place); the running ones finish."""
+    results: list[TrialResult | None] = [None] * len(work)
+    if jobs <= 1 and mp_context is None:
+        for i, job in enumerate(work):
+            if cancelled():
+                break
+            results[i] = job.run()
+            if on_result:
+                on_result(job, results[i])
+        return results
+    with worker_pool(jobs, mp_context) as pool:
+        running: dict = {}
+        queue = list(enumerate(work))
+        while queue or running:
+            while queue and len(running) < max(1, jobs) and not cancelled():
+                i, job = queue.pop(0)
+                running[pool.submit(Job.run, job)] = i
+            if not running:
+                break
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                i = running.pop(future)
+                results[i] = future.result()
+                if on_result:
+                    on_result(work[i], results[i])
+    return results
 
 
 def run_experiment(
@@ -203,25 +293,96 @@ def run_experiment(
     controller_factory: Callable[[], Controller] = SPController,
     on_result: Callable[[TrialResult], None] | None = None,
     jobs: int = 1,
+    setup: Setup = Setup(),
+    cancelled: Callable[[], bool] = lambda: False,
+    mp_context=None,
     outputs=None,
 ) -> list[TrialResult]:
-    """Run the trials, in `jobs` processes when jobs > 1 (each trial has its own seed, so the
-    results are the same whatever the number of processes); returned in plan order.
+    """Run the trials (see run_jobs); returned in plan order (a cancel leaves out those not run).
     outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial."""
-    work = [(*item, rules, controller_factory, outputs) for item in plan(trials, participant, seed)]
-    if jobs <= 1:
-        results = []
-        for args in work:
-            results.append(run_trial(*args))
-            if on_result:
-                on_result(results[-1])
-        return results
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(run_trial, *args) for args in work]
-        for future in as_completed(futures):
-            if on_result:
-                on_result(future.result())
-        return [f.result() for f in futures]
+    work = [Job(None, i, p, a, s, controller_factory, setup, rules, outputs)
+            for i, p, a, s in plan(trials, participant, seed)]
+    results = run_jobs(work, jobs, (lambda job, r: on_result(r)) if on_result else None, cancelled, mp_context)
+    return [r for r in results if r is not None]
+
+
+SweepPoint = tuple[dict[str, Any], Setup]  # ({parameter: value}, the setup with those values)
+
+
+@dataclass
+class SweepRow:
+    values: dict[str, Any]
+    results: list[TrialResult]
+
+
+def run_sweep(
+    points: list[SweepPoint],
+    trials: int = 9,
+    participant: str | None = None,
+    seed: int = 0,
+    controller_factory: Callable[[], Controller] = SPController,
+    on_result: Callable[[TrialResult], None] | None = None,
+    jobs: int = 1,
+    rules: TrialRules = TrialRules(),
+) -> list[SweepRow]:
+    """The same trials (participants, tries, seeds) at every point, all in one pool."""
+    items = plan(trials, participant, seed)
+    work = [Job(k, i, p, a, s, controller_factory, setup, rules)
+            for k, (_, setup) in enumerate(points) for i, p, a, s in items]
+    results = run_jobs(work, jobs, (lambda job, r: on_result(r)) if on_result else None)
+    return [SweepRow(dict(values), [r for job, r in zip(work, results) if job.key == k])
+            for k, (values, _) in enumerate(points)]
+
+
+def aggregate(results: list[TrialResult]) -> dict:
+    """One participant's trials in one number each: successes, mean time of the successes (s),
+    mean f_n min and max (N), mean max friction ratio, mean and max slip (m)."""
+    ok = [r for r in results if r.success]
+    return {
+        "successes": len(ok),
+        "trials": len(results),
+        "mean_duration_success": float(np.mean([r.duration for r in ok])) if ok else None,
+        "f_n_min": float(np.mean([r.f_n_min for r in results])),
+        "f_n_max": float(np.mean([r.f_n_max for r in results])),
+        "friction_ratio": float(np.mean([r.max_friction_ratio for r in results])),
+        "slip_mean": float(np.mean([r.slip for r in results])),
+        "slip_max": float(np.max([r.slip for r in results])),
+    }
+
+
+def by_participant(results: Iterable[TrialResult]) -> dict[str, list[TrialResult]]:
+    out: dict[str, list[TrialResult]] = {}
+    for r in results:
+        out.setdefault(r.participant, []).append(r)
+    return out
+
+
+def sweep_json(rows: list[SweepRow]) -> dict:
+    """The sweep as data (one point per row; per participant the aggregate; every trial)."""
+    return {
+        "parameters": list(rows[0].values) if rows else [],
+        "points": [{"values": row.values,
+                    "participants": {p: aggregate(rs) for p, rs in by_participant(row.results).items()},
+                    "trials": [r.as_dict() for r in row.results]} for row in rows],
+    }
+
+
+def format_sweep(rows: list[SweepRow], title: str = "") -> str:
+    """One line per (point, participant): successes, time, slip, f_n range, friction ratio."""
+    names = list(rows[0].values) if rows else []
+    head = "".join(f"{n:>10} " for n in names)
+    header = f"{head}{'participant':<11} {'ok':>4} {'time s':>7} {'slip mm mean/max':>17} {'f_n min..max':>13} {'|ft|/mu fn':>10}"
+    lines = ([title] if title else []) + [header, "-" * len(header)]
+    for row in rows:
+        values = "".join(f"{v:>10g} " if isinstance(v, (int, float)) else f"{v!s:>10} " for v in row.values.values())
+        for person, rs in by_participant(row.results).items():
+            a = aggregate(rs)
+            time_s = f"{a['mean_duration_success']:.1f}" if a["successes"] else "-"
+            slip = f"{a['slip_mean'] * 1000:.1f}/{a['slip_max'] * 1000:.1f}"
+            lines.append(f"{values}{person:<11} {a['successes']}/{a['trials']:<2} {time_s:>7} {slip:>17} "
+                         f"{a['f_n_min']:>6.1f}..{a['f_n_max']:<5.1f} {a['friction_ratio']:>10.2f}")
+    lines.append("-" * len(header))
+    return "\n".join(line.rstrip() for line in lines)
 
 
 def summary(results: list[TrialResult]) -> dict:
@@ -234,10 +395,11 @@ def summary(results: list[TrialResult]) -> dict:
     }
 
 
-def format_table(results: list[TrialResult]) -> str:
-    """The Table 1 of the handout as text."""
+def format_table(results: list[TrialResult], title: str = "") -> str:
+    """The Table 1 of the handout as text; `title` (e.g. the parameters that differ from the
+    defaults) goes above it."""
     header = f"{'#':>2}  {'participant':<11} {'try':>3}  {'success':<7} {'time s':>7} {'min f_n':>8} {'max f_n':>8} {'max |ft|/mu fn':>15} {'slip mm':>8}  reason"
-    lines = [header, "-" * len(header)]
+    lines = ([title] if title else []) + [header, "-" * len(header)]
     for r in results:
         lines.append(
             f"{r.index + 1:>2}  {r.participant:<11} {r.attempt:>3}  {'yes' if r.success else 'NO':<7} {r.duration:>7.2f} "
@@ -284,45 +446,32 @@ def run_comparison(
     cancelled: Callable[[], bool] = lambda: False,
     jobs: int = 1,
     mp_context=None,
+    setup: Setup = Setup(),
     outputs=None,
 ) -> Comparison:
-    """Run the comparison (in `jobs` processes; stops handing out trials once `cancelled()`).
-    controller_factory(name) -> factory of new controllers (default: the built-in ones).
-    outputs: a TrialOutputs to record and plot every trial (files prefixed with the controller)."""
-    from sim.controllers.plugin import controller_factory as default_factory
-
+    """Run the comparison (see run_jobs: `jobs` processes, stops handing out trials once
+    `cancelled()`). controller_factory(name) -> factory of new controllers (default: the
+    built-in ones). outputs: a TrialOutputs to record and plot every trial (files prefixed with
+    the controller)."""
     make = controller_factory or default_factory
-    work = comparison_plan(controllers, trials, participants, seed)
+    items = comparison_plan(controllers, trials, participants, seed)
+    work = [Job(item, item.index, item.participant, item.attempt, item.seed, make(item.controller), setup,
+                outputs=replace(outputs, prefix=f"{item.controller}_", label=item.controller) if outputs else None)
+            for item in items]
+    done = run_jobs(work, jobs, (lambda job, r: on_result(job.key, r)) if on_result else None, cancelled, mp_context)
     results: Comparison = {name: {} for name in controllers}
-    with ProcessPoolExecutor(max_workers=max(1, jobs), mp_context=mp_context) as pool:
-        running = {}
-        queue = list(work)
-        while queue or running:
-            while queue and len(running) < max(1, jobs) and not cancelled():
-                item = queue.pop(0)
-                mine = replace(outputs, prefix=f"{item.controller}_", label=item.controller) if outputs else None
-                running[pool.submit(run_trial, item.index, item.participant, item.attempt, item.seed,
-                                    TrialRules(), make(item.controller), mine)] = item
-            if not running:
-                break
-            future = next(as_completed(running))
-            item = running.pop(future)
-            result = future.result()
+    for item, result in zip(items, done):
+        if result is not None:
             results[item.controller].setdefault(item.participant.name, []).append(result)
-            if on_result:
-                on_result(item, result)
-    for by_person in results.values():
-        for rs in by_person.values():
-            rs.sort(key=lambda r: r.index)
     return results
 
 
-def format_comparison(results: Comparison) -> str:
+def format_comparison(results: Comparison, title: str = "") -> str:
     """Per participant, per controller: successes, mean time, f_n range, friction margin, slip."""
     names = list(results)
     header = f"{'participant':<11} " + " | ".join(f"{n:^44}" for n in names)
     sub = f"{'':<11} " + " | ".join(f"{'ok':>4} {'time s':>7} {'f_n min..max':>13} {'|ft|/mu fn':>10} {'slip mm':>7}" for _ in names)
-    lines = [header, sub, "-" * len(sub)]
+    lines = ([title] if title else []) + [header, sub, "-" * len(sub)]
     people = list(dict.fromkeys(person for by in results.values() for person in by))
     for person in people:
         cells = []

@@ -43,6 +43,7 @@ class CartesianVelocityInterface:
 
     damping = 0.02  # lambda of damped least squares (m)
     null_space_gain = 1.0  # 1/s, pull of the posture toward q_rest
+    null_space_ramp = 0.5  # the posture term's rate of change, as a fraction of the joint acceleration limits
 
     def __init__(self, model: PandaModel, q: np.ndarray, limits: VelocityLimits | None = None) -> None:
         self.model = model
@@ -61,6 +62,7 @@ class CartesianVelocityInterface:
         self.qdot = np.zeros(self.model.nq)
         self.twist_base = np.zeros(6)  # last executed EE twist (base frame)
         self.twist_command = np.zeros(6)  # last accepted command (for the acceleration check)
+        self.posture = np.zeros(self.model.nq)  # rad/s, last null-space posture term (ramped)
         self.error: str | None = None
         self.update_kinematics()
 
@@ -75,7 +77,7 @@ class CartesianVelocityInterface:
             return
         try:
             self._check_twist(twist_base, dt)
-            qdot = self._dls(twist_base)
+            qdot = self._dls(twist_base, dt)
             self._apply(qdot, dt)
             self.twist_command = np.array(twist_base, dtype=float)
         except Reflex as reflex:
@@ -92,15 +94,14 @@ class CartesianVelocityInterface:
                 raise Reflex("invalid command: joint velocity must be 7 finite numbers")
             self._apply(qdot, dt)
             self.twist_command = self.twist_base.copy()
+            self.posture[:] = 0.0  # a twist command after this motion ramps the posture term from zero
         except Reflex as reflex:
             self.stop_with_error(str(reflex))
 
     def recover(self) -> None:
         """Clear the reflex error (franka's automatic error recovery); the robot stays at rest."""
         self.error = None
-        self.qdot[:] = 0.0
-        self.twist_base[:] = 0.0
-        self.twist_command[:] = 0.0
+        self._halt()
 
     # --- internals --------------------------------------------------------------------------
     def _check_twist(self, twist_base: np.ndarray, dt: float) -> None:
@@ -125,9 +126,13 @@ class CartesianVelocityInterface:
                 f"cartesian acceleration limit: {alpha:.1f} rad/s^2 > {lim.cartesian_angular_acceleration} rad/s^2"
             )
 
-    def _dls(self, twist_base: np.ndarray) -> np.ndarray:
-        posture = self.null_space_gain * (self.q_rest - self.q)
-        return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), posture, self.damping**2)
+    def _dls(self, twist_base: np.ndarray, dt: float) -> np.ndarray:
+        # posture = k (q_rest - q), changing by at most ramp qdd_max dt per period: from rest (after
+        # recover()) far from q_rest the term alone would exceed the joint acceleration limit
+        step = self.null_space_ramp * self.qdd_max * dt
+        target = self.null_space_gain * (self.q_rest - self.q)
+        self.posture = self.posture + np.clip(target - self.posture, -step, step)
+        return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), self.posture, self.damping**2)
 
     def _apply(self, qdot: np.ndarray, dt: float) -> None:
         model = self.model
@@ -149,6 +154,7 @@ class CartesianVelocityInterface:
         self.twist_base = self.jacobian @ qdot
 
     def _halt(self) -> None:
+        self.posture[:] = 0.0
         self.qdot[:] = 0.0
         self.twist_base[:] = 0.0
         self.twist_command[:] = 0.0

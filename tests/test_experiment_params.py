@@ -5,10 +5,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from dataclasses import replace
 
 import pytest
+
+from tests.waiting import process_gone, wait_for
 
 from sim.person.human import PARTICIPANTS, PickAndPlace
 from sim.procedures.experiment import Setup, make_trial, plan, run_experiment, run_sweep
@@ -130,11 +131,8 @@ def test_worker_pools_die_with_their_parent(tmp_path):
     os.kill(worker, 0)  # alive
     parent.kill()
     parent.wait()
-    for _ in range(600):  # the kernel signals it at once; allow a loaded machine 30 s
-        try:
-            os.kill(worker, 0)
-        except ProcessLookupError:
-            return
-        time.sleep(0.05)
-    os.kill(worker, signal.SIGKILL)
-    pytest.fail("the worker outlived its parent")
+    try:
+        wait_for(lambda: process_gone(worker))  # the kernel signals it at once; a loaded machine may take a while
+    except AssertionError:
+        os.kill(worker, signal.SIGKILL)
+        pytest.fail("the worker outlived its parent")

@@ -2,6 +2,7 @@
 from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Request
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import JSONResponse, PlainTextResponse
 from pydantic import BaseModel, ConfigDict
 
@@ -32,11 +33,14 @@ def dump(server: ParamsDep, node: str | None = None) -> str:
     return server.dump(node)
 
 
-@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)")
+@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)",
+             description="Body: a `param dump` file, `Content-Type: application/yaml`, at most 64 KiB "
+                         "and 16 levels deep; a refused file is a 422 with the reason.",
+             openapi_extra={"requestBody": {"required": True, "content": {"application/yaml": {"schema": {"type": "string"}}}}})
 async def load(request: Request, server: ParamsDep):
     text = (await request.body()).decode("utf-8", errors="replace")
-    try:
-        results = server.load(text)
+    try:  # parsing and setting take time (and wait for the simulation): off the event loop
+        results = await run_in_threadpool(server.load, text)
     except ParameterRefused as exc:
         return _refused(exc)
     return {"successful": all(x["successful"] for x in results), "results": results}

@@ -121,14 +121,22 @@ class GoalHandle:
             except RuntimeError:  # the loop is closed: nobody waits any more
                 pass
 
+        end = loop.time() + timeout
         with self._changed:
-            if len(self.feedbacks) > after or self.status in TERMINAL:
-                return
             self._waiters.append(wake)
         try:
-            await asyncio.wait_for(event.wait(), timeout)
-        except (TimeoutError, asyncio.TimeoutError):
-            pass
+            while True:
+                with self._changed:
+                    if len(self.feedbacks) > after or self.status in TERMINAL:
+                        return
+                    event.clear()
+                left = end - loop.time()
+                if left <= 0:
+                    return
+                try:
+                    await asyncio.wait_for(event.wait(), left)
+                except (TimeoutError, asyncio.TimeoutError):
+                    return
         finally:
             with self._changed:
                 self._waiters.remove(wake)

@@ -1,10 +1,9 @@
 """The lab's actions (docs/design.md, "Actions"), one declaration each."""
-import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import Annotated
 
-from pydantic import Field
+from pydantic import BeforeValidator, Field
 
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
@@ -21,7 +20,8 @@ from sim.controllers.builtin import BUILTIN
 
 from app.lab import commands as cmd
 from app.ros.actions import Action, GoalHandle
-from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, int32_array, string_array
+from app.lab.workers import WORKERS
+from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, integral, int32_array, string_array
 
 
 def _names(choices) -> str:
@@ -32,7 +32,7 @@ def _names(choices) -> str:
 
 # --- /count: the seed's counting action ------------------------------------------------------
 class CountGoal(RosMessage):
-    count: Annotated[int, Field(ge=0, le=3600), RosType("int32")]
+    count: Annotated[int, Field(ge=0, le=3600), BeforeValidator(integral), RosType("int32")]
 
 
 class CountResult(RosMessage):
@@ -82,7 +82,7 @@ def move_to_start(lab, goal: Empty, handle: GoalHandle) -> MoveResult:
 
 # --- /run_experiment ---------------------------------------------------------------------------
 class ExperimentGoal(RosMessage):
-    trials: Annotated[int, Field(ge=1, le=27), RosType("int32")] = 9
+    trials: Annotated[int, Field(ge=1, le=27), BeforeValidator(integral), RosType("int32")] = 9
     participant: Annotated[str, Field(pattern="^(|" + "|".join(PARTICIPANTS) + ")$"), RosType("string")] = ""
     seed: Int64 = 0
 
@@ -107,8 +107,7 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
     its 1 kHz loop are untouched); a cancel stops after the running trial."""
     work = plan(goal.trials, goal.participant or None, goal.seed)
     results = []
-    context = multiprocessing.get_context("spawn")  # never fork the server's threads
-    with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
+    with ProcessPoolExecutor(max_workers=1, mp_context=WORKERS) as pool:  # workers die with the server
         for index, person, attempt, seed in work:
             future = pool.submit(run_trial, index, person, attempt, seed)
             while not future.done():
@@ -127,7 +126,7 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
 # --- /compare_controllers ----------------------------------------------------------------------
 class CompareGoal(RosMessage):
     controllers: Annotated[str, Field(pattern=_names(BUILTIN)), RosType("string", "comma-separated, e.g. sp,patch")] = "sp,patch"
-    trials: Annotated[int, Field(ge=1, le=5), RosType("int32", "tries per participant")] = 1
+    trials: Annotated[int, Field(ge=1, le=5), BeforeValidator(integral), RosType("int32", "tries per participant")] = 1
     participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
                             RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
     seed: Int64 = 0
@@ -164,7 +163,7 @@ def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareRe
                                         success=result.success, duration=result.duration, reason=result.reason))
 
     results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback,
-                             cancelled=lambda: handle.cancel_requested, mp_context=multiprocessing.get_context("spawn"))
+                             cancelled=lambda: handle.cancel_requested, mp_context=WORKERS)
     runs = [[r for rs in results[name].values() for r in rs] for name in names]
     return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
                          trials=[len(rs) for rs in runs], table=format_comparison(results))

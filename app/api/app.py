@@ -16,6 +16,7 @@ from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
 from app.api.access import TokenMiddleware, token_problem
+from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
 from app.lab.actions import ACTIONS
@@ -89,4 +90,5 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app.include_router(teleop_api.router)
     app.include_router(robot_api.router)
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
+    document(app)
     return app

@@ -1,6 +1,5 @@
 """Limits and timeouts: no input crashes or stalls the server (body size, YAML, echoes, stream
 rates, long-polls, half-sent requests, shutdown, tokens)."""
-import asyncio
 import json
 import signal
 import socket
@@ -113,9 +112,13 @@ def test_a_short_token_is_refused_at_start():
         create_app(token="short")
 
 
+TOKEN = "s3cret-s3cret-s3cret"
+AUTH = {"authorization": f"Bearer {TOKEN}"}
+
+
 @pytest.fixture(scope="module")
 def server():
-    with running_server("--view", "none") as server:
+    with running_server("--view", "none", "--token", TOKEN) as server:
         yield server
 
 
@@ -123,33 +126,37 @@ def test_long_polls_hold_no_thread(server):
     """60 long-polls (more than the thread pool's 40) wait on a goal; a service call meanwhile is
     answered before any of them returns."""
     url = server.url
-    goal = httpx.post(f"{url}/actions/count/goals", json={"count": 30}).json()["goal_id"]
+    goal = httpx.post(f"{url}/actions/count/goals", json={"count": 30}, headers=AUTH).json()["goal_id"]
     try:
         poll = f"{url}/actions/count/goals/{goal}"
         with ThreadPoolExecutor(60) as pool:
             polls = [pool.submit(httpx.get, poll, params={"after": 1000, "wait": 20}, timeout=60) for _ in range(60)]
             time.sleep(1.0)  # let them arrive (none returns before the goal ends or 20 s pass)
-            assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, timeout=30).json() == {"sum": 3}
+            assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers=AUTH, timeout=30).json() == {"sum": 3}
             assert not any(p.done() for p in polls)
-            httpx.post(f"{poll}/cancel")  # ends the goal: every long-poll answers
+            httpx.post(f"{poll}/cancel", headers=AUTH)  # ends the goal: every long-poll answers
             assert {p.result().json()["status"] for p in polls} <= {"preempting", "preempted"}
     finally:
-        httpx.post(f"{url}/actions/count/goals/{goal}/cancel")
+        httpx.post(f"{url}/actions/count/goals/{goal}/cancel", headers=AUTH)
 
 
-def test_a_non_ascii_token_is_a_401_not_a_500():
-    with running_server("--view", "none", "--token", "s3cret-s3cret-s3cret") as server:
-        for token in ("Bearer \xe9t\xe9".encode("latin-1"), "Bearer \u00e9t\u00e9".encode("utf-8"), b"Bearer \xff\xfe"):
-            r = httpx.post(f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"authorization": token})
-            assert r.status_code == 401
-        # shutdown is bounded whatever is connected: a 0.1 Hz stream and a long-poll are open
-        from websockets.sync.client import connect
+def test_a_non_ascii_token_is_a_401_and_shutdown_is_bounded(server):
+    from websockets.sync.client import connect
 
-        ws = connect(server.url.replace("http", "ws") + "/topics/joint_states/stream?rate=0.1")
-        ws.recv()
+    for token in ("Bearer \xe9t\xe9".encode("latin-1"), "Bearer \u00e9t\u00e9".encode("utf-8"), b"Bearer \xff\xfe"):
+        r = httpx.post(f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"authorization": token})
+        assert r.status_code == 401
+    # shutdown is bounded whatever is connected: a 0.1 Hz stream and a 30 s long-poll are open
+    ws = connect(server.url.replace("http", "ws") + "/topics/joint_states/stream?rate=0.1")
+    ws.recv()
+    goal = httpx.post(f"{server.url}/actions/count/goals", json={"count": 60}, headers=AUTH).json()["goal_id"]
+    with ThreadPoolExecutor(1) as pool:
+        poll = pool.submit(httpx.get, f"{server.url}/actions/count/goals/{goal}", params={"after": 1000, "wait": 30}, timeout=60)
+        time.sleep(0.5)
         server.proc.send_signal(signal.SIGTERM)
-        server.proc.wait(timeout=20)  # SHUTDOWN_S = 3 s, plus the simulation's stop
-        ws.close()
+        server.proc.wait(timeout=20)  # SHUTDOWN_S = 3 s, then the simulation stops
+        assert poll.exception(timeout=5) is not None or poll.result().status_code < 500
+    ws.close()
 
 
 def _tiny_app():

@@ -2,7 +2,6 @@
 /run_experiment or /compare_controllers, `hri-lab grade --jobs 2` stopped with SIGTERM. Nothing
 survives and nothing new is left in /dev/shm."""
 import os
-import signal
 import subprocess
 import sys
 import time

@@ -185,8 +185,13 @@ class World:
         self.substeps = stable_substeps(self.config)
 
     def set_controller(self, controller: Controller) -> None:
-        """Swap the controller (from rest: it starts with a zero command)."""
+        """Swap the controller, bumpless: one that can (`continue_from`, the built-ins) starts from
+        the running command, so a switch while lifting never jumps the command (no reflex); any
+        other starts from rest."""
         controller.reset()
+        continue_from = getattr(controller, "continue_from", None)
+        if continue_from is not None and not self.error:
+            continue_from(self.twist_command.copy())
         self.controller = controller
 
     def set_participant(self, participant: Participant) -> None:

@@ -16,7 +16,7 @@ const api = async (method, path, body, raw) => {
   const init = { method, headers: {} };
   if (body !== undefined) {
     init.body = raw ? body : JSON.stringify(body);
-    init.headers["content-type"] = raw ? "text/plain" : "application/json";
+    init.headers["content-type"] = raw ? "application/yaml" : "application/json";
   }
   const response = await fetch(path, init);
   const text = await response.text();

@@ -10,12 +10,16 @@ PR_SET_CHILD_SUBREAPER = 36
 
 
 def _children() -> list[int]:
-    """Live child processes of this test run (orphans of its descendants come back to it)."""
+    """Live child processes of this test run (orphans of its descendants come back to it), but
+    this run's own multiprocessing resource tracker (it lives as long as the run)."""
+    from multiprocessing import resource_tracker
+
+    own = {getattr(resource_tracker._resource_tracker, "_pid", None)}
     pids = []
     for tid in os.listdir("/proc/self/task"):
         try:
             with open(f"/proc/self/task/{tid}/children") as handle:
-                pids += [int(p) for p in handle.read().split()]
+                pids += [int(p) for p in handle.read().split() if int(p) not in own]
         except OSError:
             pass
     return pids

@@ -9,6 +9,9 @@ import yaml
 from app.lab import commands as cmd
 
 
+YAML = {"content-type": "application/yaml"}
+
+
 def put(client, node, name, value):
     return client.put(f"/params/{node}/{name}", json={"value": value})
 
@@ -108,11 +111,11 @@ def test_dump_load_round_trip(client):
     assert yaml.safe_load(client.get("/params/dump", params={"node": "sim"}).text).keys() == {"sim"}
     put(client, "keytwist", "linear_speed", 0.1)
     # load everything back: read-only rate_hz is refused, the rest is set
-    body = client.post("/params/load", content=dump).json()
+    body = client.post("/params/load", content=dump, headers=YAML).json()
     failures = {r["name"]: r["reason"] for r in body["results"] if not r["successful"]}
     assert failures == {"rate_hz": "parameter 'rate_hz' cannot be set because it is read-only"}
     assert client.get("/params/keytwist/linear_speed").json()["value"] == 0.3
     assert yaml.safe_load(client.get("/params/dump").text) == tree
-    assert client.post("/params/load", content=b"{not: [yaml").status_code == 422
-    assert client.post("/params/load", content=b"- 1\n- 2\n").status_code == 422
+    assert client.post("/params/load", content=b"{not: [yaml", headers=YAML).status_code == 422
+    assert client.post("/params/load", content=b"- 1\n- 2\n", headers=YAML).status_code == 422
     put(client, "keytwist", "linear_speed", 0.1)

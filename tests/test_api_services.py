@@ -198,7 +198,8 @@ def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
                 ["f_n_min", "mu", "rate_hz", "profile", "box_mass", "linear_speed", "nope"])
             response = client.put(f"/params/{node}/{param}", json={"value": value})
         elif kind < 0.25:
-            response = client.post("/params/load", content=bytes(rng.integers(0, 256, 30).tolist()))
+            response = client.post("/params/load", content=bytes(rng.integers(0, 256, 30).tolist()),
+                                   headers={"content-type": "application/yaml"})
         elif kind < 0.3:  # action goals with junk (a goal that passes is cancelled at once)
             response = client.post("/actions/count/goals", json=body)
             if response.status_code == 202:

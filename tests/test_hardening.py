@@ -109,7 +109,7 @@ def test_binding_another_address_needs_a_token():
 
 @pytest.fixture(scope="module")
 def guarded_server():
-    with running_server("--view", "none", "--token", "s3cret") as server:
+    with running_server("--view", "none", "--token", "s3cret-s3cret-s3cret") as server:
         yield server.url
 
 
@@ -123,11 +123,11 @@ def test_a_change_without_the_token_is_refused(guarded_server):
     assert httpx.get(f"{url}/topics/lifting_state").json()["started"] is False  # nothing changed
     # reading stays open; with the token, changes go through
     assert httpx.get(f"{url}/services").status_code == 200
-    ok = httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, headers={"Authorization": "Bearer s3cret"})
+    ok = httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, headers={"Authorization": "Bearer s3cret-s3cret-s3cret"})
     assert ok.status_code == 200
-    assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"X-HRI-Lab-Token": "s3cret"}).json() == {"sum": 3}
+    assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"X-HRI-Lab-Token": "s3cret-s3cret-s3cret"}).json() == {"sum": 3}
     # the CLI sends $HRI_LAB_TOKEN
-    env = dict(__import__("os").environ, HRI_LAB_URL=url, HRI_LAB_TOKEN="s3cret")
+    env = dict(__import__("os").environ, HRI_LAB_URL=url, HRI_LAB_TOKEN="s3cret-s3cret-s3cret")
     out = subprocess.run([sys.executable, "-m", "app.cli", "param", "set", "/keytwist", "linear_speed", "0.2"],
                          capture_output=True, text=True, env=env, timeout=60)
     assert out.stdout.strip() == "Set parameter successful"

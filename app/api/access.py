@@ -1,16 +1,23 @@
-"""Access: the server binds 127.0.0.1 by default. Binding any other address requires a token,
-which every state-changing request (POST, PUT, PATCH, DELETE) must carry as
-`Authorization: Bearer <token>` (or `X-HRI-Lab-Token: <token>`); reading (GET, topic streams) and
-the 3D view stay open, and the view's controls are turned off when a token is set."""
+"""Access: the server binds 127.0.0.1 by default. Binding any other address requires a token (at
+least MIN_TOKEN_LENGTH characters), which every state-changing request (POST, PUT, PATCH, DELETE)
+must carry as `Authorization: Bearer <token>` (or `X-HRI-Lab-Token: <token>`); reading (GET, topic
+streams) and the 3D view stay open, and the view's controls are turned off when a token is set.
+
+The token is compared as bytes in constant time (any header bytes are a 401, never a 500); wrong
+tokens from one client address are answered one at a time, each after a delay that doubles per
+failure (0.1 s up to 2 s), so guessing is slow. Cross-site requests are refused before this
+(app/api/security.py)."""
+from __future__ import annotations
+
+import asyncio
 import hmac
 import ipaddress
+import json
 import socket
-
-from starlette.middleware.base import BaseHTTPMiddleware
-from starlette.requests import Request
-from starlette.responses import JSONResponse, Response
+import time
 
 TOKEN_ENV = "HRI_LAB_TOKEN"
+MIN_TOKEN_LENGTH = 16
 MUTATING = {"POST", "PUT", "PATCH", "DELETE"}
 
 
@@ -27,22 +34,70 @@ def is_loopback(host: str) -> bool:
     return bool(addresses) and all(ipaddress.ip_address(a.split("%")[0]).is_loopback for a in addresses)
 
 
-def presented_token(request: Request) -> str:
-    auth = request.headers.get("authorization", "")
-    if auth.lower().startswith("bearer "):
+def token_problem(token: str) -> str | None:
+    """Why a token cannot protect a server (None: it can)."""
+    if len(token) < MIN_TOKEN_LENGTH:
+        return f"the token must have at least {MIN_TOKEN_LENGTH} characters (e.g. `openssl rand -hex 16`)"
+    return None
+
+
+def presented_token(headers: list[tuple[bytes, bytes]]) -> bytes:
+    """The token a request carries, as the raw header bytes."""
+    values = dict(headers)
+    auth = values.get(b"authorization", b"")
+    if auth[:7].lower() == b"bearer ":
         return auth[7:].strip()
-    return request.headers.get("x-hri-lab-token", "")
+    return values.get(b"x-hri-lab-token", b"").strip()
 
 
-class TokenMiddleware(BaseHTTPMiddleware):
+class Throttle:
+    """Delay of the answer to a wrong token, per client address: 0.1 s x 2^(failures - 1), at most
+    2 s; failures are forgotten `forget_s` seconds after the last one."""
+
+    def __init__(self, first_s: float = 0.1, max_s: float = 2.0, forget_s: float = 60.0, clock=time.monotonic) -> None:
+        self.first_s, self.max_s, self.forget_s, self.clock = first_s, max_s, forget_s, clock
+        self.failures: dict[str, tuple[int, float]] = {}  # client -> (count, time of the last)
+        self.locks: dict[str, asyncio.Lock] = {}
+
+    def fail(self, client: str) -> float:
+        """Count a failure; the delay (s) before answering it."""
+        now = self.clock()
+        count, last = self.failures.get(client, (0, now))
+        count = 1 if now - last > self.forget_s else count + 1
+        self.failures[client] = (count, now)
+        if len(self.failures) > 10_000:  # many addresses: keep the recent ones
+            for key in sorted(self.failures, key=lambda k: self.failures[k][1])[:5_000]:
+                self.failures.pop(key, None)
+                self.locks.pop(key, None)
+        return min(self.max_s, self.first_s * 2.0 ** (count - 1))
+
+    def succeed(self, client: str) -> None:
+        self.failures.pop(client, None)
+
+    def lock(self, client: str) -> asyncio.Lock:
+        return self.locks.setdefault(client, asyncio.Lock())
+
+
+class TokenMiddleware:
+    """ASGI middleware: state-changing requests without the right token are a 401."""
+
     def __init__(self, app, token: str) -> None:
-        super().__init__(app)
-        self.token = token
+        self.app = app
+        self.token = token.encode("utf-8")
+        self.throttle = Throttle()
 
-    async def dispatch(self, request: Request, call_next) -> Response:
-        if request.method in MUTATING and not hmac.compare_digest(presented_token(request), self.token):
-            return JSONResponse(
-                {"detail": "this server needs a token for changes: send 'Authorization: Bearer <token>'"},
-                status_code=401, headers={"WWW-Authenticate": "Bearer"},
-            )
-        return await call_next(request)
+    async def __call__(self, scope, receive, send) -> None:
+        if scope["type"] != "http" or scope["method"] not in MUTATING:
+            return await self.app(scope, receive, send)
+        client = (scope.get("client") or ("?", 0))[0]
+        if hmac.compare_digest(presented_token(scope["headers"]), self.token):
+            self.throttle.succeed(client)
+            return await self.app(scope, receive, send)
+        async with self.throttle.lock(client):  # one wrong guess at a time per client
+            delay = self.throttle.fail(client)
+            await asyncio.sleep(delay)
+        body = json.dumps({"detail": "this server needs a token for changes: send 'Authorization: Bearer <token>'"}).encode()
+        await send({"type": "http.response.start", "status": 401,
+                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
+                                (b"www-authenticate", b"Bearer"), (b"retry-after", str(max(1, round(delay))).encode())]})
+        await send({"type": "http.response.body", "body": body})

@@ -6,9 +6,10 @@ from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconn
 from fastapi.responses import JSONResponse
 
 from app.api.deps import ActionsDep
+from app.api.topics import client_gone
 from app.api.typed_routes import with_body
 from app.ros.actions import TERMINAL, Action, ActionServer, GoalHandle, GoalStatus
-from app.ros.messages import RosMessage
+from app.ros.messages import INT64_MAX, RosMessage
 from app.ros.names import absolute
 
 
@@ -42,12 +43,14 @@ def router(actions: list[Action]) -> APIRouter:
         return {"name": action.name, "type": action.type, "definition": action.definition,
                 "description": action.description, "goal_schema": action.goal.model_json_schema(by_alias=True)}
 
-    @r.get("/actions/{name}/goals/{goal_id}", summary="Status, feedback and result of a goal (long-poll)")
-    def goal_status(name: str, goal_id: str, server: ActionsDep, after: int = Query(0, ge=0),
-                    wait: float = Query(0.0, ge=0.0, le=30.0)) -> dict:
+    @r.get("/actions/{name}/goals/{goal_id}", summary="Status, feedback and result of a goal (long-poll)",
+           description="`wait` > 0: answer once there is feedback beyond the `after`-th, the goal ends, or "
+                       "`wait` s pass; a waiting request holds no thread.")
+    async def goal_status(name: str, goal_id: str, server: ActionsDep, after: int = Query(0, ge=0, le=INT64_MAX),
+                          wait: float = Query(0.0, ge=0.0, le=30.0)) -> dict:
         handle = goal_of(server, name, goal_id)
         if wait > 0:
-            handle.wait_for_update(after, wait)
+            await handle.updated(after, wait)
         return handle.view(after)
 
     @r.post("/actions/{name}/goals/{goal_id}/cancel", summary="Cancel a goal")
@@ -64,9 +67,12 @@ def router(actions: list[Action]) -> APIRouter:
             return
         await websocket.accept()
         sent = 0
+        gone = asyncio.ensure_future(client_gone(websocket))
         try:
-            while True:
-                await asyncio.to_thread(handle.wait_for_update, sent, 0.5)
+            while not gone.done():
+                update = asyncio.ensure_future(handle.updated(sent, 5.0))
+                await asyncio.wait([gone, update], return_when=asyncio.FIRST_COMPLETED)
+                update.cancel()
                 view = handle.view(sent)
                 for fb in view["feedback"]:
                     await websocket.send_json({"feedback": fb})
@@ -77,6 +83,8 @@ def router(actions: list[Action]) -> APIRouter:
                     return
         except (WebSocketDisconnect, RuntimeError):
             return
+        finally:
+            gone.cancel()
 
     return r
 

@@ -1,6 +1,5 @@
 """The FastAPI app: one router per resource (services, parameters, topics, actions, teleop, robot,
 system), around one Lab whose simulation runs while the app is served."""
-import math
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
 
@@ -18,7 +17,10 @@ from app.api import services as services_api
 from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
-from app.api.access import TokenMiddleware
+from app.api.access import TokenMiddleware, token_problem
+from app.api.openapi import document
+from app.api.responses import SafeJSONResponse, json_safe
+from app.api.security import SiteGuard
 from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
 from app.lab.services import EXERCISES, SERVICES
@@ -33,8 +35,11 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
                token: str | None = None, exercises: bool = False) -> FastAPI:
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
-    token: when set, state-changing requests must carry it (app/api/access.py).
+    view_host: the address the server (API and view) is bound to; requests must name it
+    (app/api/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
     exercises: the handout's exercise services are left to the students' nodes (rosbridge)."""
+    if token and token_problem(token):
+        raise ValueError(token_problem(token))
     lab = lab or Lab()
     nodes = NodeServices(SERVICES, lab, EXERCISES if exercises else ())  # this app's registry: SERVICES + nodes'
     services = nodes.registry
@@ -60,26 +65,28 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         description="The simulated cooperative-lifting lab: ROS services, parameters, topics and actions over HTTP.",
         version="0.1.0",
         lifespan=lifespan,
+        default_response_class=SafeJSONResponse,
     )
     app.state.lab = lab
     app.state.view = None
     app.state.actions = ActionServer(ACTIONS, lab)
     if token:
         app.add_middleware(TokenMiddleware, token=token)
+    app.add_middleware(SiteGuard, bound_host=view_host)  # outermost: cross-site refusals come first
 
     @app.exception_handler(RequestValidationError)
     async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
         """422 naming the field; the offending input is echoed JSON-safe (NaN/inf as text)."""
-        return JSONResponse({"detail": json_safe(exc.errors())}, status_code=422)
+        return SafeJSONResponse({"detail": json_safe(exc.errors())}, status_code=422)
 
     @app.exception_handler(SimulationRestarting)
     async def restarting(request: Request, exc: SimulationRestarting) -> JSONResponse:
         """503: the simulation process died and is being restarted (call again)."""
-        return JSONResponse({"detail": str(exc)}, status_code=503, headers={"Retry-After": "1"})
+        return SafeJSONResponse({"detail": str(exc)}, status_code=503, headers={"Retry-After": "1"})
 
     @app.exception_handler(CallTimeout)
     async def stuck(request: Request, exc: CallTimeout) -> JSONResponse:
-        return JSONResponse({"detail": "the simulation did not answer in time; call again"}, status_code=503,
+        return SafeJSONResponse({"detail": "the simulation did not answer in time; call again"}, status_code=503,
                             headers={"Retry-After": "1"})
 
     app.include_router(system_api.router)
@@ -94,17 +101,5 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app.state.bridge = rosbridge.Bridge(lab, nodes, app.state.actions, token)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
+    document(app)
     return app
-
-
-def json_safe(value):
-    """value with non-finite floats as strings and anything else unknown as its repr."""
-    if isinstance(value, float):
-        return value if math.isfinite(value) else repr(value)
-    if isinstance(value, (str, int, bool)) or value is None:
-        return value
-    if isinstance(value, dict):
-        return {str(k): json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(v) for v in value]
-    return repr(value)

@@ -2,6 +2,7 @@
 from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Request
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import JSONResponse, PlainTextResponse
 from pydantic import BaseModel, ConfigDict
 
@@ -21,6 +22,11 @@ def _refused(exc: ParameterRefused) -> JSONResponse:
 
 router = APIRouter(tags=["parameters"])
 
+# a `param dump` file: node -> {ros__parameters: {name: value}}
+PARAMETER_FILE = {"type": "object", "additionalProperties": {
+    "type": "object", "required": ["ros__parameters"], "additionalProperties": False,
+    "properties": {"ros__parameters": {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean"]}}}}}
+
 
 @router.get("/params", summary="All parameters with their values (ros2 param list)")
 def list_params(server: ParamsDep) -> list[dict]:
@@ -32,11 +38,15 @@ def dump(server: ParamsDep, node: str | None = None) -> str:
     return server.dump(node)
 
 
-@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)")
+@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)",
+             description="Body: a `param dump` file, `Content-Type: application/yaml`, at most 64 KiB "
+                         "and 16 levels deep; a refused file is a 422 with the reason.",
+             responses={422: {"description": "the file is refused as a whole (with the reason)"}},
+             openapi_extra={"requestBody": {"required": True, "content": {"application/yaml": {"schema": PARAMETER_FILE}}}})
 async def load(request: Request, server: ParamsDep):
     text = (await request.body()).decode("utf-8", errors="replace")
-    try:
-        results = server.load(text)
+    try:  # parsing and setting take time (and wait for the simulation): off the event loop
+        results = await run_in_threadpool(server.load, text)
     except ParameterRefused as exc:
         return _refused(exc)
     return {"successful": all(x["successful"] for x in results), "results": results}

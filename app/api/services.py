@@ -1,6 +1,6 @@
 """/services: list, describe and call the registry's services (ros2 service list / call)."""
 from fastapi import APIRouter, HTTPException
-from fastapi.responses import JSONResponse
+from app.api.responses import SafeJSONResponse as JSONResponse
 
 from app.api.deps import LabDep
 from app.api.typed_routes import with_body

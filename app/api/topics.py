@@ -2,7 +2,8 @@
 
 A stream (`/topics/{name}/stream?rate=HZ`) sends the newest message at most `rate` times a second.
 It only reads snapshots, so it never blocks the simulation; a client that reads slowly gets fewer,
-always fresh, messages (the ones it could not take are dropped)."""
+always fresh, messages (the ones it could not take are dropped). `rate` is 0.1 to 1000 Hz; a stream
+ends as soon as its client goes (it listens for the close while it waits)."""
 import asyncio
 
 from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
@@ -11,7 +12,7 @@ from app.api.deps import LabDep
 from app.ros.names import absolute
 from sim.messages import Topic
 
-MAX_RATE_HZ = 1000.0
+MIN_RATE_HZ, MAX_RATE_HZ = 0.1, 1000.0
 
 
 def router(topics: list[Topic]) -> APIRouter:
@@ -31,7 +32,7 @@ def router(topics: list[Topic]) -> APIRouter:
 
     @r.websocket("/topics/{name:path}/stream")
     async def stream(websocket: WebSocket, name: str, lab: LabDep,
-                     rate: float = Query(10.0, gt=0.0, le=MAX_RATE_HZ)) -> None:
+                     rate: float = Query(10.0, ge=MIN_RATE_HZ, le=MAX_RATE_HZ)) -> None:
         topic = by_name.get(absolute(name))
         if topic is None:
             await websocket.close(code=1008, reason=f"topic '{absolute(name)}' does not exist")
@@ -41,15 +42,26 @@ def router(topics: list[Topic]) -> APIRouter:
         loop = asyncio.get_running_loop()
         next_send = loop.time()
         last_time = None
+        gone = asyncio.ensure_future(client_gone(websocket))
         try:
-            while True:
+            while not gone.done():
                 snapshot = lab.snapshot()
                 if snapshot.time != last_time:  # one message per new simulation state
                     last_time = snapshot.time
                     await websocket.send_json(topic.build(snapshot))
                 next_send = max(next_send + period, loop.time())  # behind: skip, never queue up
-                await asyncio.sleep(next_send - loop.time())
+                await asyncio.wait([gone], timeout=next_send - loop.time())
         except (WebSocketDisconnect, RuntimeError):
             return
+        finally:
+            gone.cancel()
 
     return r
+
+
+async def client_gone(websocket: WebSocket) -> None:
+    """Returns when the client closes the WebSocket (what it sends meanwhile is ignored)."""
+    while True:
+        message = await websocket.receive()
+        if message["type"] == "websocket.disconnect":
+            return

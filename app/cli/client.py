@@ -153,7 +153,8 @@ def param(args) -> int:
     if args.action == "load":
         with open(args.file, encoding="utf-8") as handle:
             text = handle.read()
-        response = _request(args, "POST", "/params/load", content=text)
+        response = _request(args, "POST", "/params/load", content=text.encode("utf-8"),
+                            headers={"content-type": "application/yaml"})
         body = response.json()
         if "results" not in body:
             print(f"Loading parameters failed: {body.get('reason')}")

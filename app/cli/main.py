@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -242,8 +243,20 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _stop_with_workers(signum, frame) -> None:
+    """SIGTERM/SIGHUP: the trial workers (experiment, grade --jobs) go with this process."""
+    import multiprocessing
+
+    for child in multiprocessing.active_children():
+        child.kill()
+    os._exit(128 + signum)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if args.command in ("experiment", "grade"):
+        for signum in (signal.SIGTERM, signal.SIGHUP):
+            signal.signal(signum, _stop_with_workers)
     try:
         return client_cli.run(args.func, args)
     except PluginError as exc:

@@ -1,10 +1,18 @@
-"""`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file)."""
+"""`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file).
+
+Limits of the HTTP server (besides the body limit, app/api/security.py): a request must arrive
+whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the connection's
+opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most 64 KiB
+(h11/httptools), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within
+SHUTDOWN_S."""
+import asyncio
 import sys
 from pathlib import Path
 
 import uvicorn
+from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
-from app.api.access import TOKEN_ENV, is_loopback
+from app.api.access import TOKEN_ENV, is_loopback, token_problem
 from app.lab.lab import Lab
 from app.ros.params import ParameterRefused
 from app.api.app import create_app
@@ -27,6 +35,9 @@ def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = N
     if not is_loopback(host) and not token:
         print(f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr)
         return 2
+    if token and token_problem(token):
+        print(f"hri-lab: {token_problem(token)}", file=sys.stderr)
+        return 2
     lab = Lab(controller=controller)
     lab.recordings_dir, lab.figures_dir = Path(output_dir) / "recordings", Path(output_dir) / "figures"
     if params_file:
@@ -36,12 +47,65 @@ def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = N
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
     app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises)
-    config = uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False,
-                            ws_max_size=2 * MAX_FRAME)  # bytes; a longer rosbridge frame is refused by the session
-
-    server = AnnouncingServer(config)
+    server = AnnouncingServer(server_config(app, host, port))
     server.run()
     return 0 if server.started else 1
+
+
+READ_TIMEOUT_S = 10.0
+KEEP_ALIVE_S = 5
+SHUTDOWN_S = 3
+
+
+def server_config(app, host: str, port: int, read_timeout_s: float = READ_TIMEOUT_S) -> uvicorn.Config:
+    """uvicorn's configuration with the server's limits (see the module's docstring)."""
+    protocol = type("TimedProtocol", (TimedHttpProtocol,), {"read_timeout_s": read_timeout_s})
+    return uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False, http=protocol,
+                          timeout_keep_alive=KEEP_ALIVE_S, timeout_graceful_shutdown=SHUTDOWN_S,
+                          h11_max_incomplete_event_size=64 * 1024,
+                          ws_max_size=2 * MAX_FRAME)  # bytes; a longer rosbridge frame is refused by the session
+
+
+class TimedHttpProtocol(HttpToolsProtocol):
+    """httptools' protocol with a read timeout: a request not received whole within read_timeout_s
+    of its first byte (a new connection: of its opening) closes the connection (slow-loris)."""
+
+    read_timeout_s = READ_TIMEOUT_S
+    _read_timer: asyncio.TimerHandle | None = None
+
+    def connection_made(self, transport: asyncio.Transport) -> None:
+        super().connection_made(transport)
+        self._read_timer = self.loop.call_later(self.read_timeout_s, self._read_timed_out)
+
+    def on_message_begin(self) -> None:
+        super().on_message_begin()
+        if self._read_timer is None:
+            self._read_timer = self.loop.call_later(self.read_timeout_s, self._read_timed_out)
+
+    def on_message_complete(self) -> None:
+        super().on_message_complete()
+        self._cancel_read_timer()
+
+    def handle_websocket_upgrade(self) -> None:
+        self._cancel_read_timer()
+        super().handle_websocket_upgrade()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._cancel_read_timer()
+        super().connection_lost(exc)
+
+    def _cancel_read_timer(self) -> None:
+        if self._read_timer is not None:
+            self._read_timer.cancel()
+            self._read_timer = None
+
+    def _read_timed_out(self) -> None:
+        self._read_timer = None
+        if self.cycle is not None and not self.cycle.response_complete:
+            self.cycle.disconnected = True  # the route reading the body sees the client gone
+            self.cycle.message_event.set()
+        if not self.transport.is_closing():
+            self.transport.close()
 
 
 class AnnouncingServer(uvicorn.Server):

@@ -1,10 +1,9 @@
 """The lab's actions (docs/design.md, "Actions"), one declaration each."""
 import multiprocessing
+from pathlib import Path
 from typing import Annotated
 
-from pathlib import Path
-
-from pydantic import AfterValidator, Field
+from pydantic import AfterValidator, BeforeValidator, Field
 
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
@@ -24,7 +23,7 @@ from app.lab import commands as cmd
 from app.lab import overrides
 from app.ros.actions import Action, GoalHandle
 from app.ros.params import ParameterRefused
-from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, int32_array, string_array
+from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, integral, int32_array, string_array
 
 
 def _check_set(text: str) -> str:
@@ -49,7 +48,7 @@ def _names(choices) -> str:
 
 # --- /count: the seed's counting action ------------------------------------------------------
 class CountGoal(RosMessage):
-    count: Annotated[int, Field(ge=0, le=3600), RosType("int32")]
+    count: Annotated[int, Field(ge=0, le=3600), BeforeValidator(integral), RosType("int32")]
 
 
 class CountResult(RosMessage):
@@ -99,7 +98,7 @@ def move_to_start(lab, goal: Empty, handle: GoalHandle) -> MoveResult:
 
 # --- /run_experiment ---------------------------------------------------------------------------
 class ExperimentGoal(RosMessage):
-    trials: Annotated[int, Field(ge=1, le=27), RosType("int32")] = 9
+    trials: Annotated[int, Field(ge=1, le=27), BeforeValidator(integral), RosType("int32")] = 9
     participant: Annotated[str, Field(pattern="^(|" + "|".join(PARTICIPANTS) + ")$"), RosType("string")] = ""
     seed: Int64 = 0
     plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
@@ -175,7 +174,7 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
 # --- /compare_controllers ----------------------------------------------------------------------
 class CompareGoal(RosMessage):
     controllers: Annotated[str, Field(pattern=_names(BUILTIN)), RosType("string", "comma-separated, e.g. sp,patch")] = "sp,patch"
-    trials: Annotated[int, Field(ge=1, le=5), RosType("int32", "tries per participant")] = 1
+    trials: Annotated[int, Field(ge=1, le=5), BeforeValidator(integral), RosType("int32", "tries per participant")] = 1
     participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
                             RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
     seed: Int64 = 0

@@ -12,6 +12,7 @@ Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal 
 GET .../goals/{id} (long-poll with ?after=N&wait=S for feedback beyond the N-th);
 POST .../goals/{id}/cancel; WebSocket .../goals/{id}/stream (every feedback and the final state).
 """
+import asyncio
 import threading
 import time
 import traceback
@@ -63,6 +64,7 @@ class GoalHandle:
     result: dict | None = None
     message: str = ""
     _changed: threading.Condition = field(default_factory=threading.Condition)
+    _waiters: list[Callable[[], None]] = field(default_factory=list)  # asyncio waiters to wake
 
     @property
     def cancel_requested(self) -> bool:
@@ -71,7 +73,13 @@ class GoalHandle:
     def feedback(self, message: RosMessage) -> None:
         with self._changed:
             self.feedbacks.append(message.model_dump(by_alias=True))
-            self._changed.notify_all()
+            self.notify()
+
+    def notify(self) -> None:
+        """Wake every waiter, threads and asyncio tasks (call with _changed held)."""
+        self._changed.notify_all()
+        for wake in self._waiters:
+            wake()
 
     def wait(self, seconds: float) -> bool:
         """Sleep up to `seconds`; True if a cancel was requested (then it returns at once)."""
@@ -90,7 +98,7 @@ class GoalHandle:
             self.message = message or self.message
             if result is not None:
                 self.result = result
-            self._changed.notify_all()
+            self.notify()
 
     def wait_for_update(self, after: int, timeout: float) -> None:
         """Block until there is feedback beyond `after`, a terminal state, or timeout."""
@@ -101,6 +109,37 @@ class GoalHandle:
                 if left <= 0:
                     return
                 self._changed.wait(left)
+
+    async def updated(self, after: int, timeout: float) -> None:
+        """wait_for_update for the event loop: no thread is held while waiting."""
+        loop = asyncio.get_running_loop()
+        event = asyncio.Event()
+
+        def wake() -> None:
+            try:
+                loop.call_soon_threadsafe(event.set)
+            except RuntimeError:  # the loop is closed: nobody waits any more
+                pass
+
+        end = loop.time() + timeout
+        with self._changed:
+            self._waiters.append(wake)
+        try:
+            while True:
+                with self._changed:
+                    if len(self.feedbacks) > after or self.status in TERMINAL:
+                        return
+                    event.clear()
+                left = end - loop.time()
+                if left <= 0:
+                    return
+                try:
+                    await asyncio.wait_for(event.wait(), left)
+                except (TimeoutError, asyncio.TimeoutError):
+                    return
+        finally:
+            with self._changed:
+                self._waiters.remove(wake)
 
     def view(self, after: int = 0) -> dict:
         with self._changed:
@@ -138,11 +177,10 @@ class ActionServer:
         with self._lock:
             busy = [g for g in self.goals.values() if g.action is action and g.status not in TERMINAL]
             self.goals[handle.id] = handle
-            while len(self.goals) > self.keep_goals:
-                oldest = next(iter(self.goals))
-                if self.goals[oldest].status not in TERMINAL:
-                    break
-                del self.goals[oldest]
+            excess = len(self.goals) - self.keep_goals
+            if excess > 0:  # forget the oldest finished goals (running ones stay, however old)
+                for old in [i for i, g in self.goals.items() if g.status in TERMINAL][:excess]:
+                    del self.goals[old]
         if busy:
             handle.set_status(GoalStatus.REJECTED, f"{action.name} is busy with goal {busy[0].id}; cancel it first")
             return handle
@@ -156,14 +194,14 @@ class ActionServer:
                 handle.message = "canceled before it started"
             elif handle.status == GoalStatus.ACTIVE:
                 handle.status = GoalStatus.PREEMPTING
-            handle._changed.notify_all()
+            handle.notify()
 
     def _run(self, handle: GoalHandle) -> None:
         with handle._changed:
             if handle.status != GoalStatus.PENDING:
                 return
             handle.status = GoalStatus.ACTIVE
-            handle._changed.notify_all()
+            handle.notify()
         try:
             result = handle.action.execute(self.lab, handle.goal, handle)
         except Exception as exc:  # noqa: BLE001 - an aborted goal, the server goes on

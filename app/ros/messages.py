@@ -6,7 +6,7 @@ fields are refused) whose fields are annotated with these types, e.g. `a: Int64`
 from dataclasses import dataclass
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
@@ -20,9 +20,15 @@ class RosType:
     comment: str = ""
 
 
+def integral(value):
+    """JSON has one number type: 3.0 is the integer 3 (as JSON Schema's "integer" says); 3.5, "3"
+    and true stay what they are (refused by the strict int)."""
+    return int(value) if isinstance(value, float) and value.is_integer() else value
+
+
 Float64 = Annotated[float, Field(allow_inf_nan=False), RosType("float64")]
-Int64 = Annotated[int, Field(ge=INT64_MIN, le=INT64_MAX), RosType("int64")]
-Int32 = Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), RosType("int32")]
+Int64 = Annotated[int, Field(ge=INT64_MIN, le=INT64_MAX), BeforeValidator(integral), RosType("int64")]
+Int32 = Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral), RosType("int32")]
 Bool = Annotated[bool, RosType("bool")]
 String = Annotated[str, Field(max_length=10_000), RosType("string")]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
@@ -34,7 +40,8 @@ def float64_array(min_length: int | None = None, max_length: int | None = None):
 
 
 def int32_array():
-    return Annotated[list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX)]], Field(max_length=10_000), RosType("int32[]")]
+    return Annotated[list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral)]], Field(max_length=10_000),
+                     RosType("int32[]")]
 
 
 def string_array():

@@ -15,6 +15,9 @@ import yaml
 from app.ros.names import node_name
 
 ParamType = Literal["double", "integer", "string", "bool"]
+MAX_FILE_BYTES = 64 * 1024  # a parameter file (a dump of all of the lab's is ~1 KB)
+MAX_FILE_DEPTH = 16  # nesting of lists and mappings (a dump has 3)
+MAX_FILE_NODES = 10_000  # scalars, lists and mappings
 PY_TYPES = {"double": (float, int), "integer": (int,), "string": (str,), "bool": (bool,)}
 
 
@@ -126,10 +129,7 @@ class ParameterServer:
 
     def load(self, text: str, force: bool = False) -> list[dict]:
         """Set every parameter of a dump; one result per parameter (like `ros2 param load`)."""
-        try:
-            tree = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            raise ParameterRefused(f"invalid YAML: {exc}") from None
+        tree = parse_parameter_file(text)
         if not isinstance(tree, dict):
             raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}")
         results = []
@@ -144,3 +144,33 @@ class ParameterServer:
                 except ParameterRefused as refused:
                     results.append({"node": node_name(str(node)), "name": name, "successful": False, "reason": str(refused)})
         return results
+
+
+def parse_parameter_file(text: str) -> Any:
+    """The YAML of a parameter file, within MAX_FILE_BYTES, MAX_FILE_DEPTH and MAX_FILE_NODES;
+    anything else (too big, too deep, aliases that expand, invalid YAML) raises ParameterRefused.
+    The limits are checked on the parser's events (no recursion) before anything is built."""
+    size = len(text.encode("utf-8", "surrogatepass"))
+    if size > MAX_FILE_BYTES:
+        raise ParameterRefused(f"a parameter file is at most {MAX_FILE_BYTES} bytes, got {size}")
+    depth = nodes = 0
+    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when installed: fast
+    try:
+        for event in yaml.parse(text, Loader=loader):
+            if isinstance(event, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
+                depth += 1
+                if depth > MAX_FILE_DEPTH:
+                    raise ParameterRefused(f"a parameter file nests at most {MAX_FILE_DEPTH} levels")
+            elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+                depth -= 1
+            elif isinstance(event, yaml.AliasEvent):
+                raise ParameterRefused("a parameter file has no YAML aliases (*name)")
+            if isinstance(event, yaml.NodeEvent):
+                nodes += 1
+                if nodes > MAX_FILE_NODES:
+                    raise ParameterRefused(f"a parameter file has at most {MAX_FILE_NODES} values")
+        return yaml.load(text, Loader=loader)
+    except yaml.YAMLError as exc:
+        raise ParameterRefused(f"invalid YAML: {str(exc)[:300]}") from None
+    except (RecursionError, ValueError, OverflowError) as exc:  # e.g. a timestamp out of range
+        raise ParameterRefused(f"invalid parameter file: {type(exc).__name__}: {str(exc)[:200]}") from None

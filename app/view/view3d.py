@@ -8,6 +8,8 @@ draws the collision meshes (simple, few triangles) for software-rendered browser
 """
 import hashlib
 import math
+from contextlib import contextmanager
+from http import HTTPStatus
 import os
 import threading
 import time
@@ -17,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import viser
+import websockets.asyncio.server
 
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.person.human import PARTICIPANTS
@@ -24,9 +27,39 @@ from sim.robot.panda import PandaModel
 from sim.recording.scene import COLOURS, FORCE_SCALE, arrows_of, state_of  # noqa: F401 - shared with recordings
 from sim.world import Snapshot
 
+from app.api.security import host_refusal, local_names, origin_refusal
 from app.lab import commands
 
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
+
+
+@contextmanager
+def guarded_websocket_server(bound_host: str):
+    """While viser starts its server (it has no option for it), every HTTP request and WebSocket
+    upgrade it gets passes the API's cross-site checks first: Host names this server, and an
+    Origin, when sent, is the view's own page; else 403 (a forged gizmo message from another site
+    never arrives)."""
+    original = websockets.asyncio.server.serve
+    names = local_names(bound_host)
+
+    def serve(handler, *args, process_request=None, **kwargs):
+        def check(connection, request):
+            host = request.headers.get("Host")
+            local = connection.local_address
+            refusal = host_refusal(host, names, (local[0], local[1]) if local else None, "http")
+            if refusal is None and request.headers.get("Upgrade", "").lower() == "websocket":
+                refusal = origin_refusal(request.headers.get("Origin"), None, host)
+            if refusal is not None:
+                return connection.respond(HTTPStatus.FORBIDDEN, refusal + "\n")
+            return process_request(connection, request) if process_request is not None else None
+
+        return original(handler, *args, process_request=check, **kwargs)
+
+    websockets.asyncio.server.serve = serve
+    try:
+        yield
+    finally:
+        websockets.asyncio.server.serve = original
 
 
 def wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -113,7 +146,8 @@ class LabView:
         self.lab, self.actions, self.services = lab, actions, services
         self.light = light
         self.rate_hz = rate_hz
-        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        with guarded_websocket_server(host):  # refuses foreign Host/Origin (app/api/security.py)
+            self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.server.scene.set_up_direction("+z")
         self.server.initial_camera.position = (1.6, 1.5, 1.0)
         self.server.initial_camera.look_at = (0.45, 0.2, 0.35)

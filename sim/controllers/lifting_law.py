@@ -49,6 +49,11 @@ class LiftingLawController(LiftingController):
         self.wrench_filter = LowPass()
         self.slipping = False  # the friction was beyond its margin in the last step
 
+    def continue_from(self, twist_base: np.ndarray) -> None:
+        """Bumpless take-over: step 6 starts from the running command twist_base (m/s, rad/s, base
+        frame) instead of rest, so the first command differs from it by at most a_max dt, dw_max dt."""
+        self.twist_base = np.array(twist_base, dtype=float)
+
     def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
         wrench_filtered = self.wrench_filter.update_hz(np.asarray(wrench_ee, dtype=float), dt, params.filter_hz)  # step 0
         twist_ee = self.twist_ee(wrench_filtered, params) if params.running else np.zeros(6)

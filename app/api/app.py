@@ -17,6 +17,7 @@ from app.ros import params as params_api
 from app.lab import robot_description as robot_model
 from app.ros import topics as topics_api
 from app.api.access import TokenMiddleware
+from app.api.docs import add_offline_docs
 from app.ros.actions import ActionServer
 from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
@@ -53,7 +54,10 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         description="The simulated cooperative-lifting lab: ROS services, parameters and topics over HTTP.",
         version="0.1.0",
         lifespan=lifespan,
+        docs_url=None,  # served offline below
+        redoc_url=None,
     )
+    add_offline_docs(app)
     app.state.lab = lab
     app.state.view = None
     if token:

@@ -6,6 +6,8 @@ from typing import Any, Callable
 from fastapi import Body
 from pydantic import BaseModel
 
+from app.ros.messages import example_of
+
 
 def with_body(model: type[BaseModel], handle: Callable[[BaseModel], Any], name: str) -> Callable:
     """A route function taking the JSON body as `model` (optional when the model has no field)."""
@@ -14,7 +16,8 @@ def with_body(model: type[BaseModel], handle: Callable[[BaseModel], Any], name: 
     def endpoint(body: BaseModel | None = None):
         return handle(body if body is not None else model())
 
-    default = Body(...) if has_fields else Body(None)
+    examples = {"example": {"summary": "an accepted request", "value": example_of(model)}}  # what /docs pre-fills
+    default = Body(..., openapi_examples=examples) if has_fields else Body(None, openapi_examples=examples)
     annotation = model if has_fields else model | None
     endpoint.__signature__ = inspect.Signature(
         [inspect.Parameter("body", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]

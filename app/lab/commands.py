@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from sim.controllers.interface import stop_lifting
 from sim.person.human import PARTICIPANTS
 from sim.controllers.patch import PatchController
 from sim.controllers.plugin import builtin
@@ -20,6 +21,16 @@ def start_lifting(world: World, force: float, controller: str = "") -> str:
     if controller:
         set_controller(world, controller)
     return world.start_lifting(force)
+
+
+def reset_world(world: World) -> None:
+    """The reset service: lifting stopped (else the scripted person would start over at once),
+    then the world reset."""
+    try:
+        world.stop_lifting()  # a plug-in's own stop handler, as the stop service runs it
+    except Exception:  # noqa: BLE001 - a failing plug-in handler: the lab's stop
+        stop_lifting(world.params)
+    world.reset()
 
 
 def lifting_state(world: World) -> tuple[bool, float, float, float]:

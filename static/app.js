@@ -26,7 +26,7 @@ const api = async (method, path, body) => {
   const text = await response.text();
   let data;
   try { data = JSON.parse(text); } catch { data = text; }
-  return { status: response.status, data };
+  return { status: response.status, data, text };  // text: numbers exact (JSON.parse rounds int64)
 };
 const show = (value) => (typeof value === "string" ? value : JSON.stringify(value, null, 1));
 const stream = (name, rate, onMessage) => {
@@ -107,7 +107,7 @@ async function renderServices() {
     const form = schemaForm(info.request_schema, "call", async (body) => {
       const r = await api("POST", `/services${name}`, body);
       out.className = r.status === 200 ? "response ok" : "response refused";
-      out.textContent = r.status === 200 ? show(r.data) : `${r.status}: ${refusal(r.data)}`;
+      out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
     });
     root.append($("div", { class: "item service", "data-name": name },
       $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),

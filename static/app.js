@@ -406,7 +406,11 @@ async function renderView() {
   const info = (await api("GET", "/view")).data;
   const frame = byId("view"), off = byId("view-off");
   if (!info.url) { off.hidden = false; byId("view-off-reason").textContent = "The 3D view is off (server started with --view none)."; byId("view-embed").hidden = true; byId("view-window").hidden = true; return; }
-  const url = info.url;
+  // The view on the other name of this machine (127.0.0.1 <-> localhost): another site, so the
+  // browser gives it a process of its own (site isolation) and its rendering never blocks this page.
+  const url = new URL(info.url);
+  const loopback = { "127.0.0.1": "localhost", localhost: "127.0.0.1" };
+  if (url.hostname === location.hostname && loopback[url.hostname]) url.hostname = loopback[url.hostname];
   byId("view-window").href = url;
   const embed = () => { off.hidden = true; frame.hidden = false; frame.src = url; };
   byId("view-embed").onclick = embed;

@@ -26,8 +26,8 @@ from sim.world import Snapshot
 from app.lab import commands as world_commands
 
 FORCE_SCALE = 0.01  # m of arrow per N
-CAMERA_POSITION = (1.25, 1.35, 0.85)  # m, base frame: the robot and the box in view, from the person's side
-CAMERA_LOOK_AT = (0.3, 0.3, 0.35)
+CAMERA_POSITION = (1.0, 1.05, 0.75)  # m, base frame: the robot and the box in view, from the person's side
+CAMERA_LOOK_AT = (0.3, 0.25, 0.35)
 GIZMO_SCALE = 0.3  # m
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
 COLOURS = {  # state -> RGB

@@ -185,7 +185,7 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, page):
     assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
     embedded = [click_round_trip(b) for b in (1, 0, 1)]
     print(f"\npage click -> response: {max(without) * 1e3:.0f} ms without the 3D view, "
-          f"{max(embedded) * 1e3:.0f} ms with it embedded (light, software WebGL)")
+          f"{max(embedded) * 1e3:.0f} ms with it embedded ({VIEW} meshes, software WebGL)")
     (SCREENSHOTS).mkdir(parents=True, exist_ok=True)
     (SCREENSHOTS / "responsiveness.txt").write_text(f"without {max(without):.3f} s, embedded {max(embedded):.3f} s\n")
 

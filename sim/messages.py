@@ -72,6 +72,15 @@ def lifting_state(s: Snapshot) -> dict:
     }
 
 
+def trial_outcome(s: Snapshot) -> dict:
+    """The scripted participant's trial (sim/procedures/monitor.py): state none, running,
+    succeeded, failed or abandoned; the figures of the experiment's table (N, m, s)."""
+    t = s.trial
+    return {"header": header(s, ""), "state": t.state, "participant": t.participant, "duration": t.duration,
+            "f_n_min": t.f_n_min, "f_n_max": t.f_n_max, "max_friction_ratio": t.max_friction_ratio, "slip": t.slip,
+            "reason": t.reason}
+
+
 @dataclass(frozen=True)
 class Topic:
     name: str
@@ -87,4 +96,5 @@ TOPICS = [
     Topic("/human_hand_pose", "geometry_msgs/PoseStamped", hand_pose),
     Topic("/contact_state", "hri_lab/ContactState", contact_state),
     Topic("/lifting_state", "hri_lab/LiftingState", lifting_state),
+    Topic("/trial", "hri_lab/TrialOutcome", trial_outcome),
 ]

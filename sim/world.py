@@ -26,6 +26,7 @@ from sim.robot.joint_trajectory import JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel, Plate
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
 from sim.controllers.sp import SPController
+from sim.procedures.monitor import TrialMonitor, TrialOutcome
 from sim.spatial import cross3, norm3
 from sim.robot.teleop import Jog
 
@@ -90,6 +91,7 @@ class Snapshot:
     error: str | None
     human_phase: str
     moving_to_start: bool
+    trial: TrialOutcome  # the scripted participant's trial: running, or its result
 
 
 @dataclass
@@ -109,6 +111,7 @@ class World:
         self.params.plate_offset = cfg.plate.offset
         self.substeps = stable_substeps(cfg)  # physics substeps per step (recomputed when the box or contact changes)
         self.participant: Participant | None = None  # overrides config.participant when set
+        self.trial = TrialMonitor()
         self.reset()
 
     # --- set-up -----------------------------------------------------------------------------
@@ -148,6 +151,7 @@ class World:
         self.twist_command = np.zeros(6)
         self.plate_state = self._contacts_at_rest()
         self.palm_state = self.plate_state
+        self.trial = TrialMonitor(self.trial.rules)  # no trial until lifting starts
 
     def _contacts_at_rest(self) -> ContactResult:
         zero = np.zeros(3)
@@ -226,6 +230,8 @@ class World:
     # --- stepping ---------------------------------------------------------------------------
     def step(self) -> None:
         dt = self.config.dt
+        if self.trial.state == "none" and self.params.running and self.human.phase == "grasping":
+            self.trial.begin(self.time, self.human.participant.name)  # lifting started: a trial
         transform = self.arm.transform_ee_to_base
         # 1. sense
         self.wrench_ee = self.sensor.measure(self.wrench_ee_true, dt)
@@ -254,6 +260,8 @@ class World:
         for _ in range(self.substeps):
             self._physics(sub_dt)
         self.time += dt
+        # 6. the trial's success rule (sim/procedures/monitor.py)
+        self.trial.update(self)
 
     def run(self, duration: float) -> None:
         """Step for `duration` seconds of simulated time."""
@@ -322,4 +330,5 @@ class World:
             error=arm.error,
             human_phase=human.phase,
             moving_to_start=self.motion is not None,
+            trial=self.trial.outcome(),
         )

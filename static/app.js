@@ -1,5 +1,7 @@
 // The dashboard page: everything on it is generated from the API (services, parameters, topics,
-// actions), so a service added to the registry appears here with no page change.
+// actions), so a service added to the registry appears here with no page change. The status,
+// the plots and the results read the topics, so they are current whoever changed the state
+// (this page, the 3D view, curl, the CLI, a node).
 "use strict";
 
 const $ = (tag, attrs = {}, ...children) => {
@@ -12,82 +14,117 @@ const $ = (tag, attrs = {}, ...children) => {
   for (const c of children) el.append(c);
   return el;
 };
+const byId = (id) => document.getElementById(id);
+// body: an object (sent as JSON), or a ready JSON text ({json: "..."}: numbers exactly as typed);
+// raw: body is a YAML text
 const api = async (method, path, body, raw) => {
   const init = { method, headers: {} };
   if (body !== undefined) {
-    init.body = raw ? body : JSON.stringify(body);
+    if (raw) init.body = body;  // a YAML text (/params/load)
+    else init.body = typeof body === "object" && "json" in body ? body.json : JSON.stringify(body);
     init.headers["content-type"] = raw ? "application/yaml" : "application/json";
   }
   const response = await fetch(path, init);
   const text = await response.text();
   let data;
   try { data = JSON.parse(text); } catch { data = text; }
-  return { status: response.status, data };
+  return { status: response.status, data, text };  // text: numbers exact (JSON.parse rounds int64)
 };
 const show = (value) => (typeof value === "string" ? value : JSON.stringify(value, null, 1));
-// An action result field by field; a text of several lines (a table) as it is.
-const showResult = (result) => Object.entries(result || {})
-  .map(([k, v]) => (typeof v === "string" && v.includes("\n") ? `${k}:\n${v}` : `${k}: ${JSON.stringify(v)}`)).join("\n");
-
-// A request form from a pydantic JSON schema: one input per field, typed from the schema.
-function schemaForm(schema, submitLabel, onSubmit) {
-  const props = (schema && schema.properties) || {};
-  const inputs = {};
-  const form = $("form", { onsubmit: (e) => { e.preventDefault(); onSubmit(collect()); } });
-  for (const [name, prop] of Object.entries(props)) {
-    const kind = prop.type || (prop.anyOf && prop.anyOf[0].type) || "string";
-    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder: kind === "array" ? "1, 2, 3" : kind });
-    if (prop.default !== undefined && kind !== "boolean") input.value = prop.default;
-    inputs[name] = { input, kind };
-    form.append($("label", {}, `${name} `, input));
-  }
-  form.append($("button", { type: "submit", text: submitLabel }));
-  function collect() {
-    const body = {};
-    for (const [name, { input, kind }] of Object.entries(inputs)) {
-      const v = input.value.trim();
-      if (kind === "boolean") body[name] = input.checked;
-      else if (v === "") continue;
-      else if (kind === "integer" || kind === "number") body[name] = Number(v);
-      else if (kind === "array") body[name] = v.split(",").map((x) => Number(x.trim()));
-      else body[name] = v;
-    }
-    return body;
-  }
-  return form;
-}
+const stream = (name, rate, onMessage) => {
+  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/topics${name}/stream?rate=${rate}`);
+  ws.onmessage = (e) => onMessage(JSON.parse(e.data));
+  ws.onclose = () => setTimeout(() => stream(name, rate, onMessage), 2000);  // server restarted: reconnect
+  return ws;
+};
+// 3-4 significant digits, no exponent for everyday magnitudes
+const num = (x, digits = 4) => (typeof x !== "number" ? String(x) : x === 0 ? "0" : Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? String(Number(x.toPrecision(digits))) : x.toExponential(2));
+const stampSeconds = (header) => header.stamp.sec + header.stamp.nanosec * 1e-9;
 
 function refusal(data) {
   if (data && Array.isArray(data.detail)) {
     return data.detail.map((e) => `${e.loc.slice(1).join(".") || "request"}: ${e.msg}`).join("; ");
   }
   if (data && data.reason) return data.reason;
+  if (data && data.message) return data.message;
   if (data && data.detail) return data.detail;
   return show(data);
 }
 
+// --- request forms from pydantic JSON schemas ---------------------------------------------------
+const JSON_NUMBER = /^-?(0|[1-9]\d*)(\.\d+)?([eE][+-]?\d+)?$/;
+function kindOf(prop) { return prop.type || (prop.anyOf && prop.anyOf[0].type) || "string"; }
+function hint(name, prop) {
+  const kind = kindOf(prop);
+  if (kind === "array") {
+    const lo = prop.minItems, hi = prop.maxItems, item = (prop.items && prop.items.type) === "integer" ? "integers" : "numbers";
+    const count = lo !== undefined && lo === hi ? `${lo} ${item}` : lo !== undefined && hi !== undefined ? `${lo} to ${hi} ${item}` : item;
+    return `${count}, comma-separated`;
+  }
+  if (kind === "integer") return prop.maximum > 2 ** 53 ? "int64" : "integer";
+  if (kind === "number") return prop.minimum !== undefined && prop.maximum !== undefined ? `${prop.minimum} to ${prop.maximum}` : "float64";
+  return kind;
+}
+// A form, one input per field; its body is JSON text built from what was typed, so an int64 such
+// as 9223372036854775807 reaches the server exactly (a JS number would round it).
+function schemaForm(schema, submitLabel, onSubmit) {
+  const props = (schema && schema.properties) || {};
+  const inputs = {};
+  const form = $("form", { onsubmit: (e) => { e.preventDefault(); onSubmit({ json: collect() }); } });
+  for (const [name, prop] of Object.entries(props)) {
+    const kind = kindOf(prop);
+    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder: hint(name, prop) });
+    if (kind === "array" && prop.minItems >= 4) input.classList.add("wide");
+    if (prop.default !== undefined && kind !== "boolean") input.value = prop.default;
+    inputs[name] = { input, kind };
+    form.append($("label", {}, `${name} `, input));
+  }
+  form.append($("button", { type: "submit", text: submitLabel }));
+  const literal = (text) => (JSON_NUMBER.test(text) ? text : JSON.stringify(text));  // not a number: sent as text, the server names the field
+  function collect() {
+    const parts = [];
+    for (const [name, { input, kind }] of Object.entries(inputs)) {
+      const v = input.value.trim();
+      let value;
+      if (kind === "boolean") value = String(input.checked);
+      else if (v === "") continue;
+      else if (kind === "integer" || kind === "number") value = literal(v);
+      else if (kind === "array") value = `[${v.replace(/^\[|\]$/g, "").split(",").map((x) => literal(x.trim())).join(", ")}]`;
+      else value = JSON.stringify(v);
+      parts.push(`${JSON.stringify(name)}: ${value}`);
+    }
+    return `{${parts.join(", ")}}`;
+  }
+  return form;
+}
+
+// --- services, parameters, topics, actions ------------------------------------------------------
 async function renderServices() {
-  const root = document.getElementById("services");
+  const root = byId("services");
   const list = (await api("GET", "/services")).data;
-  for (const { name } of list) {
-    const info = (await api("GET", `/services${name}`)).data;
+  const infos = await Promise.all(list.map(({ name }) => api("GET", `/services${name}`)));
+  for (const { data: info } of infos) {
+    const name = info.name;
     const out = $("pre", { class: "response" });
     const form = schemaForm(info.request_schema, "call", async (body) => {
       const r = await api("POST", `/services${name}`, body);
       out.className = r.status === 200 ? "response ok" : "response refused";
-      out.textContent = r.status === 200 ? show(r.data) : `${r.status}: ${refusal(r.data)}`;
+      out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
     });
     root.append($("div", { class: "item service", "data-name": name },
       $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),
+      $("p", { class: "description", text: info.description }),
       $("pre", { class: "srv", text: info.srv }), form, out));
   }
 }
 
 async function renderParams() {
-  const root = document.getElementById("params");
+  const root = byId("params");
   const list = (await api("GET", "/params")).data;
+  const described = await Promise.all(list.map((p) => api("GET", `/params/${p.node}/${p.name}/describe`)));
   let node = null;
-  for (const p of list) {
+  list.forEach((p, i) => {
+    const d = described[i].data || {};
     if (p.node !== node) { node = p.node; root.append($("h3", { text: `/${node}` })); }
     const input = $("input", { type: "text", value: show(p.value) });
     const result = $("span");
@@ -99,58 +136,291 @@ async function renderParams() {
       result.className = r.data.successful ? "ok" : "refused";
       result.textContent = r.data.successful ? "Set parameter successful" : `Setting parameter failed: ${r.data.reason}`;
     };
+    const range = d.min_value !== undefined ? ` [${d.min_value}, ${d.max_value}]` : d.choices ? ` (${d.choices.join(", ")})` : "";
     root.append($("div", { class: "param", "data-name": `${p.node}/${p.name}` },
       $("span", { title: p.type, text: `${p.name} (${p.type})` }), input,
-      $("span", {}, $("button", { text: "set", onclick: set }), " ", result)));
-  }
+      $("span", {}, $("button", { text: "set", onclick: set }), " ", result),
+      $("span", { class: "description", text: `${d.description || ""}${range}${d.read_only ? " · read-only" : ""}` })));
+    if (d.read_only) { input.disabled = true; root.lastChild.querySelector("button").disabled = true; }
+  });
+}
+
+// Units of message fields by name (SI, as the messages are).
+const UNITS = [
+  [/wrench\.force|tangential_force|normal_force|f_n_m(in|ax)/, "N"], [/wrench\.torque/, "Nm"],
+  [/^linear/, "m/s"], [/^angular/, "rad/s"], [/^position\.\d/, "rad"], [/^velocity\.\d/, "rad/s"],
+  [/pose\.position|centre_of_pressure|^slip/, "m"], [/duration/, "s"], [/stamp$/, "s"],
+];
+function formatMessage(message) {
+  const lines = [];
+  const walk = (value, path) => {
+    if (path === "header") { lines.push(`stamp: ${num(stampSeconds(value), 6)} s${value.frame_id ? `  frame: ${value.frame_id}` : ""}`); return; }
+    if (value && typeof value === "object" && !Array.isArray(value)) { for (const [k, v] of Object.entries(value)) walk(v, path ? `${path}.${k}` : k); return; }
+    const unit = (UNITS.find(([re]) => re.test(path)) || [null, ""])[1];
+    if (Array.isArray(value)) {
+      const unitOf = (i) => (UNITS.find(([re]) => re.test(`${path}.${i}`)) || [null, unit])[1];
+      lines.push(`${path}: [${value.map((x) => num(x)).join(", ")}]${value.length && typeof value[0] === "number" ? ` ${unitOf(0)}` : ""}`);
+      return;
+    }
+    lines.push(`${path}: ${typeof value === "number" ? num(value) : value === "" ? "''" : value}${typeof value === "number" && unit ? ` ${unit}` : ""}`);
+  };
+  walk(message, "");
+  return lines.join("\n");
 }
 
 async function renderTopics() {
-  const root = document.getElementById("topics");
+  const root = byId("topics");
+  const raw = byId("topics-raw");
   const list = (await api("GET", "/topics")).data;
   for (const { name, type } of list) {
     const out = $("pre", { class: "message" });
     root.append($("div", { class: "item topic", "data-name": name }, $("h3", {}, name, " ", $("span", { class: "type", text: `[${type}]` })), out));
-    const ws = new WebSocket(`${location.origin.replace("http", "ws")}/topics${name}/stream?rate=2`);
-    ws.onmessage = (e) => { out.textContent = show(JSON.parse(e.data)); };
+    let last = null;
+    const draw = () => { if (last) out.textContent = raw.checked ? show(last) : formatMessage(last); };
+    raw.addEventListener("change", draw);
+    stream(name, 2, (m) => { last = m; draw(); });
   }
+}
+
+// One block per goal: its own progress bar and log; a refusal goes to its own line, never into
+// another goal's output.
+function goalBlock(name, goalId, onResult) {
+  const bar = $("progress", { max: "1", value: "0", hidden: "" });
+  const label = $("span", { class: "goal-status", text: "pending" });
+  const log = $("pre", { class: "feedback" });
+  const block = $("div", { class: "goal", "data-goal": goalId }, $("div", {}, `goal ${goalId.slice(0, 8)} `, label, " ", bar), log);
+  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
+  label.textContent = "active";
+  ws.onmessage = (e) => {
+    const m = JSON.parse(e.data);
+    if (m.feedback) {
+      const fb = m.feedback;
+      const fraction = "progress" in fb ? fb.progress : "of" in fb && fb.of > 0 ? fb.trial / fb.of : null;
+      if (fraction !== null) { bar.hidden = false; bar.value = fraction; bar.title = `${Math.round(fraction * 100)} %`; }
+      if (!("progress" in fb)) log.textContent += `feedback: ${Object.entries(fb).map(([k, v]) => `${k}=${typeof v === "number" ? num(v) : v}`).join(" ")}\n`;
+      return;
+    }
+    label.textContent = m.status;
+    label.className = `goal-status ${m.status === "succeeded" ? "ok" : "refused"}`;
+    if (m.status === "succeeded") { bar.hidden = false; bar.value = 1; }
+    log.textContent += `${m.status}: ${m.message || ""}\n${Object.entries(m.result || {}).map(([k, v]) => (typeof v === "string" && v.includes("\n") ? `${k}:\n${v}` : `${k}: ${JSON.stringify(v)}`)).join("\n")}\n`;
+    onResult(m);
+  };
+  return block;
 }
 
 async function renderActions() {
-  const root = document.getElementById("actions");
+  const root = byId("actions");
   const list = (await api("GET", "/actions")).data;
   for (const { name, type } of list) {
     const info = (await api("GET", `/actions${name}`)).data;
-    const out = $("pre", { class: "feedback" });
+    const goals = $("div", { class: "goals" });
+    const refusalLine = $("p", { class: "refusal refused", hidden: "" });
     let goalId = null;
-    const cancel = $("button", { text: "cancel", onclick: () => goalId && api("POST", `/actions${name}/goals/${goalId}/cancel`) });
+    const cancel = $("button", { text: "cancel", type: "button", onclick: () => goalId && api("POST", `/actions${name}/goals/${goalId}/cancel`) });
     const form = schemaForm(info.goal_schema, "send goal", async (body) => {
       const r = await api("POST", `/actions${name}/goals`, body);
-      if (r.status !== 202) { out.className = "feedback refused"; out.textContent = `${r.status}: ${r.data.message || refusal(r.data)}`; return; }
+      if (r.status !== 202) { refusalLine.hidden = false; refusalLine.textContent = `${r.status} ${r.data.status || "refused"}: ${refusal(r.data)}`; return; }
+      refusalLine.hidden = true;
       goalId = r.data.goal_id;
-      out.className = "feedback";
-      out.textContent = `goal ${goalId}: ${r.data.status}\n`;
-      const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
-      ws.onmessage = (e) => {
-        const m = JSON.parse(e.data);
-        out.textContent += m.feedback ? `feedback: ${JSON.stringify(m.feedback)}\n` : `${m.status}: ${m.message || ""}\n${showResult(m.result)}\n`;
-      };
+      goals.prepend(goalBlock(name, goalId, (m) => showActionResult(name, m)));
+      while (goals.children.length > 3) goals.lastChild.remove();
     });
+    form.append(cancel);
     root.append($("div", { class: "item action", "data-name": name },
       $("h3", {}, name, " ", $("span", { class: "type", text: `[${type}]` })),
-      $("pre", { text: info.definition }), form, cancel, out));
+      $("p", { class: "description", text: info.description }),
+      $("pre", { text: info.definition }), form, refusalLine, goals));
   }
 }
 
-async function renderView() {
-  const info = (await api("GET", "/view")).data;
-  if (!info.url) { document.getElementById("view").hidden = true; document.getElementById("view-missing").hidden = false; return; }
-  document.getElementById("view").src = info.url;
+// --- results ----------------------------------------------------------------------------------
+function showActionResult(name, m) {
+  if (!m.result || !("table" in m.result)) return;
+  const ok = name === "/compare_controllers"
+    ? m.result.controllers.map((c, i) => `${c} ${m.result.successes[i]}/${m.result.trials[i]}`).join(", ")
+    : `${m.result.successes}/${m.result.trials} succeeded`;
+  const box = $("div", { class: `result ${m.status === "succeeded" ? "" : "refused"}`, "data-action": name },
+    $("b", { text: `${name} ${m.status}: ` }), ok, $("pre", { class: "table", text: m.result.table }));
+  byId("action-results").prepend(box);
+  while (byId("action-results").children.length > 2) byId("action-results").lastChild.remove();
 }
 
-async function renderHealth() {
-  const h = (await api("GET", "/health")).data;
-  document.getElementById("health").textContent = h.loop_alive ? `simulation ${h.rate_hz.toFixed(0)} Hz, t = ${h.sim_time.toFixed(1)} s` : "simulation stopped";
+function showTrial(t) {
+  const el = byId("trial-result");
+  if (t.state === "none") { el.className = "result"; el.textContent = "No trial yet: start lifting while the person holds the box, or run a scripted participant."; return; }
+  const figures = `time ${t.duration.toFixed(2)} s · f_n ${t.f_n_min.toFixed(2)}..${t.f_n_max.toFixed(2)} N · max |f_t|/(mu f_n) ${t.max_friction_ratio.toFixed(2)} · slip ${(t.slip * 1000).toFixed(1)} mm`;
+  const head = { running: "trial running", succeeded: "SUCCESS", failed: "FAILED", abandoned: "no result" }[t.state] || t.state;
+  el.className = `result trial-${t.state}`;
+  el.dataset.state = t.state;
+  el.textContent = "";
+  el.append($("b", { text: `${head}` }), ` (${t.participant}) · ${figures}`);
+  if (t.reason) el.append($("div", { class: "reason", text: t.reason }));
+}
+
+// --- status ---------------------------------------------------------------------------------
+const state = { lifting: null, contact: null, controller: "…", alpha: 0.8 };
+function renderStatus() {
+  const l = state.lifting, c = state.contact;
+  if (l) {
+    const on = byId("st-lifting");
+    on.textContent = l.started ? `ON, band [${num(l.f_n_min)}, ${num(l.f_n_max)}] N` : "off";
+    on.className = l.started ? "on" : "off";
+    byId("st-person").textContent = l.human_phase;
+    const error = byId("st-error");
+    error.hidden = !l.error;
+    if (l.error) {
+      const [first, ...rest] = l.error.split("\n");
+      byId("st-error-reason").textContent = first;
+      byId("st-error-trace").hidden = rest.length === 0;
+      byId("st-error-trace").textContent = rest.join("\n");
+    }
+  }
+  if (c) {
+    const fn = byId("st-fn");
+    const where = !l || !l.started ? "" : c.normal_force < l.f_n_min ? "below the band" : c.normal_force > l.f_n_max ? "above the band" : "in the band";
+    fn.textContent = `${c.normal_force.toFixed(1)} N${where ? ` (${where})` : ""}`;
+    fn.className = where === "in the band" ? "on" : where ? "warn" : "";
+    byId("st-contact").textContent = `robot ${c.robot_contact ? (c.robot_slipping ? "slipping" : "yes") : "no"}, person ${c.human_contact ? (c.human_slipping ? "slipping" : "yes") : "no"}, |f_t|/(mu f_n) ${c.friction_ratio.toFixed(2)}`;
+  }
+  byId("st-controller").textContent = state.controller;
+}
+
+async function pollSlow() {
+  try {
+    const h = (await api("GET", "/health")).data;
+    byId("health").textContent = h.loop_alive ? `simulation ${h.rate_hz.toFixed(0)} Hz, t = ${h.sim_time.toFixed(1)} s` : "simulation stopped";
+    const [controller, alpha] = await Promise.all([api("GET", "/params/cooperative_lifting/controller"), api("GET", "/params/cooperative_lifting/alpha")]);
+    state.controller = controller.data.value;
+    state.alpha = alpha.data.value;
+    renderStatus();
+  } catch { byId("health").textContent = "server unreachable"; }
+}
+
+async function command(path, body) {
+  const r = await api("POST", path, body);
+  const msg = byId("ctl-message");
+  msg.className = r.status === 200 ? "ok" : "refused";
+  msg.textContent = r.status === 200 ? `${path.split("/").pop()}: ${r.data.message ?? show(r.data)}` : `${path.split("/").pop()}: ${refusal(r.data)}`;
+  return r;
+}
+
+function bindControls() {
+  const force = () => ({ json: `{"force": ${JSON_NUMBER.test(byId("ctl-force").value.trim()) ? byId("ctl-force").value.trim() : JSON.stringify(byId("ctl-force").value)}}` });
+  byId("ctl-start").onclick = () => command("/services/start_cooperative_lifting", force());
+  byId("ctl-stop").onclick = () => command("/services/stop_cooperative_lifting");
+  byId("ctl-reset").onclick = () => command("/services/reset_simulation");
+  byId("ctl-recover").onclick = () => command("/services/error_recovery");
+  byId("ctl-participant-run").onclick = async () => {
+    const r = await api("PUT", "/params/human/profile", { value: byId("ctl-participant").value });
+    if (!r.data.successful) { byId("ctl-message").textContent = r.data.reason; return; }
+    if ((await command("/services/reset_simulation")).status === 200) await command("/services/start_cooperative_lifting", force());
+  };
+  api("GET", "/params/human/profile/describe").then(({ data }) => {
+    for (const choice of data.choices || []) byId("ctl-participant").append($("option", { text: choice, value: choice }));
+    api("GET", "/params/human/profile").then((r) => { byId("ctl-participant").value = r.data.value; });
+  });
+  // teleop: buttons and keys (w/s/a/d/q) while the pad has the focus
+  const jog = async (key) => {
+    const r = await api("POST", "/teleop/key", { key });
+    byId("teleop-out").className = r.data.successful ? "ok" : "refused";
+    byId("teleop-out").textContent = r.data.successful ? `${key}: twist ${r.data.twist.map((x) => num(x, 3)).join(", ")}` : `${key}: ${refusal(r.data)}`;
+  };
+  for (const b of document.querySelectorAll("#teleop-pad button")) b.onclick = () => jog(b.dataset.key);
+  byId("teleop-pad").addEventListener("keydown", (e) => { if ("wsadq".includes(e.key) && e.key.length === 1) { e.preventDefault(); jog(e.key); } });
+}
+
+// --- live plots (uPlot) -------------------------------------------------------------------------
+const WINDOW_S = 30, RATE_HZ = 20;
+const plots = { paused: false, charts: [], buffers: {} };
+function makeChart(id, title, series, scales, axes, columns) {
+  const el = byId(id);
+  const chart = new uPlot({
+    title, width: el.clientWidth || 600, height: 170, series: [{ label: "t (s)", value: (u, v) => (v == null ? "--" : v.toFixed(2)) }, ...series],
+    scales: { x: { time: false }, ...scales }, axes, legend: { live: true },
+  }, columns.map(() => []), el);
+  const buffer = columns.map(() => []);
+  plots.charts.push({ chart, buffer });
+  return buffer;
+}
+function buildPlots() {
+  const value = (digits) => (u, v) => (v == null ? "--" : v.toFixed(digits));
+  const contact = makeChart("plot-contact", "Contact: f_n with the band, friction ratio with its cone margin", [
+    { label: "f_n (N)", stroke: "#d62728", width: 2, scale: "N", value: value(2) },
+    { label: "f_n_min (N)", stroke: "#888", dash: [5, 5], scale: "N", value: value(1) },
+    { label: "f_n_max (N)", stroke: "#888", dash: [5, 5], scale: "N", value: value(1) },
+    { label: "|f_t|/(mu f_n)", stroke: "#9467bd", width: 2, scale: "ratio", value: value(2) },
+    { label: "margin alpha", stroke: "#9467bd", dash: [3, 3], scale: "ratio", value: value(2) },
+  ], { N: { auto: true }, ratio: { range: [0, 1.5] } }, [{}, { scale: "N", label: "force (N)" }, { scale: "ratio", side: 1, label: "|f_t| / (mu f_n)", grid: { show: false } }], [0, 1, 2, 3, 4, 5]);
+  const wrench = makeChart("plot-wrench", "F_ext (EE frame, as measured)", [
+    { label: "f_x (N)", stroke: "#1f77b4", value: value(2) }, { label: "f_y (N)", stroke: "#2ca02c", value: value(2) },
+    { label: "f_z (N)", stroke: "#d62728", value: value(2) },
+  ], {}, [{}, { label: "force (N)" }], [0, 1, 2, 3]);
+  const twist = makeChart("plot-twist", "Commanded twist (base frame)", [
+    { label: "v_x (m/s)", stroke: "#1f77b4", value: value(3) }, { label: "v_y (m/s)", stroke: "#2ca02c", value: value(3) },
+    { label: "v_z (m/s)", stroke: "#d62728", value: value(3) }, { label: "|w| (rad/s)", stroke: "#ff7f0e", scale: "w", value: value(3) },
+  ], { w: { auto: true } }, [{}, { label: "v (m/s)" }, { scale: "w", side: 1, label: "|w| (rad/s)", grid: { show: false } }], [0, 1, 2, 3, 4]);
+  const latest = { lifting: null, wrench: null, twist: null };
+  stream("/lifting_state", 10, (m) => { latest.lifting = m; state.lifting = m; renderStatus(); });
+  stream("/franka_state_controller/F_ext", RATE_HZ, (m) => { latest.wrench = m; });
+  stream("/cartesian_velocity_controller/command", RATE_HZ, (m) => { latest.twist = m; });
+  stream("/trial", 4, showTrial);
+  stream("/contact_state", RATE_HZ, (m) => {  // one sample per contact message, with the newest of the others
+    state.contact = m;
+    const t = stampSeconds(m.header);
+    const l = latest.lifting || { f_n_min: 0, f_n_max: 0, started: false };
+    const push = (buffer, row) => {
+      if (buffer[0].length && t < buffer[0][buffer[0].length - 1]) buffer.forEach((col) => col.splice(0));  // reset: time went back
+      row.forEach((v, i) => buffer[i].push(v));
+      while (buffer[0].length && buffer[0][0] < t - WINDOW_S) buffer.forEach((col) => col.shift());
+    };
+    push(contact, [t, m.normal_force, l.started ? l.f_n_min : null, l.started ? l.f_n_max : null, m.friction_ratio, state.alpha]);
+    if (latest.wrench) { const f = latest.wrench.wrench.force; push(wrench, [t, f.x, f.y, f.z]); }
+    if (latest.twist) { const v = latest.twist.linear, w = latest.twist.angular; push(twist, [t, v.x, v.y, v.z, Math.hypot(w.x, w.y, w.z)]); }
+  });
+  byId("plot-pause").onclick = () => { plots.paused = !plots.paused; byId("plot-pause").textContent = plots.paused ? "Resume" : "Pause"; };
+  const draw = () => {
+    if (!plots.paused) {
+      for (const { chart, buffer } of plots.charts) {
+        chart.setData(buffer.map((col) => col.slice()));
+        if (chart.cursor.left == null || chart.cursor.left < 0) chart.setLegend({ idx: buffer[0].length - 1 });  // legend: the newest values
+      }
+    }
+    setTimeout(draw, 200);
+  };
+  draw();
+  window.addEventListener("resize", () => { for (const { chart } of plots.charts) chart.setSize({ width: chart.root.parentElement.clientWidth, height: 170 }); });
+}
+
+// --- the 3D view ----------------------------------------------------------------------------------
+// Where WebGL is software-rendered (SwiftShader, llvmpipe), the view would take the page's main
+// thread: it is then not embedded by default (a button embeds it, a link opens it in a window).
+function softwareWebGL() {
+  try {
+    const gl = document.createElement("canvas").getContext("webgl");
+    if (!gl) return "no WebGL";
+    const info = gl.getExtension("WEBGL_debug_renderer_info");
+    const renderer = info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+    return /swiftshader|llvmpipe|software|softpipe/i.test(renderer) ? renderer : null;
+  } catch { return "no WebGL"; }
+}
+async function renderView() {
+  const info = (await api("GET", "/view")).data;
+  const frame = byId("view"), off = byId("view-off");
+  if (!info.url) { off.hidden = false; byId("view-off-reason").textContent = "The 3D view is off (server started with --view none)."; byId("view-embed").hidden = true; byId("view-window").hidden = true; return; }
+  // The view on the other name of this machine (127.0.0.1 <-> localhost): another site, so the
+  // browser gives it a process of its own (site isolation) and its rendering never blocks this page.
+  const url = new URL(info.url);
+  const loopback = { "127.0.0.1": "localhost", localhost: "127.0.0.1" };
+  if (url.hostname === location.hostname && loopback[url.hostname]) url.hostname = loopback[url.hostname];
+  byId("view-window").href = url;
+  const embed = () => { off.hidden = true; frame.hidden = false; frame.src = url; };
+  byId("view-embed").onclick = embed;
+  const software = new URLSearchParams(location.search).get("view") === "embed" ? null : softwareWebGL();
+  if (software) {
+    off.hidden = false;
+    byId("view-off-reason").textContent = `WebGL is software-rendered here (${software}): the 3D view is not embedded, so this page stays responsive.`;
+  } else embed();
 }
 
 for (const button of document.querySelectorAll("nav button")) {
@@ -160,9 +430,11 @@ for (const button of document.querySelectorAll("nav button")) {
   });
 }
 renderView();
+bindControls();
+buildPlots();
 renderServices();
 renderParams();
 renderTopics();
 renderActions();
-renderHealth();
-setInterval(renderHealth, 2000);
+pollSlow();
+setInterval(pollSlow, 2000);

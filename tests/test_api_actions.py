@@ -101,12 +101,40 @@ def test_teleop_refusals(client):
     client.post("/services/stop_cooperative_lifting")
 
 
-def test_move_to_start_aborts_while_lifting(client):
+def test_move_to_start_is_refused_up_front_while_lifting_or_in_error(client, lab):
     client.post("/services/start_cooperative_lifting", json={"force": 10.0})
-    goal_id = client.post("/actions/move_to_start/goals").json()["goal_id"]
-    view = wait_terminal(client, "move_to_start", goal_id)
-    assert view["status"] == "aborted" and "stop it first" in view["message"]
+    response = client.post("/actions/move_to_start/goals")
+    assert response.status_code == 409
+    view = response.json()
+    assert view["status"] == "rejected"
+    assert view["message"] == "cooperative lifting is running: call /stop_cooperative_lifting first"
+    assert "Error" not in view["message"]  # no exception name leaks
     client.post("/services/stop_cooperative_lifting")
+    from tests.test_api_services import _too_fast
+
+    lab.call(_too_fast)
+    response = client.post("/actions/move_to_start/goals")
+    assert response.status_code == 409 and response.json()["message"].startswith("the robot is in error (cartesian velocity limit")
+    assert "call /error_recovery first" in response.json()["message"]
+    client.post("/services/error_recovery")
+
+
+def test_a_goal_failure_aborts_with_its_message_only(client):
+    from app.ros.actions import Action, ActionServer, GoalFailure
+    from app.ros.messages import Empty
+
+    def fail(lab, goal, handle):
+        raise GoalFailure("robot reflex: joint 4 position limit")
+
+    def bug(lab, goal, handle):
+        raise KeyError("x")
+
+    server = ActionServer([Action("/fail", "t/Fail", Empty, Empty, Empty, fail), Action("/bug", "t/Bug", Empty, Empty, Empty, bug)], None)
+    failed, buggy = server.send_goal(server.get("fail"), Empty()), server.send_goal(server.get("bug"), Empty())
+    failed.wait_for_update(0, 5.0)
+    buggy.wait_for_update(0, 5.0)
+    assert (failed.status.value, failed.message) == ("aborted", "robot reflex: joint 4 position limit")
+    assert (buggy.status.value, buggy.message) == ("aborted", "KeyError: 'x'")  # a handler bug says what it is
 
 
 def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):

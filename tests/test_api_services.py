@@ -1,5 +1,6 @@
 """The lab's services over HTTP against the real app and its live loop."""
 import math
+import time
 
 import numpy as np
 import pytest
@@ -174,8 +175,12 @@ def test_error_recovery_and_reset(client, lab):
     assert body["success"] is True and "cartesian velocity limit" in body["message"]
     assert client.get("/topics/lifting_state").json()["error"] == ""
     assert client.post("/services/error_recovery").json()["message"] == "No error to recover from."
+    client.post("/services/start_cooperative_lifting", json={"force": 10.0})
     body = client.post("/services/reset_simulation").json()
-    assert body["success"] is True
+    assert body["success"] is True and "lifting stopped" in body["message"]
+    state = client.get("/topics/lifting_state").json()
+    assert (state["human_phase"], state["started"], state["f_n_min"]) == ("grasping", False, 0.0)
+    time.sleep(0.5)  # the person waits: no grip in a band, so no release
     assert client.get("/topics/lifting_state").json()["human_phase"] == "grasping"
 
 

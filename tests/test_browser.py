@@ -1,4 +1,5 @@
-"""The dashboard in a real browser (Debian's chromium driven by playwright), as a student uses it."""
+"""The dashboard in a real browser (Debian's chromium driven by playwright), as a student uses it,
+on a machine without internet (every asset comes from the server)."""
 import os
 import shutil
 import time
@@ -11,80 +12,187 @@ from app.cli.launch import free_port, running_server
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"
-ARGS = ["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
+ARGS = ["--site-per-process",  # as desktop Chromium: a cross-site frame gets its own process
+        "--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
         "--disable-component-update", "--disable-sync", "--no-first-run"]
+
+
+VIEW = os.environ.get("HRI_LAB_TEST_VIEW", "light")  # "full" for the full-mesh screenshot of the README
 
 
 @pytest.fixture(scope="module")
 def server():
-    with running_server("--view", "light", "--view-port", str(free_port())) as server:
+    with running_server("--view", VIEW, "--view-port", str(free_port())) as server:
         yield server.url
 
 
 @pytest.fixture(scope="module")
-def page(server):
+def browser():
     from playwright.sync_api import sync_playwright
 
     assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1500, "height": 900})
-        page.set_default_timeout(60_000)
-        page.goto(server + "/")
-        yield page
+        yield browser
         browser.close()
 
 
-def test_dashboard_in_chromium(server, page):
-    # the service list, generated from the API, with the .srv text
+@pytest.fixture(scope="module")
+def page(server, browser):
+    page = browser.new_page(viewport={"width": 1500, "height": 900})
+    page.set_default_timeout(90_000)  # a loaded 2-core machine; waits end as soon as the page is there
+    offline = []  # anything not asked of this server would need the internet
+    local = ("http://127.0.0.1", "ws://127.0.0.1", "http://localhost", "ws://localhost", "data:", "blob:")
+    page.on("request", lambda r: offline.append(r.url) if not r.url.startswith(local) else None)
+    page.goto(server + "/")
+    page.offline_requests = offline
+    yield page
+    assert not offline, offline
+
+
+def text_of(page, selector):
+    return page.locator(selector).inner_text()
+
+
+def wait_text(page, selector, needle, timeout=90_000):
+    page.wait_for_function("([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)", arg=[selector, needle], timeout=timeout)
+
+
+def test_docs_and_redoc_render_offline(server, browser):
+    page = browser.new_page()
+    page.set_default_timeout(90_000)
+    external = []
+    page.on("request", lambda r: external.append(r.url) if not r.url.startswith((server, f"blob:{server}")) else None)
+    page.goto(server + "/docs")
+    page.locator(".opblock-summary-path", has_text="/services/add_two_ints").first.wait_for()
+    page.locator("#operations-services-call_add_two_ints").click()
+    page.get_by_role("button", name="Try it out").click()
+    body = page.locator("#operations-services-call_add_two_ints textarea.body-param__text").input_value()
+    assert '"a": 0' in body and "922337" not in body  # the example, not a rounded int64 bound
+    page.get_by_role("button", name="Execute").click()
+    page.locator("#operations-services-call_add_two_ints .live-responses-table .response-col_status", has_text="200").wait_for()
+    page.goto(server + "/redoc")
+    page.locator("h2", has_text="call /add_two_ints (hri_lab/AddTwoInts)").first.wait_for()  # ReDoc rendered the operation
+    page.close()
+    assert not external, external
+
+
+def test_the_page_as_a_student_uses_it(server, page):
+    # the services, generated from the API: .srv text, description, the form's hints
     start = page.locator(".service[data-name='/start_cooperative_lifting']")
     start.wait_for()
     assert "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message" in start.locator("pre.srv").inner_text()
+    assert "f_n_max = force + f_n_band" in start.locator(".description").inner_text()
+    torques = page.locator(".service[data-name='/compute_torques']")
+    assert torques.locator("input[name=force]").get_attribute("placeholder") == "6 numbers, comma-separated"
 
-    # call divide_ints through its form
+    # int64 exactly as typed (a JS number would round 2^63 - 1 and the server would refuse it)
+    add = page.locator(".service[data-name='/add_two_ints']")
+    add.locator("input[name=a]").fill("9223372036854775807")
+    add.locator("input[name=b]").fill("0")
+    add.locator("button[type=submit]").click()
+    wait_text(page, ".service[data-name='/add_two_ints'] pre.response", "9223372036854775807")
+    assert "ok" in add.locator("pre.response").get_attribute("class")
+
+    # a parameter set to a wrong type shows rclcpp's refusal; descriptions are listed
+    page.locator("nav button[data-tab=params]").click()
+    mu = page.locator(".param[data-name='cooperative_lifting/mu']")
+    assert "friction coefficient the controller assumes [0.05, 2]" in mu.locator(".description").inner_text()
+    mu.locator("input").fill("abc")
+    mu.locator("button").click()
+    wait_text(page, ".param[data-name='cooperative_lifting/mu'] .refused",
+              "Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed.")
+
+    # topics formatted with units; raw JSON on request
+    page.locator("nav button[data-tab=topics]").click()
+    wait_text(page, ".topic[data-name='/franka_state_controller/F_ext'] pre", "wrench.force.z:")
+    assert " N" in text_of(page, ".topic[data-name='/franka_state_controller/F_ext'] pre")
+    page.locator("#topics-raw").check()
+    wait_text(page, ".topic[data-name='/franka_state_controller/F_ext'] pre", '"wrench": {')
+    page.locator("#topics-raw").uncheck()
+
+    # start lifting from the page: the status says so, with its band
+    page.locator("#ctl-force").fill("12")
+    page.locator("#ctl-start").click()
+    wait_text(page, "#st-lifting", "ON, band [12, 17] N")
+    # lifting stopped and started again by curl: the status follows
+    httpx.post(f"{server}/services/stop_cooperative_lifting")
+    wait_text(page, "#st-lifting", "off")
+    httpx.post(f"{server}/services/start_cooperative_lifting", json={"force": 10})
+    wait_text(page, "#st-lifting", "ON, band [10, 15] N")
+
+    # the plots move: new samples arrive, the legend shows values (not "--")
+    samples = page.evaluate("plots.charts[0].chart.data[0].length")
+    page.wait_for_function(f"plots.charts[0].chart.data[0].length > {samples} + 10")
+    legend = text_of(page, "#plot-contact .u-legend")
+    assert "f_n (N)" in legend and "|f_t|/(mu f_n)" in legend and "--" not in legend
+    page.locator("#plot-pause").click()
+    frozen = page.evaluate("plots.charts[0].chart.data[0].length")
+    time.sleep(0.6)
+    assert page.evaluate("plots.charts[0].chart.data[0].length") == frozen
+    page.locator("#plot-pause").click()
+
+    # move_to_start while lifting: refused up front, on its own line, no exception name
+    page.locator("nav button[data-tab=actions]").click()
+    move = page.locator(".action[data-name='/move_to_start']")
+    move.locator("button[type=submit]").click()
+    wait_text(page, ".action[data-name='/move_to_start'] .refusal", "409 rejected: cooperative lifting is running: call /stop_cooperative_lifting first")
+    assert move.locator(".goal").count() == 0
+
+    # a scripted participant (hasty: the short failing trial) and its result
+    page.locator("#ctl-participant").select_option("hasty")
+    page.locator("#ctl-force").fill("10")
+    page.locator("#ctl-participant-run").click()
+    wait_text(page, "#trial-result", "trial running (hasty)")
+    page.wait_for_function("['succeeded', 'failed'].includes(document.querySelector('#trial-result').dataset.state)", timeout=60_000)
+    result = text_of(page, "#trial-result")
+    assert "(hasty)" in result and "slip" in result and "time" in result and "f_n" in result
+    assert result.startswith("SUCCESS") or "dropped" in result, result
+
+    # the controller comparison, the smallest goal: one hasty trial (over in ~3 s) with SP; its result and table
+    compare = page.locator(".action[data-name='/compare_controllers']")
+    compare.locator("input[name=controllers]").fill("sp")
+    compare.locator("input[name=participants]").fill("hasty")
+    compare.locator("button[type=submit]").click()
+    page.locator("#action-results .result[data-action='/compare_controllers']").wait_for(timeout=120_000)
+    summary = text_of(page, "#action-results .result[data-action='/compare_controllers']")
+    assert "/compare_controllers succeeded: sp 0/1" in summary and "hasty" in summary
+    assert compare.locator(".goal progress").get_attribute("value") == "1"
+
+
+def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, page):
+    """Software WebGL here: the view is not embedded until asked; embedded, it is another site
+    (localhost vs 127.0.0.1), so it renders in its own process. A service call's round trip on the
+    page is measured without and with the embedded view (printed, not asserted: wall time)."""
+    httpx.post(f"{server}/services/reset_simulation")
+    assert "software-rendered" in text_of(page, "#view-off-reason")
+    page.locator("nav button[data-tab=services]").click()
     divide = page.locator(".service[data-name='/divide_ints']")
     divide.locator("input[name=a]").fill("1")
-    divide.locator("input[name=b]").fill("0")
-    divide.locator("button[type=submit]").dispatch_event("click")
-    page.wait_for_function("document.querySelector(\".service[data-name='/divide_ints'] pre.response\").textContent.includes('Division by zero!')")
 
-    # a parameter set to a wrong type shows rclcpp's refusal
-    page.locator("nav button[data-tab=params]").dispatch_event("click")
-    mu = page.locator(".param[data-name='cooperative_lifting/mu']")
-    mu.locator("input").fill("abc")
-    mu.locator("button").dispatch_event("click")
-    refusal = "Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed."
-    page.wait_for_function(f"document.querySelector(\".param[data-name='cooperative_lifting/mu'] .refused\")?.textContent === {refusal!r}")
+    def click_round_trip(b):
+        divide.locator("input[name=b]").fill(str(b))
+        started = time.perf_counter()
+        divide.locator("button[type=submit]").click()
+        wait_text(page, ".service[data-name='/divide_ints'] pre.response", "Division by zero!" if b == 0 else "Division ok.")
+        return time.perf_counter() - started
 
-    # start lifting from the 3D view's control (viser, in the embedded frame) with 12 N
+    without = [click_round_trip(b) for b in (0, 1, 0)]
+    page.locator("#view-embed").click()
+    assert page.locator("#view").get_attribute("src").startswith("http://localhost:")
     view = page.frame_locator("#view")
-    force = view.get_by_label("Force (N)")
-    force.fill("12")
-    force.press("Enter")
-    view.get_by_role("button", name="Start lifting").dispatch_event("click")
-    deadline = time.monotonic() + 30
-    state = {}
-    while time.monotonic() < deadline:
-        state = httpx.get(f"{server}/topics/lifting_state").json()
-        if state["started"]:
-            break
-        time.sleep(0.2)
-    assert (state["started"], state["f_n_min"], state["f_n_max"]) == (True, 12.0, 17.0)
-    time.sleep(3)  # the robot presses the box; let the view draw it
-    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(SCREENSHOTS / "dashboard.png"))
-    assert (SCREENSHOTS / "dashboard.png").stat().st_size > 10_000
+    view.get_by_text("Take over the palm").wait_for(state="attached", timeout=90_000)  # the view's controls arrived
+    assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
+    embedded = [click_round_trip(b) for b in (1, 0, 1)]
+    print(f"\npage click -> response: {max(without) * 1e3:.0f} ms without the 3D view, "
+          f"{max(embedded) * 1e3:.0f} ms with it embedded ({VIEW} meshes, software WebGL)")
+    (SCREENSHOTS).mkdir(parents=True, exist_ok=True)
+    (SCREENSHOTS / "responsiveness.txt").write_text(f"without {max(without):.3f} s, embedded {max(embedded):.3f} s\n")
 
-    # the controller comparison, as an action from the page: the table arrives in the goal's output
-    page.locator("nav button[data-tab=actions]").dispatch_event("click")
-    compare = page.locator(".action[data-name='/compare_controllers']")
-    compare.locator("input[name=participants]").fill("calm")
-    compare.locator("button[type=submit]").dispatch_event("click")
-    page.wait_for_function("document.querySelector(\".action[data-name='/compare_controllers'] pre.feedback\")"
-                           ".textContent.includes('succeeded: ')", timeout=180_000)
-    output = compare.locator("pre.feedback").inner_text()
-    assert '"controller":"patch","participant":"calm","trial":2,"of":2' in output
-    table = output.split("table:\n", 1)[1]
-    assert table.splitlines()[0].split() == ["participant", "sp", "|", "patch"] and "calm" in table
-    compare.locator("pre.feedback").scroll_into_view_if_needed()
-    page.screenshot(path=str(SCREENSHOTS / "compare.png"))
+    # lifting started from the 3D view's control shows on the page's status
+    view.get_by_role("button", name="Start lifting").dispatch_event("click")  # the status above it changes height at 30 Hz
+    wait_text(page, "#st-lifting", "ON, band [10, 15] N")
+    time.sleep(2)  # the robot presses the box
+    page.evaluate("document.querySelector('#ros').scrollTop = 0")
+    page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
+    assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000

@@ -103,3 +103,47 @@ def test_converted_meshes_are_cached(tmp_path, monkeypatch):
     cached.write_bytes(b"glTF from the cache")
     assert glb_of(Path(mesh.meshPath), tuple(mesh.meshScale)) == b"glTF from the cache"
     assert glb_of(Path(mesh.meshPath), (2.0, 2.0, 2.0)) != b"glTF from the cache"  # another scale, another entry
+
+
+def test_legend_names_every_colour_and_arrow():
+    from app.view.view3d import ARROWS, COLOURS, MEANING, legend_markdown
+
+    legend = legend_markdown()
+    assert set(MEANING) == set(COLOURS)  # the idle colour included
+    for key, rgb in COLOURS.items():
+        assert f"rgb{rgb}" in legend and MEANING[key] in legend
+    for rgb, text in ARROWS.values():
+        assert f"rgb{rgb}" in legend and text in legend
+
+
+def test_status_is_current_whatever_changed_the_state(view):
+    """Lifting started outside the view (as curl would) shows in the view's status at the next frame."""
+    world = view.lab.world
+    world.stop_lifting()
+    world.reset()
+    view.update(world.snapshot())
+    assert "lifting **off**" in view.status.content and "True" not in view.status.content
+    world.start_lifting(12.0)  # not through the view
+    world.run(0.05)
+    view.update(world.snapshot())
+    assert "lifting **on**, band [12, 17] N" in view.status.content and "trial running" in view.status.content
+    world.stop_lifting()
+
+
+def test_take_over_stops_the_scripted_person_and_keeps_the_gizmo(view):
+    world = view.lab.world
+    world.reset()
+    world.start_lifting(10.0)
+    world.run(0.01)
+    view.update(world.snapshot())
+    assert not view.take_over.value
+    view.take_over.value = True
+    view._on_take_over(None)  # what viser calls when the box is ticked
+    world.run(0.05)
+    view.update(world.snapshot())
+    assert world.human.phase == "manual" and world.trial.state == "abandoned"
+    held = np.array(view.gizmo.position)
+    view.gizmo.position = held + [0.0, 0.0, 0.05]  # the user's drag is not overwritten by the palm
+    view.update(world.snapshot())
+    assert np.allclose(view.gizmo.position, held + [0.0, 0.0, 0.05])
+    assert view.take_over.value

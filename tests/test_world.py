@@ -249,3 +249,42 @@ def test_reset_gives_a_sane_world_at_every_box_mass():
         start = world.box.position.copy()
         world.run(0.3)
         assert np.all(np.isfinite(world.box.position)) and np.linalg.norm(world.box.position - start) < 0.02
+
+
+def test_the_live_world_judges_its_scripted_participant_like_the_experiment():
+    """Lifting started while the person grasps the box starts a trial; the world applies the
+    experiment's rule after every step: the same figures as the headless trial with that seed."""
+    world = World()
+    world.reset(PARTICIPANTS["calm"].varied(np.random.default_rng(11)), seed=11)
+    assert world.snapshot().trial.state == "none"
+    world.start_lifting(10.0)
+    world.step()
+    assert world.snapshot().trial.state == "running" and world.snapshot().trial.participant == "calm"
+    while world.trial.state == "running":
+        world.step()
+    live = world.snapshot().trial
+    headless = Trial(PARTICIPANTS["calm"], seed=11).run()
+    assert live.state == "succeeded" and live.reason == ""
+    assert (live.duration, live.slip, live.f_n_min, live.f_n_max, live.max_friction_ratio) == pytest.approx(
+        (headless.duration, headless.slip, headless.f_n_min, headless.f_n_max, headless.max_friction_ratio), abs=1e-9)
+    world.reset()
+    assert world.snapshot().trial.state == "none"
+
+
+def test_a_live_trial_taken_over_by_the_gizmo_is_abandoned_and_stopping_drops_the_box():
+    world = World()
+    world.run(0.3)  # waiting before lifting starts is not counted
+    world.start_lifting(10.0)
+    world.run(0.1)
+    assert world.snapshot().trial.duration == pytest.approx(0.1)
+    world.human.set_target(world.human.position)
+    world.step()
+    assert (world.trial.state, world.trial.reason) == ("abandoned", "abandoned: the palm was taken over (no scripted result)")
+    world.reset()
+    world.start_lifting(10.0)
+    while world.human.phase != "settling":
+        world.step()
+    world.stop_lifting()  # the robot no longer follows: the person lifts, the box is dropped
+    while world.trial.state == "running":
+        world.step()
+    assert world.trial.state == "failed" and world.trial.reason.startswith("dropped")

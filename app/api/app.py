@@ -17,6 +17,7 @@ from app.api import services as services_api
 from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
+from app.api.docs import add_offline_docs
 from app.api.access import TokenMiddleware, token_problem
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
@@ -66,7 +67,10 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         version="0.1.0",
         lifespan=lifespan,
         default_response_class=SafeJSONResponse,
+        docs_url=None,  # served offline below
+        redoc_url=None,
     )
+    add_offline_docs(app)
     app.state.lab = lab
     app.state.view = None
     app.state.actions = ActionServer(ACTIONS, lab)

@@ -6,6 +6,8 @@ from typing import Any, Callable
 from fastapi import Body
 from pydantic import BaseModel
 
+from app.ros.messages import example_of
+
 
 def with_body(model: type[BaseModel], handle: Callable[..., Any], name: str, **dependencies: Any) -> Callable:
     """A route function taking the JSON body as `model` (optional when the model has no field);
@@ -15,7 +17,8 @@ def with_body(model: type[BaseModel], handle: Callable[..., Any], name: str, **d
     def endpoint(body: BaseModel | None = None, **resolved: Any):
         return handle(body if body is not None else model(), **resolved)
 
-    default = Body(...) if has_fields else Body(None)
+    examples = {"example": {"summary": "an accepted request", "value": example_of(model)}}  # what /docs pre-fills
+    default = Body(..., openapi_examples=examples) if has_fields else Body(None, openapi_examples=examples)
     annotation = model if has_fields else model | None
     parameters = [inspect.Parameter("body", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]
     parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, annotation=a) for n, a in dependencies.items()]

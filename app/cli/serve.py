@@ -119,7 +119,7 @@ class AnnouncingServer(uvicorn.Server):
             print(
                 f"hri-lab is running: open {base}/\n"
                 f"  API       {base}/services  {base}/params  {base}/topics  {base}/actions\n"
-                f"  API docs  {base}/docs\n"
+                f"  API docs  {base}/docs  {base}/redoc\n"
                 f"  rosbridge ws://{self.config.host}:{self.config.port}/  (roslibpy.Ros('{self.config.host}', {self.config.port}))\n"
                 + (f"  3D view   {view.url}\n" if view is not None else "")
                 + "Press Ctrl+C to stop.",

@@ -21,7 +21,7 @@ from sim.recording.trial import TrialOutputs
 
 from app.lab import commands as cmd
 from app.lab import overrides
-from app.ros.actions import Action, GoalHandle
+from app.ros.actions import Action, GoalFailure, GoalHandle
 from app.ros.params import ParameterRefused
 from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, integral, int32_array, string_array
 
@@ -80,17 +80,29 @@ class MoveFeedback(RosMessage):
     progress: Float64  # 0..1
 
 
+def robot_free(lab, goal: Empty) -> str | None:
+    """Why the robot cannot move to the start pose now (the goal is refused up front), or None."""
+    s = lab.snapshot()
+    if s.lifting.running:
+        return "cooperative lifting is running: call /stop_cooperative_lifting first"
+    if s.error:
+        return f"the robot is in error ({s.error}): call /error_recovery first"
+    return None
+
+
 def move_to_start(lab, goal: Empty, handle: GoalHandle) -> MoveResult:
     """Drive the robot to the start pose with a smooth joint motion (lifting must be stopped)."""
-
-    duration = lab.call(cmd.begin_move_to_start)
+    try:
+        duration = lab.call(cmd.begin_move_to_start)
+    except RuntimeError as exc:  # lifting started between the precondition and the start
+        raise GoalFailure(str(exc)) from None
     while True:
         if handle.wait(0.1):
             lab.call(cmd.stop_motion)
             return MoveResult(success=False, message="canceled: the robot braked to rest")
         progress, moving, error = lab.call(cmd.motion_progress)
         if error:
-            raise RuntimeError(f"robot reflex: {error}")
+            raise GoalFailure(f"robot reflex: {error}")
         handle.feedback(MoveFeedback(progress=progress))
         if not moving:
             return MoveResult(success=True, message=f"at the start pose ({duration:.1f} s motion)")
@@ -229,7 +241,8 @@ ACTIONS = [
     Action("/count", "hri_lab/Count", CountGoal, CountResult, CountFeedback, count,
            "Count up to `count`, one number a second (the seed's action)."),
     Action("/move_to_start", "hri_lab/MoveToStart", Empty, MoveResult, MoveFeedback, move_to_start,
-           "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it."),
+           "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it. "
+           "Refused (409) while lifting runs or the robot is in error.", precondition=robot_free),
     Action("/run_experiment", "hri_lab/RunExperiment", ExperimentGoal, ExperimentResult, ExperimentFeedback, run_experiment,
            "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial."),
     Action("/compare_controllers", "hri_lab/CompareControllers", CompareGoal, CompareResult, CompareFeedback,

@@ -38,7 +38,8 @@ class Message(RosMessage):
 
 # --- cooperative lifting --------------------------------------------------------------------
 class StartRequest(RosMessage):
-    force: Annotated[float, Field(ge=F_N_MIN_RANGE[0], le=F_N_MIN_RANGE[1], allow_inf_nan=False), RosType("float64")]
+    force: Annotated[float, Field(ge=F_N_MIN_RANGE[0], le=F_N_MIN_RANGE[1], allow_inf_nan=False, examples=[10.0]),
+                     RosType("float64")]
     controller: Annotated[str, Field(pattern="^(|" + "|".join(BUILTIN) + ")$"),
                           RosType("string", "'' keeps the current one; " + " or ".join(BUILTIN))] = ""
 
@@ -215,8 +216,8 @@ def error_recovery(lab, request: Empty) -> Trigger:
 
 
 def reset_simulation(lab, request: Empty) -> Trigger:
-    lab.call(cmd.reset)
-    return Trigger(success=True, message="Simulation reset: robot at the start pose, box held in front of the plate.")
+    lab.call(cmd.reset_world)
+    return Trigger(success=True, message="Simulation reset: lifting stopped, robot at the start pose, box held in front of the plate.")
 
 
 # --- recording (app/lab/recorder.py) ---------------------------------------------------------
@@ -292,7 +293,7 @@ SERVICES = ServiceRegistry([
     Service("/error_recovery", "std_srvs/Trigger", Empty, Trigger, error_recovery,
             "Clear the robot's reflex error (franka's error recovery)."),
     Service("/reset_simulation", "std_srvs/Trigger", Empty, Trigger, reset_simulation,
-            "Reset the world: robot at the start pose, box held by the person in front of the plate."),
+            "Reset the world: lifting stopped, robot at the start pose, box held by the person in front of the plate."),
     Service("/start_recording", "hri_lab/StartRecording", StartRecordingRequest, RecordingResponse, start_recording,
             "Record the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it."),
     Service("/stop_recording", "hri_lab/StopRecording", Empty, RecordingResponse, stop_recording,

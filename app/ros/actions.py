@@ -6,7 +6,9 @@ one goal at a time: a goal sent while another is pending or active is REJECTED (
 cancels the running one first). A goal runs in its own thread; `execute(lab, goal, handle)`
 publishes feedback with `handle.feedback(...)`, checks `handle.cancel_requested` (or sleeps
 with `handle.wait(s)`, which wakes on cancel) and returns the result. Returning while a cancel
-is requested ends PREEMPTED; raising ends ABORTED with the reason; returning ends SUCCEEDED.
+is requested ends PREEMPTED; raising `GoalFailure` ends ABORTED with its message (any other
+exception: ABORTED with its type and message); returning ends SUCCEEDED. An action may declare
+`precondition(lab, goal) -> reason or None`: a goal that cannot run now is REJECTED up front (409).
 
 Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal id and status;
 GET .../goals/{id} (long-poll with ?after=N&wait=S for feedback beyond the N-th);
@@ -23,6 +25,10 @@ from typing import Any, Callable
 
 from app.ros.messages import RosMessage, definition
 from app.ros.names import absolute
+
+
+class GoalFailure(Exception):
+    """A goal that could not be done (the reason is the message, shown as it is)."""
 
 
 class GoalStatus(str, Enum):
@@ -47,6 +53,7 @@ class Action:
     feedback: type[RosMessage]
     execute: Callable[[Any, Any, "GoalHandle"], RosMessage]
     description: str = ""
+    precondition: Callable[[Any, Any], str | None] | None = None  # (lab, goal) -> why it cannot run now
 
     @property
     def definition(self) -> str:
@@ -184,6 +191,10 @@ class ActionServer:
         if busy:
             handle.set_status(GoalStatus.REJECTED, f"{action.name} is busy with goal {busy[0].id}; cancel it first")
             return handle
+        reason = action.precondition(self.lab, goal) if action.precondition else None
+        if reason:
+            handle.set_status(GoalStatus.REJECTED, reason)
+            return handle
         threading.Thread(target=self._run, args=(handle,), name=f"action{action.name}", daemon=True).start()
         return handle
 
@@ -204,6 +215,9 @@ class ActionServer:
             handle.notify()
         try:
             result = handle.action.execute(self.lab, handle.goal, handle)
+        except GoalFailure as failure:
+            handle.set_status(GoalStatus.ABORTED, str(failure))
+            return
         except Exception as exc:  # noqa: BLE001 - an aborted goal, the server goes on
             reason = "".join(traceback.format_exception_only(exc)).strip()
             handle.set_status(GoalStatus.ABORTED, reason)

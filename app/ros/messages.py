@@ -27,7 +27,8 @@ def integral(value):
 
 
 Float64 = Annotated[float, Field(allow_inf_nan=False), RosType("float64")]
-Int64 = Annotated[int, Field(ge=INT64_MIN, le=INT64_MAX), BeforeValidator(integral), RosType("int64")]
+# examples: /docs pre-fills them (a JSON number beyond 2^53 loses precision in the browser)
+Int64 = Annotated[int, Field(ge=INT64_MIN, le=INT64_MAX, examples=[0]), BeforeValidator(integral), RosType("int64")]
 Int32 = Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral), RosType("int32")]
 Bool = Annotated[bool, RosType("bool")]
 String = Annotated[str, Field(max_length=10_000), RosType("string")]
@@ -61,6 +62,28 @@ def definition(model: type[BaseModel]) -> str:
             raise TypeError(f"{model.__name__}.{name} has no ROS type")
         lines.append(f"{ros.name} {field.alias or name}" + (f"  # {ros.comment}" if ros.comment else ""))
     return "\n".join(lines)
+
+
+def example_of(model: type[BaseModel]) -> dict:
+    """A request every field of which is accepted: a field's first example, else its default, else
+    the zero of its ROS type (an array of zeros of its minimum length). /docs pre-fills it."""
+    body = {}
+    for name, field in model.model_fields.items():
+        key = field.alias or name
+        ros = next((m for m in field.metadata if isinstance(m, RosType)), None)
+        if field.examples:
+            body[key] = field.examples[0]
+        elif not field.is_required():
+            body[key] = field.get_default(call_default_factory=True)
+        elif ros is not None and ros.name.endswith("[]"):
+            length = next((m.min_length for m in field.metadata if hasattr(m, "min_length")), 0) or 0
+            body[key] = [_ZEROS[ros.name[:-2]]] * length
+        else:
+            body[key] = _ZEROS[ros.name if ros else "string"]
+    return body
+
+
+_ZEROS = {"float64": 0.0, "int64": 0, "int32": 0, "bool": False, "string": ""}
 
 
 class Empty(RosMessage):

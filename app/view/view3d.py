@@ -24,7 +24,7 @@ import websockets.asyncio.server
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.person.human import PARTICIPANTS
 from sim.robot.panda import PandaModel
-from sim.recording.scene import COLOURS, FORCE_SCALE, arrows_of, state_of  # noqa: F401 - shared with recordings
+from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, arrows_of, state_of
 from sim.world import Snapshot
 
 from app.api.security import host_refusal, local_names, origin_refusal
@@ -60,6 +60,31 @@ def guarded_websocket_server(bound_host: str):
         yield
     finally:
         websockets.asyncio.server.serve = original
+
+
+CAMERA_POSITION = (1.0, 1.05, 0.75)  # m, base frame: the robot and the box in view, from the person's side
+CAMERA_LOOK_AT = (0.3, 0.25, 0.35)
+GIZMO_SCALE = 0.3  # m
+MEANING = {  # state -> what the box colour says (the view's legend)
+    "inside": "f_n inside the band", "below": "f_n below the band", "above": "f_n above the band",
+    "slipping": "the plate slips on the box", "error": "robot reflex (error)", "idle": "lifting stopped",
+}
+ARROWS = {  # arrow -> (RGB, what it shows)
+    "normal": (ARROW_COLOURS["normal"], "F_ext, normal part (at the plate)"),
+    "tangential": (ARROW_COLOURS["tangential"], "F_ext, tangential part"),
+    "human": (ARROW_COLOURS["human"], "the person's push (at the palm)"),
+}
+
+
+def legend_markdown() -> str:
+    """The legend of the box colours, the arrows and the other shapes (HTML swatches in markdown)."""
+    def swatch(rgb):
+        return f'<span style="display:inline-block;width:0.9em;height:0.9em;background:rgb{tuple(rgb)}"></span>'
+
+    boxes = "<br>".join(f"{swatch(COLOURS[k])} {text}" for k, text in MEANING.items())
+    arrows = "<br>".join(f"{swatch(rgb)} {text}" for rgb, text in ARROWS.values())
+    return (f"**Box colour**<br>{boxes}<br><br>**Arrows** ({FORCE_SCALE * 100:g} cm per N)<br>{arrows}<br><br>"
+            f"{swatch((255, 220, 0))} friction cone (opening = mu)<br>{swatch((120, 120, 120))} the box's path")
 
 
 def wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -149,18 +174,17 @@ class LabView:
         with guarded_websocket_server(host):  # refuses foreign Host/Origin (app/api/security.py)
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.server.scene.set_up_direction("+z")
-        self.server.initial_camera.position = (1.6, 1.5, 1.0)
-        self.server.initial_camera.look_at = (0.45, 0.2, 0.35)
+        self.server.initial_camera.position = CAMERA_POSITION
+        self.server.initial_camera.look_at = CAMERA_LOOK_AT
         if light:
             self.server.scene.configure_default_lights(cast_shadow=False)
         self.robot = RobotMeshes(self.server, light)
         self.controls = controls  # off when the API needs a token: the view then only shows
         self._build_scene()
         self._build_gui()
-        self.status_message = "Ready. Start lifting with a force."
+        self.status_message = ""  # the answer to the last control used here
         self.frame_times: deque[float] = deque(maxlen=1000)
         self._path: deque[np.ndarray] = deque(maxlen=300)
-        self._plot: deque[tuple[float, ...]] = deque(maxlen=int(10 * rate_hz))
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name="view3d", daemon=True)
 
@@ -194,12 +218,11 @@ class LabView:
         palm = geometry["palm"]
         self.palm = scene.add_box("/palm", dimensions=(palm[0], palm[1], 0.015), color=(240, 190, 160))
         self.arrows = {
-            "normal": scene.add_arrows("/forces/normal", np.zeros((1, 2, 3)), (230, 50, 50), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
-            "tangential": scene.add_arrows("/forces/tangential", np.zeros((1, 2, 3)), (40, 120, 255), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
-            "human": scene.add_arrows("/forces/human", np.zeros((1, 2, 3)), (240, 140, 40), shaft_radius=0.004, head_radius=0.01, head_length=0.02),
+            name: scene.add_arrows(f"/forces/{name}", np.zeros((1, 2, 3)), rgb, shaft_radius=0.004, head_radius=0.01, head_length=0.02)
+            for name, (rgb, _) in ARROWS.items()
         }
         self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
-        self.gizmo = scene.add_transform_controls("/hand_target", scale=0.15, disable_rotations=True,
+        self.gizmo = scene.add_transform_controls("/hand_target", scale=GIZMO_SCALE, disable_rotations=True,
                                                   position=s.palm_position, visible=self.controls)
         if self.controls:
             self.gizmo.on_update(self._on_gizmo)
@@ -220,7 +243,7 @@ class LabView:
             self.box.color = COLOURS[state]
             self.palm.position = s.palm_position
             self.palm.wxyz = wxyz(s.palm_rotation)
-            if s.human_phase != "manual":  # the gizmo waits on the palm until someone drags it
+            if s.human_phase != "manual":  # the gizmo rides on the palm until the palm is taken over
                 self.gizmo.position = s.palm_position
             for name, handle in self.arrows.items():
                 handle.points = arrows[name][None]
@@ -244,11 +267,12 @@ class LabView:
     # --- controls -----------------------------------------------------------------------------
     def _build_gui(self) -> None:
         gui = self.server.gui
-        gui.add_markdown("**hri-lab** — cooperative lifting")
+        gui.add_markdown("**hri-lab** — cooperative lifting (plots, results and the API: the dashboard page)")
         self.status = gui.add_markdown("")
         if self.controls:
             self._build_controls()
-        self._build_plot()
+        with gui.add_folder("Legend", expand_by_default=True):
+            gui.add_markdown(legend_markdown())
 
     def _build_controls(self) -> None:
         gui = self.server.gui
@@ -262,41 +286,37 @@ class LabView:
         with gui.add_folder("Person"):
             self.participant = gui.add_dropdown("Participant", tuple(PARTICIPANTS), initial_value="calm")
             gui.add_button("Run scripted participant").on_click(lambda _: self._run_participant())
-            gui.add_markdown("Drag the gizmo on the palm to lift and carry the box yourself.")
-
-    def _build_plot(self) -> None:
-        t = np.zeros(1)
-        self.plot = self.server.gui.add_uplot(
-            data=(t, t, t, t, t),
-            series=(
-                viser.uplot.Series(label="t (s)"),
-                viser.uplot.Series(label="f_n (N)", stroke="red", width=2),
-                viser.uplot.Series(label="f_n_min", stroke="gray", dash=[5, 5]),
-                viser.uplot.Series(label="f_n_max", stroke="gray", dash=[5, 5]),
-                viser.uplot.Series(label="|f_t|/(mu f_n)", stroke="purple", scale="ratio"),
-            ),
-            scales={"x": viser.uplot.Scale(time=False), "ratio": viser.uplot.Scale(range=(0.0, 2.0))},
-            title="Normal force and friction ratio",
-            aspect=1.6,
-        )
+            self.take_over = gui.add_checkbox("Take over the palm", initial_value=False,
+                                              hint="The scripted person stops; drag the gizmo to move the palm. Uncheck: Reset.")
+            self.take_over.on_update(self._on_take_over)
+            gui.add_markdown("Take over, then drag the gizmo on the palm to lift and carry the box yourself.")
 
     def _update_gui(self, s: Snapshot, state: str) -> None:
-        plate = s.plate
-        ratio = plate.friction_ratio / s.lifting.mu if s.lifting.mu > 0 else 0.0
-        self._plot.append((s.time, plate.normal_force, s.lifting.f_n_min, s.lifting.f_n_max, ratio))
-        data = np.array(self._plot).T
-        self.plot.data = tuple(data)
-        lifting = f"lifting at [{s.lifting.f_n_min:g}, {s.lifting.f_n_max:g}] N" if s.lifting.running else "lifting stopped"
-        self.status.content = (
-            f"{self.status_message}\n\n`{state}` · {lifting} · f_n = {plate.normal_force:.1f} N · "
-            f"person: {s.human_phase}" + (f"\n\n**reflex:** {s.error}" if s.error else "")
-        )
+        """The status line, from the snapshot only: current whoever changed the state."""
+        lifting = f"lifting **on**, band [{s.lifting.f_n_min:g}, {s.lifting.f_n_max:g}] N" if s.lifting.running else "lifting **off**"
+        trial = s.trial
+        result = {"running": f"trial running ({trial.duration:.1f} s)",
+                  "succeeded": f"trial **succeeded** in {trial.duration:.1f} s, slip {trial.slip * 1e3:.1f} mm",
+                  "failed": f"trial **failed**: {trial.reason}", "abandoned": "trial abandoned (palm taken over)"}.get(trial.state, "")
+        lines = [f"{lifting} · f_n = {s.plate.normal_force:.1f} N · box: {MEANING[state]}",
+                 f"person: {s.human_phase}" + (f" · {result}" if result else "")]
+        if s.error:
+            lines.append(f"**reflex:** {s.error.splitlines()[0]} (Error recovery clears it)")
+        if self.status_message:
+            lines.append(f"last command: {self.status_message}")
+        content = "\n\n".join(lines)
+        if content != self.status.content:
+            self.status.content = content
+        if self.controls and self.take_over.value != (s.human_phase == "manual"):
+            self._syncing = True
+            self.take_over.value = s.human_phase == "manual"
+            self._syncing = False
 
     def _call(self, name: str, **request) -> None:
         """A service of the registry, exactly as POST /services{name} calls it."""
         try:
-            response = self.services.call(self.lab, name, self.services.get(name).request(**request))
-            self.status_message = f"{name}: " + "; ".join(f"{v}" for v in response.model_dump().values())
+            response = self.services.call(self.lab, name, self.services.get(name).request(**request)).model_dump()
+            self.status_message = f"{name}: {response.get('message', 'done')}" + ("" if response.get("success", True) else " (failed)")
         except Exception as exc:  # noqa: BLE001 - shown to the person, the view goes on
             self.status_message = f"{name} failed: {exc}"
 
@@ -315,10 +335,24 @@ class LabView:
         self._call("/start_cooperative_lifting", force=float(self.force.value))
         self.gizmo.position = self.lab.snapshot().palm_position
 
-    def _on_gizmo(self, _event) -> None:
-        target = np.array(self.gizmo.position, dtype=float)
+    def _on_take_over(self, _event) -> None:
+        """Checked: the palm is the user's (the scripted person stops where it is); unchecked: Reset."""
+        if getattr(self, "_syncing", False):
+            return
+        if self.take_over.value:
+            palm = self.lab.snapshot().palm_position
+            self.gizmo.position = palm
+            self._set_hand(palm)
+            self.status_message = "the palm is yours: drag the gizmo (Reset gives it back to the scripted person)"
+        else:
+            self._call("/reset_simulation")
+
+    def _set_hand(self, target: np.ndarray) -> None:
         try:
-            self.lab.call(commands.set_hand_target, target)
+            self.lab.call(commands.set_hand_target, np.asarray(target, dtype=float))
         except Exception as exc:  # noqa: BLE001
             self.status_message = f"hand target refused: {exc}"
+
+    def _on_gizmo(self, _event) -> None:
+        self._set_hand(np.array(self.gizmo.position, dtype=float))  # dragging takes the palm over too
 

@@ -21,22 +21,11 @@ from sim.controllers.interface import Controller, LiftingParams
 from sim.person.human import PARTICIPANTS, TABLE_1, Participant
 from sim.controllers.sp import SPController
 from sim.controllers.plugin import controller_factory as default_factory
+from sim.procedures.monitor import TrialRules
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialObserver
-from sim.spatial import norm3
 from sim.world import World, WorldConfig
 
-
-@dataclass(frozen=True)
-class TrialRules:
-    """The success rule (SI units)."""
-
-    force: float = 10.0  # N, f_n_min given to start_cooperative_lifting
-    time_limit: float = 60.0  # s to reach the goal
-    approach_limit: float = 15.0  # s for the robot to get a grip in the band
-    max_slip: float = 0.02  # m, box relative to the palm (tangential)
-    contact_force: float = 0.5  # N, plate normal force below this = no contact
-    max_contact_loss: float = 0.2  # s
 
 
 @dataclass(frozen=True)
@@ -103,68 +92,33 @@ class Trial:
         self.world = World(self.config, self.controller, self.params)
         self.world.reset(self.person, seed=self.seed)
         self.world.start_lifting(self.rules.force)
-        self.finished = False
-        self.reason = ""
-        self.slip = 0.0
-        self.f_n_low = np.inf
-        self.f_n_high = 0.0
-        self.ratio = 0.0
-        self.no_contact_time = 0.0
-        self.slip_reference: np.ndarray | None = None
+        self.monitor = self.world.trial  # the success rule, applied by the world after every step
+        self.monitor.rules = self.rules
+        self.monitor.begin(self.world.time, self.participant.name)
         self.steps = 0
+
+    @property
+    def finished(self) -> bool:
+        return self.monitor.finished
+
+    @property
+    def reason(self) -> str:
+        return self.monitor.reason
+
+    @property
+    def slip(self) -> float:
+        """m, the largest slip of the box in the palm so far."""
+        return self.monitor.slip
 
     def step(self) -> bool:
         """Advance one control period; False once the trial is over."""
         if self.finished:
             return False
-        world = self.world
-        world.step()
+        self.world.step()
         self.steps += 1
-        human = world.human
-        if human.holding_by_contact:
-            self._monitor_hold()
-        if world.error:
-            self._finish(f"robot reflex: {world.error}")
-        elif human.phase == "done":
-            self._finish("")
-        elif world.time >= self.rules.time_limit:
-            self._finish(f"time limit: goal not reached in {self.rules.time_limit:g} s")
-        elif human.phase == "grasping" and world.time >= self.rules.approach_limit:
-            self._finish(f"no grip: the robot did not press the box into the band in {self.rules.approach_limit:g} s")
         if self.observer is not None:
             self.observer(self)
         return not self.finished
-
-    def _monitor_hold(self) -> None:
-        """Slip in the palm, robot contact, force figures (once the grasp is let go)."""
-        world, rules = self.world, self.rules
-        human = world.human
-        # slip = how far the palm centre slid over the box face since the grasp was let go:
-        # the palm centre in the box frame, minus its component along the face normal
-        box = world.box
-        palm_in_box = box.rotation.T @ (human.position - box.position)
-        if self.slip_reference is None:
-            self.slip_reference = palm_in_box
-        moved = palm_in_box - self.slip_reference
-        normal_box = box.rotation.T @ world.palm_state.normal_world if world.palm_state.points_in_contact else None
-        if normal_box is not None:
-            moved = moved - (moved @ normal_box) * normal_box
-        self.slip = max(self.slip, norm3(moved))
-        plate = world.plate_state
-        f_n = plate.normal_force
-        self.f_n_low, self.f_n_high = min(self.f_n_low, f_n), max(self.f_n_high, f_n)
-        if f_n > 1e-9:
-            self.ratio = max(self.ratio, norm3(plate.tangential_force) / (world.params.mu * f_n))
-        self.no_contact_time = self.no_contact_time + world.config.dt if f_n < rules.contact_force else 0.0
-        if self.slip > rules.max_slip:
-            self._finish(f"dropped: the box slipped {self.slip * 100:.1f} cm in the palm")
-        elif self.no_contact_time > rules.max_contact_loss:
-            self._finish(f"dropped: the robot lost contact for more than {rules.max_contact_loss:g} s")
-
-    def _finish(self, reason: str) -> None:
-        if not self.finished:
-            self.finished = True
-            self.reason = reason
 
     def run(self) -> TrialResult:
         while self.step():
@@ -179,10 +133,10 @@ class Trial:
             seed=self.seed,
             success=self.finished and self.reason == "",
             duration=round(self.world.time, 3),
-            f_n_min=float(self.f_n_low) if np.isfinite(self.f_n_low) else 0.0,
-            f_n_max=float(self.f_n_high),
-            max_friction_ratio=float(self.ratio),
-            slip=float(self.slip),
+            f_n_min=float(self.monitor.f_n_low) if np.isfinite(self.monitor.f_n_low) else 0.0,
+            f_n_max=float(self.monitor.f_n_high),
+            max_friction_ratio=float(self.monitor.ratio),
+            slip=float(self.monitor.slip),
             reason=self.reason if self.finished else "not finished",
             steps=self.steps,
         )

@@ -118,7 +118,7 @@ def test_legend_names_every_colour_and_arrow():
 
 def test_status_is_current_whatever_changed_the_state(view):
     """Lifting started outside the view (as curl would) shows in the view's status at the next frame."""
-    world = view.lab.world
+    world = view.lab.runtime.world
     world.stop_lifting()
     world.reset()
     view.update(world.snapshot())
@@ -131,7 +131,7 @@ def test_status_is_current_whatever_changed_the_state(view):
 
 
 def test_take_over_stops_the_scripted_person_and_keeps_the_gizmo(view):
-    world = view.lab.world
+    world = view.lab.runtime.world
     world.reset()
     world.start_lifting(10.0)
     world.run(0.01)

@@ -5,6 +5,7 @@ import argparse
 import json
 import os
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from sim.procedures.experiment import (
@@ -16,15 +17,16 @@ from sim.procedures.experiment import (
     summary,
 )
 from sim.person.human import PARTICIPANTS
-from sim.controllers.plugin import PluginError, controller_factory
+from sim.controllers.plugin import PluginError, PluginFactory, controller_factory
 
 from app.cli import client as client_cli
 
 
-def _controller_factory(spec: str | None):
-    """sp, patch or a plug-in file's factory (loaded once here so that a broken file fails now)."""
-    factory = controller_factory(spec)
-    factory()
+def _controller_factory(spec: str | None, sandboxed: bool = True):
+    """sp, patch or a plug-in file's factory (loaded once here, in its sandbox, so that a broken
+    file fails now)."""
+    factory = controller_factory(spec, sandboxed)
+    getattr(factory(), "close", lambda: None)()
     return factory
 
 
@@ -93,11 +95,19 @@ def build_parser() -> argparse.ArgumentParser:
     tpl = sub.add_parser("template", help="print the student's starting file (hri-lab template > cooperative_lifting.py)")
     tpl.set_defaults(func=_template)
 
-    grd = sub.add_parser("grade", help="grade a student's controller file (probes, the nine trials, robustness)")
-    grd.add_argument("controller", metavar="FILE.py[:Class]")
-    grd.add_argument("--json", metavar="OUT.json", help="also write the report as JSON")
-    grd.add_argument("--seed", type=int, default=0)
-    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
+    grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
+    grd.add_argument("controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)")
+    grd.add_argument("--out", metavar="DIR", help="write NAME.txt, NAME.json (and NAME.results.json with --format gradescope) "
+                     "per file and summary.csv")
+    grd.add_argument("--format", choices=("text", "json", "gradescope"), default="text",
+                     help="what a single file's report prints (gradescope: its results.json); with --out, also written")
+    grd.add_argument("--json", metavar="OUT.json", help="also write a single file's report as JSON")
+    grd.add_argument("--seed", type=int, default=_env_seed(), help="seed of the probe values and trials "
+                     "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
+    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="items in parallel processes")
+    grd.add_argument("--unsandboxed", action="store_true",
+                     help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run")
+    grd.add_argument("--quiet", action="store_true", help="no progress bar")
     grd.set_defaults(func=_grade)
 
     client_cli.add_parsers(sub)
@@ -108,17 +118,22 @@ def _serve(args: argparse.Namespace) -> int:
     from app.cli.serve import serve
 
     factory = _controller_factory(args.controller)
+    if isinstance(factory, PluginFactory):  # started in the simulation process, at its first step
+        factory = replace(factory, eager=False)
     return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token)
 
 
-def _grade(args: argparse.Namespace) -> int:
-    from sim.procedures.grading import grade
+def _env_seed() -> int:
+    try:
+        return int(os.environ.get("HRI_LAB_GRADE_SEED", "0"))
+    except ValueError:
+        return 0
 
-    report = grade(_controller_factory(args.controller), args.controller, args.seed, args.jobs)
-    print(report.text())
-    if args.json:
-        Path(args.json).write_text(report.json(), encoding="utf-8")
-    return 0 if report.passed else 1
+
+def _grade(args: argparse.Namespace) -> int:
+    from app.cli.grade import grade_files
+
+    return grade_files(args)
 
 
 def _template(args: argparse.Namespace) -> int:

@@ -5,12 +5,15 @@ few cm in front of the plate; lifting starts with f_n_min (default 10 N) and the
 until it presses the box; once the grip is in the band the person lets go of the grasp and only
 pushes with the palm; then carries the box along the pick-and-place path.
 
-Success = the box is never dropped (its slip relative to the palm stays below 2 cm and the robot
-never loses contact for more than 0.2 s), no robot reflex, and the goal reached in under 60 s.
-Nine trials = three participants x three tries.
+Success is judged by the world's own state, never by what a controller returns: at the end of the
+person's path the box is within `goal_tolerance` of its start + the path's displacement, and held
+by both plate and palm; along the way it never slipped 2 cm in the palm, neither the plate nor the
+palm lost contact for more than 0.2 s, no robot reflex, within 60 s, and no faster than the
+person's path takes. Nine trials = three participants x three tries.
 """
 from __future__ import annotations
 
+from collections import deque
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
 from typing import Callable
@@ -32,8 +35,9 @@ class TrialRules:
     time_limit: float = 60.0  # s to reach the goal
     approach_limit: float = 15.0  # s for the robot to get a grip in the band
     max_slip: float = 0.02  # m, box relative to the palm (tangential)
-    contact_force: float = 0.5  # N, plate normal force below this = no contact
+    contact_force: float = 0.5  # N, plate (palm) normal force below this = no contact
     max_contact_loss: float = 0.2  # s
+    goal_tolerance: float = 0.03  # m, box centre from start + the path's displacement at the end
 
 
 @dataclass
@@ -81,8 +85,14 @@ class Trial:
         self.f_n_high = 0.0
         self.ratio = 0.0
         self.no_contact_time = 0.0
+        self.palm_loss_time = 0.0
         self.slip_reference: np.ndarray | None = None
         self.steps = 0
+        self.box_start = self.world.box.position.copy()
+        self.hand_start = self.world.human.start.copy()  # the path's origin (a test may move it)
+        self.carry_start: float | None = None  # s, when the person began the path
+        self.previous_twist = np.zeros(6)
+        self.jumps: deque[tuple[float, float]] = deque(maxlen=100)  # |dv| m/s, |dw| rad/s per step
 
     def step(self) -> bool:
         """Advance one control period; False once the trial is over."""
@@ -92,12 +102,17 @@ class Trial:
         world.step()
         self.steps += 1
         human = world.human
+        twist = world.twist_command
+        self.jumps.append((norm3(twist[:3] - self.previous_twist[:3]), norm3(twist[3:] - self.previous_twist[3:])))
+        self.previous_twist = twist.copy()
+        if self.carry_start is None and human.phase == "carrying":
+            self.carry_start = world.time
         if human.holding_by_contact:
             self._monitor_hold()
         if world.error:
-            self._finish(f"robot reflex: {world.error}")
+            self._finish(self._reflex(world.error))
         elif human.phase == "done":
-            self._finish("")
+            self._finish(self._judge())
         elif world.time >= self.rules.time_limit:
             self._finish(f"time limit: goal not reached in {self.rules.time_limit:g} s")
         elif human.phase == "grasping" and world.time >= self.rules.approach_limit:
@@ -125,10 +140,43 @@ class Trial:
         if f_n > 1e-9:
             self.ratio = max(self.ratio, norm3(plate.tangential_force) / (world.params.mu * f_n))
         self.no_contact_time = self.no_contact_time + world.config.dt if f_n < rules.contact_force else 0.0
+        palm = world.palm_state.normal_force
+        self.palm_loss_time = self.palm_loss_time + world.config.dt if palm < rules.contact_force else 0.0
         if self.slip > rules.max_slip:
             self._finish(f"dropped: the box slipped {self.slip * 100:.1f} cm in the palm")
         elif self.no_contact_time > rules.max_contact_loss:
             self._finish(f"dropped: the robot lost contact for more than {rules.max_contact_loss:g} s")
+        elif self.palm_loss_time > rules.max_contact_loss:
+            self._finish(f"dropped: the person's palm lost the box for more than {rules.max_contact_loss:g} s")
+
+    def _judge(self) -> str:
+        """The person finished the path: was the box carried there? ("" = yes, else why not)."""
+        world, rules = self.world, self.rules
+        path = world.human.path
+        goal = self.box_start + (world.human.start - self.hand_start) + path.goal  # where the person's path ends
+        error = norm3(world.box.position - goal)
+        if self.carry_start is None or self.slip_reference is None:
+            return "not carried: the person never carried the box by the palm"
+        if world.time - self.carry_start < path.duration - 1e-6:
+            return f"not carried: the path ended after {world.time - self.carry_start:.2f} s, it takes {path.duration:.2f} s"
+        if error > rules.goal_tolerance:
+            return f"not carried: the box ended {error * 100:.1f} cm from the goal (tolerance {rules.goal_tolerance * 100:g} cm)"
+        if world.plate_state.normal_force < rules.contact_force or world.palm_state.normal_force < rules.contact_force:
+            return "not carried: at the goal the box is not held between plate and palm"
+        return ""
+
+    def _reflex(self, error: str) -> str:
+        """The robot's error, and what in the controller's twist caused it (a reflex on a jump)."""
+        if error.startswith("controller error"):
+            return error
+        dw = max((w for _, w in self.jumps), default=0.0)
+        dv = max((v for v, _ in self.jumps), default=0.0)
+        dt = self.world.config.dt
+        hint = ""
+        if dv / dt > 5.0 or dw / dt > 10.0:  # m/s^2, rad/s^2: well above a smooth command's
+            hint = (f"; your twist jumps by up to {dv:.3f} m/s ({dv / dt:.0f} m/s^2), {dw:.3f} rad/s ({dw / dt:.0f} rad/s^2) "
+                    "between steps: low-pass F_ext (step 0) and limit the rate (at most a_max dt, dw_max dt per step)")
+        return f"robot reflex: {error}{hint}"
 
     def _finish(self, reason: str) -> None:
         if not self.finished:
@@ -178,7 +226,11 @@ def run_trial(
     rules: TrialRules = TrialRules(),
     controller_factory: Callable[[], Controller] = SPController,
 ) -> TrialResult:
-    return Trial(person, seed, controller_factory(), rules=rules, index=index, attempt=attempt).run()
+    controller = controller_factory()
+    try:
+        return Trial(person, seed, controller, rules=rules, index=index, attempt=attempt).run()
+    finally:
+        getattr(controller, "close", lambda: None)()  # a sandboxed plug-in's process ends with its trial
 
 
 def run_experiment(

@@ -6,6 +6,7 @@ two pipes), and the wall time of a whole `hri-lab grade` of the reference SP fil
 from __future__ import annotations
 
 import argparse
+import resource
 import subprocess
 import sys
 import time
@@ -45,12 +46,16 @@ def main() -> None:
     print(f"SP step sandboxed:    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
     print(f"boundary per step:    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
     if not args.no_grade:
+        cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
         started = time.perf_counter()
         run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet"],
                              capture_output=True, text=True)
         wall = time.perf_counter() - started
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = after.ru_utime + after.ru_stime - cpu_before.ru_utime - cpu_before.ru_stime
         print(f"hri-lab grade reference_sp.py --jobs 2: {wall:.1f} s wall, exit {run.returncode}, "
               f"{run.stdout.strip().splitlines()[-1] if run.stdout.strip() else run.stderr[-300:]}")
+        print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
     with open("/proc/loadavg") as handle:
         print(f"load average while measuring: {handle.read().split()[0]} (2 cores)")
 

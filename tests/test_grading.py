@@ -81,7 +81,12 @@ def test_the_untouched_template_fails(tmp_path):
     template = tmp_path / "cooperative_lifting.py"
     template.write_text(subprocess.run([sys.executable, "-m", "app.cli", "template"], capture_output=True, text=True,
                                        check=True).stdout)
-    items = probe_items(PluginFactory(str(template)))  # sandboxed, as graded
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("template_as_written", template)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    items = probe_items(module.CooperativeLifting)  # in-process here (the sandbox has tests of its own)
     assert not any("error" in i.detail for i in items)  # it runs: the robot just does not move
     assert {i.name for i in items if i.points == i.max_points} <= {
         "stopped: zero twist", "inside the band: hold still", "inside the cone margin: no tangential motion"}

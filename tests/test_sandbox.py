@@ -62,7 +62,7 @@ def test_patching_the_grader_in_the_child_changes_nothing_here():
     import sim.procedures.report as report_module
 
     passed = report_module.Report.__dict__["passed"]
-    controller = PluginFactory(f"{FAULTS}:PatchesTheGrader")()  # its class body patched the child's grader
+    controller = PluginFactory(str(CONTROLLERS / "patches_grader.py"))()  # its class body patched the child's grader
     twist = controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
     controller.close()
     assert twist.tolist() == [0.0] * 6

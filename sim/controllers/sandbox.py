@@ -25,7 +25,8 @@ more than `max_sleeps` sleeps or blocking calls inside step() within `check_ever
 voluntary context switches beyond the one read per step: a busy machine preempts, which is
 involuntary, so load never counts against it), the CPU time (all threads) above `mean_cpu`,
 a thread or process started, the process gone (os._exit, a signal, the memory or CPU limit).
-After a fault the child is killed; the next call starts a fresh one.
+After a fault the child is killed and every call fails with the same reason until reset()
+(error_recovery), which lets the next call start a fresh child.
 """
 from __future__ import annotations
 
@@ -144,6 +145,7 @@ class SandboxedController:
         self.pid: int | None = None
         self._owner = 0  # the process that started the child (a fork must start its own)
         self.has_start = self.has_stop = False
+        self._faulted = ""  # why the last child was stopped: every call fails fast until reset()
         self._switch_mark = self._switch_steps = 0  # the child's voluntary context switches, steps, at the last look
         self._steps = 0
         self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
@@ -151,6 +153,7 @@ class SandboxedController:
 
     # the Controller protocol
     def reset(self) -> None:
+        self._faulted = ""  # error_recovery: the next call starts a fresh child
         if self._alive():
             self._call(b"R", b"", "reset")
 
@@ -168,13 +171,15 @@ class SandboxedController:
         return twist
 
     def start(self, params: LiftingParams, force: float) -> str:
-        self._ensure()
+        if not (self._faulted and not self.has_start):  # a stopped file without start() still has the lab's
+            self._ensure()
         if not self.has_start:
             return start_lifting(params, force)
         return self._service(b"A", _params_to_floats(params) + [float(force)], params, "start")
 
     def stop(self, params: LiftingParams) -> str:
-        self._ensure()
+        if not (self._faulted and not self.has_stop):
+            self._ensure()
         if not self.has_stop:
             return stop_lifting(params)
         return self._service(b"O", _params_to_floats(params), params, "stop")
@@ -215,6 +220,8 @@ class SandboxedController:
     def _ensure(self) -> None:
         if self._alive():
             return
+        if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
+            raise ControllerFault(self._faulted)
         self.pid = None  # a child of another process (fork) is not ours to talk to
         self._spawn()
         reply = self._call(b"L", str(self.path).encode() + b"\0" + self.source.encode(), "load", self.budget.load_timeout)
@@ -394,6 +401,7 @@ class SandboxedController:
 
     def _fault(self, reason: str):
         self.close()
+        self._faulted = reason
         raise ControllerFault(reason)
 
 

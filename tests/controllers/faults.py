@@ -97,18 +97,3 @@ class ReachesTheWorld(SPController):
                 world.human.phase = "done"
             frame = frame.f_back
         return np.zeros(6)
-
-
-class PatchesTheGrader:
-    """Replaces the grader's scoring on import of the class body (zero twist otherwise)."""
-
-    import sim.procedures.grading as _grading
-
-    _grading.Report.passed = property(lambda self: True)
-    _grading.Report.score = property(lambda self: 100.0)
-
-    def reset(self):
-        pass
-
-    def step(self, wrench_ee, transform_ee_to_base, params, dt):
-        return np.zeros(6)

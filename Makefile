@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test experiment bench clean chromium
+.PHONY: run test experiment bench clean chromium bubblewrap
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -12,20 +12,24 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-run: $(STAMP)
+run: $(STAMP) bubblewrap
 	$(BIN)/hri-lab serve
 
 # the browser test drives Debian's chromium (playwright cannot download browsers here)
 chromium:
 	@command -v chromium >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
 
-test: $(STAMP) chromium
+# students' controllers run sandboxed in bubblewrap (hri-lab grade, serve/experiment --controller FILE)
+bubblewrap:
+	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
+
+test: $(STAMP) chromium bubblewrap
 	$(BIN)/python -m pytest -q
 
-experiment: $(STAMP)
+experiment: $(STAMP) bubblewrap
 	$(BIN)/hri-lab experiment
 
-bench: $(STAMP) chromium
+bench: $(STAMP) chromium bubblewrap
 	@command -v wrk >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; }
 	$(BIN)/python -m bench.sim_speed
 	$(BIN)/python -m bench.startup
@@ -34,6 +38,7 @@ bench: $(STAMP) chromium
 	$(BIN)/python -m bench.view_cost
 	$(BIN)/python -m bench.rosbridge
 	$(BIN)/python -m bench.recording
+	$(BIN)/python -m bench.grade_time
 
 clean:
 	rm -rf $(VENV) *.egg-info

@@ -20,7 +20,7 @@ from sim.robot.cartesian_velocity import CartesianVelocityInterface, Reflex
 from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
 from sim.controllers.external import COMMAND_PERIOD
 from sim.controllers.interface import Controller, LiftingParams
-from sim.controllers.guard import ControllerFault
+from sim.controllers.interface import ControllerFault
 from sim.person.human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
 from sim.robot.joint_trajectory import JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel, Plate
@@ -231,7 +231,7 @@ class World:
     def step(self) -> None:
         dt = self.config.dt
         if self.trial.state == "none" and self.params.running and self.human.phase == "grasping":
-            self.trial.begin(self.time, self.human.participant.name)  # lifting started: a trial
+            self.trial.begin(self.time, self.human.participant.name, self)  # lifting started: a trial
         transform = self.arm.transform_ee_to_base
         # 1. sense
         self.wrench_ee = self.sensor.measure(self.wrench_ee_true, dt)

@@ -6,6 +6,7 @@ import json
 import os
 import signal
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from sim.procedures.experiment import (
@@ -20,15 +21,17 @@ from sim.procedures.experiment import (
     sweep_json,
 )
 from sim.person.human import PARTICIPANTS
-from sim.controllers.plugin import PluginError, controller_factory
+from sim.controllers.plugin import PluginError, PluginFactory, controller_factory
 
 from app.cli import client as client_cli
+from app.cli.outputs import add_output_options, summary_figure, trial_outputs
 
 
-def _controller_factory(spec: str | None):
-    """sp, patch or a plug-in file's factory (loaded once here so that a broken file fails now)."""
-    factory = controller_factory(spec)
-    factory()
+def _controller_factory(spec: str | None, sandboxed: bool = True):
+    """sp, patch or a plug-in file's factory (loaded once here, in its sandbox, so that a broken
+    file fails now)."""
+    factory = controller_factory(spec, sandboxed)
+    getattr(factory(), "close", lambda: None)()
     return factory
 
 
@@ -80,10 +83,10 @@ def _experiment(args: argparse.Namespace) -> int:
         else:
             results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
                                      on_result=progress, jobs=args.jobs, setup=overrides.setup_of(found),
-                                     outputs=_outputs(args))
+                                     outputs=trial_outputs(args))
     controller = args.controller or "sp"
     if not points:
-        _summary_figure(args, {controller: results})
+        summary_figure(args, {controller: results})
     if points and args.json:
         print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, **sweep_json(rows)}, indent=2))
     elif points:
@@ -103,8 +106,8 @@ def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
     factories = {name: _controller_factory(name) for name in names}
     people = [args.participant] if args.participant else None
     results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs,
-                             setup=setup, outputs=_outputs(args))
-    _summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
+                             setup=setup, outputs=trial_outputs(args))
+    summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
     if args.json:
         print(json.dumps({"seed": args.seed, "set": changed,
                           "results": {n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}},
@@ -112,36 +115,6 @@ def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
     else:
         print(format_comparison(results, f"seed {args.seed}; {title}"))
     return 0
-
-
-def _outputs(args: argparse.Namespace):
-    """--record DIR / --plots DIR: an MCAP recording and a figure of every trial."""
-    if not (getattr(args, "record", None) or getattr(args, "plots", None)):
-        return None
-    from sim.recording.trial import TrialOutputs
-
-    for folder in (args.record, args.plots):
-        try:
-            if folder:
-                Path(folder).mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise SystemExit(f"hri-lab: cannot write to {folder}: {exc}") from None
-    return TrialOutputs(args.record, args.plots)
-
-
-def _summary_figure(args: argparse.Namespace, results: dict) -> None:
-    if args.record:
-        print(f"recordings: {args.record}/*.mcap (open them in Foxglove or with `hri-lab play`)", file=sys.stderr)
-    if args.plots:
-        from sim.recording.figures import save_summary_figure
-
-        paths = save_summary_figure(results, args.plots)
-        print(f"figures: {args.plots}/*.png, *.svg (summary: {paths['png']})", file=sys.stderr)
-
-
-def _add_output_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
-    parser.add_argument("--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -162,7 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--sweep", action="append", metavar="NAME=V1,V2,...",
                      help="run the same trials at each value (twice: a grid of two parameters); one table")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
-    _add_output_options(exp)
+    add_output_options(exp)
     exp.set_defaults(func=_experiment)
 
     srv = sub.add_parser("serve", help="start the lab's server (HTTP API on 127.0.0.1)")
@@ -188,12 +161,20 @@ def build_parser() -> argparse.ArgumentParser:
                           "servers; node: the lifting application as a roslibpy node")
     tpl.set_defaults(func=_template)
 
-    grd = sub.add_parser("grade", help="grade a student's controller file (probes, the nine trials, robustness)")
-    grd.add_argument("controller", metavar="FILE.py[:Class]")
-    grd.add_argument("--json", metavar="OUT.json", help="also write the report as JSON")
-    grd.add_argument("--seed", type=int, default=0)
-    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
-    _add_output_options(grd)
+    grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
+    grd.add_argument("controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)")
+    grd.add_argument("--out", metavar="DIR", help="write NAME.txt, NAME.json (and NAME.results.json with --format gradescope) "
+                     "per file and summary.csv")
+    grd.add_argument("--format", choices=("text", "json", "gradescope"), default="text",
+                     help="what a single file's report prints (gradescope: its results.json); with --out, also written")
+    grd.add_argument("--json", metavar="OUT.json", help="also write a single file's report as JSON")
+    grd.add_argument("--seed", type=int, default=_env_seed(), help="seed of the probe values and trials "
+                     "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
+    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="items in parallel processes")
+    grd.add_argument("--unsandboxed", action="store_true",
+                     help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run")
+    grd.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_options(grd)
     grd.set_defaults(func=_grade)
 
     client_cli.add_parsers(sub)
@@ -207,22 +188,23 @@ def _serve(args: argparse.Namespace) -> int:
     from app.cli.serve import serve
 
     factory = _controller_factory(args.controller)
+    if isinstance(factory, PluginFactory):  # started in the simulation process, at its first step
+        factory = replace(factory, eager=False)
     return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token,
                  exercises=args.exercises, output_dir=args.output_dir)
 
 
-def _grade(args: argparse.Namespace) -> int:
-    from sim.procedures.grading import grade
+def _env_seed() -> int:
+    try:
+        return int(os.environ.get("HRI_LAB_GRADE_SEED", "0"))
+    except ValueError:
+        return 0
 
-    report = grade(_controller_factory(args.controller), args.controller, args.seed, args.jobs, _outputs(args))
-    print(report.text())
-    if args.record:
-        print(f"recordings: {args.record}/*.mcap", file=sys.stderr)
-    if args.plots:
-        print(f"figures: {args.plots}/*.png, *.svg", file=sys.stderr)
-    if args.json:
-        Path(args.json).write_text(report.json(), encoding="utf-8")
-    return 0 if report.passed else 1
+
+def _grade(args: argparse.Namespace) -> int:
+    from app.cli.grade import grade_files
+
+    return grade_files(args)
 
 
 def _template(args: argparse.Namespace) -> int:

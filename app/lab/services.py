@@ -6,7 +6,7 @@ from pydantic import Field
 
 from sim import camera
 from sim.robot import planar_arm
-from sim.controllers.guard import ControllerFault
+from sim.controllers.interface import ControllerFault
 from sim.controllers.builtin import BUILTIN
 
 from app.lab import commands as cmd

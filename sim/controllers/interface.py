@@ -59,6 +59,11 @@ def stop_lifting(params: LiftingParams) -> str:
     return "Cooperative Lifting was stopped! Force limit f_n_min reset to 0 N."
 
 
+class ControllerFault(Exception):
+    """Why a controller was stopped (a student's plug-in: sim/controllers/sandbox.py); the world
+    turns it into an error state, the message is for the student."""
+
+
 @runtime_checkable
 class Controller(Protocol):
     def reset(self) -> None: ...

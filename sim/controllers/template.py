@@ -15,11 +15,12 @@ import numpy as np  # the handout's tools: np.dot, np.cross, np.linalg.norm, np.
 
 class CooperativeLifting:
     def __init__(self):
-        self.twist_base = np.zeros(6)  # keep what you need between steps here
+        self.reset()
 
     def reset(self):
         """Called when the simulation (re)starts and after an error recovery."""
-        self.twist_base = np.zeros(6)
+        self.twist_base = np.zeros(6)  # the last command (step 5's rate limit needs it)
+        self.wrench_filtered = None  # step 0's low-passed F_ext
 
     # --- the services' handlers -------------------------------------------------------------
     def start(self, params, force):
@@ -35,9 +36,13 @@ class CooperativeLifting:
     # --- the controller -----------------------------------------------------------------------
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
         """One control period (dt = 1 ms): F_ext in, EE twist in the base frame out."""
+        # TODO step 0: low-pass F_ext against the sensor noise (0.5 N), first order at params.filter_hz:
+        #   a = dt / (1 / (2 pi filter_hz) + dt);  w_f = w_f + a (wrench_ee - w_f)   (w_f = wrench_ee at the first step)
+        #   Without it the noise makes the twist jump at every step and the robot stops on a reflex.
+        wrench = wrench_ee
         if not params.running:
             return np.zeros(6)
-        f, m = wrench_ee[:3], wrench_ee[3:]
+        f, m = wrench[:3], wrench[3:]
         rotation = transform_ee_to_base[:3, :3]  # EE -> base
 
         # TODO step 1: decompose the wrench at the plate
@@ -53,8 +58,9 @@ class CooperativeLifting:
         # TODO step 4: comply with the moment at the plate centre: w = -params.k_w m_c (with a deadband)
 
         # TODO step 5: twist_ee = [v, w], saturate at params.v_max / params.w_max, and rotate to the
-        #   base frame: twist_base = [R v, R w]. Change it smoothly (the robot refuses jumps above
-        #   13 m/s^2: a jump is a reflex), e.g. at most params.a_max * dt per step.
+        #   base frame: twist_base = [R v, R w]. Then limit the rate: the command may change by at most
+        #   params.a_max * dt (linear) and params.dw_max * dt (angular) per step, starting from
+        #   self.twist_base (the robot refuses jumps above 13 m/s^2: a jump is a reflex).
         twist_base = np.zeros(6)
 
         self.twist_base = twist_base

@@ -2,13 +2,17 @@
 headless trials (sim/procedures/experiment.py) and for the live world's scripted participant.
 
 A trial starts when lifting starts while the person still grasps the box (or when a headless
-trial begins it) and ends: succeeded when the person has carried the box and held it (phase
-"done"); failed when the box slipped 2 cm in the palm, the robot lost contact for more than
-0.2 s, the robot stopped in a reflex, the goal was not reached in 60 s, or there was no grip in
-the band within 15 s; abandoned when the palm was taken over (the dashboard's gizmo).
+trial begins it). Success is judged by the world's own state, never by what a controller
+returns: once the person has finished the path (phase "done"), the box is within
+`goal_tolerance` of its start + the path's displacement and held by both plate and palm, and the
+path took as long as the person's path takes. It fails when the box slipped 2 cm in the palm, the
+plate or the palm lost contact for more than 0.2 s, the robot stopped in a reflex (with what in
+the command caused it, when the twist jumped), the goal was not reached in 60 s, or there was no
+grip in the band within 15 s; it is abandoned when the palm was taken over (the dashboard's gizmo).
 """
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,8 +28,11 @@ class TrialRules:
     time_limit: float = 60.0  # s to reach the goal
     approach_limit: float = 15.0  # s for the robot to get a grip in the band
     max_slip: float = 0.02  # m, box relative to the palm (tangential)
-    contact_force: float = 0.5  # N, plate normal force below this = no contact
+    contact_force: float = 0.5  # N, plate (palm) normal force below this = no contact
     max_contact_loss: float = 0.2  # s
+    goal_tolerance: float = 0.03  # m, box centre from start + the path's displacement at the end
+    jump_acceleration: float = 5.0  # m/s^2 between two commands: above, a reflex report names the jump
+    jump_angular_acceleration: float = 10.0  # rad/s^2, the same for the angular part
 
 
 @dataclass
@@ -61,12 +68,20 @@ class TrialMonitor:
         self.f_n_high = 0.0
         self.ratio = 0.0
         self.no_contact_time = 0.0
+        self.palm_loss_time = 0.0
         self.slip_reference: np.ndarray | None = None
+        self.carry_start: float | None = None  # s, when the person began the path
+        self.box_start: np.ndarray | None = None
+        self.hand_start: np.ndarray | None = None
+        self.previous_twist = np.zeros(6)
+        self.jumps: deque[tuple[float, float]] = deque(maxlen=100)  # |dv| (m/s), |dw| (rad/s) of the last steps
 
-    def begin(self, time: float, participant: str) -> None:
-        """A trial from now (s, world time)."""
+    def begin(self, time: float, participant: str, world=None) -> None:
+        """A trial from now (s, world time); `world` fixes where the box and the path start."""
         self._clear()
         self.state, self.started_at, self.participant = "running", time, participant
+        if world is not None:
+            self.box_start, self.hand_start = world.box.position.copy(), world.human.start.copy()
 
     def update(self, world) -> None:
         """After a step: slip, contact, force figures once the grasp is let go; then the end rules."""
@@ -77,12 +92,17 @@ class TrialMonitor:
         if human.phase == "manual":
             self._finish("abandoned: the palm was taken over (no scripted result)", "abandoned")
             return
+        twist = world.twist_command
+        self.jumps.append((norm3(twist[:3] - self.previous_twist[:3]), norm3(twist[3:] - self.previous_twist[3:])))
+        self.previous_twist = twist.copy()
+        if self.carry_start is None and human.phase == "carrying":
+            self.carry_start = world.time
         if human.holding_by_contact:
             self._watch_hold(world)
         if world.error:
-            self._finish(f"robot reflex: {world.error}")
+            self._finish(self._reflex(world.error, world.config.dt))
         elif human.phase == "done":
-            self._finish("")
+            self._finish(self._judge(world))
         elif self.elapsed >= rules.time_limit:
             self._finish(f"time limit: goal not reached in {rules.time_limit:g} s")
         elif human.phase == "grasping" and self.elapsed >= rules.approach_limit:
@@ -106,10 +126,41 @@ class TrialMonitor:
         if f_n > 1e-9:
             self.ratio = max(self.ratio, norm3(plate.tangential_force) / (world.params.mu * f_n))
         self.no_contact_time = self.no_contact_time + world.config.dt if f_n < rules.contact_force else 0.0
+        palm = world.palm_state.normal_force
+        self.palm_loss_time = self.palm_loss_time + world.config.dt if palm < rules.contact_force else 0.0
         if self.slip > rules.max_slip:
             self._finish(f"dropped: the box slipped {self.slip * 100:.1f} cm in the palm")
         elif self.no_contact_time > rules.max_contact_loss:
             self._finish(f"dropped: the robot lost contact for more than {rules.max_contact_loss:g} s")
+        elif self.palm_loss_time > rules.max_contact_loss:
+            self._finish(f"dropped: the person's palm lost the box for more than {rules.max_contact_loss:g} s")
+
+    def _judge(self, world) -> str:
+        """The person finished the path: was the box carried there? ("" = yes, else why not)."""
+        rules, path = self.rules, world.human.path
+        if self.carry_start is None or self.slip_reference is None or self.box_start is None:
+            return "not carried: the person never carried the box by the palm"
+        if world.time - self.carry_start < path.duration - 1e-6:
+            return f"not carried: the path ended after {world.time - self.carry_start:.2f} s, it takes {path.duration:.2f} s"
+        goal = self.box_start + (world.human.start - self.hand_start) + path.goal  # where the person's path ends
+        error = norm3(world.box.position - goal)
+        if error > rules.goal_tolerance:
+            return f"not carried: the box ended {error * 100:.1f} cm from the goal (tolerance {rules.goal_tolerance * 100:g} cm)"
+        if world.plate_state.normal_force < rules.contact_force or world.palm_state.normal_force < rules.contact_force:
+            return "not carried: at the goal the box is not held between plate and palm"
+        return ""
+
+    def _reflex(self, error: str, dt: float) -> str:
+        """The robot's error, and what in the controller's twist caused it (a reflex on a jump)."""
+        if error.startswith("controller error"):
+            return error
+        dv = max((v for v, _ in self.jumps), default=0.0)
+        dw = max((w for _, w in self.jumps), default=0.0)
+        hint = ""
+        if dv / dt > self.rules.jump_acceleration or dw / dt > self.rules.jump_angular_acceleration:
+            hint = (f"; your twist jumps by up to {dv:.3f} m/s ({dv / dt:.0f} m/s^2), {dw:.3f} rad/s ({dw / dt:.0f} rad/s^2) "
+                    "between steps: low-pass F_ext (step 0) and limit the rate (at most a_max dt, dw_max dt per step)")
+        return f"robot reflex: {error}{hint}"
 
     def _finish(self, reason: str, state: str | None = None) -> None:
         if not self.finished:

@@ -1,0 +1,64 @@
+"""The sandbox's cost: one controller step in-process vs across the sandbox boundary (bubblewrap,
+two pipes), and the wall time of a whole `hri-lab grade` of the reference SP file.
+
+    .venv/bin/python -m bench.grade_time [--steps 20000] [--no-grade]
+"""
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from sim.controllers.interface import LiftingParams, start_lifting
+from sim.controllers.plugin import PluginFactory
+from sim.controllers.sp import SPController
+
+REFERENCE = str(Path(__file__).resolve().parent.parent / "tests" / "controllers" / "reference_sp.py")
+
+
+def step_times(controller, steps: int) -> np.ndarray:
+    params = LiftingParams()
+    start_lifting(params, 10.0)
+    wrench, transform = np.array([0.5, -0.3, 12.0, 0.05, 0.0, 0.0]), np.eye(4)
+    times = np.empty(steps)
+    for i in range(steps):
+        started = time.perf_counter()
+        controller.step(wrench, transform, params, 1e-3)
+        times[i] = time.perf_counter() - started
+    return times
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--steps", type=int, default=20000)
+    parser.add_argument("--no-grade", action="store_true")
+    args = parser.parse_args()
+    inside = step_times(SPController(), args.steps)
+    sandboxed = PluginFactory(REFERENCE)()
+    across = step_times(sandboxed, args.steps)
+    sandboxed.close()
+    print(f"SP step in-process:   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us")
+    print(f"SP step sandboxed:    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
+    print(f"boundary per step:    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
+    if not args.no_grade:
+        cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        started = time.perf_counter()
+        run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet"],
+                             capture_output=True, text=True)
+        wall = time.perf_counter() - started
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = after.ru_utime + after.ru_stime - cpu_before.ru_utime - cpu_before.ru_stime
+        print(f"hri-lab grade reference_sp.py --jobs 2: {wall:.1f} s wall, exit {run.returncode}, "
+              f"{run.stdout.strip().splitlines()[-1] if run.stdout.strip() else run.stderr[-300:]}")
+        print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
+    with open("/proc/loadavg") as handle:
+        print(f"load average while measuring: {handle.read().split()[0]} (2 cores)")
+
+
+if __name__ == "__main__":
+    main()

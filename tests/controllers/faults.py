@@ -1,0 +1,99 @@
+"""Plug-ins that misbehave (load as faults.py:ClassName): each must cost the items it breaks,
+never the grader, the server or the loop's rate."""
+import os
+import socket
+import threading
+import time
+
+import numpy as np
+
+from sim.controllers.sp import SPController
+
+
+class SleepsForever(SPController):
+    """A step that hangs (far beyond the step timeout)."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        time.sleep(600)
+
+
+class Sleeps50ms(SPController):
+    """Each step sleeps 50 ms: no CPU used, but the 1 kHz loop would fall to 20 Hz."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        time.sleep(0.05)
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class StartsThread(SPController):
+    """Starts a busy thread at the first step."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        if not hasattr(self, "thread"):
+            self.thread = threading.Thread(target=lambda: [None for _ in iter(int, 1)], daemon=True)
+            self.thread.start()
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class Forks(SPController):
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        if not hasattr(self, "child"):
+            self.child = os.fork()
+            if self.child == 0:
+                time.sleep(600)
+                os._exit(0)
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class MemoryBomb(SPController):
+    """Keeps 1 MB more at every step."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        self.__dict__.setdefault("hoard", []).append(np.ones(1 << 17))
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class ExitsInStep(SPController):
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        os._exit(0)
+
+
+class ReadsSecrets(SPController):
+    """Tries to read the grader's files and open a listening socket; reports what it got."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        found = []
+        for path in ("/etc/passwd", os.path.expanduser("~/.bash_history"), __file__):
+            try:
+                with open(path) as handle:
+                    found.append(f"{path}: {handle.read(40)!r}")
+            except OSError as exc:
+                found.append(f"{path}: {type(exc).__name__}")
+        try:
+            server = socket.socket()
+            server.bind(("0.0.0.0", 8765))
+            server.listen()
+            found.append("listening on 8765")
+        except OSError as exc:
+            found.append(f"socket: {type(exc).__name__}")
+        try:
+            socket.create_connection(("1.1.1.1", 80), timeout=1)
+            found.append("connected out")
+        except OSError as exc:
+            found.append(f"connect: {type(exc).__name__}")
+        raise RuntimeError(" | ".join(found))
+
+
+class ReachesTheWorld(SPController):
+    """Walks up the call stack to the World and marks the person done (what a cheat would do)."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        import sys
+
+        frame = sys._getframe()
+        while frame is not None:
+            world = frame.f_locals.get("self")
+            if type(world).__name__ == "World":
+                world.human.phase = "done"
+            frame = frame.f_back
+        return np.zeros(6)

@@ -1,0 +1,109 @@
+"""A student's controller runs in a sandboxed process: what it does wrong costs its items with the
+reason, never the grader; it cannot reach the grader, the world, the network or the files."""
+import os
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sim.controllers.interface import ControllerFault
+from sim.controllers.interface import LiftingParams
+from sim.controllers.plugin import PluginError, PluginFactory
+from sim.controllers.sandbox import SandboxBudget
+from sim.person.human import PARTICIPANTS
+from sim.procedures.experiment import Trial
+
+
+CONTROLLERS = Path(__file__).parent / "controllers"
+FAULTS = CONTROLLERS / "faults.py"
+
+
+def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 3000) -> str:
+    controller = PluginFactory(f"{FAULTS}:{name}", budget)()
+    params = LiftingParams()
+    controller.start(params, 10.0)
+    try:
+        with pytest.raises(ControllerFault) as fault:
+            for _ in range(steps):
+                controller.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)
+    finally:
+        controller.close()
+    return str(fault.value)
+
+
+@pytest.mark.parametrize("name, budget, reason", [
+    ("SleepsForever", SandboxBudget(step_timeout=1.0), "did not answer within 1 s (wall clock)"),
+    ("Sleeps50ms", SandboxBudget(), "step sleeps or blocks"),
+    ("StartsThread", SandboxBudget(), "started a thread or a process"),
+    ("Forks", SandboxBudget(), "started a thread or a process"),
+    ("MemoryBomb", SandboxBudget(memory_bytes=400 << 20), "MemoryError"),
+    ("ExitsInStep", SandboxBudget(), "the controller's process exited with code 0"),
+])
+def test_each_fault_stops_the_controller_with_its_reason(name, budget, reason):
+    assert reason in fault_of(name, budget)
+
+
+def test_exit_at_import_is_a_load_error():
+    with pytest.raises(PluginError, match="failed: SystemExit: 0"):
+        PluginFactory(str(CONTROLLERS / "exits_at_import.py"))()
+
+
+def test_no_files_no_network_outside_the_sandbox():
+    reason = fault_of("ReadsSecrets")
+    assert "/etc/passwd: FileNotFoundError" in reason and "root:" not in reason
+    assert f"{FAULTS}: FileNotFoundError" in reason  # not even its own file: it arrives as text
+    assert "connect: OSError" in reason  # no network (a socket it listens on is in its own namespace)
+
+
+def test_patching_the_grader_in_the_child_changes_nothing_here():
+    import sim.procedures.report as report_module
+
+    passed = report_module.Report.__dict__["passed"]
+    controller = PluginFactory(str(CONTROLLERS / "patches_grader.py"))()  # its class body patched the child's grader
+    twist = controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+    controller.close()
+    assert twist.tolist() == [0.0] * 6
+    assert report_module.Report.__dict__["passed"] is passed
+    empty = report_module.Report("x", "controller", 0)
+    assert empty.passed is False and empty.score == 0.0  # the patch would say True, 100
+
+
+def test_the_child_never_runs_at_the_loops_realtime_priority():
+    """Spawned from a SCHED_FIFO thread (as the live loop is), the child runs SCHED_OTHER."""
+    seen = {}
+
+    def spawn_from_fifo() -> None:
+        try:
+            os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(1))
+        except PermissionError:
+            seen["skip"] = True
+        controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+        seen["policies"] = [os.sched_getscheduler(pid) for pid in controller._tree()]
+        controller.close()
+
+    thread = threading.Thread(target=spawn_from_fifo)
+    thread.start()
+    thread.join()
+    if seen.get("skip"):
+        pytest.skip("this machine does not allow SCHED_FIFO (no CAP_SYS_NICE): nothing to reset")
+    assert seen["policies"] and all(p == os.SCHED_OTHER for p in seen["policies"])
+
+
+def test_a_trial_is_judged_by_the_world_not_by_the_person_phase():
+    """In-process (no sandbox), a controller that marks the person done gains nothing."""
+    sys.path.insert(0, str(CONTROLLERS))
+    from faults import ReachesTheWorld
+
+    result = Trial(PARTICIPANTS["calm"], 1, ReachesTheWorld()).run()
+    assert not result.success and result.reason.startswith("not carried")
+
+
+def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
+    env = {**os.environ, "PATH": str(tmp_path)}  # no bwrap on PATH
+    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", str(CONTROLLERS / "reference_sp.py")],
+                         capture_output=True, text=True, env=env, timeout=120)
+    assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
+    assert run.stdout == ""

@@ -24,6 +24,7 @@ LAB_TOPICS = {
     "/human_hand_pose": "geometry_msgs/PoseStamped",
     "/contact_state": "hri_lab/ContactState",
     "/lifting_state": "hri_lab/LiftingState",
+    "/trial": "hri_lab/TrialOutcome",
     "/trial_state": "hri_lab/TrialState",
 }
 

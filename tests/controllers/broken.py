@@ -31,7 +31,12 @@ class NoTangential(SPController):
         return super().twist_ee(wrench_ee, lazy)
 
 
-class Raising(SPController):
+class Raising:
+    """A bug in step (no start/stop of its own: the lab's semantics start it)."""
+
+    def reset(self):
+        pass
+
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
         raise ZeroDivisionError("oops, a bug in step")
 

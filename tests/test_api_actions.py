@@ -183,9 +183,10 @@ def test_experiment_goals_refuse_a_bad_set_with_the_parameter_servers_message(cl
                               ("k_t=fast", "Wrong parameter type, parameter {k_t} is of type {double}"),
                               ("f_n_min=5", "parameter 'f_n_min' does not apply to a headless experiment")):
             refused = client.post(f"/actions/{action}/goals", json={"set": text})
-            assert refused.status_code == 422, refused.text
-            detail = refused.json()["detail"][0]
-            assert detail["loc"][-1] == "set" and message in detail["msg"]
+            assert refused.status_code == 409, refused.text
+            assert refused.json()["status"] == "rejected" and message in refused.json()["message"]
+        malformed = client.post(f"/actions/{action}/goals", json={"set": "alpha 0.5"})  # not NAME=VALUE: the schema's
+        assert malformed.status_code == 422 and malformed.json()["detail"][0]["loc"][-1] == "set"
     assert "string set" in client.get("/actions/run_experiment").json()["definition"]
 
 

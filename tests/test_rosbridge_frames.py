@@ -108,7 +108,7 @@ def test_a_publish_flood_is_relayed_without_stalling(client):
 
 
 def test_with_a_token_changes_need_it_reading_does_not():
-    with TestClient(create_app(token="s3cret")) as c:
+    with TestClient(create_app(token="s3cret-0123456789abcdef")) as c:
         with c.websocket_connect("/") as ws:
             refused = exchange(ws, {"op": "call_service", "id": 1, "service": "/add_two_ints", "args": {"a": 1, "b": 2}})
             assert refused["op"] == "status" and "needs a token" in refused["msg"] and refused["id"] == 1
@@ -119,7 +119,7 @@ def test_with_a_token_changes_need_it_reading_does_not():
             assert "needs a token" in exchange(ws, {"op": "call_service", "service": "/rosapi/set_param",
                                                     "args": {"name": "/cooperative_lifting:mu", "value": "0.6"}})["msg"]
             assert exchange(ws, {"op": "auth", "mac": "wrong"})["msg"] == "auth: wrong token"
-            ws.send_json({"op": "auth", "mac": "s3cret"})
+            ws.send_json({"op": "auth", "mac": "s3cret-0123456789abcdef"})
             assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}
-        with c.websocket_connect("/", headers={"Authorization": "Bearer s3cret"}) as ws:
+        with c.websocket_connect("/", headers={"Authorization": "Bearer s3cret-0123456789abcdef"}) as ws:
             assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}

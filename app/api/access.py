@@ -41,6 +41,13 @@ def token_problem(token: str) -> str | None:
     return None
 
 
+def token_matches(presented: bytes | str, token: str) -> bool:
+    """The presented token equals the server's, compared as bytes in constant time."""
+    if isinstance(presented, str):
+        presented = presented.encode("utf-8", "surrogatepass")
+    return hmac.compare_digest(presented, token.encode("utf-8"))
+
+
 def presented_token(headers: list[tuple[bytes, bytes]]) -> bytes:
     """The token a request carries, as the raw header bytes."""
     values = dict(headers)

@@ -3,7 +3,7 @@ import multiprocessing
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import AfterValidator, BeforeValidator, Field
+from pydantic import BeforeValidator, Field
 
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
@@ -26,18 +26,20 @@ from app.ros.params import ParameterRefused
 from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, integral, int32_array, string_array
 
 
-def _check_set(text: str) -> str:
-    """A goal's `set` field is checked like `param set` (the refusal names the parameter)."""
-    try:
-        overrides.parse_set(text)
-    except ParameterRefused as refused:
-        raise ValueError(str(refused)) from None
-    return text
-
-
-# `set`: parameters for every trial of the goal
-SetField = Annotated[str, Field(max_length=2000, alias="set"), AfterValidator(_check_set),
+# `set`: parameters for every trial of the goal, NAME=VALUE separated by spaces; the schema says
+# the syntax, the parameter server's rules (declared, type, range) reject a goal up front (409)
+SET_PATTERN = r"^\s*([A-Za-z_][A-Za-z0-9_/]*=\S+(\s+|$))*$"
+SetField = Annotated[str, Field(max_length=2000, alias="set", pattern=SET_PATTERN),
                      RosType("string", "parameters for every trial, e.g. 'alpha=0.5 k_t=0.2'")]
+
+
+def overrides_valid(lab, goal) -> str | None:
+    """Why the goal's `set` is refused (the parameter server's message), or None."""
+    try:
+        overrides.parse_set(goal.set_)
+    except ParameterRefused as refused:
+        return f"set: {refused}"
+    return None
 
 
 def _names(choices) -> str:
@@ -244,8 +246,10 @@ ACTIONS = [
            "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it. "
            "Refused (409) while lifting runs or the robot is in error.", precondition=robot_free),
     Action("/run_experiment", "hri_lab/RunExperiment", ExperimentGoal, ExperimentResult, ExperimentFeedback, run_experiment,
-           "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial."),
+           "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial. "
+           "A `set` the parameter server refuses rejects the goal (409, its message).", precondition=overrides_valid),
     Action("/compare_controllers", "hri_lab/CompareControllers", CompareGoal, CompareResult, CompareFeedback,
            compare_controllers,
-           "Run the same participants and seeds with each controller (sp, patch) and compare them side by side."),
+           "Run the same participants and seeds with each controller (sp, patch) and compare them side by side. "
+           "A `set` the parameter server refuses rejects the goal (409, its message).", precondition=overrides_valid),
 ]

@@ -16,7 +16,6 @@ for a frame beyond MAX_FRAME (closed with 1009).
 from __future__ import annotations
 
 import asyncio
-import hmac
 import json
 import math
 from collections import deque
@@ -25,7 +24,7 @@ from typing import Any
 from fastapi import WebSocket
 from pydantic import ValidationError
 
-from app.api.access import presented_token
+from app.api.access import presented_token, token_matches
 from app.lab import commands as cmd
 from app.ros.actions import TERMINAL, GoalStatus
 from app.ros.services import ServiceFailure
@@ -91,7 +90,7 @@ class Session:
         self.name = bridge.next_name()
         self.loop: asyncio.AbstractEventLoop | None = None
         token = bridge.token
-        self.authorized = token is None or hmac.compare_digest(presented_token(websocket), token)
+        self.authorized = token is None or token_matches(presented_token(websocket.scope["headers"]), token)
         self.level = "error"
         self.streams: dict[str, Stream] = {}
         self.publishing: set[str] = set()
@@ -198,7 +197,7 @@ class Session:
     async def op_auth(self, message: dict, id_: Any) -> None:
         if self.bridge.token is None:
             return
-        self.authorized = hmac.compare_digest(field(message, "mac", str), self.bridge.token)
+        self.authorized = token_matches(field(message, "mac", str), self.bridge.token)
         if not self.authorized:
             raise BadFrame("auth: wrong token")
 

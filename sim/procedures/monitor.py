@@ -71,8 +71,10 @@ class TrialMonitor:
         self.palm_loss_time = 0.0
         self.slip_reference: np.ndarray | None = None
         self.carry_start: float | None = None  # s, when the person began the path
-        self.box_start: np.ndarray | None = None
-        self.hand_start: np.ndarray | None = None
+        self.box_start: np.ndarray | None = None  # m, world
+        self.box_rotation_start: np.ndarray | None = None
+        self.palm_start: np.ndarray | None = None  # m, the palm centre
+        self.hand_start: np.ndarray | None = None  # m, the path's origin
         self.previous_twist = np.zeros(6)
         self.jumps: deque[tuple[float, float]] = deque(maxlen=100)  # |dv| (m/s), |dw| (rad/s) of the last steps
 
@@ -81,7 +83,8 @@ class TrialMonitor:
         self._clear()
         self.state, self.started_at, self.participant = "running", time, participant
         if world is not None:
-            self.box_start, self.hand_start = world.box.position.copy(), world.human.start.copy()
+            self.box_start, self.box_rotation_start = world.box.position.copy(), world.box.rotation.copy()
+            self.palm_start, self.hand_start = world.human.position.copy(), world.human.start.copy()
 
     def update(self, world) -> None:
         """After a step: slip, contact, force figures once the grasp is let go; then the end rules."""
@@ -142,7 +145,11 @@ class TrialMonitor:
             return "not carried: the person never carried the box by the palm"
         if world.time - self.carry_start < path.duration - 1e-6:
             return f"not carried: the path ended after {world.time - self.carry_start:.2f} s, it takes {path.duration:.2f} s"
-        goal = self.box_start + (world.human.start - self.hand_start) + path.goal  # where the person's path ends
+        # where the person's path takes the box: the palm to the path's end, the box turned with it
+        #   goal = p_palm,0 + (hand shift) + path goal + R_box R_box,0^T (p_box,0 - p_palm,0)
+        turn = world.box.rotation @ self.box_rotation_start.T
+        palm_goal = self.palm_start + (world.human.start - self.hand_start) + path.goal
+        goal = palm_goal + turn @ (self.box_start - self.palm_start)
         error = norm3(world.box.position - goal)
         if error > rules.goal_tolerance:
             return f"not carried: the box ended {error * 100:.1f} cm from the goal (tolerance {rules.goal_tolerance * 100:g} cm)"

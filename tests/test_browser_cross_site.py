@@ -85,7 +85,6 @@ def test_a_page_on_another_origin_cannot_drive_the_lab(lab, evil_site):
             assert httpx.get(f"{lab}/topics/lifting_state").json()["started"] is False
             now = httpx.get(f"{lab}/health").json()  # not reset: sim time ran on with the ticks (1 ms each)
             assert now["sim_time"] - health["sim_time"] == pytest.approx((now["ticks"] - health["ticks"]) * 1e-3, abs=0.05)
-            assert health["sim_time"] > 0.5
             # the lab's own page: the same requests from its origin go through
             page.goto(lab + "/")
             status = page.evaluate("""async () => {

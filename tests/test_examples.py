@@ -25,7 +25,7 @@ def run(name: str, url: str | None = None) -> str:
 
 
 def test_every_example_is_tested():
-    tested = {"01_call_a_service.py", "02_stream_f_ext.py", "03_run_a_trial.py"}
+    tested = {"01_call_a_service.py", "02_stream_f_ext.py", "03_run_a_trial.py", "04_grade_a_file.py"}
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
 
@@ -45,3 +45,10 @@ def test_02_stream_f_ext(lab_url):
 def test_03_run_a_trial():
     out = run("03_run_a_trial.py")
     assert out.startswith("success: True") and "slip in the palm" in out
+
+
+def test_04_grade_a_file():
+    """The untouched template, sandboxed: its probes run and most fail (it commands zero twist)."""
+    out = run("04_grade_a_file.py")
+    assert "hri-lab grade (controller):" in out and "probe: " in out and "FAIL" in out
+    assert '"max_score": 5' in out

@@ -6,6 +6,7 @@ import sys
 
 import httpx
 import yaml
+from websockets.sync.client import connect
 
 from app.ros.names import absolute, node_name
 
@@ -174,7 +175,6 @@ def topic(args) -> int:
     if args.once:
         _print_message(response.json())
         return 0
-    from websockets.sync.client import connect
 
     ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://") + f"/topics{name}/stream?rate={args.rate}"
     received = 0

@@ -11,6 +11,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from tqdm import tqdm
+
 from app.cli.outputs import trial_outputs
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
@@ -43,7 +45,6 @@ def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
 
 
 def grade_files(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
 
     sandboxed = not args.unsandboxed
     if sandboxed and (reason := sandbox_unavailable()):

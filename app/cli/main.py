@@ -3,12 +3,23 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
 import os
 import signal
 import sys
 from dataclasses import replace
 from pathlib import Path
 
+from tqdm import tqdm
+
+from app.cli import client as client_cli
+from app.cli.grade import grade_files
+from app.cli.outputs import add_output_options, summary_figure, trial_outputs
+from app.lab import overrides
+from app.ros.params import ParameterRefused
+from sim.controllers import template as student_template
+from sim.controllers.plugin import PluginError, PluginFactory, controller_factory
+from sim.person.human import PARTICIPANTS
 from sim.procedures.experiment import (
     format_comparison,
     format_sweep,
@@ -20,11 +31,6 @@ from sim.procedures.experiment import (
     summary,
     sweep_json,
 )
-from sim.person.human import PARTICIPANTS
-from sim.controllers.plugin import PluginError, PluginFactory, controller_factory
-
-from app.cli import client as client_cli
-from app.cli.outputs import add_output_options, summary_figure, trial_outputs
 
 
 def _controller_factory(spec: str | None, sandboxed: bool = True):
@@ -37,7 +43,6 @@ def _controller_factory(spec: str | None, sandboxed: bool = True):
 
 def _overrides(args: argparse.Namespace) -> list:
     """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
-    from app.lab import overrides
 
     found = []
     if args.params:
@@ -48,14 +53,11 @@ def _overrides(args: argparse.Namespace) -> list:
 
 
 def _progress_bar(args: argparse.Namespace, total: int):
-    from tqdm import tqdm
 
     return tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet)
 
 
 def _experiment(args: argparse.Namespace) -> int:
-    from app.lab import overrides
-    from app.ros.params import ParameterRefused
 
     try:
         found = _overrides(args)
@@ -202,15 +204,11 @@ def _env_seed() -> int:
 
 
 def _grade(args: argparse.Namespace) -> int:
-    from app.cli.grade import grade_files
-
     return grade_files(args)
 
 
 def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
-        from sim.controllers import template as student_template
-
         path = Path(student_template.__file__)
     else:
         path = Path(__file__).parent / "templates" / {"services": "services_node.py", "node": "lifting_node.py"}[args.kind]
@@ -227,7 +225,6 @@ def _positive_int(text: str) -> int:
 
 def _stop_with_workers(signum, frame) -> None:
     """SIGTERM/SIGHUP: the trial workers (experiment, grade --jobs) go with this process."""
-    import multiprocessing
 
     for child in multiprocessing.active_children():
         child.kill()

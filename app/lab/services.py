@@ -1,16 +1,14 @@
 """The lab's services (docs/design.md, "Services"), one declaration each: request, response, handler."""
+import time
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 from pydantic import Field
 
-from sim import camera
-from sim.robot import planar_arm
-from sim.controllers.interface import ControllerFault
-from sim.controllers.builtin import BUILTIN
-
 from app.lab import commands as cmd
 from app.lab.params import F_N_MIN_RANGE
+from app.lab.recorder import LiveRecorder
 from app.ros.messages import (
     INT64_MAX,
     INT64_MIN,
@@ -25,6 +23,10 @@ from app.ros.messages import (
     float64_array,
 )
 from app.ros.services import Service, ServiceFailure, ServiceRegistry
+from sim import camera
+from sim.controllers.builtin import BUILTIN
+from sim.controllers.interface import ControllerFault
+from sim.robot import planar_arm
 
 
 class Trigger(RosMessage):
@@ -238,10 +240,7 @@ class RecordingResponse(RosMessage):
 
 def start_recording(lab, request: StartRecordingRequest) -> RecordingResponse:
     """Record the live lab to MCAP (topics 100 Hz, /tf and /scene 25 Hz) until /stop_recording."""
-    import time
-    from pathlib import Path
 
-    from app.lab.recorder import LiveRecorder
 
     if lab.recorder is not None and lab.recorder.running:
         raise ServiceFailure(f"already recording to {lab.recorder.path}: call /stop_recording first")

@@ -8,12 +8,13 @@ draws the collision meshes (simple, few triangles) for software-rendered browser
 """
 import hashlib
 import math
-from contextlib import contextmanager
-from http import HTTPStatus
 import os
 import threading
 import time
 from collections import deque
+from contextlib import contextmanager
+from http import HTTPStatus
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -21,14 +22,13 @@ import pinocchio as pin
 import viser
 import websockets.asyncio.server
 
-from sim.robot.assets import panda_urdf, robot_data_share
-from sim.person.human import PARTICIPANTS
-from sim.robot.panda import PandaModel
-from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, arrows_of, state_of
-from sim.world import Snapshot
-
 from app.api.security import host_refusal, local_names, origin_refusal
 from app.lab import commands
+from sim.person.human import PARTICIPANTS
+from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, arrows_of, state_of
+from sim.robot.assets import panda_urdf, robot_data_share
+from sim.robot.panda import PandaModel
+from sim.world import Snapshot
 
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
 
@@ -113,7 +113,6 @@ def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
     """The mesh as GLB bytes for viser. Converting the Panda's .dae files with trimesh takes
     seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version
     (trimesh itself, 0.7 s to import, is only imported to convert)."""
-    from importlib.metadata import version
 
     stat = mesh_path.stat()
     key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh")))

@@ -37,6 +37,7 @@ import select
 import shutil
 import signal
 import struct
+import subprocess
 import sys
 import time
 import traceback
@@ -47,8 +48,13 @@ from pathlib import Path
 
 import numpy as np
 
-from sim.controllers.interface import ControllerFault
-from sim.controllers.interface import LiftingParams, start_lifting, stop_lifting
+import sim
+from sim.controllers.interface import (
+    ControllerFault,
+    LiftingParams,
+    start_lifting,
+    stop_lifting,
+)
 
 HEADER = struct.Struct("<cI")
 PARAM_FIELDS = tuple(f.name for f in dataclasses.fields(LiftingParams))
@@ -90,7 +96,6 @@ def _text(payload: bytes) -> str:
 # --- the sandbox's command line -----------------------------------------------------------------
 def _readable_roots() -> list[str]:
     """What the child must see: the interpreter (venv and base), the `sim` package."""
-    import sim
 
     roots = {sys.prefix, sys.base_prefix, sys.exec_prefix, sys.base_exec_prefix, str(Path(sim.__file__).parent)}
     roots.add(str(Path(sys.executable).resolve().parent.parent))
@@ -125,7 +130,6 @@ def sandbox_unavailable() -> str | None:
     """None when bubblewrap can run here, else why not (for `hri-lab grade`'s refusal)."""
     if shutil.which("bwrap") is None:
         return "bubblewrap (bwrap) is not installed: `apt-get install bubblewrap` (make test does it)"
-    import subprocess
 
     try:
         run = subprocess.run(bwrap_command(["/usr/bin/true"]), capture_output=True, text=True, timeout=30)

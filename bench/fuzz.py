@@ -38,16 +38,18 @@ def check(case, response) -> None:
             assert body.get("reason") or body.get("detail"), body
 
 
-def fuzz(base_url: str, max_examples: int) -> int:
+def fuzz(base_url: str, max_examples: int, derandomize: bool = False) -> int:
     """Every operation (but the experiment action, which starts whole trials), `max_examples`
-    generated cases each; returns the number of requests sent."""
+    generated cases each; returns the number of requests sent. derandomize: the same cases every
+    run (the suite's short run; the long run here draws new ones each time)."""
     schema = schemathesis.openapi.from_url(f"{base_url}/openapi.json", config=CONFIG).exclude(path_regex="run_experiment")
     calls = 0
     for result in schema.get_all_operations():
         operation = result.ok()
 
         @given(case=operation.as_strategy())
-        @settings(max_examples=max_examples, deadline=None, suppress_health_check=list(HealthCheck), database=None)
+        @settings(max_examples=max_examples, deadline=None, suppress_health_check=list(HealthCheck), database=None,
+                  derandomize=derandomize)
         def run(case):
             nonlocal calls
             response = case.call(timeout=30)

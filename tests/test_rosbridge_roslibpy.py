@@ -1,6 +1,6 @@
 """roslibpy (unchanged) against `hri-lab serve --exercises`: rosapi, parameters, lab services, a
-service a node advertises answering HTTP and CLI calls, the students' services node from the
-template (right and wrong torques), topics at their stated rate, commands and the watchdog,
+service a node advertises answering HTTP and CLI calls (the students' services node from the
+template: tests/test_grade_services.py), topics at their stated rate, commands and the watchdog,
 actions with feedback and cancel. Real server process, real client, loopback."""
 import os
 import subprocess
@@ -16,9 +16,8 @@ import roslibpy
 import websockets.sync.client
 
 from app.cli.launch import running_server
-from sim.robot.panda import PandaModel
+from tests.waiting import stop_node
 
-NODES = Path(__file__).parent / "nodes"
 
 
 @pytest.fixture(scope="module")
@@ -39,20 +38,6 @@ def ros(lab):
 def cli(url, *args):
     env = dict(os.environ, HRI_LAB_URL=url)
     return subprocess.run([sys.executable, "-m", "app.cli", *args], capture_output=True, text=True, timeout=60, env=env)
-
-
-def start_node(lab, script, *args) -> subprocess.Popen:
-    node = subprocess.Popen([sys.executable, str(NODES / script), "--port", str(lab.port), *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    line = node.stdout.readline()
-    assert line.startswith("node ready"), line + node.stdout.read()
-    return node
-
-
-def stop_node(node: subprocess.Popen) -> None:
-    node.terminate()
-    node.wait(timeout=10)
-    node.stdout.close()
 
 
 def test_rosapi_and_parameters(ros, lab):
@@ -126,46 +111,6 @@ def test_a_node_that_does_not_answer_gives_504_and_disconnecting_takes_its_servi
         assert '"op": "call_service"' in node.recv(timeout=1)  # the request did reach the node
     time.sleep(0.3)
     assert "not provided yet" in httpx.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"]
-
-
-def independent_torques(lab, wrench):
-    """tau = J(q)^T F with the lab's reported q and a robot model of this process."""
-    q = np.array(httpx.get(f"{lab.url}/topics/joint_states").json()["position"])
-    return PandaModel().jacobian_base(q).T @ np.array(wrench)
-
-
-def test_the_students_services_node_from_the_template(lab):
-    node = start_node(lab, "services_solution.py")
-    try:
-        post = lambda name, body=None: httpx.post(f"{lab.url}/services/{name}", json=body or {}, timeout=10)  # noqa: E731
-        assert post("add_two_ints", {"a": 2, "b": 40}).json() == {"sum": 42}
-        assert post("divide_ints", {"a": 7, "b": 2}).json() == {"result": 3.5, "message": "Division ok."}
-        assert post("divide_ints", {"a": 1, "b": 0}).json()["message"] == "Division by zero!"
-        assert post("multiply_three", {"a": 2, "b": 3, "c": 7}).json() == {"product": 42}
-        assert post("multiply_three", {"a": 2**62, "b": 2, "c": 2}).status_code == 400
-        assert post("echo", {"in": "ciao"}).json() == {"out": "ciao"}
-        assert post("login", {"username": "ada", "magic_number": 42}).json()["success"] is True
-        tau = post("planar_torques", {"q": [np.pi / 2, -np.pi / 2, np.pi / 2], "force": [1.0, 0.0]}).json()["torques"]
-        assert tau == pytest.approx([-2.0, -1.0, -1.0], abs=1e-9)
-        wrench = [1.0, -2.0, 5.0, 0.1, 0.0, -0.2]
-        tau = post("compute_torques", {"force": wrench}).json()["torques"]
-        assert tau == pytest.approx(independent_torques(lab, wrench), abs=1e-3)
-        assert post("compute_wrench", {"torques": tau}).json()["force"] == pytest.approx(wrench, abs=1e-3)
-        started = post("start_cooperative_lifting", {"force": 12.0}).json()["message"]
-        assert "f_n_min = 12 N, f_n_max = 17 N" in started
-        state = httpx.get(f"{lab.url}/topics/lifting_state").json()
-        assert (state["started"], state["f_n_min"], state["f_n_max"]) == (True, 12.0, 17.0)  # the lab applied it
-        assert "stopped" in post("stop_cooperative_lifting").json()["message"]
-        assert httpx.get(f"{lab.url}/topics/lifting_state").json()["started"] is False
-    finally:
-        stop_node(node)
-    wrong = start_node(lab, "services_solution.py", "--wrong-torques")
-    try:
-        wrench = [1.0, -2.0, 5.0, 0.1, 0.0, -0.2]
-        tau = httpx.post(f"{lab.url}/services/compute_torques", json={"force": wrench}, timeout=10).json()["torques"]
-        assert np.max(np.abs(np.array(tau) - independent_torques(lab, wrench))) > 0.1
-    finally:
-        stop_node(wrong)
 
 
 def test_subscribe_at_the_stated_rate(ros):

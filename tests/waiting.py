@@ -1,6 +1,12 @@
-"""Waiting for a condition in tests: polls, never asserts on how long it took."""
+"""Waiting in tests: for a condition (polls, never asserts on how long it took) and for a
+student's node (tests/nodes/) to say it is ready."""
 import os
+import subprocess
+import sys
 import time
+from pathlib import Path
+
+NODES = Path(__file__).parent / "nodes"
 
 
 def wait_for(predicate, timeout: float = 30.0):
@@ -30,3 +36,18 @@ def process_gone(pid: int) -> bool:
             pass
         return True
     return False
+
+
+def start_node(lab, script: str, *args: str) -> subprocess.Popen:
+    """tests/nodes/SCRIPT connected to the lab (a running_server), once it printed "node ready"."""
+    node = subprocess.Popen([sys.executable, str(NODES / script), "--port", str(lab.port), *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    line = node.stdout.readline()
+    assert line.startswith("node ready"), line + node.stdout.read()
+    return node
+
+
+def stop_node(node: subprocess.Popen) -> None:
+    node.terminate()
+    node.wait(timeout=10)
+    node.stdout.close()

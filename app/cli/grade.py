@@ -32,10 +32,15 @@ def expand(specs: list[str]) -> list[str]:
     return found
 
 
+def report_stem(report: Report) -> str:
+    """A report's file name stem: the controller file's, or "services"."""
+    return split_spec(report.subject)[0].stem if report.kind == "controller" else report.kind
+
+
 def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
     out.mkdir(parents=True, exist_ok=True)
     for report in reports:
-        stem = split_spec(report.subject)[0].stem
+        stem = report_stem(report)
         (out / f"{stem}.txt").write_text(report.text() + "\n", encoding="utf-8")
         (out / f"{stem}.json").write_text(report.json(), encoding="utf-8")
         if gradescope:
@@ -79,6 +84,11 @@ def grade_files(args: argparse.Namespace) -> int:
         items = run_items(jobs, args.jobs, progress)
     for report, item in zip(owners, items):
         report.items.append(item)
+    return emit(reports, args)
+
+
+def emit(reports: list[Report], args: argparse.Namespace) -> int:
+    """The reports written (--out, --json) and printed (--format); the exit status: 0 all passed."""
     if args.out:
         write_outputs(reports, Path(args.out), args.format == "gradescope")
     if len(reports) == 1:

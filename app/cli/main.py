@@ -10,10 +10,12 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+import httpx
 from tqdm import tqdm
 
 from app.cli import client as client_cli
-from app.cli.grade import grade_files
+from app.cli.grade import emit, grade_files
+from app.cli.grade_services import grade_services
 from app.cli.outputs import add_output_options, summary_figure, trial_outputs
 from app.lab import overrides
 from app.ros.params import ParameterRefused
@@ -165,19 +167,21 @@ def build_parser() -> argparse.ArgumentParser:
 
     grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
     grd.add_argument("controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)")
-    grd.add_argument("--out", metavar="DIR", help="write NAME.txt, NAME.json (and NAME.results.json with --format gradescope) "
-                     "per file and summary.csv")
-    grd.add_argument("--format", choices=("text", "json", "gradescope"), default="text",
-                     help="what a single file's report prints (gradescope: its results.json); with --out, also written")
-    grd.add_argument("--json", metavar="OUT.json", help="also write a single file's report as JSON")
-    grd.add_argument("--seed", type=int, default=_env_seed(), help="seed of the probe values and trials "
-                     "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
+    _report_options(grd, "probe values and trials")
     grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="items in parallel processes")
     grd.add_argument("--unsandboxed", action="store_true",
                      help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run")
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
     add_output_options(grd)
     grd.set_defaults(func=_grade)
+
+    gsv = sub.add_parser("grade-services", help="grade the handout's exercise services a student's node provides "
+                         "(a lab started with serve --exercises), over its HTTP API")
+    gsv.add_argument("--url", default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
+                     help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
+    _report_options(gsv, "cases")
+    gsv.add_argument("--quiet", action="store_true", help="no progress lines")
+    gsv.set_defaults(func=_grade_services)
 
     client_cli.add_parsers(sub)
     from app.cli import bag
@@ -196,15 +200,32 @@ def _serve(args: argparse.Namespace) -> int:
                  exercises=args.exercises, output_dir=args.output_dir)
 
 
-def _env_seed() -> int:
-    try:
-        return int(os.environ.get("HRI_LAB_GRADE_SEED", "0"))
-    except ValueError:
-        return 0
+def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
+    """The grading report's options (the same for controllers and services)."""
+    parser.add_argument("--out", metavar="DIR", help="write NAME.txt, NAME.json (and NAME.results.json with --format "
+                        "gradescope) per report and summary.csv")
+    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text",
+                        help="what a single report prints (gradescope: its results.json); with --out, also written")
+    parser.add_argument("--json", metavar="OUT.json", help="also write a single report as JSON")
+    parser.add_argument("--seed", type=int, default=os.environ.get("HRI_LAB_GRADE_SEED", "0"), help=f"seed of the {drawn} "
+                        "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
 
 
 def _grade(args: argparse.Namespace) -> int:
     return grade_files(args)
+
+
+def _grade_services(args: argparse.Namespace) -> int:
+    def progress(item) -> None:
+        if not args.quiet:
+            print(f"{item.mark:>6}  {item.name}", file=sys.stderr, flush=True)
+
+    try:
+        report = grade_services(args.url, args.seed, os.environ.get("HRI_LAB_TOKEN"), progress)
+    except httpx.HTTPError as exc:
+        print(f"hri-lab grade-services: cannot reach the lab at {args.url}: {exc}", file=sys.stderr)
+        return 2
+    return emit([report], args)
 
 
 def _template(args: argparse.Namespace) -> int:

@@ -1,12 +1,16 @@
-"""Grading the services exercises over HTTP. An instructor points it at a student's running server:
+"""Grading the services exercises over HTTP, one test per handout service (the items and cases of
+`hri-lab grade-services`, app/cli/grade_services.py). An instructor points it at a lab started with
+`hri-lab serve --exercises` and the student's node connected:
 
-    HRI_LAB_URL=http://127.0.0.1:8000 .venv/bin/python -m pytest tests/grading -v
+    HRI_LAB_URL=http://127.0.0.1:8000 HRI_LAB_GRADE_SEED=1234 .venv/bin/python -m pytest tests/grading -v
 
-Without HRI_LAB_URL it starts the lab's own server (how `make test` checks the suite itself)."""
+Without HRI_LAB_URL it starts the lab's own server and grades the lab's own answers (how `make test`
+checks the reference: every item passes)."""
 import os
 
-import httpx
 import pytest
+
+from app.cli.grade_services import Grading, LabClient
 
 
 @pytest.fixture(scope="session")
@@ -22,8 +26,10 @@ def lab_url():
 
 
 @pytest.fixture(scope="session")
-def call(lab_url):
-    def call(service: str, body: dict | None = None) -> httpx.Response:
-        return httpx.post(f"{lab_url}/services/{service.lstrip('/')}", json=body if body is not None else {}, timeout=10.0)
-
-    return call
+def grading(lab_url):
+    """One grading run: the lab reset, the cases drawn from $HRI_LAB_GRADE_SEED (default 0)."""
+    lab = LabClient(lab_url, os.environ.get("HRI_LAB_TOKEN"))
+    assert lab.call("reset_simulation").ok
+    yield Grading(lab, int(os.environ.get("HRI_LAB_GRADE_SEED", "0")))
+    lab.call("reset_simulation")
+    lab.close()

@@ -1,14 +1,15 @@
-"""The services template filled in (what a student hands in); `--wrong-torques` gives a node whose
-compute_torques uses J F's transpose the wrong way round (tau = J^T F with F's force and moment swapped)."""
+"""The services template filled in (what a student hands in). Mistakes to grade, by flag:
+`--wrong-torques`: compute_torques with F's force and moment swapped (tau = J^T [m, f]);
+`--torques-as-force`: compute_torques answers tau = [F, 0] (no Jacobian at all)."""
 import sys
 
 import numpy as np
 
 from app.cli.templates import services_node as node
 
-WRONG = "--wrong-torques" in sys.argv
-if WRONG:
-    sys.argv.remove("--wrong-torques")
+MISTAKES = {flag for flag in ("--wrong-torques", "--torques-as-force") if flag in sys.argv}
+for flag in MISTAKES:
+    sys.argv.remove(flag)
 
 
 def divide_ints(request, response):
@@ -59,7 +60,10 @@ def jacobian():
 
 def compute_torques(request, response):
     force = np.array(request["force"])
-    if WRONG:
+    if "--torques-as-force" in MISTAKES:
+        response["torques"] = [*force, 0.0]
+        return True
+    if "--wrong-torques" in MISTAKES:
         force = np.concatenate((force[3:], force[:3]))
     response["torques"] = (jacobian().T @ force).tolist()
     return True

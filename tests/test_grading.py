@@ -15,6 +15,7 @@ from sim.procedures.report import Item, summary_csv
 
 sys.path.insert(0, str(Path(__file__).parent / "controllers"))
 import mutants  # noqa: E402
+import template_filled  # noqa: E402
 
 CONTROLLERS = Path(__file__).parent / "controllers"
 REFERENCE = str(CONTROLLERS / "reference_sp.py")
@@ -156,3 +157,17 @@ def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
         command = httpx.get(f"{url}/topics/cartesian_velocity_controller/command").json()
         assert all(v == 0.0 for v in command["linear"].values())
         assert httpx.get(f"{url}/health").json()["loop_alive"] is True
+
+
+def test_the_template_filled_in_as_its_hints_say_passes():
+    """Issue 3b: tests/controllers/template_filled.py is the template with every TODO done from its
+    hints and the README (step 0's low-pass included). Its probes all pass and its twist is the
+    built-in SP's to the last bits, so its trials are the reference's (full marks, above): a
+    trial of each with the same seed ends the same way."""
+    assert failed(template_filled.CooperativeLifting) == {}
+    filled = Trial(PARTICIPANTS["average"], 4, template_filled.CooperativeLifting()).run()
+    reference = Trial(PARTICIPANTS["average"], 4).run()
+    assert filled.success and reference.success
+    assert filled.steps == reference.steps
+    assert (filled.duration, filled.f_n_min, filled.f_n_max, filled.slip) == pytest.approx(
+        (reference.duration, reference.f_n_min, reference.f_n_max, reference.slip), rel=1e-6)

@@ -1,0 +1,112 @@
+"""The controller template (sim/controllers/template.py) with every TODO filled in as a student
+would from its hints and the README's SP description (tests/test_grading.py grades it).
+
+cooperative_lifting.py — the lab's exercise: implement the Single Point (SP) method.
+
+Run it:    hri-lab serve --controller cooperative_lifting.py      (the live lab, http://127.0.0.1:8000/)
+           hri-lab experiment --controller cooperative_lifting.py  (the nine trials, headless)
+Grade it:  hri-lab grade cooperative_lifting.py
+
+Conventions (as franka_ros): wrench_ee = F_ext = [fx, fy, fz, mx, my, mz] is the wrench the ROBOT
+applies to the box, at the flange origin, in the flange (EE) frame; the plate's normal n is the
+EE z axis, its centre p_c = [0, 0, params.plate_offset]. Pressing the box gives f_n = n . f > 0.
+Return the EE twist [vx, vy, vz, wx, wy, wz] in the BASE frame (m/s, rad/s).
+As it is, this file runs and commands zero twist: the robot does not move.
+"""
+import numpy as np  # the handout's tools: np.dot, np.cross, np.linalg.norm, np.clip, np.hstack
+
+
+class CooperativeLifting:
+    def __init__(self):
+        self.reset()
+
+    def reset(self):
+        """Called when the simulation (re)starts and after an error recovery."""
+        self.twist_base = np.zeros(6)  # the last command (step 5's rate limit needs it)
+        self.wrench_filtered = None  # step 0's low-passed F_ext
+
+    # --- the services' handlers -------------------------------------------------------------
+    def start(self, params, force):
+        """start_cooperative_lifting: f_n_min = force, f_n_max = force + 5 N, and start."""
+        params.f_n_min = force
+        params.running = True
+        return f"Cooperative Lifting started with f_n_min = {force:g} N."
+
+    def stop(self, params):
+        """stop_cooperative_lifting: f_n_min = 0 and stop (zero twist)."""
+        params.f_n_min = 0.0
+        params.running = False
+        return "Cooperative Lifting was stopped! Force limit f_n_min reset to 0 N."
+
+    # --- the controller -----------------------------------------------------------------------
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        """One control period (dt = 1 ms): F_ext in, EE twist in the base frame out."""
+        # TODO step 0: low-pass F_ext against the sensor noise (0.5 N), first order at params.filter_hz:
+        #   a = dt / (1 / (2 pi filter_hz) + dt);  w_f = w_f + a (wrench_ee - w_f)   (w_f = wrench_ee at the first step)
+        #   Without it the noise makes the twist jump at every step and the robot stops on a reflex.
+        wrench_ee = np.asarray(wrench_ee, dtype=float)
+        if self.wrench_filtered is None:
+            self.wrench_filtered = wrench_ee.copy()
+        a = dt / (1.0 / (2.0 * np.pi * params.filter_hz) + dt)
+        self.wrench_filtered = self.wrench_filtered + a * (wrench_ee - self.wrench_filtered)
+        wrench = self.wrench_filtered
+        if not params.running:
+            return np.zeros(6)
+        f, m = wrench[:3], wrench[3:]
+        rotation = transform_ee_to_base[:3, :3]  # EE -> base
+
+        # TODO step 1: decompose the wrench at the plate
+        #   n = [0, 0, 1];  f_n = n . f;  f_t = f - f_n n;  m_c = m - p_c x f
+        n = np.array([0.0, 0.0, 1.0])
+        p_c = np.array([0.0, 0.0, params.plate_offset])
+        f_n = np.dot(n, f)
+        f_t = f - f_n * n
+        m_c = m - np.cross(p_c, f)
+        in_contact = f_n >= params.f_contact
+
+        # TODO step 2: normal regulation in the band [params.f_n_min, params.f_n_max]
+        #   below -> move along +n (press); above -> along -n (release); inside -> no normal motion
+        v_n = 0.0
+        if f_n < params.f_n_min:
+            v_n = params.k_n * (params.f_n_min - f_n)
+        elif f_n > params.f_n_max:
+            v_n = -params.k_n * (f_n - params.f_n_max)
+
+        # TODO step 3: tangential following with the friction cone (params.mu, params.alpha)
+        #   |f_t| <= alpha mu f_n -> no tangential motion;  beyond: e_t = f_t - alpha mu f_n f_t/|f_t|,
+        #   v_t = -params.k_t e_t  (F_ext is what the robot applies: move AGAINST f_t), and press harder
+        v_t = np.zeros(3)
+        limit = params.alpha * params.mu * max(f_n, 0.0)
+        f_t_norm = np.linalg.norm(f_t)
+        if in_contact and f_t_norm > limit:
+            e_t = f_t - limit * f_t / f_t_norm
+            v_t = -params.k_t * e_t
+            if f_n < params.f_n_max:
+                v_n = max(v_n, params.k_n * (params.f_n_max - f_n))
+
+        # TODO step 4: comply with the moment at the plate centre: w = -params.k_w m_c (with a deadband)
+        w = np.zeros(3)
+        m_c_norm = np.linalg.norm(m_c)
+        if in_contact and m_c_norm > params.moment_deadband:
+            w = -params.k_w * (1.0 - params.moment_deadband / m_c_norm) * m_c
+
+        # TODO step 5: twist_ee = [v, w], saturate at params.v_max / params.w_max, and rotate to the
+        #   base frame: twist_base = [R v, R w]. Then limit the rate: the command may change by at most
+        #   params.a_max * dt (linear) and params.dw_max * dt (angular) per step, starting from
+        #   self.twist_base (the robot refuses jumps above 13 m/s^2: a jump is a reflex).
+        v = v_t + v_n * n
+        if np.linalg.norm(v) > params.v_max:
+            v = v * params.v_max / np.linalg.norm(v)
+        if np.linalg.norm(w) > params.w_max:
+            w = w * params.w_max / np.linalg.norm(w)
+        target = np.hstack((rotation @ v, rotation @ w))
+        delta = target - self.twist_base
+        dv, dw = delta[:3], delta[3:]
+        if np.linalg.norm(dv) > params.a_max * dt:
+            dv = dv * params.a_max * dt / np.linalg.norm(dv)
+        if np.linalg.norm(dw) > params.dw_max * dt:
+            dw = dw * params.dw_max * dt / np.linalg.norm(dw)
+        twist_base = self.twist_base + np.hstack((dv, dw))
+
+        self.twist_base = twist_base
+        return twist_base

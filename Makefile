@@ -36,6 +36,7 @@ bench: $(STAMP) chromium bubblewrap
 	$(BIN)/python -m bench.service_latency
 	$(BIN)/python -m bench.loop_latency
 	$(BIN)/python -m bench.view_cost
+	$(BIN)/python -m bench.page_responsiveness
 	$(BIN)/python -m bench.rosbridge
 	$(BIN)/python -m bench.recording
 	$(BIN)/python -m bench.grade_time

@@ -242,8 +242,21 @@ function showActionResult(name, m) {
     : `${m.result.successes}/${m.result.trials} succeeded`;
   const box = $("div", { class: `result ${m.status === "succeeded" ? "" : "refused"}`, "data-action": name },
     $("b", { text: `${name} ${m.status}: ` }), ok, $("pre", { class: "table", text: m.result.table }));
+  if (m.result.figures && m.result.figures.length) box.append(figureStrip(m.result.figures));
   byId("action-results").prepend(box);
   while (byId("action-results").children.length > 2) byId("action-results").lastChild.remove();
+}
+
+// The goal's figures (PNG URLs, the summary first) as thumbnails; a click opens the figure full
+// size, as SVG (saved next to each PNG).
+function figureStrip(urls) {
+  const strip = $("div", { class: "figures" });
+  for (const png of urls) {
+    const name = png.split("/").pop().replace(/\.png$/, "");
+    strip.append($("a", { href: png.replace(/\.png$/, ".svg"), target: "_blank", rel: "noopener", title: `${name} (full size)` },
+      $("img", { src: png, alt: name })));
+  }
+  return strip;
 }
 
 function showTrial(t) {

@@ -7,6 +7,7 @@ from app.lab.lab import Lab
 from app.lab.actions import ACTIONS
 from app.lab.services import SERVICES
 from sim.messages import wrench_stamped
+from app.lab import commands
 from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
 
 
@@ -147,3 +148,33 @@ def test_take_over_stops_the_scripted_person_and_keeps_the_gizmo(view):
     view.update(world.snapshot())
     assert np.allclose(view.gizmo.position, held + [0.0, 0.0, 0.05])
     assert view.take_over.value
+
+
+def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
+    """Every robot mesh origin, the box's corners and the palm project inside the canvas the docked
+    control panel leaves free in the dashboard's embedded view (872 x 414 px with a 1500 x 900
+    window), through viser's pinhole camera (the view's position, look-at, vertical fov, +z up);
+    the gizmo keeps a fixed on-screen size, clearly larger than a fingertip."""
+    from app.view.view3d import GIZMO_SIZE, PANEL_WIDTH
+
+    camera = view.server.initial_camera
+    forward = np.asarray(camera.look_at) - np.asarray(camera.position)
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    height_px, width_px = 414, 872 - PANEL_WIDTH
+    focal_px = (height_px / 2) / np.tan(camera.fov / 2)
+    world = view.lab.runtime.world
+    world.reset()
+    s = world.snapshot()
+    view.update(s)
+    half = np.array(view.lab.call(commands.scene_geometry)["box"]) / 2
+    corners = [s.box_position + s.box_rotation @ (half * [i, j, k]) for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]
+    lifted = [c + [0.0, 0.0, 0.2] for c in corners]  # where a lift takes it
+    for point in [np.asarray(f.position) for _, f in view.robot.frames] + corners + lifted + [s.palm_position]:
+        rel = point - np.asarray(camera.position)
+        depth = rel @ forward
+        x_px, y_px = focal_px * (rel @ right) / depth, focal_px * (rel @ up) / depth
+        assert abs(x_px) < 0.95 * width_px / 2 and abs(y_px) < 0.95 * height_px / 2, (point, x_px, y_px)
+    assert view.gizmo.fixed and view.gizmo.scale == GIZMO_SIZE >= 80  # px, whatever the zoom

@@ -13,14 +13,15 @@ NAME = re.compile(r"^[A-Za-z0-9_-][A-Za-z0-9_.-]{0,127}$")
 MEDIA = {".mcap": "application/octet-stream", ".png": "image/png", ".svg": "image/svg+xml"}
 
 
-def _file(folder: Path, *parts: str) -> FileResponse:
+def _file(folder: Path, *parts: str, disposition: str = "attachment") -> FileResponse:
+    """The file, downloaded (attachment) or shown by the browser (inline)."""
     for part in parts:
         if not NAME.match(part):
             raise HTTPException(404, f"no such file: {'/'.join(parts)}")
     path = Path(folder).joinpath(*parts)
     if path.suffix not in MEDIA or not path.is_file():
         raise HTTPException(404, f"no such file: {'/'.join(parts)}")
-    return FileResponse(path, media_type=MEDIA[path.suffix], filename=path.name)
+    return FileResponse(path, media_type=MEDIA[path.suffix], filename=path.name, content_disposition_type=disposition)
 
 
 router = APIRouter(tags=["files"])
@@ -41,4 +42,4 @@ def recording(name: str, lab: LabDep) -> FileResponse:
 
 @router.get("/figures/{run}/{name}", summary="A figure of an experiment or comparison goal (PNG, SVG)")
 def figure(run: str, name: str, lab: LabDep) -> FileResponse:
-    return _file(lab.figures_dir, run, name)
+    return _file(lab.figures_dir, run, name, disposition="inline")  # the page's thumbnails open in a tab

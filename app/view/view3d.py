@@ -62,9 +62,11 @@ def guarded_websocket_server(bound_host: str):
         websockets.asyncio.server.serve = original
 
 
-CAMERA_POSITION = (1.0, 1.05, 0.75)  # m, base frame: the robot and the box in view, from the person's side
-CAMERA_LOOK_AT = (0.3, 0.25, 0.35)
-GIZMO_SCALE = 0.3  # m
+CAMERA_POSITION = (0.2, 1.6, 0.9)  # m, base frame: the robot and the box in view, from the person's side
+CAMERA_LOOK_AT = (0.3, 0.1, 0.5)
+CAMERA_FOV = math.radians(50.0)  # vertical; three.js' 75 degrees makes the lab small and distorted
+PANEL_WIDTH = 300  # px: the controls docked at the right edge, beside the scene (never over it)
+GIZMO_SIZE = 90  # px on screen whatever the zoom (arrows from the palm), drawn over the box
 MEANING = {  # state -> what the box colour says (the view's legend)
     "inside": "f_n inside the band", "below": "f_n below the band", "above": "f_n above the band",
     "slipping": "the plate slips on the box", "error": "robot reflex (error)", "idle": "lifting stopped",
@@ -175,6 +177,9 @@ class LabView:
         self.server.scene.set_up_direction("+z")
         self.server.initial_camera.position = CAMERA_POSITION
         self.server.initial_camera.look_at = CAMERA_LOOK_AT
+        self.server.initial_camera.fov = CAMERA_FOV
+        self.server.gui.main_panel.dock_right()  # the canvas is what the panel leaves free
+        self.server.gui.main_panel.set_width(PANEL_WIDTH)
         if light:
             self.server.scene.configure_default_lights(cast_shadow=False)
         self.robot = RobotMeshes(self.server, light)
@@ -221,7 +226,8 @@ class LabView:
             for name, (rgb, _) in ARROWS.items()
         }
         self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
-        self.gizmo = scene.add_transform_controls("/hand_target", scale=GIZMO_SCALE, disable_rotations=True,
+        self.gizmo = scene.add_transform_controls("/hand_target", scale=GIZMO_SIZE, fixed=True, line_width=4.0,
+                                                  depth_test=False, disable_rotations=True, disable_sliders=True,
                                                   position=s.palm_position, visible=self.controls)
         if self.controls:
             self.gizmo.on_update(self._on_gizmo)

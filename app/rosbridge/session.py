@@ -144,15 +144,9 @@ class Session:
         self.bridge.nodes.drop(self)
         for stream in self.streams.values():
             stream.stop()
-            entry = self.bridge.node_topics.get(stream.topic)
-            if entry is not None:
-                entry.subscriptions.discard(stream)
+            self.bridge.leave(stream.topic, subscription=stream)
         for topic in self.publishing:
-            entry = self.bridge.node_topics.get(topic)
-            if entry is not None:
-                entry.publishers.discard(self)
-        for topic in set(self.streams) | self.publishing:
-            self.bridge.forget(topic)
+            self.bridge.leave(topic, publisher=self)
         for handle in self.goals.values():  # the client is gone: its goals stop
             if handle.status not in TERMINAL:
                 self.bridge.actions.cancel(handle)
@@ -280,10 +274,7 @@ class Session:
             return
         stream.stop()
         del self.streams[topic]
-        entry = self.bridge.node_topics.get(topic)
-        if entry is not None:
-            entry.subscriptions.discard(stream)
-            self.bridge.forget(topic)
+        self.bridge.leave(topic, subscription=stream)
 
     async def op_advertise(self, message: dict, id_: Any) -> None:
         topic = name_field(message, "topic")
@@ -304,10 +295,7 @@ class Session:
             await self.report("warning", f"unadvertise: {topic} is not advertised by this client", id_)
             return
         self.publishing.discard(topic)
-        entry = self.bridge.node_topics.get(topic)
-        if entry is not None:
-            entry.publishers.discard(self)
-            self.bridge.forget(topic)
+        self.bridge.leave(topic, publisher=self)
 
     async def op_publish(self, message: dict, id_: Any) -> None:
         topic = name_field(message, "topic")

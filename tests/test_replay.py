@@ -74,7 +74,7 @@ def test_the_slider_moves_the_robot_in_the_browser(view):
     assert np.max(np.linalg.norm(moved - at_start, axis=1)) > 0.02  # the robot followed the box up
     view.robot.place(frame.q)  # where the recorded q puts the meshes
     np.testing.assert_allclose(moved, placements(view), atol=1e-6)
-    np.testing.assert_allclose(view.box.position, frame.poses["box"][0], atol=1e-6)
+    np.testing.assert_allclose(view.shapes.box.position, frame.poses["box"][0], atol=1e-6)
 
 
 def test_play_advances_and_stops_at_the_end(view):

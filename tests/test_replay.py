@@ -1,22 +1,22 @@
 """`hri-lab play`: a recorded trial in the replay view (slider in a real browser) and its topics
 over the replay's API."""
 import os
-import shutil
 import time
 
 import numpy as np
 import pytest
+import viser
 from fastapi.testclient import TestClient
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
 
 from app.cli.launch import free_port
 from app.view.replay import ReplayView, replay_app
+from bench.page_responsiveness import ARGS, CHROMIUM
 from sim.procedures.experiment import plan, run_trial
 from sim.recording.playback import Playback
 from sim.recording.trial import TrialOutputs
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-ARGS = ["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
-        "--disable-component-update", "--disable-sync", "--no-first-run"]
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +74,7 @@ def test_the_slider_moves_the_robot_in_the_browser(view):
     assert np.max(np.linalg.norm(moved - at_start, axis=1)) > 0.02  # the robot followed the box up
     view.robot.place(frame.q)  # where the recorded q puts the meshes
     np.testing.assert_allclose(moved, placements(view), atol=1e-6)
-    np.testing.assert_allclose(view.box.position, frame.poses["box"][0], atol=1e-6)
+    np.testing.assert_allclose(view.shapes.box.position, frame.poses["box"][0], atol=1e-6)
 
 
 def test_play_advances_and_stops_at_the_end(view):
@@ -85,3 +85,11 @@ def test_play_advances_and_stops_at_the_end(view):
     while view.playing and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not view.playing and view.time == view.playback.duration
+
+
+def test_the_replay_view_refuses_a_foreign_origin(view):
+    """Started like the live view (app/view/view3d.py guarded_websocket_server): another site's
+    page cannot open its WebSocket (and drive the playback)."""
+    with pytest.raises(InvalidStatus) as refused:
+        connect(view.url.replace("http", "ws"), origin="http://evil.example", subprotocols=[f"viser-v{viser.__version__}"])
+    assert refused.value.response.status_code == 403

@@ -30,16 +30,16 @@ def test_force_arrow_follows_f_ext(view):
     rotation = snapshot.transform_ee_to_base[:3, :3]
     normal = rotation[:, 2]
     f_world = rotation @ f_ee
-    start, end = view.arrows["normal"].points[0]
+    start, end = view.shapes.arrows["normal"].points[0]
     centre = snapshot.transform_ee_to_base[:3, 3] + normal * lab.runtime.world.config.plate.offset
     assert start == pytest.approx(centre, abs=1e-6)  # viser stores float32
     assert end - start == pytest.approx(FORCE_SCALE * (f_world @ normal) * normal, abs=1e-6)
-    start_t, end_t = view.arrows["tangential"].points[0]
+    start_t, end_t = view.shapes.arrows["tangential"].points[0]
     assert end_t - start_t == pytest.approx(FORCE_SCALE * (f_world - (f_world @ normal) * normal), abs=1e-6)
     assert f_ee[2] > 5.0  # pressing: a visible normal arrow along the plate normal (base +y)
     assert (end - start)[1] > 0.05
     # the robot's meshes follow q (flange link placed by pinocchio)
-    assert view.robot.frames and np.allclose(view.box.position, snapshot.box_position)
+    assert view.robot.frames and np.allclose(view.shapes.box.position, snapshot.box_position)
 
 
 def test_colours_tell_the_state(view):

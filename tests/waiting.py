@@ -3,6 +3,7 @@ student's node (tests/nodes/) to say it is ready."""
 import os
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -51,3 +52,26 @@ def stop_node(node: subprocess.Popen) -> None:
     node.terminate()
     node.wait(timeout=10)
     node.stdout.close()
+
+
+def within(call, timeout: float = 30.0, what: str = "a call"):
+    """call()'s value, called on a daemon thread; AssertionError when it has not returned within
+    `timeout` s (for a blocking receive that has no timeout of its own: a regression fails the test
+    instead of hanging it; the thread is left blocked until its socket closes)."""
+    box: list = []
+    errors: list = []
+
+    def run():
+        try:
+            box.append(call())
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting test
+            errors.append(exc)
+
+    worker = threading.Thread(target=run, daemon=True)
+    worker.start()
+    worker.join(timeout)
+    if errors:
+        raise errors[0]
+    if not box:
+        raise AssertionError(f"{what}: no answer within {timeout} s")
+    return box[0]

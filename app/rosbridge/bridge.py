@@ -26,7 +26,7 @@ class NodeTopic:
     def __init__(self, type_name: str) -> None:
         self.type = type_name
         self.publishers: set[Any] = set()
-        self.subscriptions: set[Any] = set()  # app.rosbridge.session.Subscription
+        self.subscriptions: set[Any] = set()  # app.rosbridge.session.Stream
 
 
 class Bridge:
@@ -54,10 +54,15 @@ class Bridge:
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 
-    def forget(self, topic: str) -> None:
-        """A node topic nobody publishes or subscribes to any more goes away."""
+    def leave(self, topic: str, publisher: Any = None, subscription: Any = None) -> None:
+        """A publisher (a session) or a subscription (a session's Stream) is off a node topic; the
+        topic goes away when nobody publishes or subscribes to it any more (a lab topic: nothing to do)."""
         entry = self.node_topics.get(topic)
-        if entry is not None and not entry.publishers and not entry.subscriptions:
+        if entry is None:
+            return
+        entry.publishers.discard(publisher)
+        entry.subscriptions.discard(subscription)
+        if not entry.publishers and not entry.subscriptions:
             del self.node_topics[topic]
 
 

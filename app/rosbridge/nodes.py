@@ -20,7 +20,8 @@ from __future__ import annotations
 import asyncio
 import itertools
 import threading
-from concurrent.futures import Future, TimeoutError as FutureTimeout
+from concurrent.futures import Future
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -159,38 +160,39 @@ class NodeServices:
             self._pending[call_id] = (future, provider.session)
         return call_id, future, provider
 
-    def call(self, name: str, request: RosMessage) -> RosMessage:
-        """Call the node's service from any thread (HTTP, CLI, dashboard, 3D view); blocks."""
+    @contextmanager
+    def _calling(self, name: str, request: RosMessage):
+        """One call of the node's service, pending while the block runs: yields the provider, the
+        call_service message to send it and the future of its answer; a wait beyond `timeout` (s)
+        is a NodeTimeout naming the service."""
         call_id, future, provider = self._request(name)
         message = {"op": "call_service", "id": call_id, "service": name, "args": request.model_dump(by_alias=True)}
         try:
-            asyncio.run_coroutine_threadsafe(provider.session.send(message), provider.session.loop)
-            ok, values = future.result(timeout=self.timeout)
-        except RuntimeError as exc:  # the node's connection is closing (its loop is gone)
-            raise NodeFailure(f"service {name}: node {provider.session.name} is gone ({exc})") from None
-        except FutureTimeout:
+            yield provider, message, future
+        except TimeoutError:  # concurrent.futures' and asyncio's are this one
             raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
                               f"{self.timeout:g} s") from None
         finally:
             with self._lock:
                 self._pending.pop(call_id, None)
+
+    def call(self, name: str, request: RosMessage) -> RosMessage:
+        """Call the node's service from any thread (HTTP, CLI, dashboard, 3D view); blocks."""
+        with self._calling(name, request) as (provider, message, future):
+            try:
+                asyncio.run_coroutine_threadsafe(provider.session.send(message), provider.session.loop)
+                ok, values = future.result(timeout=self.timeout)
+            except RuntimeError as exc:  # the node's connection is closing (its loop is gone)
+                raise NodeFailure(f"service {name}: node {provider.session.name} is gone ({exc})") from None
         response = self._response(name, ok, values)
         self._effect(name, request)
         return response
 
     async def call_async(self, name: str, request: RosMessage) -> RosMessage:
         """The same from the server's event loop (a node calling another node's service)."""
-        call_id, future, provider = self._request(name)
-        message = {"op": "call_service", "id": call_id, "service": name, "args": request.model_dump(by_alias=True)}
-        try:
+        with self._calling(name, request) as (provider, message, future):
             await provider.session.send(message)
             ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
-        except asyncio.TimeoutError:
-            raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
-                              f"{self.timeout:g} s") from None
-        finally:
-            with self._lock:
-                self._pending.pop(call_id, None)
         response = self._response(name, ok, values)
         await asyncio.to_thread(self._effect, name, request)
         return response

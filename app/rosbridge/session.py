@@ -42,14 +42,19 @@ MUTATING = {"advertise", "publish", "advertise_service", "unadvertise_service", 
 
 
 class Stream:
-    """A topic as one client receives it: newest messages in a bounded queue, sent in order."""
+    """A topic as one client receives it: newest messages in a bounded queue, sent in order.
 
-    def __init__(self, session: "Session", topic: str) -> None:
-        self.session, self.topic = session, topic
+    A lab topic is paced where it is sampled (Session._sample, simulation time). A node topic is
+    paced here, on the sending side, as rosbridge's queue does: every message is queued (full: the
+    oldest is dropped) and the sender waits out the throttle period (wall clock) before the next, so
+    the newest message of a burst is always sent, at most one throttle period late."""
+
+    def __init__(self, session: "Session", topic: str, paced: bool = False) -> None:
+        self.session, self.topic, self.paced = session, topic, paced
         self.options: dict[Any, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
         self.queue: deque[dict] = deque(maxlen=1)
         self.ready = asyncio.Event()
-        self.last_offer = -math.inf
+        self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
         self.tasks: list[asyncio.Task] = []
 
     @property
@@ -62,20 +67,23 @@ class Stream:
         if length != self.queue.maxlen:
             self.queue = deque(self.queue, maxlen=length)
 
-    def offer(self, message: dict, now: float | None = None) -> None:
-        """Queue a message; `now` (s) applies throttle_rate (a lab topic is paced by its sampler)."""
-        if now is not None:
-            if now - self.last_offer < self.period - 1e-4:
-                return  # throttled
-            self.last_offer = now
-        self.queue.append(message)  # full: the oldest is dropped
+    def offer(self, message: dict) -> None:
+        """Queue a message for the sender (full: the oldest is dropped); never refused."""
+        self.queue.append(message)
         self.ready.set()
 
     async def deliver(self) -> None:
+        loop = asyncio.get_running_loop()
         while True:
             await self.ready.wait()
             self.ready.clear()
             while self.queue:
+                if self.paced:
+                    wait = self.last_sent + self.period - loop.time()
+                    if wait > 0:  # newer messages may come meanwhile: the queue is read after the wait
+                        await asyncio.sleep(wait)
+                        continue
+                    self.last_sent = loop.time()
                 await self.session.send({"op": "publish", "topic": self.topic, "msg": self.queue.popleft()})
 
     def stop(self) -> None:
@@ -136,15 +144,9 @@ class Session:
         self.bridge.nodes.drop(self)
         for stream in self.streams.values():
             stream.stop()
-            entry = self.bridge.node_topics.get(stream.topic)
-            if entry is not None:
-                entry.subscriptions.discard(stream)
+            self.bridge.leave(stream.topic, subscription=stream)
         for topic in self.publishing:
-            entry = self.bridge.node_topics.get(topic)
-            if entry is not None:
-                entry.publishers.discard(self)
-        for topic in set(self.streams) | self.publishing:
-            self.bridge.forget(topic)
+            self.bridge.leave(topic, publisher=self)
         for handle in self.goals.values():  # the client is gone: its goals stop
             if handle.status not in TERMINAL:
                 self.bridge.actions.cancel(handle)
@@ -230,11 +232,11 @@ class Session:
             raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
         stream = self.streams.get(topic)
         if stream is None:
-            stream = self.streams[topic] = Stream(self, topic)
+            lab_topic = self.bridge.topics.get(topic)
+            stream = self.streams[topic] = Stream(self, topic, paced=lab_topic is None)
             stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
             stream.configure()
             stream.tasks.append(asyncio.ensure_future(stream.deliver()))
-            lab_topic = self.bridge.topics.get(topic)
             if lab_topic is not None:
                 stream.tasks.append(asyncio.ensure_future(self._sample(stream, lab_topic)))
             else:
@@ -272,10 +274,7 @@ class Session:
             return
         stream.stop()
         del self.streams[topic]
-        entry = self.bridge.node_topics.get(topic)
-        if entry is not None:
-            entry.subscriptions.discard(stream)
-            self.bridge.forget(topic)
+        self.bridge.leave(topic, subscription=stream)
 
     async def op_advertise(self, message: dict, id_: Any) -> None:
         topic = name_field(message, "topic")
@@ -296,10 +295,7 @@ class Session:
             await self.report("warning", f"unadvertise: {topic} is not advertised by this client", id_)
             return
         self.publishing.discard(topic)
-        entry = self.bridge.node_topics.get(topic)
-        if entry is not None:
-            entry.publishers.discard(self)
-            self.bridge.forget(topic)
+        self.bridge.leave(topic, publisher=self)
 
     async def op_publish(self, message: dict, id_: Any) -> None:
         topic = name_field(message, "topic")
@@ -315,9 +311,8 @@ class Session:
         entry = self.bridge.node_topics.get(topic)
         if entry is None or self not in entry.publishers:
             raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
-        now = asyncio.get_running_loop().time()
         for stream in list(entry.subscriptions):
-            stream.offer(msg, now)
+            stream.offer(msg)
 
     async def _forward_commands(self) -> None:
         """Node commands into the simulation, newest first: sent without waiting for the step that

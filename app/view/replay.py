@@ -21,14 +21,13 @@ import viser
 from fastapi import FastAPI, HTTPException, Query, WebSocket, WebSocketDisconnect
 
 from sim.recording.playback import Playback
-from sim.recording.scene import ARROW_COLOURS, PALM_COLOUR, PLATE_COLOUR
 
-from app.view.view3d import RobotMeshes, cone_mesh, wxyz
+from app.view.view3d import SceneShapes, SceneView, guarded_websocket_server, wxyz
 
 SPEEDS = ("0.25", "0.5", "1", "2", "4")
 
 
-class ReplayView:
+class ReplayView(SceneView):
     def __init__(self, playback: Playback, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
                  rate_hz: float = 30.0) -> None:
         self.playback = playback
@@ -36,52 +35,24 @@ class ReplayView:
         self.time = 0.0  # s, playback time
         self.playing = False
         self.speed = 1.0
-        self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        self.server.scene.set_up_direction("+z")
-        self.server.initial_camera.position = (1.6, 1.5, 1.0)
-        self.server.initial_camera.look_at = (0.45, 0.2, 0.35)
-        if light:
-            self.server.scene.configure_default_lights(cast_shadow=False)
-        self.robot = RobotMeshes(self.server, light)
+        with guarded_websocket_server(host):  # refuses foreign Host/Origin, as the live view does
+            server = viser.ViserServer(host=host, port=port, verbose=False)
+        super().__init__(server, light, (1.6, 1.5, 1.0), (0.45, 0.2, 0.35), "replay")
         self._lock = threading.Lock()
         self._build_scene()
         self._build_gui()
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="replay", daemon=True)
-
-    @property
-    def url(self) -> str:
-        return f"http://{self.server.get_host()}:{self.server.get_port()}"
 
     def start(self) -> None:
         self.seek(0.0)
         self._thread.start()
 
-    def stop(self) -> None:
-        self._stop.set()
-        self._thread.join(timeout=2.0)
-        self.server.stop()
-
     # --- scene ------------------------------------------------------------------------------
     def _build_scene(self) -> None:
         scene, world = self.server.scene, self.playback.world
         plate = world.get("plate", {"width": 0.1, "height": 0.1, "offset": 0.02})
-        scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
-        self.plate_frame = scene.add_frame("/plate", show_axes=False)
-        scene.add_box("/plate/pad", dimensions=(plate["width"], plate["height"], 0.006), color=PLATE_COLOUR,
-                      position=(0, 0, -0.003))
         first = self.playback.frames[0]
-        vertices, faces = cone_mesh(first.mu)
-        self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
-                                          side="double")
-        self.cone_mu = first.mu
-        self.box = scene.add_box("/box", dimensions=tuple(world.get("box_size", (0.2, 0.2, 0.2))), color=first.box_colour)
-        palm = world.get("palm_size", (0.08, 0.08))
-        self.palm = scene.add_box("/palm", dimensions=(palm[0], palm[1], 0.015), color=PALM_COLOUR)
-        self.arrows = {name: scene.add_arrows(f"/forces/{name}", np.zeros((1, 2, 3)), colour, shaft_radius=0.004,
-                                              head_radius=0.01, head_length=0.02)
-                       for name, colour in ARROW_COLOURS.items()}
-        self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
+        self.shapes = SceneShapes(scene, (plate["width"], plate["height"]), world.get("box_size", (0.2, 0.2, 0.2)),
+                                  world.get("palm_size", (0.08, 0.08)), first.mu, first.box_colour)
         self.box_path = np.array([f.poses["box"][0] for f in self.playback.frames])
 
     def draw(self, t: float) -> None:
@@ -89,20 +60,19 @@ class ReplayView:
         frame = self.playback.frame_at(t)
         with self.server.atomic():
             self.robot.place(frame.q)
-            for handle, name in ((self.plate_frame, "plate"), (self.box, "box"), (self.palm, "palm")):
+            shapes = self.shapes
+            for handle, name in ((shapes.plate_frame, "plate"), (shapes.box, "box"), (shapes.palm, "palm")):
                 position, rotation = frame.poses[name]
                 handle.position = position
                 handle.wxyz = wxyz(rotation)
-            self.box.color = frame.box_colour
-            for name, handle in self.arrows.items():
+            shapes.box.color = frame.box_colour
+            for name, handle in shapes.arrows.items():
                 handle.points = frame.arrows[name][None]
-            if abs(frame.mu - self.cone_mu) > 1e-9:
-                self.cone.vertices = cone_mesh(frame.mu)[0]
-                self.cone_mu = frame.mu
+            shapes.show_mu(frame.mu)
             shown = self.box_path[max(0, int(np.searchsorted(self.playback.times, t, side="right")) - 300):
                                   int(np.searchsorted(self.playback.times, t, side="right"))]
             if len(shown) >= 2:
-                self.path.points = np.stack((shown[:-1], shown[1:]), axis=1)
+                shapes.path.points = np.stack((shown[:-1], shown[1:]), axis=1)
         contact = self.playback.message_at("/contact_state", frame.time) or {}
         lifting = self.playback.message_at("/lifting_state", frame.time) or {}
         band = f"band [{lifting.get('f_n_min', 0):g}, {lifting.get('f_n_max', 0):g}] N" if lifting.get("started") else "lifting stopped"

@@ -25,7 +25,7 @@ import websockets.asyncio.server
 from app.api.security import host_refusal, local_names, origin_refusal
 from app.lab import commands
 from sim.person.human import PARTICIPANTS
-from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, arrows_of, state_of
+from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, PALM_COLOUR, PLATE_COLOUR, arrows_of, state_of
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
@@ -139,6 +139,34 @@ def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
     return data
 
 
+class SceneShapes:
+    """The lab's shapes in a viser scene, as the live view and the replay draw them: the floor grid,
+    the plate (a frame with its pad and friction cone), the box, the palm, the force arrows and the
+    box's path. Sizes in m: plate (width, height), box (x, y, z), palm (x, y); mu is the cone's opening."""
+
+    def __init__(self, scene, plate_size, box_size, palm_size, mu: float, box_colour) -> None:
+        scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
+        self.plate_frame = scene.add_frame("/plate", show_axes=False)
+        scene.add_box("/plate/pad", dimensions=(plate_size[0], plate_size[1], 0.006), color=PLATE_COLOUR,
+                      position=(0, 0, -0.003))
+        vertices, faces = cone_mesh(mu)
+        self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
+                                          side="double")
+        self.cone_mu = mu
+        self.box = scene.add_box("/box", dimensions=tuple(box_size), color=box_colour)
+        self.palm = scene.add_box("/palm", dimensions=(palm_size[0], palm_size[1], 0.015), color=PALM_COLOUR)
+        self.arrows = {name: scene.add_arrows(f"/forces/{name}", np.zeros((1, 2, 3)), colour, shaft_radius=0.004,
+                                              head_radius=0.01, head_length=0.02)
+                       for name, colour in ARROW_COLOURS.items()}
+        self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
+
+    def show_mu(self, mu: float) -> None:
+        """Reshape the friction cone when mu changed."""
+        if abs(mu - self.cone_mu) > 1e-9:
+            self.cone.vertices = cone_mesh(mu)[0]
+            self.cone_mu = mu
+
+
 class RobotMeshes:
     """The Panda's meshes under viser frames, placed from q with pinocchio's geometry model."""
 
@@ -166,44 +194,54 @@ class RobotMeshes:
             frame.wxyz = wxyz(placement.rotation)
 
 
-class LabView:
+class SceneView:
+    """A viser server drawing the lab: z up, the camera, default lights (none in light mode) and the
+    Panda's meshes; a subclass draws the rest and has the thread's loop, `_run`, which runs from its
+    start() until stop()."""
+
+    def __init__(self, server: viser.ViserServer, light: bool, camera_position, camera_look_at, thread_name: str) -> None:
+        self.server = server
+        server.scene.set_up_direction("+z")
+        server.initial_camera.position = camera_position  # m, base frame
+        server.initial_camera.look_at = camera_look_at
+        server.initial_camera.fov = CAMERA_FOV
+        server.gui.main_panel.dock_right()  # the canvas is what the panel leaves free
+        server.gui.main_panel.set_width(PANEL_WIDTH)
+        if light:
+            server.scene.configure_default_lights(cast_shadow=False)
+        self.robot = RobotMeshes(server, light)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name=thread_name, daemon=True)
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=2.0)
+        self.server.stop()
+
+
+class LabView(SceneView):
     def __init__(self, lab, actions, services, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
                  rate_hz: float = 30.0, controls: bool = True) -> None:
         self.lab, self.actions, self.services = lab, actions, services
         self.light = light
         self.rate_hz = rate_hz
         with guarded_websocket_server(host):  # refuses foreign Host/Origin (app/api/security.py)
-            self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        self.server.scene.set_up_direction("+z")
-        self.server.initial_camera.position = CAMERA_POSITION
-        self.server.initial_camera.look_at = CAMERA_LOOK_AT
-        self.server.initial_camera.fov = CAMERA_FOV
-        self.server.gui.main_panel.dock_right()  # the canvas is what the panel leaves free
-        self.server.gui.main_panel.set_width(PANEL_WIDTH)
-        if light:
-            self.server.scene.configure_default_lights(cast_shadow=False)
-        self.robot = RobotMeshes(self.server, light)
+            server = viser.ViserServer(host=host, port=port, verbose=False)
+        super().__init__(server, light, CAMERA_POSITION, CAMERA_LOOK_AT, "view3d")
         self.controls = controls  # off when the API needs a token: the view then only shows
         self._build_scene()
         self._build_gui()
         self.status_message = ""  # the answer to the last control used here
         self.frame_times: deque[float] = deque(maxlen=1000)
         self._path: deque[np.ndarray] = deque(maxlen=300)
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="view3d", daemon=True)
-
-    @property
-    def url(self) -> str:
-        return f"http://{self.server.get_host()}:{self.server.get_port()}"
 
     def start(self) -> None:
         self.update(self.lab.snapshot())
         self._thread.start()
-
-    def stop(self) -> None:
-        self._stop.set()
-        self._thread.join(timeout=2.0)
-        self.server.stop()
 
     # --- scene ------------------------------------------------------------------------------
     def _build_scene(self) -> None:
@@ -211,21 +249,8 @@ class LabView:
         s = self.lab.snapshot()
         geometry = self.lab.call(commands.scene_geometry)
         plate_width, plate_height, self.plate_offset = geometry["plate"]
-        scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
-        self.plate_frame = scene.add_frame("/plate", show_axes=False)
-        scene.add_box("/plate/pad", dimensions=(plate_width, plate_height, 0.006), color=(60, 60, 60), position=(0, 0, -0.003))
-        vertices, faces = cone_mesh(s.lifting.mu)
-        self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
-                                          side="double")
-        self.cone_mu = s.lifting.mu
-        self.box = scene.add_box("/box", dimensions=geometry["box"], color=COLOURS["idle"])
-        palm = geometry["palm"]
-        self.palm = scene.add_box("/palm", dimensions=(palm[0], palm[1], 0.015), color=(240, 190, 160))
-        self.arrows = {
-            name: scene.add_arrows(f"/forces/{name}", np.zeros((1, 2, 3)), rgb, shaft_radius=0.004, head_radius=0.01, head_length=0.02)
-            for name, (rgb, _) in ARROWS.items()
-        }
-        self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
+        self.shapes = SceneShapes(scene, (plate_width, plate_height), geometry["box"], geometry["palm"], s.lifting.mu,
+                                  COLOURS["idle"])
         self.gizmo = scene.add_transform_controls("/hand_target", scale=GIZMO_SIZE, fixed=True, line_width=4.0,
                                                   depth_test=False, disable_rotations=True, disable_sliders=True,
                                                   position=s.palm_position, visible=self.controls)
@@ -239,25 +264,24 @@ class LabView:
         arrows = arrows_of(s, self.plate_offset)
         state = state_of(s)
         self._path.append(s.box_position.copy())
+        shapes = self.shapes
         with self.server.atomic():
             self.robot.place(s.q)
-            self.plate_frame.position = transform[:3, 3] + transform[:3, 2] * self.plate_offset
-            self.plate_frame.wxyz = wxyz(transform[:3, :3])
-            self.box.position = s.box_position
-            self.box.wxyz = wxyz(s.box_rotation)
-            self.box.color = COLOURS[state]
-            self.palm.position = s.palm_position
-            self.palm.wxyz = wxyz(s.palm_rotation)
+            shapes.plate_frame.position = transform[:3, 3] + transform[:3, 2] * self.plate_offset
+            shapes.plate_frame.wxyz = wxyz(transform[:3, :3])
+            shapes.box.position = s.box_position
+            shapes.box.wxyz = wxyz(s.box_rotation)
+            shapes.box.color = COLOURS[state]
+            shapes.palm.position = s.palm_position
+            shapes.palm.wxyz = wxyz(s.palm_rotation)
             if s.human_phase != "manual":  # the gizmo rides on the palm until the palm is taken over
                 self.gizmo.position = s.palm_position
-            for name, handle in self.arrows.items():
+            for name, handle in shapes.arrows.items():
                 handle.points = arrows[name][None]
-            if abs(s.lifting.mu - self.cone_mu) > 1e-9:
-                self.cone.vertices = cone_mesh(s.lifting.mu)[0]
-                self.cone_mu = s.lifting.mu
+            shapes.show_mu(s.lifting.mu)
             if len(self._path) >= 2 and len(self._path) % 5 == 0:
                 points = np.array(self._path)
-                self.path.points = np.stack((points[:-1], points[1:]), axis=1)
+                shapes.path.points = np.stack((points[:-1], points[1:]), axis=1)
         self._update_gui(s, state)
         self.frame_times.append(time.perf_counter() - started)
 

@@ -350,39 +350,36 @@ class SandboxedController:
                 pass
         return pids
 
-    def _count_tasks(self) -> int:
+    def _summed(self, read) -> float:
+        """read(pid) summed over the child's processes; one that ended meanwhile (its /proc entry
+        gone or cut short) counts 0."""
         total = 0
         for pid in self._tree():
             try:
-                total += len(os.listdir(f"/proc/{pid}/task"))
-            except OSError:
+                total += read(pid)
+            except (OSError, IndexError, ValueError):
                 pass
         return total
+
+    def _count_tasks(self) -> int:
+        return self._summed(lambda pid: len(os.listdir(f"/proc/{pid}/task")))
 
     def _voluntary_switches(self) -> int:
         """The child's processes' voluntary context switches (/proc/PID/status)."""
-        total = 0
-        for pid in self._tree():
-            try:
-                with open(f"/proc/{pid}/status") as handle:
-                    for line in handle:
-                        if line.startswith("voluntary_ctxt_switches"):
-                            total += int(line.split()[1])
-            except (OSError, ValueError):
-                pass
-        return total
+        def switches(pid: int) -> int:
+            with open(f"/proc/{pid}/status") as handle:
+                return sum(int(line.split()[1]) for line in handle if line.startswith("voluntary_ctxt_switches"))
+
+        return self._summed(switches)
 
     def _cpu_time(self) -> float:
         """s of CPU used by the child's processes (all threads): utime + stime from /proc."""
-        ticks = 0
-        for pid in self._tree():
-            try:
-                with open(f"/proc/{pid}/stat") as handle:
-                    rest = handle.read().rpartition(")")[2].split()
-                ticks += int(rest[11]) + int(rest[12])
-            except (OSError, IndexError, ValueError):
-                pass
-        return ticks / os.sysconf("SC_CLK_TCK")
+        def ticks(pid: int) -> int:
+            with open(f"/proc/{pid}/stat") as handle:
+                rest = handle.read().rpartition(")")[2].split()
+            return int(rest[11]) + int(rest[12])
+
+        return self._summed(ticks) / os.sysconf("SC_CLK_TCK")
 
     def _death(self) -> str:
         """Why the child is gone (its exit code or signal), with what it said on stderr."""

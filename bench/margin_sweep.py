@@ -14,8 +14,8 @@ carry it spends following.
 
     .venv/bin/python -m bench.margin_sweep [--jobs 2] [--tries 3] [--seed 0] [--only alpha,k_t,...]
 
-The whole script is ~190 trials: about 15-20 min with --jobs 2 on the lab's 2-core machine
-(most of it the successful calm trials, ~21 s of simulated time each). Each sweep reproduces
+The whole script is 172 trials, 568 s of CPU: about 5 min with --jobs 2 on two idle cores; it
+took 17 min (1010 s) on the lab's 2-core machine shared with other jobs (load 4-15). Each sweep reproduces
 alone with the CLI, e.g. `hri-lab experiment --sweep alpha=0.3,0.4,0.5,0.65,0.8 --controller patch`.
 """
 from __future__ import annotations

@@ -40,6 +40,7 @@ bench: $(STAMP) chromium bubblewrap
 	$(BIN)/python -m bench.rosbridge
 	$(BIN)/python -m bench.recording
 	$(BIN)/python -m bench.grade_time
+	$(BIN)/python -m bench.margin_sweep
 
 clean:
 	rm -rf $(VENV) *.egg-info

@@ -272,7 +272,7 @@ function showTrial(t) {
 }
 
 // --- status ---------------------------------------------------------------------------------
-const state = { lifting: null, contact: null, controller: "…", alpha: 0.8 };
+const state = { lifting: null, contact: null, controller: "…", alpha: 0.5 };
 function renderStatus() {
   const l = state.lifting, c = state.contact;
   if (l) {

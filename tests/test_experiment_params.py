@@ -34,7 +34,7 @@ def test_overrides_reach_the_trial_world_controller_and_person():
     index, person, attempt, seed = plan(1, "average", 0)[0]
     trial = make_trial(index, person, attempt, seed, setup=overrides.setup_of(found))
     world = trial.world
-    assert world.params.k_t == 0.3 and world.params.alpha == 0.8
+    assert world.params.k_t == 0.3 and world.params.alpha == 0.5
     assert world.config.box.mass == 2.0 and world.box.params.mass == 2.0
     assert world.config.plate_contact.normal_stiffness == 3.0e4 and world.config.plate_contact.mu == 0.6
     assert world.config.sensor.force_noise_std == 0.0
@@ -64,16 +64,16 @@ def test_parameters_that_do_not_apply_to_a_trial():
 def test_a_param_dump_file_sets_what_applies_and_ignores_the_rest():
     dump = """
 cooperative_lifting:
-  ros__parameters: {f_n_min: 0.0, alpha: 0.5, k_t: 0.1, controller: sp}
+  ros__parameters: {f_n_min: 0.0, alpha: 0.6, k_t: 0.1, controller: sp}
 keytwist:
   ros__parameters: {linear_speed: 0.1}
 sim:
   ros__parameters: {rate_hz: 1000, box_mass: 1.5}
 """
     found, ignored = overrides.parse_file(dump)
-    assert [(p.name, v) for p, v in found] == [("alpha", 0.5), ("k_t", 0.1), ("box_mass", 1.5)]
+    assert [(p.name, v) for p, v in found] == [("alpha", 0.6), ("k_t", 0.1), ("box_mass", 1.5)]
     assert ignored == ["/cooperative_lifting/f_n_min", "/cooperative_lifting/controller", "/keytwist/linear_speed", "/sim/rate_hz"]
-    assert overrides.describe(found) == "parameters: alpha = 0.5 (default 0.8), box_mass = 1.5 (default 1)"
+    assert overrides.describe(found) == "parameters: alpha = 0.6 (default 0.5), box_mass = 1.5 (default 1)"
     with pytest.raises(ParameterRefused, match=r"Parameter \{alpha\} doesn't comply with floating point range"):
         overrides.parse_file("cooperative_lifting: {ros__parameters: {alpha: 3.0}}")
 
@@ -118,7 +118,7 @@ def test_cli_table_header_states_the_changed_parameters(tmp_path):
         [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--quiet",
          "--params", str(params), "--set", "k_t=0.2", "--set", "speed=0.16"],
         capture_output=True, text=True, check=True, timeout=300).stdout
-    assert table.splitlines()[0] == ("controller sp, seed 3; parameters: alpha = 0.9 (default 0.8), k_t = 0.2 (default 0.1), "
+    assert table.splitlines()[0] == ("controller sp, seed 3; parameters: alpha = 0.9 (default 0.5), k_t = 0.2 (default 0.1), "
                                      "speed = 0.16 (default 0.08)")
 
 

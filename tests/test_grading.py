@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.human import PARTICIPANTS
 from sim.procedures.experiment import Trial
@@ -36,17 +37,18 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
                           "--jobs", "2", "--quiet"], capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
-    assert report["points"] == report["max_points"] == 115.0, (out / "reference_sp.txt").read_text()
+    # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130
+    assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
     assert report["passed"] is True
-    # the hasty trials are reported as not counted, never as "ok"
+    # the hasty trials count (at the default margin the reference SP carries them) and are carried
     hasty = [i for i in report["items"] if "hasty" in i["name"]]
-    assert hasty and all(i["max_points"] == 0 and i["mark"] == "not counted" for i in hasty)
-    assert "not counted" in (out / "reference_sp.txt").read_text()
+    assert len(hasty) == 3 and all(i["max_points"] == i["points"] == 5.0 and i["mark"] == "ok" for i in hasty)
+    assert "not counted" not in (out / "reference_sp.txt").read_text()
     results = json.loads(run.stdout)
     assert results == json.loads((out / "results.json").read_text())
-    assert results["score"] == 115.0 and len(results["tests"]) == len(report["items"])
+    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"])
     assert set(results["tests"][0]) == {"name", "score", "max_score", "output"}
-    assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},115,115,100.0,yes")
+    assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 
 
 @pytest.mark.parametrize("cls, lost", [
@@ -93,9 +95,16 @@ def test_the_untouched_template_fails(tmp_path):
         "stopped: zero twist", "inside the band: hold still", "inside the cone margin: no tangential motion"}
 
 
-def test_the_flipped_tangential_sign_drops_the_box():
-    result = Trial(PARTICIPANTS["average"], 3, mutants.TangentialFlipped()).run()
+def test_the_flipped_tangential_sign_loses_the_box():
+    """Moving with f_t pushes the friction further out of the cone: at alpha 0.8 the box is
+    dropped once the person lets go; at the default margin (0.5) the robot already moves with the
+    friction during the approach, while the person still grasps the box (11 N of friction at 18 N
+    at 1 s), slides the plate off the box (no contact at 2 s) and never gets a grip (both measured
+    with this seed)."""
+    result = Trial(PARTICIPANTS["average"], 3, mutants.TangentialFlipped(), params=LiftingParams(alpha=0.8)).run()
     assert not result.success and result.reason.startswith("dropped")
+    result = Trial(PARTICIPANTS["average"], 3, mutants.TangentialFlipped()).run()
+    assert not result.success and result.reason.startswith("no grip")
 
 
 def test_probe_values_come_from_the_seed():

@@ -108,10 +108,11 @@ def test_moments_below_the_noise_floor_are_held_even_at_a_light_grip():
 
 
 def test_patch_follows_the_person_like_sp_beyond_the_limit_surface():
-    # the person lifts: 8 N of friction down (EE +x) at 12 N, no torsion: beyond 0.8 * 0.5 * 12 = 4.8 N
-    wrench = np.array([8.0, 0, 12.0, 0, D * 8.0, 0])  # applied at the plate centre: m = p_c x f
+    # the person lifts: 6 N of friction down (EE +x) at 12 N, no torsion: beyond alpha mu f_n =
+    # 0.5 * 0.5 * 12 = 3 N (the default alpha 0.5), v_x = -k_t (6 - 3) = -0.3 m/s (under v_max)
+    wrench = np.array([6.0, 0, 12.0, 0, D * 6.0, 0])  # applied at the plate centre: m = p_c x f
     v = PatchController().twist_ee(wrench, params())[:3]
-    assert v[0] == pytest.approx(-0.1 * (8 - 4.8))
+    assert v[0] == pytest.approx(-0.1 * (6 - 3.0))
     assert v[2] > 0  # and the grip is raised
     # without torsion the limit-surface law is exactly SP's cone law
     assert PatchController().twist_ee(wrench, params())[:3] == pytest.approx(SPController().twist_ee(wrench, params())[:3])
@@ -119,31 +120,34 @@ def test_patch_follows_the_person_like_sp_beyond_the_limit_surface():
 
 def test_torsion_beyond_the_limit_surface_turns_about_the_normal_and_raises_the_grip():
     # m_n = 0.3 Nm at 12 N, no f_t: m_n' = 0.3 - 0.025 = 0.275 (deadband), s = (0.275 / (6 r_eq))^2;
-    # excess e = 1 - 0.8 / sqrt(s), w_z = -k_w e m_n', no tangential motion, grip raised
+    # = 1.46 > alpha^2 = 0.25; excess e = 1 - 0.5 / sqrt(s) = 0.59, w_z = -k_w e m_n' = -0.16 rad/s,
+    # no tangential motion, grip raised
     wrench = np.array([0, 0, 12.0, 0, 0, 0.3])
     s = (0.275 / (0.5 * 12 * R_EQ)) ** 2
-    assert s > 0.8**2
+    assert s > 0.5**2
     twist = PatchController().twist_ee(wrench, params())
-    assert twist[5] == pytest.approx(-(1 - 0.8 / np.sqrt(s)) * 0.275)
+    assert twist[5] == pytest.approx(-(1 - 0.5 / np.sqrt(s)) * 0.275)
     assert twist[:2] == pytest.approx([0, 0]) and twist[2] > 0
 
 
 def test_torsion_the_patch_holds_and_torsion_noise_do_not_move_it():
-    # 0.1 Nm at 12 N: s = (0.075 / (6 r_eq))^2 = 0.11 < 0.64: held (SP would turn with it)
+    # 0.1 Nm at 12 N: s = (0.075 / (6 r_eq))^2 = 0.11 < alpha^2 = 0.25: held (SP would turn with it)
     assert PatchController().twist_ee(np.array([0, 0, 12.0, 0, 0, 0.1]), params()) == pytest.approx(np.zeros(6))
     assert SPController().twist_ee(np.array([0, 0, 12.0, 0, 0, 0.12]), params())[5] < 0
-    # f_t just inside the cone margin (4.7 < 4.8 N) plus torsion noise under the deadband: no motion
-    wrench = np.array([4.7, 0, 12.0, 0, D * 4.7, 0.02])
+    # f_t just inside the cone margin (2.9 < alpha mu f_n = 3 N) plus torsion noise under the deadband: no motion
+    wrench = np.array([2.9, 0, 12.0, 0, D * 2.9, 0.02])
     assert PatchController().twist_ee(wrench, params()) == pytest.approx(np.zeros(6))
 
 
 def test_torsion_and_friction_share_the_limit_surface():
-    # f_t = 4 N (inside the cone margin 4.8 N alone) with m_n = 0.2 Nm (inside alone: s_m = 0.59):
-    # together s = (4/6)^2 + (0.175/(6 r_eq))^2 = 0.44 + 0.59 > 0.64: both follow with the same excess e
-    wrench = np.array([4.0, 0, 12.0, 0, D * 4.0, 0.2])
-    s = (4 / 6) ** 2 + (0.175 / (6 * R_EQ)) ** 2
-    e = 1 - 0.8 / np.sqrt(s)
+    # f_t = 2.4 N (inside the cone margin alpha mu f_n = 3 N alone: s_f = 0.16) with m_n = 0.1 Nm
+    # (m_n' = 0.075, inside alone: s_m = 0.11): together s = (2.4/6)^2 + (0.075/(6 r_eq))^2 = 0.16 + 0.11
+    # = 0.27 > alpha^2 = 0.25: both follow with the same excess e = 1 - 0.5 / sqrt(s) = 0.036
+    wrench = np.array([2.4, 0, 12.0, 0, D * 2.4, 0.1])
+    s = (2.4 / 6) ** 2 + (0.075 / (6 * R_EQ)) ** 2
+    assert max((2.4 / 6) ** 2, (0.075 / (6 * R_EQ)) ** 2) < 0.5**2 < s
+    e = 1 - 0.5 / np.sqrt(s)
     twist = PatchController().twist_ee(wrench, params())
-    assert twist[0] == pytest.approx(-0.1 * e * 4.0)
-    assert twist[5] == pytest.approx(-e * 0.175)
+    assert twist[0] == pytest.approx(-0.1 * e * 2.4)
+    assert twist[5] == pytest.approx(-e * 0.075)
     assert twist[3:5] == pytest.approx([0, 0], abs=1e-12)  # the friction at the surface is no tipping moment

@@ -9,8 +9,9 @@
    the margin alpha mu f_n and the cone mu f_n -> follow; a moment in the plate's plane and one
    about its normal -> comply.
 2. The experiment (5 points per counted trial): the nine Table 1 trials, judged by the world's own
-   state (sim/procedures/experiment.py); the participants in COUNTED_PARTICIPANTS count, the others
-   are reported as "not counted".
+   state (sim/procedures/experiment.py), with the lab's default parameters; the participants in
+   COUNTED_PARTICIPANTS count (all three: at the default margin alpha 0.5 the reference SP carries
+   each of them), any other would be reported as "not counted".
 3. Robustness (10 points each): a calm trial with three times the sensor noise; a calm trial in
    which the person jerks the box 3 cm sideways in 0.3 s while carrying it.
 PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself: a
@@ -38,9 +39,12 @@ from sim.world import WorldConfig
 
 PASS_MARK = 60.0  # % of all points
 PROBE_PASS_MARK = 80.0  # % of the probes' points
-# The hasty participant's trials are reported, not counted: the reference SP does not carry them
-# (README, "The experiment"). The one place that decides which trials count.
-COUNTED_PARTICIPANTS = ("calm", "average")
+# The one place that decides which trials count. All three participants count: measured with
+# bench/margin_sweep.py (README, "The experiment"), SP at the default margin (alpha 0.5) carries the
+# hasty participant too (3/3, slip <= 3.5 mm), and so does every alpha from 0.3 to 0.65; only the old
+# default 0.8 dropped it (the margin's choice, not the method's). A submission that drops the hasty
+# participant at the defaults follows too late, and that is the SP method's tangential step.
+COUNTED_PARTICIPANTS = ("calm", "average", "hasty")
 PROBE_POINTS, TRIAL_POINTS, ROBUSTNESS_POINTS = 5.0, 5.0, 10.0
 # the side pose's rotation (EE -> base): x = -z_b (down), y = -x_b, z = +y_b (toward the person)
 SIDE_ROTATION = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])

@@ -4,7 +4,8 @@ import time
 import numpy as np
 import pytest
 
-from sim.procedures.experiment import format_comparison, run_comparison
+from sim.controllers.interface import LiftingParams
+from sim.procedures.experiment import Setup, format_comparison, run_comparison
 from sim.robot.panda import SIDE_Q
 
 
@@ -148,7 +149,9 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     view = wait_terminal(client, "run_experiment", goal_id, timeout=120)
     assert view["status"] == "succeeded", view
     assert view["result"]["trials"] == 1 and "hasty" in view["result"]["table"]
-    assert view["result"]["table"].splitlines()[0] == "parameters: alpha = 0.9 (default 0.8), k_t = 0.2 (default 0.1)"
+    defaults = LiftingParams()
+    assert view["result"]["table"].splitlines()[0] == (
+        f"parameters: alpha = 0.9 (default {defaults.alpha:g}), k_t = 0.2 (default {defaults.k_t:g})")
     assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
     assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
     assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
@@ -156,7 +159,8 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
 
 def test_compare_controllers_action_runs_the_same_trials_with_each_controller(client):
     """The action's figures are the headless comparison's (same participants, same seeds)."""
-    goal = {"controllers": "sp,patch", "trials": 1, "participants": "hasty", "seed": 3}  # short trials (dropped at ~3 s)
+    # short trials: at the wider margin alpha 0.8 the hasty participant's box is dropped at ~3 s
+    goal = {"controllers": "sp,patch", "trials": 1, "participants": "hasty", "seed": 3, "set": "alpha=0.8"}
     goal_id = client.post("/actions/compare_controllers/goals", json=goal).json()["goal_id"]
     view = wait_terminal(client, "compare_controllers", goal_id, timeout=180)
     assert view["status"] == "succeeded", view
@@ -164,10 +168,10 @@ def test_compare_controllers_action_runs_the_same_trials_with_each_controller(cl
     assert result["controllers"] == ["sp", "patch"] and result["trials"] == [1, 1]
     assert [(f["controller"], f["participant"], f["trial"], f["of"]) for f in view["feedback"]] == [
         ("sp", "hasty", 1, 2), ("patch", "hasty", 2, 2)]
-    direct = run_comparison(["sp", "patch"], 1, ["hasty"], seed=3)
+    direct = run_comparison(["sp", "patch"], 1, ["hasty"], seed=3, setup=Setup(params=LiftingParams(alpha=0.8)))
     assert result["successes"] == [int(direct[name]["hasty"][0].success) for name in ("sp", "patch")]
     assert [f["duration"] for f in view["feedback"]] == [direct[name]["hasty"][0].duration for name in ("sp", "patch")]
-    assert result["table"] == format_comparison(direct, "parameters: the defaults")
+    assert result["table"] == format_comparison(direct, f"parameters: alpha = 0.8 (default {LiftingParams().alpha:g})")
 
 
 def test_compare_controllers_refusals(client):

@@ -8,6 +8,7 @@ import httpx
 import pytest
 
 from app.cli.launch import free_port, running_server
+from sim.controllers.interface import LiftingParams
 from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, round_trips
 
 SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"
@@ -136,7 +137,8 @@ def test_the_page_as_a_student_uses_it(server, page):
     wait_text(page, ".action[data-name='/move_to_start'] .refusal", "409 rejected: cooperative lifting is running: call /stop_cooperative_lifting first")
     assert move.locator(".goal").count() == 0
 
-    # a scripted participant (hasty: the short failing trial) and its result
+    # a scripted participant (hasty at the wider margin alpha 0.8: the short failing trial) and its result
+    assert httpx.put(f"{server}/params/cooperative_lifting/alpha", json={"value": 0.8}).json()["successful"]
     page.locator("#ctl-participant").select_option("hasty")
     page.locator("#ctl-force").fill("10")
     page.locator("#ctl-participant-run").click()
@@ -145,11 +147,13 @@ def test_the_page_as_a_student_uses_it(server, page):
     result = text_of(page, "#trial-result")
     assert "(hasty)" in result and "slip" in result and "time" in result and "f_n" in result
     assert result.startswith("SUCCESS") or "dropped" in result, result
+    httpx.put(f"{server}/params/cooperative_lifting/alpha", json={"value": LiftingParams().alpha})
 
-    # the controller comparison, the smallest goal: one hasty trial (over in ~3 s) with SP; its result and table
+    # the controller comparison, the smallest goal: one hasty trial at alpha 0.8 (dropped at ~3 s) with SP
     compare = page.locator(".action[data-name='/compare_controllers']")
     compare.locator("input[name=controllers]").fill("sp")
     compare.locator("input[name=participants]").fill("hasty")
+    compare.locator("input[name=set]").fill("alpha=0.8")
     compare.locator("button[type=submit]").click()
     page.locator("#action-results .result[data-action='/compare_controllers']").wait_for(timeout=120_000)
     summary = text_of(page, "#action-results .result[data-action='/compare_controllers']")
@@ -158,13 +162,14 @@ def test_the_page_as_a_student_uses_it(server, page):
 
 
 def test_an_experiment_from_the_actions_tab_shows_its_figures(page):
-    """The smallest goal with figures: one hasty trial (over in ~3 s of simulated time), plots
+    """The smallest goal with figures: one hasty trial at alpha 0.8 (dropped at ~3 s), plots
     ticked. Under the result, the summary and the trial's figure are loaded images; a click
     opens the figure full size (its SVG) in a tab."""
     page.locator("nav button[data-tab=actions]").click()
     run = page.locator(".action[data-name='/run_experiment']")
     run.locator("input[name=trials]").fill("1")
     run.locator("input[name=participant]").fill("hasty")
+    run.locator("input[name=set]").fill("alpha=0.8")
     run.locator("input[name=plots]").check()
     run.locator("button[type=submit]").click()
     result = "#action-results .result[data-action='/run_experiment']"

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from mcap.reader import make_reader
 
+from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Trial, plan
 from sim.recording import reader
 from sim.recording.figures import PANELS, summary_figure, trial_figure
@@ -31,11 +32,11 @@ LAB_TOPICS = {
 
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
-    """A hasty trial (it drops the box after ~3 s: short, and it has both markers), recorded and
+    """A hasty trial at alpha 0.8 (it drops the box after ~3 s: short, and it has both markers), recorded and
     plotted, with the box's simulated path kept step by step."""
     out = tmp_path_factory.mktemp("trial")
     index, person, attempt, seed = plan(9, "hasty", 0)[0]
-    trial = Trial(person, seed, index=index, attempt=attempt)
+    trial = Trial(person, seed, index=index, attempt=attempt, params=LiftingParams(alpha=0.8))
     observer = TrialObserver(trial, TrialOutputs(str(out), str(out)))
     path = {}
 
@@ -177,7 +178,7 @@ def test_a_recording_cut_short_is_readable(tmp_path):
 def test_experiment_cli_records_and_plots_every_trial(tmp_path):
     from app.cli.main import main
 
-    assert main(["experiment", "--trials", "1", "--participant", "hasty", "--jobs", "1", "--quiet",
+    assert main(["experiment", "--trials", "1", "--participant", "hasty", "--set", "alpha=0.8", "--jobs", "1", "--quiet",
                  "--record", str(tmp_path / "rec"), "--plots", str(tmp_path / "fig")]) == 0
     assert sorted(p.name for p in (tmp_path / "rec").iterdir()) == ["trial01_hasty_1.mcap"]
     assert sorted(p.name for p in (tmp_path / "fig").iterdir()) == [

@@ -73,7 +73,8 @@ def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
     from tests.test_api_actions import wait_terminal
 
     lab.figures_dir = tmp_path
-    goal = client.post("/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "plots": True})
+    goal = client.post("/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "plots": True,
+                                                                 "set": "alpha=0.8"})  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
     view = wait_terminal(client, "run_experiment", goal.json()["goal_id"], timeout=120)
     assert view["status"] == "succeeded"
     figures = view["result"]["figures"]

@@ -13,7 +13,8 @@ from websockets.sync.client import connect
 from app.cli.launch import free_port
 from app.view.replay import ReplayView, replay_app
 from bench.page_responsiveness import ARGS, CHROMIUM
-from sim.procedures.experiment import plan, run_trial
+from sim.controllers.interface import LiftingParams
+from sim.procedures.experiment import Setup, plan, run_trial
 from sim.recording.playback import Playback
 from sim.recording.trial import TrialOutputs
 
@@ -22,7 +23,8 @@ from sim.recording.trial import TrialOutputs
 @pytest.fixture(scope="module")
 def view(tmp_path_factory):
     folder = tmp_path_factory.mktemp("replay")
-    result = run_trial(*plan(1, "hasty", 0)[0], outputs=TrialOutputs(record_dir=str(folder)))  # ~3 s: lifted, dropped
+    result = run_trial(*plan(1, "hasty", 0)[0], outputs=TrialOutputs(record_dir=str(folder)),
+                       setup=Setup(params=LiftingParams(alpha=0.8)))  # ~3 s: lifted, dropped at the wider margin
     view = ReplayView(Playback(result.files["recording"]), port=free_port(), light=True)
     view.start()
     yield view

@@ -6,7 +6,8 @@ import sys
 import numpy as np
 import pytest
 
-from sim.procedures.experiment import Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
+from sim.controllers.interface import LiftingParams
+from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
 from sim.person.human import PARTICIPANTS, HandPath, PickAndPlace
 from sim.signals import minimum_jerk
 from sim.robot.panda import READY_Q, SIDE_Q
@@ -156,14 +157,17 @@ def test_robot_never_started_means_no_grip():
     assert not result.success and result.reason.startswith("no grip")
 
 
+SHORT = Setup(params=LiftingParams(alpha=0.8))  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
+
+
 def test_experiment_is_deterministic_per_seed():
-    a = run_experiment(1, "hasty", seed=5)
-    b = run_experiment(1, "hasty", seed=5)
+    a = run_experiment(1, "hasty", seed=5, setup=SHORT)
+    b = run_experiment(1, "hasty", seed=5, setup=SHORT)
     assert [r.as_dict() for r in a] == [r.as_dict() for r in b]
     assert plan(9)[0][3] != plan(9, seed=1)[0][3]
     # in parallel processes: the same results, in plan order
-    serial = run_experiment(2, "hasty", seed=6)
-    parallel = run_experiment(2, "hasty", seed=6, jobs=2)
+    serial = run_experiment(2, "hasty", seed=6, setup=SHORT)
+    parallel = run_experiment(2, "hasty", seed=6, jobs=2, setup=SHORT)
     assert [r.as_dict() for r in parallel] == [r.as_dict() for r in serial]
     # nine trials = three participants x three tries
     assert [(p.name, attempt) for _, p, attempt, _ in plan(9)] == [
@@ -173,7 +177,8 @@ def test_experiment_is_deterministic_per_seed():
 
 def test_cli_experiment_json():
     out = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--json", "--quiet"],
+        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8",
+         "--json", "--quiet"],
         capture_output=True, text=True, check=True, timeout=300,
     )
     data = json.loads(out.stdout)
@@ -181,7 +186,8 @@ def test_cli_experiment_json():
     trial = data["trials"][0]
     assert set(trial) >= {"success", "duration", "f_n_min", "f_n_max", "max_friction_ratio", "slip", "reason"}
     table = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--quiet"],
+        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8",
+         "--quiet"],
         capture_output=True, text=True, check=True, timeout=300,
     ).stdout
     assert "participant" in table and "hasty" in table and "success: " in table

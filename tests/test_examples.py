@@ -29,6 +29,19 @@ def test_every_example_is_tested():
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
 
+# 03 and 04 need no server: they run first, so the server of 01 and 02 lives only while they run
+def test_03_run_a_trial():
+    out = run("03_run_a_trial.py")
+    assert out.startswith("success: True") and "slip in the palm" in out
+
+
+def test_04_grade_a_file():
+    """The untouched template, sandboxed: its probes run and most fail (it commands zero twist)."""
+    out = run("04_grade_a_file.py")
+    assert "hri-lab grade (controller):" in out and "probe: " in out and "FAIL" in out
+    assert '"max_score": 5' in out
+
+
 def test_01_call_a_service(lab_url):
     out = run("01_call_a_service.py", lab_url)
     assert "int64 a\nint64 b\n---\nint64 sum" in out and "sum: 42" in out and "refused: 422 a" in out
@@ -40,15 +53,3 @@ def test_02_stream_f_ext(lab_url):
     assert len(lines) == 40
     stamps = [float(line.split()[2]) for line in lines]
     assert stamps == sorted(stamps) and stamps[-1] > stamps[0]
-
-
-def test_03_run_a_trial():
-    out = run("03_run_a_trial.py")
-    assert out.startswith("success: True") and "slip in the palm" in out
-
-
-def test_04_grade_a_file():
-    """The untouched template, sandboxed: its probes run and most fail (it commands zero twist)."""
-    out = run("04_grade_a_file.py")
-    assert "hri-lab grade (controller):" in out and "probe: " in out and "FAIL" in out
-    assert '"max_score": 5' in out

@@ -8,6 +8,7 @@ import sys
 
 import pytest
 
+from app.cli.grade_services import grade_services
 from app.cli.launch import running_server
 from tests.waiting import start_node, stop_node
 
@@ -24,10 +25,6 @@ def grade(lab, *args, seed="5"):
     env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_GRADE_SEED")}
     return subprocess.run([sys.executable, "-m", "app.cli", "grade-services", "--url", lab.url, "--seed", seed, *args],
                           capture_output=True, text=True, timeout=120, env=env)
-
-
-def items_of(result) -> dict[str, dict]:
-    return {item["name"]: item for item in json.loads(result.stdout)["items"]}
 
 
 def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path):
@@ -49,26 +46,24 @@ def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path)
 def test_wrong_torques_lose_exactly_the_torque_item(lab, mistake):
     node = start_node(lab, "services_solution.py", mistake)
     try:
-        result = grade(lab, "--format", "json")
+        report = grade_services(lab.url, seed=5)
     finally:
         stop_node(node)
-    items = items_of(result)
-    failed = {name for name, item in items.items() if item["points"] < item["max_points"]}
-    assert failed == {TORQUES}, failed
-    assert "expected" in items[TORQUES]["detail"]  # the case and the independent answer
+    failed = {item.name: item.detail for item in report.items if item.points < item.max_points}
+    assert set(failed) == {TORQUES}, failed
+    assert "expected" in failed[TORQUES]  # the case and the independent answer
 
 
 def test_the_untouched_template_fails_and_the_seed_draws_the_cases(lab):
     node = start_node(lab, "../../app/cli/templates/services_node.py")
     try:
-        first, again, other = grade(lab, "--format", "json"), grade(lab, "--format", "json"), grade(lab, "--format", "json", seed="6")
+        first, again, other = (grade_services(lab.url, seed) for seed in (5, 5, 6))
     finally:
         stop_node(node)
-    assert first.returncode == 1
-    report = json.loads(first.stdout)
-    assert report["passed"] is False and report["points"] == 1  # only the done example, add_two_ints
-    assert first.stdout == again.stdout  # the same seed, the same report
-    assert items_of(first)[TORQUES]["detail"] != items_of(other)[TORQUES]["detail"]  # another seed, other wrenches
+    assert first.passed is False and first.points == 1  # only the done example, add_two_ints
+    assert first.json() == again.json()  # the same seed, the same report
+    details = [{i.name: i.detail for i in r.items}[TORQUES] for r in (first, other)]
+    assert details[0] != details[1]  # another seed, other wrenches
 
 
 def test_no_node_every_exercise_is_not_provided(lab):

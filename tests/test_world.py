@@ -197,21 +197,22 @@ def test_cli_experiment_json():
 
 def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller():
     out = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "calm",
-         "--seed", "3", "--json", "--jobs", "2"],
+        [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "hasty",
+         "--seed", "3", "--set", "alpha=0.8", "--json", "--jobs", "2"],  # short trials: dropped at ~3 s
         capture_output=True, text=True, check=True, timeout=300,
     )
     data = json.loads(out.stdout)
-    assert data["set"] == {} and data["seed"] == 3
+    title_asked = f"seed 3; parameters: alpha = 0.8 (default {LiftingParams().alpha:g})"
+    assert data["set"] == {"alpha": 0.8} and data["seed"] == 3
     data = data["results"]
-    assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["calm"]
-    (sp,), (patch,) = data["sp"]["calm"], data["patch"]["calm"]
-    assert sp["seed"] == patch["seed"] == plan(1, "calm", 3)[0][3]
+    assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["hasty"]
+    (sp,), (patch,) = data["sp"]["hasty"], data["patch"]["hasty"]
+    assert sp["seed"] == patch["seed"] == plan(1, "hasty", 3)[0][3]
     # the table the CLI prints without --json, from these results
-    results = {name: {"calm": [TrialResult(**r) for r in data[name]["calm"]]} for name in data}
-    title, header, _, _, row, _, total = format_comparison(results, "seed 3; parameters: the defaults").splitlines()
-    assert title == "seed 3; parameters: the defaults"
-    assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("calm")
+    results = {name: {"hasty": [TrialResult(**r) for r in data[name]["hasty"]]} for name in data}
+    title, header, _, _, row, _, total = format_comparison(results, title_asked).splitlines()
+    assert title == title_asked
+    assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("hasty")
     assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"
 
 

@@ -24,7 +24,7 @@ bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
 test: $(STAMP) chromium bubblewrap
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile
 
 experiment: $(STAMP) bubblewrap
 	$(BIN)/hri-lab experiment

@@ -261,16 +261,16 @@ def test_reset_gives_a_sane_world_at_every_box_mass():
 def test_the_live_world_judges_its_scripted_participant_like_the_experiment():
     """Lifting started while the person grasps the box starts a trial; the world applies the
     experiment's rule after every step: the same figures as the headless trial with that seed."""
-    world = World()
-    world.reset(PARTICIPANTS["calm"].varied(np.random.default_rng(11)), seed=11)
+    world = World()  # the hasty participant: the shortest trial that succeeds (~10 s simulated)
+    world.reset(PARTICIPANTS["hasty"].varied(np.random.default_rng(11)), seed=11)
     assert world.snapshot().trial.state == "none"
     world.start_lifting(10.0)
     world.step()
-    assert world.snapshot().trial.state == "running" and world.snapshot().trial.participant == "calm"
+    assert world.snapshot().trial.state == "running" and world.snapshot().trial.participant == "hasty"
     while world.trial.state == "running":
         world.step()
     live = world.snapshot().trial
-    headless = Trial(PARTICIPANTS["calm"], seed=11).run()
+    headless = Trial(PARTICIPANTS["hasty"], seed=11).run()
     assert live.state == "succeeded" and live.reason == ""
     assert (live.duration, live.slip, live.f_n_min, live.f_n_max, live.max_friction_ratio) == pytest.approx(
         (headless.duration, headless.slip, headless.f_n_min, headless.f_n_max, headless.max_friction_ratio), abs=1e-9)

@@ -2,6 +2,7 @@ import ctypes
 import os
 import signal
 import time
+from pathlib import Path
 
 import pytest
 from multiprocessing import resource_tracker
@@ -43,6 +44,24 @@ def _describe(pid: int) -> str:
         return f"{pid}: (gone)"
 
 
+TREE_OUTPUTS = [Path(__file__).resolve().parent.parent / name for name in ("recordings", "figures")]
+
+
+def _tree_outputs() -> set[Path]:
+    return {f for folder in TREE_OUTPUTS if folder.is_dir() for f in folder.iterdir()}
+
+
+@pytest.fixture(scope="session", autouse=True)
+def no_file_left_in_the_tree():
+    """Fails the run when a test writes a recording or a figure into the working tree's default
+    output folders (`make run` writes there; tests use temporary folders)."""
+    before = _tree_outputs()
+    yield
+    added = sorted(str(f) for f in _tree_outputs() - before)
+    if added:
+        pytest.fail("files left in the working tree by the tests:\n" + "\n".join(added[:10]))
+
+
 @pytest.fixture(scope="session", autouse=True)
 def no_process_left_behind():
     """Fails the run when a test leaves a process behind. This run is made the subreaper of its
@@ -69,13 +88,16 @@ def no_process_left_behind():
 
 
 @pytest.fixture(scope="module")
-def client():
-    """The real app with its live 1 kHz loop, driven over HTTP (httpx via the TestClient)."""
+def client(tmp_path_factory):
+    """The real app with its live 1 kHz loop, driven over HTTP (httpx via the TestClient); its
+    recordings and figures go to a temporary folder, never into the working tree."""
     from fastapi.testclient import TestClient
 
     from app.api.app import create_app
 
     with TestClient(create_app()) as c:
+        output = tmp_path_factory.mktemp("lab")
+        c.app.state.lab.recordings_dir, c.app.state.lab.figures_dir = output / "recordings", output / "figures"
         yield c
 
 

@@ -3,6 +3,7 @@
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from contextlib import contextmanager
 from typing import Iterator
@@ -15,12 +16,17 @@ def free_port() -> int:
 
 
 class ServerProcess:
+    """`hri-lab serve ARGS` on a free port. Without --output-dir its recordings and figures go to a
+    temporary folder that goes with it (never into the working tree)."""
+
     def __init__(self, *args: str, timeout: float = 120.0) -> None:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.started = time.perf_counter()
+        self._output = None if "--output-dir" in args else tempfile.TemporaryDirectory(prefix="hri-lab-serve-")
+        output = ("--output-dir", self._output.name) if self._output else ()
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *args],
+            [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *output, *args],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
         )
         self.banner = self._wait_ready(timeout)
@@ -46,6 +52,9 @@ class ServerProcess:
                 self.proc.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 self.proc.kill()
+                self.proc.wait()
+        if self._output is not None:
+            self._output.cleanup()
 
 
 @contextmanager

@@ -12,7 +12,13 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-run: $(STAMP) bubblewrap
+# numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run
+KERNELS := sim/physics/contact.py sim/physics/box.py sim/robot/cartesian_velocity.py
+$(VENV)/.kernels: $(STAMP) $(KERNELS)
+	$(BIN)/python -c "from sim.world import World; World().run(0.01)"
+	touch $@
+
+run: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab serve
 
 # the browser test drives Debian's chromium (playwright cannot download browsers here)
@@ -23,13 +29,13 @@ chromium:
 bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
-test: $(STAMP) chromium bubblewrap
+test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile
 
-experiment: $(STAMP) bubblewrap
+experiment: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab experiment
 
-bench: $(STAMP) chromium bubblewrap
+bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	@command -v wrk >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; }
 	$(BIN)/python -m bench.sim_speed
 	$(BIN)/python -m bench.startup

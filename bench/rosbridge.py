@@ -21,13 +21,9 @@ import httpx
 import roslibpy
 
 from app.cli.launch import running_server
+from bench import percentile
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "app" / "cli" / "templates" / "services_node.py"
-
-
-def percentile(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
 
 
 def main() -> None:

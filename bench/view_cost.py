@@ -16,11 +16,7 @@ from app.lab.actions import ACTIONS
 from app.lab.services import SERVICES
 from app.view.view3d import LabView
 from sim.world import World
-
-
-def percentile(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
+from bench import percentile
 
 
 def main() -> None:

@@ -30,7 +30,7 @@ bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
 test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
-	$(BIN)/python -m pytest -q -n 2 --dist loadfile
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
 
 experiment: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab experiment

@@ -14,7 +14,7 @@ import statistics
 import time
 
 from sim.procedures.experiment import run_experiment
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.world import World
 
 

@@ -4,7 +4,7 @@ lifts and carries the box with the robot running the SP controller.
 No server needed: python examples/03_run_a_trial.py
 """
 from sim.controllers.sp import SPController
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
 
 trial = Trial(PARTICIPANTS["calm"], seed=0, controller=SPController())

@@ -42,7 +42,7 @@ def norm3(v: np.ndarray) -> float:
 
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b for two 3-vectors (np.cross is slow on tiny arrays)."""
-    a0, a1, a2 = a
-    b0, b1, b2 = b
+    """a x b for two 3-vectors (np.cross is slow on tiny arrays; so is arithmetic on numpy scalars)."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
     return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])

@@ -21,7 +21,8 @@ from sim.physics.contact import ContactParams, ContactResult, PatchContact, Patc
 from sim.controllers.external import COMMAND_PERIOD
 from sim.controllers.interface import Controller, LiftingParams
 from sim.controllers.interface import ControllerFault
-from sim.person.human import PARTICIPANTS, HumanParams, Participant, PickAndPlace, VirtualHuman
+from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
+from sim.person.participants import PARTICIPANTS, Participant
 from sim.robot.joint_trajectory import JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel, Plate
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee

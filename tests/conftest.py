@@ -51,6 +51,18 @@ def _tree_outputs() -> set[Path]:
     return {f for folder in TREE_OUTPUTS if folder.is_dir() for f in folder.iterdir()}
 
 
+# `make test` runs two workers and hands out whole files in collection order (--dist loadfile
+# --no-loadscope-reorder): the longest files go first, so that the run never ends with one worker
+# still on a long file while the other has nothing left (longest processing time first).
+LONG_FILES_FIRST = ("test_grading.py", "test_browser.py", "test_tilt.py", "test_cli_server.py", "test_world.py",
+                    "test_lifting_node.py", "test_api_actions.py", "test_replay.py", "test_recording_live.py")
+
+
+def pytest_collection_modifyitems(items) -> None:
+    rank = {name: i for i, name in enumerate(LONG_FILES_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: each file's order stays
+
+
 @pytest.fixture(scope="session", autouse=True)
 def no_file_left_in_the_tree():
     """Fails the run when a test writes a recording or a figure into the working tree's default

@@ -78,6 +78,16 @@ def test_topic_cli(server):
     assert stream.count("---") == 3 and "panda_joint7" in stream
 
 
+def test_the_client_commands_do_not_load_the_simulation():
+    """`hri-lab service|param|topic|action` import neither numba nor pinocchio (nor the app's
+    server): a command's module is imported when that command runs (app/cli/main.py)."""
+    probe = ("import sys; from app.cli.main import build_parser, main; build_parser(); "
+             "code = main(['service', 'list', '--url', 'http://127.0.0.1:1']); "
+             "print(code, sorted(m for m in ('numba', 'pinocchio', 'fastapi', 'sim.world') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "1 []", out.stdout + out.stderr  # exit 1: no server there
+
+
 def test_cli_without_server_is_a_clear_error():
     out = cli("http://127.0.0.1:1", "service", "list")
     assert out.returncode == 1 and "cannot reach the hri-lab server" in out.stderr

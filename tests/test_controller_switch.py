@@ -5,7 +5,7 @@ import pytest
 
 from sim.controllers.builtin import builtin
 from sim.controllers.interface import LiftingParams
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
 
 

@@ -11,7 +11,8 @@ import pytest
 
 from tests.waiting import process_gone, wait_for
 
-from sim.person.human import PARTICIPANTS, PickAndPlace
+from sim.person.human import PickAndPlace
+from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Setup, make_trial, plan, run_experiment, run_sweep
 from sim.world import WorldConfig
 

@@ -13,7 +13,7 @@ from sim.controllers.interface import ControllerFault
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.controllers.sandbox import SandboxBudget
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
 
 
@@ -90,6 +90,32 @@ def test_the_child_never_runs_at_the_loops_realtime_priority():
     if seen.get("skip"):
         pytest.skip("this machine does not allow SCHED_FIFO (no CAP_SYS_NICE): nothing to reset")
     assert seen["policies"] and all(p == os.SCHED_OTHER for p in seen["policies"])
+
+
+def test_the_child_follows_the_parent_to_its_cpu():
+    """Parent and child take turns: the child is moved to whichever CPU the stepping thread is on."""
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2:
+        pytest.skip("one CPU: nowhere else to follow the parent to")
+    seen = {}
+
+    def step_on(controller, cpu: int) -> set[int]:
+        os.sched_setaffinity(0, {cpu})  # this thread only
+        for _ in range(controller.budget.check_every):
+            controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+        return {cpu for pid in controller._tree() for cpu in os.sched_getaffinity(pid)}
+
+    def run() -> None:
+        controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+        try:
+            seen["first"], seen["then"] = step_on(controller, cpus[-1]), step_on(controller, cpus[0])
+        finally:
+            controller.close()
+
+    thread = threading.Thread(target=run)  # its own thread: the test run's affinity stays as it was
+    thread.start()
+    thread.join()
+    assert seen == {"first": {cpus[-1]}, "then": {cpus[0]}}
 
 
 def test_a_trial_is_judged_by_the_world_not_by_the_person_phase():

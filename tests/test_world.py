@@ -8,7 +8,8 @@ import pytest
 
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
-from sim.person.human import PARTICIPANTS, HandPath, PickAndPlace
+from sim.person.human import HandPath, PickAndPlace
+from sim.person.participants import PARTICIPANTS
 from sim.signals import minimum_jerk
 from sim.robot.panda import READY_Q, SIDE_Q
 from sim.physics.sensor import SensorParams, WrenchSensor

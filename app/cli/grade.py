@@ -6,7 +6,6 @@ file); never 0 before every report is written.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -14,10 +13,10 @@ from pathlib import Path
 from tqdm import tqdm
 
 from app.cli.outputs import trial_outputs
+from app.cli.reports import emit
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
 from sim.procedures.grading import battery, new_report, run_items
-from sim.procedures.report import Report, summary_csv
 
 
 def expand(specs: list[str]) -> list[str]:
@@ -32,25 +31,8 @@ def expand(specs: list[str]) -> list[str]:
     return found
 
 
-def report_stem(report: Report) -> str:
-    """A report's file name stem: the controller file's, or "services"."""
-    return split_spec(report.subject)[0].stem if report.kind == "controller" else report.kind
-
-
-def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    for report in reports:
-        stem = report_stem(report)
-        (out / f"{stem}.txt").write_text(report.text() + "\n", encoding="utf-8")
-        (out / f"{stem}.json").write_text(report.json(), encoding="utf-8")
-        if gradescope:
-            name = "results.json" if len(reports) == 1 else f"{stem}.results.json"
-            (out / name).write_text(json.dumps(report.gradescope(), indent=2), encoding="utf-8")
-    (out / "summary.csv").write_text(summary_csv(reports), encoding="utf-8")
-
-
-def grade_files(args: argparse.Namespace) -> int:
-
+def run(args: argparse.Namespace) -> int:
+    """Grade every file, write and print the reports; the exit status (module docstring)."""
     sandboxed = not args.unsandboxed
     if sandboxed and (reason := sandbox_unavailable()):
         print(f"hri-lab grade: refusing to run students' code without a sandbox: {reason}\n"
@@ -85,23 +67,3 @@ def grade_files(args: argparse.Namespace) -> int:
     for report, item in zip(owners, items):
         report.items.append(item)
     return emit(reports, args)
-
-
-def emit(reports: list[Report], args: argparse.Namespace) -> int:
-    """The reports written (--out, --json) and printed (--format); the exit status: 0 all passed."""
-    if args.out:
-        write_outputs(reports, Path(args.out), args.format == "gradescope")
-    if len(reports) == 1:
-        report = reports[0]
-        if args.json:
-            Path(args.json).write_text(report.json(), encoding="utf-8")
-        if args.format == "json":
-            print(report.json())
-        elif args.format == "gradescope":
-            print(json.dumps(report.gradescope(), indent=2))
-        else:
-            print(report.text())
-    else:
-        print(summary_csv(reports), end="")
-    sys.stdout.flush()
-    return 0 if all(r.passed for r in reports) else 1

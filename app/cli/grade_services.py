@@ -14,9 +14,12 @@ numpy. Reports: the controller grader's formats (text, JSON, Gradescope's result
 """
 from __future__ import annotations
 
+import argparse
 import math
+import os
 import re
 import string
+import sys
 from dataclasses import dataclass
 from typing import Callable
 
@@ -24,6 +27,7 @@ import httpx
 import numpy as np
 import pinocchio as pin
 
+from app.cli.reports import emit
 from sim.procedures.report import Item, Report
 from sim.robot.assets import panda_urdf
 
@@ -315,3 +319,18 @@ def grade_services(url: str, seed: int, token: str | None = None,
     finally:
         lab.close()
     return report
+
+
+def run(args: argparse.Namespace) -> int:
+    """`hri-lab grade-services`: one line per item as it is graded, then the report; 2 when the
+    lab cannot be reached."""
+    def progress(item) -> None:
+        if not args.quiet:
+            print(f"{item.mark:>6}  {item.name}", file=sys.stderr, flush=True)
+
+    try:
+        report = grade_services(args.url, args.seed, os.environ.get("HRI_LAB_TOKEN"), progress)
+    except httpx.HTTPError as exc:
+        print(f"hri-lab grade-services: cannot reach the lab at {args.url}: {exc}", file=sys.stderr)
+        return 2
+    return emit([report], args)

@@ -1,124 +1,29 @@
-"""`hri-lab` command line."""
+"""`hri-lab` command line: every command's arguments, and the dispatch.
+
+A command's code is its own module (`app/cli/experiment.py`, `serve.py`, `grade.py`, ...), imported
+when that command runs (`_command`): the ros2-like client commands start without loading the
+simulation (numba, pinocchio) that `experiment`, `grade` and `serve` need.
+"""
 from __future__ import annotations
 
 import argparse
-import json
+import importlib
+import importlib.util
 import multiprocessing
 import os
 import signal
-import sys
-from dataclasses import replace
 from pathlib import Path
 
-import httpx
-from tqdm import tqdm
-
+from app.cli import bag
 from app.cli import client as client_cli
-from app.cli.grade import emit, grade_files
-from app.cli.grade_services import grade_services
-from app.cli.outputs import add_output_options, summary_figure, trial_outputs
-from app.lab import overrides
-from app.ros.params import ParameterRefused
-from sim.controllers import template as student_template
-from sim.controllers.plugin import PluginError, PluginFactory, controller_factory
-from sim.person.human import PARTICIPANTS
-from sim.procedures.experiment import (
-    format_comparison,
-    format_sweep,
-    format_table,
-    plan,
-    run_comparison,
-    run_experiment,
-    run_sweep,
-    summary,
-    sweep_json,
-)
+from sim.person.participants import PARTICIPANTS
 
 
-def _controller_factory(spec: str | None, sandboxed: bool = True):
-    """sp, patch or a plug-in file's factory (loaded once here, in its sandbox, so that a broken
-    file fails now)."""
-    factory = controller_factory(spec, sandboxed)
-    getattr(factory(), "close", lambda: None)()
-    return factory
-
-
-def _overrides(args: argparse.Namespace) -> list:
-    """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
-
-    found = []
-    if args.params:
-        found, ignored = overrides.parse_file(Path(args.params).read_text(encoding="utf-8"))
-        if ignored and not args.quiet:
-            print(f"hri-lab: {args.params}: not applicable to a headless trial, ignored: {', '.join(ignored)}", file=sys.stderr)
-    return found + overrides.parse_set(args.set or [])
-
-
-def _progress_bar(args: argparse.Namespace, total: int):
-
-    return tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet)
-
-
-def _experiment(args: argparse.Namespace) -> int:
-
-    try:
-        found = _overrides(args)
-        axes = overrides.parse_sweep(args.sweep) if args.sweep else None
-    except (OSError, ParameterRefused) as exc:
-        print(f"hri-lab: {exc}", file=sys.stderr)
-        return 2
-    title, changed = overrides.describe(found), overrides.changed(found)
-    if args.compare:
-        if axes:
-            print("hri-lab: --sweep runs one controller (pick it with --controller), not --compare", file=sys.stderr)
-            return 2
-        return _compare(args, overrides.setup_of(found), title, changed)
-    factory = _controller_factory(args.controller)
-    trials = len(plan(args.trials, args.participant, args.seed))
-    points = overrides.sweep_points(axes, found) if axes else None
-    with _progress_bar(args, trials * len(points or [None])) as bar:
-
-        def progress(result) -> None:
-            bar.set_postfix_str(f"{result.participant} #{result.attempt}: {'ok' if result.success else 'FAILED'}")
-            bar.update(1)
-
-        if points:
-            rows = run_sweep(points, args.trials, args.participant, args.seed, factory, progress, args.jobs)
-        else:
-            results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
-                                     on_result=progress, jobs=args.jobs, setup=overrides.setup_of(found),
-                                     outputs=trial_outputs(args))
-    controller = args.controller or "sp"
-    if not points:
-        summary_figure(args, {controller: results})
-    if points and args.json:
-        print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, **sweep_json(rows)}, indent=2))
-    elif points:
-        swept = " x ".join(p.name for p, _ in axes)
-        print(format_sweep(rows, f"sweep of {swept}, controller {controller}, seed {args.seed}; {title}"))
-    elif args.json:
-        print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, "summary": summary(results),
-                          "trials": [r.as_dict() for r in results]}, indent=2))
-    else:
-        print(format_table(results, f"controller {controller}, seed {args.seed}; {title}"))
-    return 0
-
-
-def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
-    """The same participants and seeds with each controller, side by side."""
-    names = [n.strip() for n in args.compare.split(",") if n.strip()]
-    factories = {name: _controller_factory(name) for name in names}
-    people = [args.participant] if args.participant else None
-    results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs,
-                             setup=setup, outputs=trial_outputs(args))
-    summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
-    if args.json:
-        print(json.dumps({"seed": args.seed, "set": changed,
-                          "results": {n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}},
-                         indent=2))
-    else:
-        print(format_comparison(results, f"seed {args.seed}; {title}"))
-    return 0
+def _command(module: str):
+    """The command `module.run(args)`, its module imported when the command runs."""
+    def run(args: argparse.Namespace) -> int:
+        return importlib.import_module(module).run(args)
+    return run
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -140,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="run the same trials at each value (twice: a grid of two parameters); one table")
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     add_output_options(exp)
-    exp.set_defaults(func=_experiment)
+    exp.set_defaults(func=_command("app.cli.experiment"))
 
     srv = sub.add_parser("serve", help="start the lab's server (HTTP API on 127.0.0.1)")
     srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
@@ -157,7 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--exercises", action="store_true",
                      help="leave the handout's exercise services to the students' nodes (rosbridge): "
                           "each answers 'not provided yet' until a node advertises it")
-    srv.set_defaults(func=_serve)
+    srv.set_defaults(func=_command("app.cli.serve"))
 
     tpl = sub.add_parser("template", help="print a starting file: the controller (default), a services node or the lifting node")
     tpl.add_argument("kind", nargs="?", choices=("controller", "services", "node"), default="controller",
@@ -173,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run")
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
     add_output_options(grd)
-    grd.set_defaults(func=_grade)
+    grd.set_defaults(func=_command("app.cli.grade"))
 
     gsv = sub.add_parser("grade-services", help="grade the handout's exercise services a student's node provides "
                          "(a lab started with serve --exercises), over its HTTP API")
@@ -181,23 +86,17 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
-    gsv.set_defaults(func=_grade_services)
+    gsv.set_defaults(func=_command("app.cli.grade_services"))
 
     client_cli.add_parsers(sub)
-    from app.cli import bag
-
     bag.add_parsers(sub)
     return parser
 
 
-def _serve(args: argparse.Namespace) -> int:
-    from app.cli.serve import serve
-
-    factory = _controller_factory(args.controller)
-    if isinstance(factory, PluginFactory):  # started in the simulation process, at its first step
-        factory = replace(factory, eager=False)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token,
-                 exercises=args.exercises, output_dir=args.output_dir)
+def add_output_options(parser: argparse.ArgumentParser) -> None:
+    """--record DIR, --plots DIR of `experiment` and `grade` (app/cli/outputs.py)."""
+    parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
+    parser.add_argument("--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)")
 
 
 def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
@@ -211,26 +110,9 @@ def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
                         "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
 
 
-def _grade(args: argparse.Namespace) -> int:
-    return grade_files(args)
-
-
-def _grade_services(args: argparse.Namespace) -> int:
-    def progress(item) -> None:
-        if not args.quiet:
-            print(f"{item.mark:>6}  {item.name}", file=sys.stderr, flush=True)
-
-    try:
-        report = grade_services(args.url, args.seed, os.environ.get("HRI_LAB_TOKEN"), progress)
-    except httpx.HTTPError as exc:
-        print(f"hri-lab grade-services: cannot reach the lab at {args.url}: {exc}", file=sys.stderr)
-        return 2
-    return emit([report], args)
-
-
 def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
-        path = Path(student_template.__file__)
+        path = Path(importlib.util.find_spec("sim.controllers.template").origin)
     else:
         path = Path(__file__).parent / "templates" / {"services": "services_node.py", "node": "lifting_node.py"}[args.kind]
     print(path.read_text(encoding="utf-8"), end="")
@@ -257,10 +139,6 @@ def main(argv: list[str] | None = None) -> int:
     if args.command in ("experiment", "grade"):
         for signum in (signal.SIGTERM, signal.SIGHUP):
             signal.signal(signum, _stop_with_workers)
-    try:
-        return client_cli.run(args.func, args)
-    except PluginError as exc:
-        print(f"hri-lab: controller: {exc}", file=sys.stderr)
-        return 2
+    return client_cli.run(args.func, args)
 
 

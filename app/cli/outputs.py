@@ -30,8 +30,3 @@ def summary_figure(args: argparse.Namespace, results: dict) -> None:
 
         paths = save_summary_figure(results, args.plots)
         print(f"figures: {args.plots}/*.png, *.svg (summary: {paths['png']})", file=sys.stderr)
-
-
-def add_output_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
-    parser.add_argument("--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)")

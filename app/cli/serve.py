@@ -5,18 +5,22 @@ whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the conn
 opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most 64 KiB
 (h11/httptools), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within
 SHUTDOWN_S."""
+import argparse
 import asyncio
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import uvicorn
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
 from app.api.access import TOKEN_ENV, is_loopback, token_problem
+from app.api.app import create_app
+from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
 from app.ros.params import ParameterRefused
-from app.api.app import create_app
 from app.rosbridge.protocol import MAX_FRAME
+from sim.controllers.plugin import PluginFactory
 
 
 def load_parameter_file(lab: Lab, path: str) -> None:
@@ -125,3 +129,13 @@ class AnnouncingServer(uvicorn.Server):
                 + "Press Ctrl+C to stop.",
                 flush=True,
             )
+
+
+def run(args: argparse.Namespace) -> int:
+    """`hri-lab serve`: the controller chosen (a plug-in file loaded once now, then started in the
+    simulation process at its first step), then the server until Ctrl+C."""
+    factory = loaded_factory(args.controller)
+    if isinstance(factory, PluginFactory):
+        factory = replace(factory, eager=False)
+    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token,
+                 exercises=args.exercises, output_dir=args.output_dir)

@@ -14,7 +14,7 @@ from sim.procedures.experiment import (
     run_comparison,
     run_experiment as run_trials,
 )
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.controllers.builtin import BUILTIN
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialOutputs

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from sim.controllers.builtin import builtin, builtin_name
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.controllers.external import ExternalCommand
 from sim.controllers.interface import start_lifting as start_band, stop_lifting as stop_band
 from sim.world import World, WorldConfig

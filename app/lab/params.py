@@ -6,7 +6,7 @@ from functools import partial
 
 from sim.controllers.interface import LiftingParams
 from sim.controllers.builtin import BUILTIN
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.world import WorldConfig
 
 from app.lab import commands as cmd

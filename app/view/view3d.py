@@ -24,7 +24,7 @@ import websockets.asyncio.server
 
 from app.api.security import host_refusal, local_names, origin_refusal
 from app.lab import commands
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, PALM_COLOUR, PLATE_COLOUR, arrows_of, state_of
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.robot.panda import PandaModel

@@ -20,7 +20,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from sim.controllers.interface import Controller, LiftingParams
-from sim.person.human import PARTICIPANTS, TABLE_1, Participant
+from sim.person.participants import PARTICIPANTS, TABLE_1, Participant
 from sim.controllers.sp import SPController
 from sim.controllers.plugin import controller_factory as default_factory
 from sim.procedures.monitor import TrialRules

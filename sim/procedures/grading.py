@@ -29,7 +29,7 @@ import numpy as np
 
 from sim.controllers.interface import ControllerFault
 from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
-from sim.person.human import PARTICIPANTS
+from sim.person.participants import PARTICIPANTS
 from sim.physics.sensor import SensorParams
 from sim.procedures.experiment import Trial, TrialResult, plan, run_trial, trial_seed
 from sim.procedures.report import Item, Report

@@ -90,7 +90,7 @@ class CartesianVelocityInterface:
             return
         try:
             qdot = np.asarray(qdot, dtype=float)
-            if qdot.shape != (self.model.nq,) or not np.all(np.isfinite(qdot)):
+            if qdot.shape != (self.model.nq,) or not np.isfinite(qdot).all():
                 raise Reflex("invalid command: joint velocity must be 7 finite numbers")
             self._apply(qdot, dt)
             self.twist_command = self.twist_base.copy()
@@ -106,7 +106,7 @@ class CartesianVelocityInterface:
     # --- internals --------------------------------------------------------------------------
     def _check_twist(self, twist_base: np.ndarray, dt: float) -> None:
         twist = np.asarray(twist_base, dtype=float)
-        if twist.shape != (6,) or not np.all(np.isfinite(twist)):
+        if twist.shape != (6,) or not np.isfinite(twist).all():  # (methods: np.all costs microseconds)
             raise Reflex("invalid command: twist must be 6 finite numbers")
         lim = self.limits
         vx, vy, vz, wx, wy, wz = twist.tolist()
@@ -131,7 +131,7 @@ class CartesianVelocityInterface:
         # recover()) far from q_rest the term alone would exceed the joint acceleration limit
         step = self.null_space_ramp * self.qdd_max * dt
         target = self.null_space_gain * (self.q_rest - self.q)
-        self.posture = self.posture + np.clip(target - self.posture, -step, step)
+        self.posture = self.posture + np.minimum(np.maximum(target - self.posture, -step), step)  # clip, without np.clip's dispatch
         return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), self.posture, self.damping**2)
 
     def _apply(self, qdot: np.ndarray, dt: float) -> None:

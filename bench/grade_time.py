@@ -1,11 +1,14 @@
 """The sandbox's cost: one controller step in-process vs across the sandbox boundary (bubblewrap,
-two pipes), and the wall time of a whole `hri-lab grade` of the reference SP file.
+two pipes), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
+parent's CPU: sim/controllers/sandbox.py), and the wall time of a whole `hri-lab grade` of the
+reference SP file.
 
     .venv/bin/python -m bench.grade_time [--steps 20000] [--no-grade]
 """
 from __future__ import annotations
 
 import argparse
+import os
 import resource
 import subprocess
 import sys
@@ -33,6 +36,21 @@ def step_times(controller, steps: int) -> np.ndarray:
     return times
 
 
+def cpu_per_step(steps: int) -> float:
+    """CPU (s) per sandboxed step, parent and child together."""
+    sandboxed = PluginFactory(REFERENCE)()
+    child, parent = sandboxed._cpu_time(), time.process_time()
+    step_times(sandboxed, steps)
+    used = time.process_time() - parent + sandboxed._cpu_time() - child
+    sandboxed.close()
+    return used / steps
+
+
+def busy_cores(count: int) -> list[subprocess.Popen]:
+    """Processes that keep `count` cores busy (what the test suite or a batch grade does)."""
+    return [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(count)]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--steps", type=int, default=20000)
@@ -45,6 +63,15 @@ def main() -> None:
     print(f"SP step in-process:   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us")
     print(f"SP step sandboxed:    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
     print(f"boundary per step:    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
+    idle = cpu_per_step(args.steps)
+    hogs = busy_cores(os.cpu_count() or 1)
+    try:
+        busy = cpu_per_step(args.steps)
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+    print(f"CPU per sandboxed step (parent + child): {idle * 1e6:.0f} us, {busy * 1e6:.0f} us with every core busy")
     if not args.no_grade:
         cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
         started = time.perf_counter()

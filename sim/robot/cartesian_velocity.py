@@ -75,13 +75,24 @@ class CartesianVelocityInterface:
         if self.error is not None:
             self._halt()
             return
-        try:
-            self._check_twist(twist_base, dt)
-            qdot = self._dls(twist_base, dt)
-            self._apply(qdot, dt)
-            self.twist_command = np.array(twist_base, dtype=float)
-        except Reflex as reflex:
-            self.stop_with_error(str(reflex))
+        twist = np.asarray(twist_base, dtype=float)
+        if twist.shape != (6,) or not np.isfinite(twist).all():  # (methods: np.all costs microseconds)
+            self.stop_with_error("invalid command: twist must be 6 finite numbers")
+            return
+        model, lim = self.model, self.limits
+        # one kernel: the Cartesian limits, the posture ramp, damped least squares, the joint limits
+        kind, j, value, qdot, posture = twist_to_joint_velocity(
+            self.jacobian, twist, self.twist_command, self.q, self.qdot, self.posture, self.q_rest, dt,
+            lim.cartesian_velocity, lim.cartesian_angular_velocity, lim.cartesian_acceleration,
+            lim.cartesian_angular_acceleration, self.null_space_gain, self.null_space_ramp, self.damping**2,
+            model.qdot_max, self.qdd_max, model.q_min, model.q_max,
+        )
+        if kind != OK:
+            self.stop_with_error(self._reason(kind, j, value))
+            return
+        self.posture = posture
+        self._integrate(qdot, dt)
+        self.twist_command = twist.copy()
 
     def command_joint_velocity(self, qdot: np.ndarray, dt: float) -> None:
         """Execute one control period of joint velocities (rad/s), e.g. a joint-space motion."""
@@ -92,7 +103,11 @@ class CartesianVelocityInterface:
             qdot = np.asarray(qdot, dtype=float)
             if qdot.shape != (self.model.nq,) or not np.isfinite(qdot).all():
                 raise Reflex("invalid command: joint velocity must be 7 finite numbers")
-            self._apply(qdot, dt)
+            kind, j, value = check_joint_limits(qdot, self.qdot, self.q, dt, self.model.qdot_max, self.qdd_max,
+                                                self.model.q_min, self.model.q_max)
+            if kind != OK:
+                raise Reflex(self._reason(kind, j, value))
+            self._integrate(qdot, dt)
             self.twist_command = self.twist_base.copy()
             self.posture[:] = 0.0  # a twist command after this motion ramps the posture term from zero
         except Reflex as reflex:
@@ -104,50 +119,25 @@ class CartesianVelocityInterface:
         self._halt()
 
     # --- internals --------------------------------------------------------------------------
-    def _check_twist(self, twist_base: np.ndarray, dt: float) -> None:
-        twist = np.asarray(twist_base, dtype=float)
-        if twist.shape != (6,) or not np.isfinite(twist).all():  # (methods: np.all costs microseconds)
-            raise Reflex("invalid command: twist must be 6 finite numbers")
-        lim = self.limits
-        vx, vy, vz, wx, wy, wz = twist.tolist()
-        v, w = math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(wx * wx + wy * wy + wz * wz)
-        if v > lim.cartesian_velocity:
-            raise Reflex(f"cartesian velocity limit: |v| = {v:.3f} m/s > {lim.cartesian_velocity} m/s")
-        if w > lim.cartesian_angular_velocity:
-            raise Reflex(
-                f"cartesian velocity limit: |w| = {w:.3f} rad/s > {lim.cartesian_angular_velocity} rad/s"
-            )
-        ax, ay, az, bx, by, bz = (twist - self.twist_command).tolist()
-        a, alpha = math.sqrt(ax * ax + ay * ay + az * az) / dt, math.sqrt(bx * bx + by * by + bz * bz) / dt
-        if a > lim.cartesian_acceleration:
-            raise Reflex(f"cartesian acceleration limit: {a:.1f} m/s^2 > {lim.cartesian_acceleration} m/s^2")
-        if alpha > lim.cartesian_angular_acceleration:
-            raise Reflex(
-                f"cartesian acceleration limit: {alpha:.1f} rad/s^2 > {lim.cartesian_angular_acceleration} rad/s^2"
-            )
+    def _reason(self, kind: int, j: int, value: float) -> str:
+        """The reflex's message for a limit the kernels found broken (kind, joint or axis, value)."""
+        model, lim = self.model, self.limits
+        return {
+            CARTESIAN_VELOCITY: lambda: f"cartesian velocity limit: |v| = {value:.3f} m/s > {lim.cartesian_velocity} m/s",
+            CARTESIAN_ANGULAR_VELOCITY: lambda: (f"cartesian velocity limit: |w| = {value:.3f} rad/s > "
+                                                 f"{lim.cartesian_angular_velocity} rad/s"),
+            CARTESIAN_ACCELERATION: lambda: (f"cartesian acceleration limit: {value:.1f} m/s^2 > "
+                                             f"{lim.cartesian_acceleration} m/s^2"),
+            CARTESIAN_ANGULAR_ACCELERATION: lambda: (f"cartesian acceleration limit: {value:.1f} rad/s^2 > "
+                                                     f"{lim.cartesian_angular_acceleration} rad/s^2"),
+            VELOCITY: lambda: f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})",
+            ACCELERATION: lambda: f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})",
+            POSITION: lambda: (f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
+                               f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"),
+        }[kind]()
 
-    def _dls(self, twist_base: np.ndarray, dt: float) -> np.ndarray:
-        # posture = k (q_rest - q), changing by at most ramp qdd_max dt per period: from rest (after
-        # recover()) far from q_rest the term alone would exceed the joint acceleration limit
-        step = self.null_space_ramp * self.qdd_max * dt
-        target = self.null_space_gain * (self.q_rest - self.q)
-        self.posture = self.posture + np.minimum(np.maximum(target - self.posture, -step), step)  # clip, without np.clip's dispatch
-        return damped_least_squares(self.jacobian, np.asarray(twist_base, dtype=float), self.posture, self.damping**2)
-
-    def _apply(self, qdot: np.ndarray, dt: float) -> None:
-        model = self.model
-        kind, j, value = check_joint_limits(
-            qdot, self.qdot, self.q, dt, model.qdot_max, self.qdd_max, model.q_min, model.q_max
-        )
-        if kind == VELOCITY:
-            raise Reflex(f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})")
-        if kind == ACCELERATION:
-            raise Reflex(f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})")
-        if kind == POSITION:
-            raise Reflex(
-                f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
-                f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"
-            )
+    def _integrate(self, qdot: np.ndarray, dt: float) -> None:
+        """q <- q + qdot dt, then the flange pose, the Jacobian and the executed twist J qdot."""
         self.q = self.q + qdot * dt
         self.qdot = qdot
         self.update_kinematics()
@@ -166,6 +156,36 @@ class CartesianVelocityInterface:
 
 
 OK, VELOCITY, ACCELERATION, POSITION = 0, 1, 2, 3
+CARTESIAN_VELOCITY, CARTESIAN_ANGULAR_VELOCITY, CARTESIAN_ACCELERATION, CARTESIAN_ANGULAR_ACCELERATION = 4, 5, 6, 7
+
+
+@njit(cache=True)
+def twist_to_joint_velocity(jac, twist, twist_prev, q, qdot_prev, posture, q_rest, dt, v_max, w_max, a_max, dw_max,
+                            null_space_gain, null_space_ramp, damping2, qdot_max, qdd_max, q_min, q_max):
+    """One Cartesian velocity command -> (kind, index, value, qdot, posture); kind OK or the first
+    limit broken, in libfranka's order: |v|, |w|, the Cartesian accelerations, then (after DLS)
+    the joint velocity, acceleration and position limits.
+        posture <- posture + clip(k (q_rest - q) - posture, +-ramp qdd_max dt)  (a ramp: from rest
+                   far from q_rest the term alone would exceed the joint acceleration limit)
+        qdot = damped_least_squares(J, twist, posture)"""
+    v = math.sqrt(twist[0] * twist[0] + twist[1] * twist[1] + twist[2] * twist[2])
+    w = math.sqrt(twist[3] * twist[3] + twist[4] * twist[4] + twist[5] * twist[5])
+    if v > v_max:
+        return CARTESIAN_VELOCITY, -1, v, qdot_prev, posture
+    if w > w_max:
+        return CARTESIAN_ANGULAR_VELOCITY, -1, w, qdot_prev, posture
+    d = twist - twist_prev
+    a = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / dt
+    alpha = math.sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]) / dt
+    if a > a_max:
+        return CARTESIAN_ACCELERATION, -1, a, qdot_prev, posture
+    if alpha > dw_max:
+        return CARTESIAN_ANGULAR_ACCELERATION, -1, alpha, qdot_prev, posture
+    step = null_space_ramp * qdd_max * dt
+    posture_new = posture + np.minimum(np.maximum(null_space_gain * (q_rest - q) - posture, -step), step)
+    qdot = damped_least_squares(jac, twist, posture_new, damping2)
+    kind, j, value = check_joint_limits(qdot, qdot_prev, q, dt, qdot_max, qdd_max, q_min, q_max)
+    return kind, j, value, qdot, posture_new
 
 
 @njit(cache=True)

@@ -29,8 +29,8 @@ After a fault the child is killed and every call fails with the same reason unti
 (error_recovery), which lets the next call start a fresh child.
 
 Parent and child take turns (one runs while the other waits), so the child is kept on the CPU the
-parent runs on (re-checked every `check_every` steps): a wake-up on another, idle CPU costs both
-processes more CPU time than the step itself (bench/grade_time.py measures the boundary).
+parent runs on (re-checked every `check_every` steps): waking it on another CPU costs both
+processes CPU time (bench/grade_time.py measures a step's CPU with the cores idle and busy).
 """
 from __future__ import annotations
 

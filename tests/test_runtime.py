@@ -73,3 +73,52 @@ def test_a_call_while_the_simulation_restarts_is_a_503_naming_the_restart(client
     else:
         raise AssertionError("a call whose process died must fail")
     wait_for(lambda: client.get("/health").json()["loop_alive"])
+
+
+def test_the_shared_snapshot_reads_back_what_was_written_also_after_another_writer():
+    """The seqlock copy in shared memory: arrays, numbers, bools, ints and texts come back as
+    written; a text longer than its slot is cut; an unchanged text is not written again, unless
+    another writer (a forked, restarted simulation) wrote in between."""
+    from dataclasses import dataclass, field
+
+    import numpy as np
+
+    from app.runtime.shared_snapshot import TEXT_SLOT, SharedSnapshot
+
+    @dataclass
+    class Inner:
+        ok: bool = False
+        count: int = 0
+        note: str | None = None
+
+    @dataclass
+    class Record:
+        time: float = 0.0
+        q: np.ndarray = field(default_factory=lambda: np.zeros(7))
+        pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+        error: str | None = None
+        inner: Inner = field(default_factory=Inner)
+
+    shared = SharedSnapshot(Record())
+    shared.write(Record())
+    record = Record(1.5, np.arange(7.0), np.arange(16.0).reshape(4, 4), "x" * (2 * TEXT_SLOT), Inner(True, 7, "é"))
+    shared.write(record)
+    got = shared.read()
+    assert (got.time, got.inner) == (1.5, Inner(True, 7, "é"))
+    assert np.array_equal(got.q, record.q) and np.array_equal(got.pose, record.pose)
+    assert got.error == "x" * (TEXT_SLOT - 2)
+    shared.write(Record(2.0, error=None, inner=Inner(note=record.inner.note)))  # the same note object: kept
+    assert (shared.read().error, shared.read().inner.note) == (None, "é")
+
+    reader_end, writer_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # another writer (a fork, as a restarted simulation is) writes other texts
+        try:
+            shared.write(Record(3.0, error=None, inner=Inner(note=None)))
+        finally:
+            os._exit(0)
+    os.waitpid(pid, 0)
+    os.close(reader_end), os.close(writer_end)
+    shared.write(Record(4.0, error="stopped", inner=Inner(note="é")))  # this process's copy again
+    got = shared.read()
+    assert (got.time, got.error, got.inner.note) == (4.0, "stopped", "é")

@@ -4,7 +4,8 @@ server process reads it, with no pickling and no lock between them.
 Layout (one anonymous shared mapping, made before the fork): a sequence counter (uint64), then the
 numbers of the record as float64, then one fixed slot per text field. The writer is alone (a
 seqlock): it makes the counter odd, writes, makes it even again; a reader copies the record and
-retries when the counter was odd or changed meanwhile.
+retries when the counter was odd or changed meanwhile. The writer scatters all the numbers in one
+go and skips a text it wrote last time (the same object), unless another writer wrote since.
 
 The record is a tree of dataclasses whose leaves are numpy arrays (fixed shapes), numbers, bools
 and texts (`str` or None), as the sample it is built from; a text longer than its slot is cut.
@@ -55,8 +56,12 @@ class SharedSnapshot:
         self._size = _HEADER + numbers_bytes + len(text_fields) * TEXT_SLOT
         self._memory = mmap.mmap(-1, self._size)  # MAP_SHARED | MAP_ANONYMOUS: shared with the fork
         self._numbers_view = np.frombuffer(self._memory, np.float64, self._floats, _HEADER)
-        self._number_index = np.array([i for _, i in self._numbers], dtype=np.intp)
+        # where the writer puts its values: every array's elements, then the numbers (one scatter)
+        self._index = np.concatenate([np.arange(start, stop) for _, start, stop in self._arrays]
+                                     + [np.array([i for _, i in self._numbers], dtype=np.intp)]).astype(np.intp)
+        self._array_getters = [g for g, _, _ in self._arrays]
         self._number_getters = [g for g, _ in self._numbers]
+        self._written_texts: tuple[int, list] = (-1, [])  # (the counter after this copy's last write, its texts)
         self._text_base = _HEADER + numbers_bytes
         self._seen = -1
         self._cached: Any = None
@@ -86,14 +91,22 @@ class SharedSnapshot:
 
     # --- the writer (one process, one thread) -----------------------------------------------
     def write(self, record: Any) -> None:
-        memory, numbers = self._memory, self._numbers_view
+        memory = self._memory
+        values = [getter(record).ravel() for getter in self._array_getters]
+        values.append(np.array([getter(record) for getter in self._number_getters], dtype=np.float64))
+        flat = np.concatenate(values)
         (seq,) = struct.unpack_from("<Q", memory, 0)
+        mine, written = self._written_texts
+        if seq != mine:  # another writer (e.g. a restarted simulation's) wrote since: rewrite every text
+            written = [object()] * len(self._texts)
+        self._written_texts = (seq + 2, written)
         struct.pack_into("<Q", memory, 0, seq + 1)  # odd: being written
-        for getter, start, stop in self._arrays:
-            numbers[start:stop] = getter(record).reshape(-1)
-        numbers[self._number_index] = [getter(record) for getter in self._number_getters]
-        for getter, offset in self._texts:
+        self._numbers_view[self._index] = flat
+        for k, (getter, offset) in enumerate(self._texts):
             text = getter(record)
+            if text is written[k]:  # unchanged (the same str object, or None): already there
+                continue
+            written[k] = text
             if text is None:
                 struct.pack_into("<H", memory, offset, _NONE)
             else:

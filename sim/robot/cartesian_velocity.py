@@ -76,11 +76,11 @@ class CartesianVelocityInterface:
             self._halt()
             return
         twist = np.asarray(twist_base, dtype=float)
-        if twist.shape != (6,) or not np.isfinite(twist).all():  # (methods: np.all costs microseconds)
-            self.stop_with_error("invalid command: twist must be 6 finite numbers")
+        if twist.shape != (6,):
+            self.stop_with_error(self._reason(INVALID, -1, 0.0))
             return
         model, lim = self.model, self.limits
-        # one kernel: the Cartesian limits, the posture ramp, damped least squares, the joint limits
+        # one kernel: finite numbers, the Cartesian limits, the posture ramp, damped least squares, the joint limits
         kind, j, value, qdot, posture = twist_to_joint_velocity(
             self.jacobian, twist, self.twist_command, self.q, self.qdot, self.posture, self.q_rest, dt,
             lim.cartesian_velocity, lim.cartesian_angular_velocity, lim.cartesian_acceleration,
@@ -123,6 +123,7 @@ class CartesianVelocityInterface:
         """The reflex's message for a limit the kernels found broken (kind, joint or axis, value)."""
         model, lim = self.model, self.limits
         return {
+            INVALID: lambda: "invalid command: twist must be 6 finite numbers",
             CARTESIAN_VELOCITY: lambda: f"cartesian velocity limit: |v| = {value:.3f} m/s > {lim.cartesian_velocity} m/s",
             CARTESIAN_ANGULAR_VELOCITY: lambda: (f"cartesian velocity limit: |w| = {value:.3f} rad/s > "
                                                  f"{lim.cartesian_angular_velocity} rad/s"),
@@ -157,17 +158,21 @@ class CartesianVelocityInterface:
 
 OK, VELOCITY, ACCELERATION, POSITION = 0, 1, 2, 3
 CARTESIAN_VELOCITY, CARTESIAN_ANGULAR_VELOCITY, CARTESIAN_ACCELERATION, CARTESIAN_ANGULAR_ACCELERATION = 4, 5, 6, 7
+INVALID = 8  # not 6 finite numbers
 
 
 @njit(cache=True)
 def twist_to_joint_velocity(jac, twist, twist_prev, q, qdot_prev, posture, q_rest, dt, v_max, w_max, a_max, dw_max,
                             null_space_gain, null_space_ramp, damping2, qdot_max, qdd_max, q_min, q_max):
     """One Cartesian velocity command -> (kind, index, value, qdot, posture); kind OK or the first
-    limit broken, in libfranka's order: |v|, |w|, the Cartesian accelerations, then (after DLS)
-    the joint velocity, acceleration and position limits.
+    check failed, in libfranka's order: 6 finite numbers, |v|, |w|, the Cartesian accelerations,
+    then (after DLS) the joint velocity, acceleration and position limits.
         posture <- posture + clip(k (q_rest - q) - posture, +-ramp qdd_max dt)  (a ramp: from rest
                    far from q_rest the term alone would exceed the joint acceleration limit)
         qdot = damped_least_squares(J, twist, posture)"""
+    for i in range(6):
+        if not math.isfinite(twist[i]):
+            return INVALID, -1, 0.0, qdot_prev, posture
     v = math.sqrt(twist[0] * twist[0] + twist[1] * twist[1] + twist[2] * twist[2])
     w = math.sqrt(twist[3] * twist[3] + twist[4] * twist[4] + twist[5] * twist[5])
     if v > v_max:

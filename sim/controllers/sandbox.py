@@ -37,6 +37,7 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import linecache
+import math
 import os
 import select
 import shutil
@@ -64,6 +65,9 @@ from sim.controllers.interface import (
 HEADER = struct.Struct("<cI")
 PARAM_FIELDS = tuple(f.name for f in dataclasses.fields(LiftingParams))
 STEP_FLOATS = 6 + 16 + len(PARAM_FIELDS) + 1
+STEP = struct.Struct(f"<cI{STEP_FLOATS}d")  # a whole step request, header included
+TWIST = struct.Struct("<6d")
+READ_CHUNK = 1 << 16  # bytes asked of a pipe per read (a whole answer arrives in one)
 MAX_REPLY = 64 << 10  # bytes; a longer answer is a fault
 MAX_TEXT = 4000  # characters of an error or message kept
 
@@ -88,9 +92,9 @@ def _params_to_floats(params: LiftingParams) -> list[float]:
 
 
 def _params_from_floats(values) -> LiftingParams:
-    params = LiftingParams()
-    for name, value in zip(PARAM_FIELDS, values):
-        setattr(params, name, bool(value) if name == "running" else float(value))
+    """LiftingParams from its fields' numbers (PARAM_FIELDS: the dataclass's order; `running` as 0/1)."""
+    params = LiftingParams(*map(float, values))
+    params.running = bool(params.running)
     return params
 
 
@@ -180,17 +184,18 @@ class SandboxedController:
             self._call(b"R", b"", "reset")
 
     def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
-        request = np.concatenate((np.asarray(wrench_ee, float).ravel()[:6], np.asarray(transform_ee_to_base, float).ravel()[:16],
-                                  _params_to_floats(params), [float(dt)]))
+        request = STEP.pack(b"S", STEP.size - HEADER.size, *np.asarray(wrench_ee, float).ravel()[:6].tolist(),
+                            *np.asarray(transform_ee_to_base, float).ravel()[:16].tolist(), *_params_to_floats(params),
+                            float(dt))
         started = time.perf_counter()
-        reply = self._call(b"S", request.tobytes(), "step")
+        reply = self._call(b"S", request, "step")
         self._account(time.perf_counter() - started)
-        if len(reply) != 48:
+        if len(reply) != TWIST.size:
             self._fault(f"{self.name}.step returned {len(reply) // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
-        twist = np.frombuffer(reply, dtype=np.float64).copy()
-        if not np.all(np.isfinite(twist)):
-            self._fault(f"{self.name}.step returned a non-finite twist {twist.tolist()}")
-        return twist
+        twist = TWIST.unpack(reply)
+        if not all(map(math.isfinite, twist)):
+            self._fault(f"{self.name}.step returned a non-finite twist {list(twist)}")
+        return np.array(twist)
 
     def start(self, params: LiftingParams, force: float) -> str:
         if not (self._faulted and not self.has_start):  # a stopped file without start() still has the lab's
@@ -277,14 +282,16 @@ class SandboxedController:
             os.close(fd)
         self._owner = os.getpid()
         self._to_child, self._from_child, self._errors = to_child_w, from_child_r, errors_r
+        self._inbox = b""  # bytes read from the child, not yet used
         os.set_blocking(errors_r, False)
 
     # one request, one answer
     def _call(self, op: bytes, payload: bytes, what: str, timeout: float | None = None) -> bytes:
+        """One request (op and payload; a step's request comes packed with its header) and its answer."""
         if op != b"L":
             self._ensure()
         try:
-            _write_all(self._to_child, HEADER.pack(op, len(payload)) + payload)
+            _write_all(self._to_child, payload if op == b"S" else HEADER.pack(op, len(payload)) + payload)
         except (BrokenPipeError, OSError):
             self._fault(f"{self.name}.{what}: {self._death()}")
         deadline = time.perf_counter() + (timeout or self.budget.step_timeout)
@@ -300,17 +307,18 @@ class SandboxedController:
         return body
 
     def _read(self, size: int, deadline: float, what: str) -> bytes:
-        data = b""
-        while len(data) < size:
+        """`size` bytes of the answer (what the pipe holds is read at once and kept for the next call)."""
+        while len(self._inbox) < size:
             left = deadline - time.perf_counter()
             ready = select.select([self._from_child], [], [], max(0.0, left))[0] if left > 0 else []
             if not ready:
                 waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
                 self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
-            chunk = os.read(self._from_child, size - len(data))
+            chunk = os.read(self._from_child, READ_CHUNK)
             if not chunk:
                 self._fault(f"importing {self.path} failed: {self._death()}" if what == "load" else f"{self.name}.{what}: {self._death()}")
-            data += chunk
+            self._inbox += chunk
+        data, self._inbox = self._inbox[:size], self._inbox[size:]
         return data
 
     def _service(self, op: bytes, values: list[float], params: LiftingParams, what: str) -> str:
@@ -473,6 +481,7 @@ class ChildEnd:
 
     def __init__(self, read_fd: int, write_fd: int) -> None:
         self.read_fd, self.write_fd = read_fd, write_fd
+        self._inbox = b""  # bytes read from the parent, not yet used
 
     def _receive(self) -> tuple[bytes, bytes] | None:
         header = self._exact(HEADER.size)
@@ -482,12 +491,13 @@ class ChildEnd:
         return op, self._exact(size) or b""
 
     def _exact(self, size: int) -> bytes | None:
-        data = b""
-        while len(data) < size:
-            chunk = os.read(self.read_fd, size - len(data))
+        """`size` bytes (a whole request usually arrives in one read); None at the end of input."""
+        while len(self._inbox) < size:
+            chunk = os.read(self.read_fd, READ_CHUNK)
             if not chunk:
                 return None
-            data += chunk
+            self._inbox += chunk
+        data, self._inbox = self._inbox[:size], self._inbox[size:]
         return data
 
     def _send(self, kind: bytes, payload: bytes) -> None:
@@ -537,14 +547,14 @@ class ChildEnd:
 
     @staticmethod
     def _handle(instance, op: bytes, payload: bytes) -> tuple[bytes, bytes]:
-        values = np.frombuffer(payload, dtype=np.float64) if op in (b"S", b"A", b"O") else None
         if op == b"R":
             instance.reset()
             return b"k", b""
+        values = struct.unpack(f"<{len(payload) // 8}d", payload)
         if op == b"S":
-            wrench, transform = values[:6].copy(), values[6:22].reshape(4, 4).copy()
+            wrench, transform = np.array(values[:6]), np.array(values[6:22]).reshape(4, 4)
             params = _params_from_floats(values[22:-1])
-            raw = instance.step(wrench, transform, params, float(values[-1]))
+            raw = instance.step(wrench, transform, params, values[-1])
             try:
                 twist = np.asarray(raw, dtype=np.float64)
             except (TypeError, ValueError):

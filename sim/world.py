@@ -24,7 +24,8 @@ from sim.controllers.interface import ControllerFault
 from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.robot.joint_trajectory import JointBrake, JointTrajectory
-from sim.robot.panda import SIDE_Q, PandaModel, Plate
+from sim.robot.panda import SIDE_Q, PandaModel
+from sim.robot.plate import Plate
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
 from sim.controllers.sp import SPController
 from sim.procedures.monitor import TrialMonitor, TrialOutcome

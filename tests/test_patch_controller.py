@@ -6,7 +6,7 @@ from sim.physics.box import Box, BoxParams
 from sim.physics.contact import ContactParams, PatchContact, PatchGeometry
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.controllers.patch import PatchController, kern_ratio, patch_grip
-from sim.robot.panda import Plate
+from sim.robot.plate import Plate
 from sim.physics.sensor import wrench_at_ee
 from sim.controllers.sp import SPController
 

@@ -34,7 +34,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Trial, plan
 from sim.controllers.patch import PatchController
-from sim.robot.panda import Plate
+from sim.robot.plate import Plate
 from sim.controllers.sp import SPController
 from sim.spatial import rotation_log
 

@@ -12,7 +12,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from sim.robot.panda import Plate
+from sim.robot.plate import Plate
 
 
 @dataclass

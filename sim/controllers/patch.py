@@ -58,7 +58,7 @@ from sim.controllers.interface import LiftingParams
 from sim.controllers.lifting_law import band_speed, grip_raise, saturate_twist
 from sim.controllers.sp import SPController
 from sim.physics.contact import PatchGeometry
-from sim.robot.panda import Plate
+from sim.robot.plate import Plate
 
 
 @dataclass(frozen=True)

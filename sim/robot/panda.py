@@ -1,12 +1,10 @@
-"""The Franka Panda kinematic model (pinocchio, from example-robot-data), flange frame and plate.
+"""The Franka Panda kinematic model (pinocchio, from example-robot-data) and its flange frame.
 
 Frames: `base` = panda_link0 (z up); `ee` = the flange panda_link8 (the lab's end effector is
-"None", so EE = flange = franka's stiffness frame K). The contact plate is rigidly mounted on
-the flange: outward normal = flange +z, centre at `offset` along flange +z.
+"None", so EE = flange = franka's stiffness frame K). The contact plate (sim/robot/plate.py) is
+rigidly mounted on the flange: outward normal = flange +z, centre at `offset` along flange +z.
 """
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -32,15 +30,6 @@ CARTESIAN_ANGULAR_ACCELERATION_LIMIT = 25.0  # rad/s^2
 
 ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
-
-
-@dataclass(frozen=True)
-class Plate:
-    """The flat contact plate on the flange (m)."""
-
-    width: float = 0.10  # along flange x
-    height: float = 0.10  # along flange y
-    offset: float = 0.02  # centre along flange +z
 
 
 class PandaModel:

@@ -229,6 +229,12 @@ class World:
     def error(self) -> str | None:
         return self.arm.error
 
+    @property
+    def commanded(self) -> bool:
+        """Somebody commands the robot: lifting runs, a motion or teleop is under way, or the last
+        command was not zero (a real-time server keeps 1 ms granularity then: app/runtime/loop.py)."""
+        return self.params.running or self.motion is not None or self.jog is not None or bool(np.any(self.twist_command))
+
     # --- stepping ---------------------------------------------------------------------------
     def step(self) -> None:
         dt = self.config.dt

@@ -28,6 +28,7 @@ def health(lab: LabDep) -> dict:
         "lateness_p50_ms": stats.lateness_p50 * 1e3,
         "lateness_p99_ms": stats.lateness_p99 * 1e3,
         "overruns": stats.overruns,
+        "batched_ticks": stats.batched,  # ticks stepped in idle batches (app/runtime/loop.py)
         "realtime_priority": stats.realtime_priority,
         "step_errors": stats.step_errors,
         "last_step_error": stats.last_step_error,

@@ -7,6 +7,13 @@ command's answer arrives once its effect is in the published snapshot. An except
 goes back to its caller; an exception in a step stops the robot (error state), not the loop.
 Anything that escapes all the same ends the loop with `fatal` set: the process then exits and its
 supervisor (app/runtime/process.py) starts a fresh one.
+
+An idle lab sleeps: while nobody commands the robot (`World.commanded` is false) and no command has
+come for `fine_hold` seconds, nothing needs 1 ms granularity, so the loop wakes once per
+`batch_period` and runs the periods that came due back to back (the same steps, the same simulated
+time; only their wall-clock spacing changes). A command wakes it at once and the loop is back at
+1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
+(`LoopStats.batched` counts the ticks stepped in batches).
 """
 from __future__ import annotations
 
@@ -30,6 +37,7 @@ class LoopStats:
     lateness_p50: float = 0.0
     lateness_p99: float = 0.0
     overruns: int = 0  # periods skipped because the loop fell too far behind
+    batched: int = 0  # ticks stepped in an idle batch (not at 1 ms granularity)
     realtime_priority: bool = False
     step_errors: int = 0  # steps that raised (the robot was stopped, the loop went on)
     last_step_error: str = ""
@@ -50,6 +58,8 @@ Reply = Callable[[int, bool, Any], None]  # (call id, ok, result or exception)
 class SimulationLoop:
     max_behind = 0.05  # s; further behind than this, the loop drops the missed periods
     stats_every = 100  # ticks between two updates of the lateness percentiles
+    batch_period = 0.02  # s between two wake-ups of an idle loop (< max_behind)
+    fine_hold = 1.0  # s at 1 ms granularity after the last command
 
     def __init__(self, world: World, publish: Callable[[Published], None], reply: Reply, realtime: bool = True) -> None:
         self.world = world
@@ -60,14 +70,23 @@ class SimulationLoop:
         self._lateness: deque[float] = deque(maxlen=5000)
         self.stats = LoopStats()
         self._stop = threading.Event()
+        self._wake = threading.Event()  # set by a command or stop(): ends an idle sleep at once
         self._started = 0.0
+        self._last_command = 0.0  # perf_counter() of the last command run
+        self._catching_up = False  # stepping the periods that came due during an idle sleep
 
     def submit(self, call_id: int, fn: Callable[..., Any], args: tuple) -> None:
         """Queue fn(world, *args) for the next tick; reply(call_id, ...) answers it."""
         self._commands.put((call_id, fn, args))
+        self._wake.set()
 
     def stop(self) -> None:
         self._stop.set()
+        self._wake.set()
+
+    def idle(self, now: float) -> bool:
+        """Nothing needs 1 ms granularity: nobody commands the robot and no command came lately."""
+        return not self.world.commanded and now - self._last_command > self.fine_hold
 
     def run(self) -> None:
         """Tick until stopped (in the calling thread); records `fatal` if something escapes."""
@@ -95,12 +114,23 @@ class SimulationLoop:
                 continue
             next_tick += period
             now = time.perf_counter()
+            if done:
+                self._last_command = now
             if now - next_tick > self.max_behind:  # far behind (paused, overloaded): resync
                 self.stats.overruns += 1
                 next_tick = now
+            elif self.idle(now):  # sleep until a batch is due (or a command comes), then catch up
+                if next_tick > now:
+                    self._wake.wait(next_tick - period + self.batch_period - now)
+                    self._wake.clear()
+                self.stats.batched += 1
+                self._catching_up = True
+                continue
             elif next_tick > now:
+                self._catching_up = False
                 time.sleep(next_tick - now)
-            self._lateness.append(max(0.0, time.perf_counter() - next_tick))
+            if not self._catching_up:  # a batch's due periods are late by design, not by load
+                self._lateness.append(max(0.0, time.perf_counter() - next_tick))
 
     def _step(self) -> None:
         stats = self.stats

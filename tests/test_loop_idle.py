@@ -1,0 +1,76 @@
+"""An idle lab sleeps (app/runtime/loop.py): with nobody commanding the robot the real-time loop
+steps in batches; the steps are the same ones (the same world at the same tick as stepping it
+directly), and a command brings 1 ms granularity back until the robot is left alone again."""
+import threading
+
+import numpy as np
+
+from app.lab import commands as cmd
+from app.runtime.loop import SimulationLoop
+from sim.world import World
+from tests.waiting import wait_for
+
+
+class _Running:
+    """A real-time SimulationLoop in a thread; keeps the snapshot published at `keep_tick`."""
+
+    def __init__(self, world: World, keep_tick: int = -1) -> None:
+        self.replies: dict[int, tuple[bool, object]] = {}
+        self.kept = None
+        self.keep_tick = keep_tick
+        self.loop = SimulationLoop(world, self._publish, self._reply, realtime=True)
+        self.thread = threading.Thread(target=self.loop.run, daemon=True)
+
+    def _publish(self, published) -> None:
+        if published.stats.ticks == self.keep_tick:
+            self.kept = published.snapshot
+
+    def _reply(self, call_id: int, ok: bool, value) -> None:
+        self.replies[call_id] = (ok, value)
+
+    def call(self, call_id: int, fn, *args):
+        self.loop.submit(call_id, fn, args)
+        ok, value = wait_for(lambda: self.replies.get(call_id))
+        assert ok, value
+        return value
+
+    def __enter__(self):
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.loop.stop()
+        self.thread.join(timeout=30)
+        assert not self.thread.is_alive()
+
+
+def test_an_idle_loop_steps_in_batches_the_same_steps():
+    ticks = 300
+    with _Running(World(), keep_tick=ticks) as running:
+        wait_for(lambda: running.kept is not None)
+        assert running.loop.stats.batched > 0  # nobody commands the robot: it slept between batches
+    reference = World()
+    for _ in range(ticks):
+        reference.step()
+    kept = running.kept
+    assert kept.time == reference.time
+    assert np.array_equal(kept.q, reference.arm.q)
+    assert np.array_equal(kept.box_position, reference.box.position)
+    assert np.array_equal(kept.palm_position, reference.human.position)
+    assert np.array_equal(kept.wrench_ee, reference.wrench_ee)
+
+
+def test_a_commanded_robot_is_stepped_at_1_ms_granularity_and_idles_again_when_left_alone():
+    world = World()
+    with _Running(world) as running:
+        loop = running.loop
+        loop.fine_hold = 0.05  # s: keep the test short; the rule is the same
+        wait_for(lambda: loop.stats.batched > 0)
+        running.call(1, cmd.start_lifting, 10.0)
+        assert world.commanded
+        batched, ticks = loop.stats.batched, loop.stats.ticks
+        wait_for(lambda: loop.stats.ticks >= ticks + 300)
+        assert loop.stats.batched == batched  # lifting runs: no tick was batched
+        running.call(2, cmd.stop_lifting)
+        wait_for(lambda: not world.commanded)  # the command ramps down to zero (rate limit)
+        wait_for(lambda: loop.stats.batched > batched)  # left alone: it sleeps again

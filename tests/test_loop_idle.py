@@ -74,3 +74,22 @@ def test_a_commanded_robot_is_stepped_at_1_ms_granularity_and_idles_again_when_l
         running.call(2, cmd.stop_lifting)
         wait_for(lambda: not world.commanded)  # the command ramps down to zero (rate limit)
         wait_for(lambda: loop.stats.batched > batched)  # left alone: it sleeps again
+
+
+def test_readers_set_how_often_an_idle_loop_wakes():
+    from app.runtime.process import SimulationProcess
+
+    world = World()
+    process = SimulationProcess(world)  # not started: only its registry of needs is used here
+    loop = SimulationLoop(world, lambda published: None, lambda *answer: None, granularity=process._granularity)
+    now = loop.fine_hold + 1.0  # s after the (never) last command
+    assert loop.wake_period(now) == loop.batch_period
+    with process.needs(0.01):  # a 100 Hz topic stream
+        assert loop.wake_period(now) == 0.01
+        with process.needs(0.005):  # and a recording
+            assert loop.wake_period(now) == 0.005
+            with process.needs(0.0002):  # faster than the control period: every tick
+                assert loop.wake_period(now) == world.config.dt
+        assert loop.wake_period(now) == 0.01
+    assert loop.wake_period(now) == loop.batch_period
+    assert loop.wake_period(loop.fine_hold / 2) == world.config.dt  # a command came lately

@@ -39,24 +39,30 @@ def router(topics: list[Topic]) -> APIRouter:
             return
         await websocket.accept()
         period = 1.0 / rate
-        loop = asyncio.get_running_loop()
-        next_send = loop.time()
-        last_time = None
         gone = asyncio.ensure_future(client_gone(websocket))
         try:
-            while not gone.done():
-                snapshot = lab.snapshot()
-                if snapshot.time != last_time:  # one message per new simulation state
-                    last_time = snapshot.time
-                    await websocket.send_json(topic.build(snapshot))
-                next_send = max(next_send + period, loop.time())  # behind: skip, never queue up
-                await asyncio.wait([gone], timeout=next_send - loop.time())
+            with lab.needs(period):
+                await _send_each_new_state(websocket, topic, lab, period, gone)
         except (WebSocketDisconnect, RuntimeError):
             return
         finally:
             gone.cancel()
 
     return r
+
+
+async def _send_each_new_state(websocket: WebSocket, topic, lab, period: float, gone: asyncio.Future) -> None:
+    """One message per new simulation state, at most one per `period` s (behind: skip, never queue up)."""
+    loop = asyncio.get_running_loop()
+    next_send = loop.time()
+    last_time = None
+    while not gone.done():
+        snapshot = lab.snapshot()
+        if snapshot.time != last_time:
+            last_time = snapshot.time
+            await websocket.send_json(topic.build(snapshot))
+        next_send = max(next_send + period, loop.time())
+        await asyncio.wait([gone], timeout=next_send - loop.time())
 
 
 async def client_gone(websocket: WebSocket) -> None:

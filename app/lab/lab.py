@@ -1,7 +1,7 @@
 """The Lab: the server's one simulation (in its own process, app/runtime), its parameters and its log."""
 import time
 from collections import deque
-from typing import Any, Callable, TypeVar
+from typing import Any, Callable, ContextManager, TypeVar
 
 from sim.controllers.interface import Controller
 from sim.controllers.sp import SPController
@@ -42,6 +42,11 @@ class Lab:
     def snapshot(self) -> Snapshot:
         """The latest published state of the world."""
         return self.runtime.snapshot()
+
+    def needs(self, period: float) -> ContextManager[None]:
+        """While the block runs, a reader of snapshots needs a fresh one every `period` s (an idle
+        loop wakes that often; app/runtime/loop.py)."""
+        return self.runtime.needs(period)
 
     def info(self, node: str, message: str) -> None:
         """A log line (like rosout)."""

@@ -35,21 +35,25 @@ class LiveRecorder:
         self._thread.start()
 
     def _run(self) -> None:
-        last = None
         try:
-            while not self._stop.wait(POLL_PERIOD):
-                snapshot = self.lab.snapshot()
-                if snapshot.time == last:
-                    continue
-                last = snapshot.time
-                if not self.recording.add(snapshot, log_time=time.time_ns()):
-                    self.lab.info("recorder", self.recording.stopped or "recording stopped")
-                    return
+            with self.lab.needs(POLL_PERIOD):
+                self._record_each_new_state()
         except Exception as exc:  # noqa: BLE001 - the file is finished whatever went wrong
             self.failure = "recording failed: " + "".join(traceback.format_exception_only(exc)).strip()
             self.lab.info("recorder", self.failure)
         finally:
             self.recording.close({"failure": self.failure} if self.failure else None)
+
+    def _record_each_new_state(self) -> None:
+        last = None
+        while not self._stop.wait(POLL_PERIOD):
+            snapshot = self.lab.snapshot()
+            if snapshot.time == last:
+                continue
+            last = snapshot.time
+            if not self.recording.add(snapshot, log_time=time.time_ns()):
+                self.lab.info("recorder", self.recording.stopped or "recording stopped")
+                return
 
     @property
     def running(self) -> bool:

@@ -10,8 +10,9 @@ supervisor (app/runtime/process.py) starts a fresh one.
 
 An idle lab sleeps: while nobody commands the robot (`World.commanded` is false) and no command has
 come for `fine_hold` seconds, nothing needs 1 ms granularity, so the loop wakes once per
-`batch_period` and runs the periods that came due back to back (the same steps, the same simulated
-time; only their wall-clock spacing changes). A command wakes it at once and the loop is back at
+`batch_period` (or as often as the server's readers need a fresh snapshot: `granularity`, e.g. a
+50 Hz topic stream) and runs the periods that came due back to back (the same steps, the same
+simulated time; only their wall-clock spacing changes). A command wakes it at once and the loop is back at
 1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
 (`LoopStats.batched` counts the ticks stepped in batches).
 """
@@ -61,8 +62,12 @@ class SimulationLoop:
     batch_period = 0.02  # s between two wake-ups of an idle loop (< max_behind)
     fine_hold = 1.0  # s at 1 ms granularity after the last command
 
-    def __init__(self, world: World, publish: Callable[[Published], None], reply: Reply, realtime: bool = True) -> None:
+    def __init__(self, world: World, publish: Callable[[Published], None], reply: Reply, realtime: bool = True,
+                 granularity: Any = None) -> None:
+        """granularity: a shared value (.value, s) the server sets to the finest spacing of snapshots
+        its readers need now (app/runtime/process.py, `needs`); None: only `batch_period`."""
         self.world = world
+        self._granularity = granularity
         self.realtime = realtime
         self._publish = publish
         self._reply = reply
@@ -84,9 +89,13 @@ class SimulationLoop:
         self._stop.set()
         self._wake.set()
 
-    def idle(self, now: float) -> bool:
-        """Nothing needs 1 ms granularity: nobody commands the robot and no command came lately."""
-        return not self.world.commanded and now - self._last_command > self.fine_hold
+    def wake_period(self, now: float) -> float:
+        """s of wall clock between two wake-ups: one control period while somebody commands the
+        robot, a command came lately or a reader needs it; otherwise an idle batch."""
+        if self.world.commanded or now - self._last_command <= self.fine_hold:
+            return self.world.config.dt
+        needed = self._granularity.value if self._granularity is not None else self.batch_period
+        return max(self.world.config.dt, min(self.batch_period, needed))
 
     def run(self) -> None:
         """Tick until stopped (in the calling thread); records `fatal` if something escapes."""
@@ -119,9 +128,9 @@ class SimulationLoop:
             if now - next_tick > self.max_behind:  # far behind (paused, overloaded): resync
                 self.stats.overruns += 1
                 next_tick = now
-            elif self.idle(now):  # sleep until a batch is due (or a command comes), then catch up
-                if next_tick > now:
-                    self._wake.wait(next_tick - period + self.batch_period - now)
+            elif (wake := self.wake_period(now)) > period:  # idle: sleep until a batch is due (or a
+                if next_tick > now:                            # command comes), then catch up
+                    self._wake.wait(next_tick - period + wake - now)
                     self._wake.clear()
                 self.stats.batched += 1
                 self._catching_up = True

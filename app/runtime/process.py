@@ -17,6 +17,7 @@ server's Python (HTTP, WebSockets, the 3D view) never holds the interpreter lock
 from __future__ import annotations
 
 import itertools
+import math
 import multiprocessing
 import os
 import pickle
@@ -25,10 +26,12 @@ import stat
 import sys
 import threading
 import time
+from collections import Counter
 from concurrent.futures import Future
+from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from sim.world import Snapshot, World
 
@@ -69,6 +72,11 @@ class SimulationProcess:
         self._process: multiprocessing.Process | None = None
         self._conn: Connection | None = None
         self._stop = threading.Event()
+        # the finest spacing (s of wall clock) between published snapshots that a reader needs now
+        # (read by the loop of every process forked from here: app/runtime/loop.py, idle batches)
+        self._granularity = _FORK.RawValue("d", math.inf)
+        self._needed: Counter[float] = Counter()
+        self._needed_lock = threading.Lock()
 
     # --- life cycle -------------------------------------------------------------------------
     def start(self) -> None:
@@ -80,7 +88,8 @@ class SimulationProcess:
 
     def _spawn(self) -> None:
         parent_end, child_end = _FORK.Pipe()
-        process = _FORK.Process(target=_child_main, args=(self.world, self.realtime, self._shared, child_end, parent_end),
+        process = _FORK.Process(target=_child_main, args=(self.world, self.realtime, self._shared, child_end, parent_end,
+                                                          self._granularity),
                                 name="hri-lab-sim", daemon=True)
         process.start()
         child_end.close()
@@ -129,6 +138,22 @@ class SimulationProcess:
     def pid(self) -> int | None:
         process = self._process
         return process.pid if process is not None else None
+
+    @contextmanager
+    def needs(self, period: float) -> Iterator[None]:
+        """While the block runs, a reader needs a fresh snapshot every `period` s of wall clock
+        (a topic stream at 1/period Hz, a recording): an idle loop wakes at least that often."""
+        with self._needed_lock:
+            self._needed[period] += 1
+            self._granularity.value = min(self._needed)
+        try:
+            yield
+        finally:
+            with self._needed_lock:
+                self._needed[period] -= 1
+                if not self._needed[period]:
+                    del self._needed[period]
+                self._granularity.value = min(self._needed, default=math.inf)
 
     # --- talking to the world ---------------------------------------------------------------
     def submit(self, fn: Callable[..., Any], *args: Any) -> Future:
@@ -213,7 +238,8 @@ def _close_inherited_sockets(keep: int) -> None:
             pass
 
 
-def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Connection, parent_end: Connection) -> None:
+def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Connection, parent_end: Connection,
+                granularity) -> None:
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
     the supervisor is gone: the pipe ends)."""
     parent_end.close()
@@ -233,7 +259,7 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
         with send_lock:
             conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 
-    loop = SimulationLoop(world, shared.write, reply, realtime=realtime)
+    loop = SimulationLoop(world, shared.write, reply, realtime=realtime, granularity=granularity)
 
     def receive() -> None:
         while True:

@@ -23,7 +23,7 @@ from sim.controllers.interface import Controller, LiftingParams
 from sim.controllers.interface import ControllerFault
 from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
 from sim.person.participants import PARTICIPANTS, Participant
-from sim.robot.joint_trajectory import JointBrake, JointTrajectory
+from sim.robot.joint_trajectory import BrakeThenMove, JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel
 from sim.robot.plate import Plate
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
@@ -122,7 +122,7 @@ class World:
         cfg = self.config
         self.rng = np.random.default_rng(cfg.seed if seed is None else seed)
         self.time = 0.0
-        self.motion: JointTrajectory | JointBrake | None = None
+        self.motion: JointTrajectory | BrakeThenMove | JointBrake | None = None
         self.jog: Jog | None = None
         self.arm.reset(np.array(cfg.start_q))
         self.controller.reset()
@@ -168,9 +168,15 @@ class World:
         """The stop service: the controller's handler."""
         return self.controller.stop(self.params)
 
-    def move_to_start(self, peak_velocity: float = 0.5) -> JointTrajectory:
-        """Drive the robot to the start pose with a smooth joint motion (controller paused)."""
-        self.motion = JointTrajectory(self.arm.q, np.array(self.config.start_q), peak_velocity)
+    def move_to_start(self, peak_velocity: float = 0.5) -> JointTrajectory | BrakeThenMove:
+        """Drive the robot to the start pose with a smooth joint motion (controller paused; a teleop
+        jog is cancelled). Joints still moving are braked to rest first."""
+        self.jog = None
+        goal = np.array(self.config.start_q)
+        if np.any(self.arm.qdot):
+            self.motion = BrakeThenMove(self.arm.qdot, self.arm.q, goal, peak_velocity)
+        else:
+            self.motion = JointTrajectory(self.arm.q, goal, peak_velocity)
         return self.motion
 
     def set_sensor(self, **changes) -> None:
@@ -207,7 +213,7 @@ class World:
 
     def stop_motion(self) -> None:
         """Cancel move_to_start: the joints brake to rest."""
-        if isinstance(self.motion, JointTrajectory):
+        if self.motion is not None and not isinstance(self.motion, JointBrake):
             self.motion = JointBrake(self.arm.qdot)
 
     def start_jog(self, twist_base: np.ndarray, duration: float = 0.5) -> None:

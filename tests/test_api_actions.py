@@ -7,6 +7,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Setup, format_comparison, run_comparison
 from sim.robot.panda import SIDE_Q
+from tests.waiting import wait_for
 
 
 def wait_terminal(client, action, goal_id, timeout=30.0):
@@ -84,8 +85,7 @@ def test_move_to_start_from_a_jogged_pose(client, lab):
     client.post("/services/reset_simulation")
     # jog away with the teleop keys (w: +x), then drive back with the action
     assert client.post("/teleop/key", json={"key": "w"}).json()["successful"] is True
-    time.sleep(1.0)
-    assert not np.allclose(lab.snapshot().q, SIDE_Q, atol=1e-3)
+    wait_for(lambda: not np.allclose(lab.snapshot().q, SIDE_Q, atol=1e-3))  # moving or moved (jogging brakes first)
     goal_id = client.post("/actions/move_to_start/goals").json()["goal_id"]
     view = wait_terminal(client, "move_to_start", goal_id)
     assert view["status"] == "succeeded", view

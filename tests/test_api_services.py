@@ -225,15 +225,18 @@ def test_topic_stream_delivers_at_about_the_asked_rate(client):
     with client.websocket_connect("/topics/franka_state_controller/F_ext/stream?rate=50") as ws:
         first = ws.receive_json()
         start_stamp = first["header"]["stamp"]["sec"] + first["header"]["stamp"]["nanosec"] * 1e-9
-        count = 0
+        count, previous, gaps = 0, start_stamp, []
         while True:
             msg = ws.receive_json()
             count += 1
             stamp = msg["header"]["stamp"]["sec"] + msg["header"]["stamp"]["nanosec"] * 1e-9
+            gaps.append(stamp - previous)
+            previous = stamp
             if stamp - start_stamp >= 1.0:
                 break
-    # about 50 messages per simulated (= real) second; never more than the asked rate
-    assert 30 <= count <= 55, count
+    # never more than the asked rate: each message at least one period (20 ms) of simulated time after
+    # the one before (how many fewer a loaded machine delivers depends on its speed: not asserted)
+    assert min(gaps) >= 0.02 - 0.0005 and count <= 51, (count, min(gaps))
     assert msg["header"]["frame_id"] == "panda_K" and "force" in msg["wrench"]
 
 

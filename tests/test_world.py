@@ -72,6 +72,24 @@ def test_move_to_start_drives_there_smoothly():
     assert steps == pytest.approx(motion.duration / 1e-3, abs=2)
 
 
+def test_move_to_start_while_jogging_brakes_first_and_gets_there_without_a_reflex():
+    world = quiet_world()
+    world.start_jog(np.array([0.1, 0.0, 0.0, 0.0, 0.0, 0.0]))  # teleop 'w': +x at 0.1 m/s for 0.5 s
+    world.run(0.2)  # mid-jog: the joints move
+    moving = world.arm.qdot.copy()
+    assert np.max(np.abs(moving)) > 0.05
+    motion = world.move_to_start()
+    braking = np.max(np.abs(moving)) / 2.0  # s at the brake's 2 rad/s^2
+    while world.motion is not None:
+        world.step()
+        assert world.error is None, world.error
+    assert world.jog is None  # the jog is cancelled: it does not resume at the start pose
+    assert world.arm.q == pytest.approx(SIDE_Q, abs=1e-3)
+    assert motion.duration == pytest.approx(braking + motion.move.duration, abs=0.01)
+    world.run(0.5)
+    assert world.arm.q == pytest.approx(SIDE_Q, abs=1e-3)
+
+
 def test_minimum_jerk_path():
     assert [minimum_jerk(t) for t in (0.0, 0.5, 1.0)] == pytest.approx([0.0, 0.5, 1.0])
     path = HandPath(PickAndPlace(), peak_speed=0.1)

@@ -52,13 +52,15 @@ def router(topics: list[Topic]) -> APIRouter:
 
 
 async def _send_each_new_state(websocket: WebSocket, topic, lab, period: float, gone: asyncio.Future) -> None:
-    """One message per new simulation state, at most one per `period` s (behind: skip, never queue up)."""
+    """The newest state, at most one message per `period` s of the wall clock and of simulated time
+    (rosbridge's minimum gap; half a control period of slack), paced by the wall clock: behind, it
+    skips, it never queues up."""
     loop = asyncio.get_running_loop()
     next_send = loop.time()
     last_time = None
     while not gone.done():
         snapshot = lab.snapshot()
-        if snapshot.time != last_time:
+        if last_time is None or snapshot.time - last_time >= period - 0.0005:
             last_time = snapshot.time
             await websocket.send_json(topic.build(snapshot))
         next_send = max(next_send + period, loop.time())

@@ -58,3 +58,34 @@ class JointBrake:
         step = self.deceleration * dt
         self.qdot = np.sign(self.qdot) * np.maximum(np.abs(self.qdot) - step, 0.0)
         return self.qdot.copy()
+
+
+class BrakeThenMove:
+    """A motion asked for while the joints still move (e.g. a teleop jog): brake them to rest
+    (JointBrake), then the minimum-jerk motion from where they stopped. Starting the trajectory at
+    once would ask for a velocity jump, which the acceleration limits stop with a reflex."""
+
+    def __init__(self, qdot: np.ndarray, q_now: np.ndarray, q_goal: np.ndarray, peak_velocity: float = 0.5) -> None:
+        self.brake = JointBrake(qdot)
+        self.q_goal = np.array(q_goal, float)
+        self.peak_velocity = peak_velocity
+        self.move: JointTrajectory | None = None
+        a = self.brake.deceleration
+        braking = float(np.max(np.abs(qdot))) / a  # s until every joint is at rest
+        q_stop = np.asarray(q_now) + np.sign(qdot) * np.square(qdot) / (2.0 * a)  # v^2 / 2a further on
+        self.duration = braking + JointTrajectory(q_stop, q_goal, peak_velocity).duration  # s
+
+    @property
+    def progress(self) -> float:
+        return self.move.progress if self.move is not None else 0.0
+
+    @property
+    def done(self) -> bool:
+        return self.move is not None and self.move.done
+
+    def command(self, q: np.ndarray, dt: float) -> np.ndarray:
+        if not self.brake.done:
+            return self.brake.command(q, dt)
+        if self.move is None:
+            self.move = JointTrajectory(q, self.q_goal, self.peak_velocity)
+        return self.move.command(q, dt)

@@ -7,7 +7,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Setup, format_comparison, run_comparison
 from sim.robot.panda import SIDE_Q
-from tests.waiting import wait_for
+from tests.waiting import wait_for, wait_sim
 
 
 def wait_terminal(client, action, goal_id, timeout=30.0):
@@ -141,7 +141,7 @@ def test_a_goal_failure_aborts_with_its_message_only(client):
 def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     client.post("/services/stop_cooperative_lifting")
     client.post("/services/reset_simulation")
-    time.sleep(0.2)
+    wait_sim(lab.snapshot, 0.2)
     q_before = lab.snapshot().q.copy()
     sim_before = lab.snapshot().time
     goal = {"trials": 1, "participant": "hasty", "seed": 3, "set": "alpha=0.9 k_t=0.2"}

@@ -1,5 +1,5 @@
 """Parameters over HTTP: ROS 2 refusal messages, describe, dump/load round trip, live effect."""
-import time
+from tests.waiting import wait_sim
 
 from operator import attrgetter
 
@@ -72,17 +72,17 @@ def test_set_reaches_the_running_simulation(client, lab):
     put(client, "cooperative_lifting", "k_t", 0.1)
 
 
-def test_a_changed_gain_changes_the_controller(client):
+def test_a_changed_gain_changes_the_controller(client, lab):
     """k_n = 0: the started robot no longer approaches the box; k_n back: it does."""
     client.post("/services/reset_simulation")
     assert put(client, "cooperative_lifting", "k_n", 0.0).json()["successful"]
     client.post("/services/start_cooperative_lifting", json={"force": 10.0})
-    time.sleep(0.6)
+    wait_sim(lab.snapshot, 0.6)
     command = client.get("/topics/cartesian_velocity_controller/command").json()
     assert abs(command["linear"]["y"]) < 1e-9
     assert client.get("/topics/franka_state_controller/F_ext").json()["wrench"]["force"]["z"] < 3.0
     assert put(client, "cooperative_lifting", "k_n", 0.005).json()["successful"]
-    time.sleep(0.3)
+    wait_sim(lab.snapshot, 0.3)
     assert client.get("/topics/cartesian_velocity_controller/command").json()["linear"]["y"] > 0.0
     client.post("/services/stop_cooperative_lifting")
 

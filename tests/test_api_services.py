@@ -1,11 +1,10 @@
 """The lab's services over HTTP against the real app and its live loop."""
 import math
-import time
 
 import numpy as np
 import pytest
 
-from tests.waiting import wait_for
+from tests.waiting import wait_for, wait_sim
 
 from app.lab import commands as cmd
 from sim.robot import planar_arm
@@ -185,7 +184,7 @@ def test_error_recovery_and_reset(client, lab):
     assert body["success"] is True and "lifting stopped" in body["message"]
     state = client.get("/topics/lifting_state").json()
     assert (state["human_phase"], state["started"], state["f_n_min"]) == ("grasping", False, 0.0)
-    time.sleep(0.5)  # the person waits: no grip in a band, so no release
+    wait_sim(lab.snapshot, 0.5)  # the person waits: no grip in a band, so no release
     assert client.get("/topics/lifting_state").json()["human_phase"] == "grasping"
 
 

@@ -129,11 +129,13 @@ def test_long_polls_hold_no_thread(server):
     goal = httpx.post(f"{url}/actions/count/goals", json={"count": 30}, headers=AUTH).json()["goal_id"]
     try:
         poll = f"{url}/actions/count/goals/{goal}"
-        with ThreadPoolExecutor(60) as pool:
-            polls = [pool.submit(httpx.get, poll, params={"after": 1000, "wait": 20}, timeout=60) for _ in range(60)]
-            time.sleep(1.0)  # let them arrive (none returns before the goal ends or 20 s pass)
+        # one client, 60 connections (60 clients of their own would cost a loaded machine seconds of CPU)
+        with ThreadPoolExecutor(60) as pool, httpx.Client(limits=httpx.Limits(max_connections=64), timeout=90) as polling:
+            polls = [pool.submit(polling.get, poll, params={"after": 1000, "wait": 30}) for _ in range(60)]
+            time.sleep(1.0)  # let them arrive (none returns before the goal ends or 30 s pass)
             assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers=AUTH, timeout=30).json() == {"sum": 3}
-            assert not any(p.done() for p in polls)
+            ended = [p.result().json() for p in polls if p.done()]
+            assert not ended, ended[:1]
             httpx.post(f"{poll}/cancel", headers=AUTH)  # ends the goal: every long-poll answers
             assert {p.result().json()["status"] for p in polls} <= {"preempting", "preempted"}
     finally:

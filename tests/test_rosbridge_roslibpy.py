@@ -2,6 +2,7 @@
 service a node advertises answering HTTP and CLI calls (the students' services node from the
 template: tests/test_grade_services.py), topics at their stated rate, commands and the watchdog,
 actions with feedback and cancel. Real server process, real client, loopback."""
+import json
 import os
 import subprocess
 import sys
@@ -16,7 +17,7 @@ import roslibpy
 import websockets.sync.client
 
 from app.cli.launch import running_server
-from tests.waiting import stop_node
+from tests.waiting import stop_node, wait_for
 
 
 
@@ -97,20 +98,20 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
     assert "response:\nstd_srvs.SetBool_Response(success=False, message='toggled')" in out.stdout, out.stderr
     for service in services:
         service.unadvertise()
-    time.sleep(0.3)
-    assert httpx.post(f"{lab.url}/services/toggle", json={"data": True}).status_code == 404
+    wait_for(lambda: httpx.post(f"{lab.url}/services/toggle", json={"data": True}).status_code == 404)
     assert "not provided yet" in httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 1}).json()["detail"]
 
 
 def test_a_node_that_does_not_answer_gives_504_and_disconnecting_takes_its_services(lab):
     with websockets.sync.client.connect(f"ws://127.0.0.1:{lab.port}/") as node:
         node.send('{"op": "advertise_service", "service": "/echo", "type": "hri_lab/Echo"}')
-        time.sleep(0.2)
+        # a call's answer on the same connection: the advertise before it was handled (ops run in order)
+        node.send('{"op": "call_service", "service": "/rosapi/get_time", "id": "after-advertise"}')
+        assert json.loads(node.recv(timeout=30))["id"] == "after-advertise"
         response = httpx.post(f"{lab.url}/services/echo", json={"in": "hello"}, timeout=10)
         assert response.status_code == 504 and "/echo" in response.json()["detail"]
         assert '"op": "call_service"' in node.recv(timeout=1)  # the request did reach the node
-    time.sleep(0.3)
-    assert "not provided yet" in httpx.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"]
+    wait_for(lambda: "not provided yet" in httpx.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"])
 
 
 def test_subscribe_at_the_stated_rate(ros):

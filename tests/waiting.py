@@ -22,6 +22,13 @@ def wait_for(predicate, timeout: float = 30.0):
     raise AssertionError("condition not met in time")
 
 
+def wait_sim(snapshot, seconds: float, timeout: float = 60.0) -> None:
+    """Until `seconds` of simulated time have passed (snapshot: a function giving the lab's latest
+    snapshot): a wait measured in the simulation's own time, whatever the machine's load."""
+    start = snapshot().time
+    wait_for(lambda: snapshot().time >= start + seconds, timeout)
+
+
 def process_gone(pid: int) -> bool:
     """True when process `pid` has ended: no such process, or a zombie (this test run is the
     subreaper of its descendants, tests/conftest.py, so an orphan that died is reaped here)."""

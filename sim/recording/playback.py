@@ -44,6 +44,24 @@ class Playback:
         scenes: dict[int, dict] = {}
         joints: list[tuple[int, np.ndarray]] = []
         self.topics: dict[str, tuple[str, list[int], list[bytes]]] = {}  # name -> (type, log times, raw JSON)
+        try:
+            self._read(tf, scenes, joints)
+            if not scenes or not joints:
+                raise reader.RecordingError(f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording")
+            joint_times = [t for t, _ in joints]
+            self.frames: list[Frame] = []
+            for t in sorted(scenes):
+                if t not in tf:
+                    continue
+                i = max(0, bisect.bisect_right(joint_times, t) - 1)
+                self.frames.append(self._frame(t, joints[i][1], tf[t], scenes[t]))
+        except (ValueError, KeyError, TypeError, IndexError) as exc:  # JSON of another shape (or not JSON)
+            raise reader.RecordingError(f"{self.path}: its messages are not hri-lab's ({type(exc).__name__}: "
+                                        f"{str(exc)[:100]}): not a hri-lab recording") from None
+        self.times = np.array([f.time for f in self.frames])
+
+    def _read(self, tf: dict[int, dict], scenes: dict[int, dict], joints: list[tuple[int, np.ndarray]]) -> None:
+        """Every message of the file into the /tf samples, /scene samples, joint states and topics."""
         for m in reader.messages(self.path, decode=False):
             if m.topic == "/tf":
                 data = json.loads(m.data)
@@ -57,16 +75,6 @@ class Playback:
                 raw.append(m.data)
                 if m.topic == "/joint_states":
                     joints.append((m.log_time, np.array(json.loads(m.data)["position"], float)))
-        if not scenes or not joints:
-            raise reader.RecordingError(f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording")
-        joint_times = [t for t, _ in joints]
-        self.frames: list[Frame] = []
-        for t in sorted(scenes):
-            if t not in tf:
-                continue
-            i = max(0, bisect.bisect_right(joint_times, t) - 1)
-            self.frames.append(self._frame(t, joints[i][1], tf[t], scenes[t]))
-        self.times = np.array([f.time for f in self.frames])
 
     def _frame(self, t: int, q: np.ndarray, frames: dict, scene: dict) -> Frame:
         entities = {e["id"]: e for e in scene["entities"]}

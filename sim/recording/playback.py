@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import bisect
 import json
+from typing import cast
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -63,18 +64,19 @@ class Playback:
     def _read(self, tf: dict[int, dict], scenes: dict[int, dict], joints: list[tuple[int, np.ndarray]]) -> None:
         """Every message of the file into the /tf samples, /scene samples, joint states and topics."""
         for m in reader.messages(self.path, decode=False):
+            raw_data = cast(bytes, m.data)  # decode=False: the raw JSON
             if m.topic == "/tf":
-                data = json.loads(m.data)
+                data = json.loads(raw_data)
                 tf.setdefault(m.log_time, {})[data["child_frame_id"]] = (
                     _vec(data["translation"]), rotation_of(data["rotation"]))
             elif m.topic == "/scene":
-                scenes[m.log_time] = json.loads(m.data)
+                scenes[m.log_time] = json.loads(raw_data)
             else:
                 kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
                 times.append(m.log_time)
-                raw.append(m.data)
+                raw.append(raw_data)
                 if m.topic == "/joint_states":
-                    joints.append((m.log_time, np.array(json.loads(m.data)["position"], float)))
+                    joints.append((m.log_time, np.array(json.loads(raw_data)["position"], float)))
 
     def _frame(self, t: int, q: np.ndarray, frames: dict, scene: dict) -> Frame:
         entities = {e["id"]: e for e in scene["entities"]}

@@ -39,14 +39,14 @@ test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
 
 # the documentation site (mkdocs.yml) in site/; its reference pages are generated from the code (docs/hooks/)
-docs: $(DEV)
+docs: $(DEV) $(VENV)/.kernels
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 # what CI checks before the tests (.ci/run): ruff, mypy (its files: pyproject's [tool.mypy]), the site without a broken link.
 # RUFF_PENDING: the rules that `ruff check --fix . && ruff format .` settles, run once over the merged tree; after
 # that run RUFF_PENDING is emptied and `ruff format --check` holds too.
 RUFF_PENDING := --extend-ignore I001,UP035,UP037,UP017,UP033,UP041,F401
-lint: $(DEV)
+lint: $(DEV) $(VENV)/.kernels
 	$(BIN)/ruff check $(RUFF_PENDING) .
 	$(if $(strip $(RUFF_PENDING)),,$(BIN)/ruff format --check .)
 	$(BIN)/mypy

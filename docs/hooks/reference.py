@@ -80,8 +80,10 @@ def cli() -> str:
             out += [f"### hri-lab {name}", "", helps.get(name, sub.description or ""), ""]
             for action in sub._actions:
                 if isinstance(action, argparse._SubParsersAction):
-                    rows = [[f"`hri-lab {name} {a.dest}`", a.help or ""] for a in action._choices_actions]
-                    out += [_table(["command", "what"], rows), ""]
+                    said = {a.dest: a.help or "" for a in action._choices_actions}
+                    if any(said.values()):  # subcommands declared with help: a table of them
+                        rows = [[f"`hri-lab {name} {child}`", said.get(child, "")] for child in action.choices]
+                        out += [_table(["command", "what"], rows), ""]
             continue
         sub.prog = f"hri-lab {name}"
         sub.formatter_class = functools.partial(argparse.HelpFormatter, width=100)  # not the terminal's

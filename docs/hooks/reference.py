@@ -4,7 +4,8 @@ A page says `<!-- generated: NAME -->` where a table goes; NAME is a key of GENE
 is read from the one place the fact is declared: the HTTP API from `create_app().openapi()`, the CLI
 from `app.cli.main.build_parser()`, the parameters from `app.lab.params.LAB_PARAMETERS`, the topics
 from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SERVICES` and
-`app.lab.actions.ACTIONS`, rosapi's services from `app.rosbridge.rosapi`. Nothing here is written
+`app.lab.actions.ACTIONS`, rosbridge's ops from its connection's handlers, rosapi's services from
+`app.rosbridge.rosapi`. Nothing here is written
 by hand a second time, so the pages cannot drift from the code.
 """
 from __future__ import annotations
@@ -140,9 +141,22 @@ def rosapi() -> str:
     return _table(["service", "access"], rows)
 
 
+def rosbridge_ops() -> str:
+    """The ops a rosbridge connection dispatches (its `op_*` handlers), and which need the token."""
+    from app.rosbridge import session
+
+    names = sorted(name[len("op_"):] for name in dir(session.Session) if name.startswith("op_"))
+    def token(name: str) -> str:
+        if name == "call_service":  # decided per service (session.op_call_service)
+            return "yes, but for rosapi's reading services (below)"
+        return "yes" if name in session.MUTATING else ""
+
+    return _table(["op", "needs the token (when the lab has one)"], [[f"`{name}`", token(name)] for name in names])
+
+
 GENERATORS: dict[str, Callable[[], str]] = {
     "http-api": http_api, "cli": cli, "parameters": parameters, "topics": topics, "services": services,
-    "actions": actions, "rosapi": rosapi,
+    "actions": actions, "rosapi": rosapi, "rosbridge-ops": rosbridge_ops,
 }
 
 

@@ -1,15 +1,17 @@
 """A file handed to a command that is not what the command reads is refused with what it is not and
 what to do, and a non-zero exit: recordings (`bag info`, `play`), parameter files (`param load`,
 `experiment --params`, `serve --params`), controller files (`--controller`, `grade`)."""
+
 import json
 import os
 
 import pytest
 from mcap.writer import Writer
 
+from sim.recording import reader
+
 from app.cli import client as client_cli
 from app.cli.main import build_parser
-from sim.recording import reader
 
 RANDOM = bytes(range(256)) * 8 + os.urandom(2048)  # invalid UTF-8 for sure (0x80.. after 0x00..)
 TEXT = "time,force\n0.0,10.2\n0.1,10.4\n"
@@ -17,8 +19,12 @@ TEXT = "time,force\n0.0,10.2\n0.1,10.4\n"
 
 @pytest.fixture
 def files(tmp_path):
-    paths = {"random": tmp_path / "random.mcap", "text": tmp_path / "notes.mcap", "empty": tmp_path / "empty.mcap",
-             "folder": tmp_path / "folder"}
+    paths = {
+        "random": tmp_path / "random.mcap",
+        "text": tmp_path / "notes.mcap",
+        "empty": tmp_path / "empty.mcap",
+        "folder": tmp_path / "folder",
+    }
     paths["random"].write_bytes(RANDOM)
     paths["text"].write_text(TEXT)
     paths["empty"].write_bytes(b"")
@@ -32,8 +38,15 @@ def cli(*argv: str) -> int:
     return client_cli.run(args.func, args)
 
 
-@pytest.mark.parametrize("kind, what", [("random", "a binary file of another format"), ("text", "a text file"),
-                                        ("empty", "an empty file"), ("folder", "a folder")])
+@pytest.mark.parametrize(
+    "kind, what",
+    [
+        ("random", "a binary file of another format"),
+        ("text", "a text file"),
+        ("empty", "an empty file"),
+        ("folder", "a folder"),
+    ],
+)
 @pytest.mark.parametrize("command", [("bag", "info"), ("play",)])
 def test_a_file_that_is_not_mcap_is_named_and_the_exit_is_non_zero(files, kind, what, command, capsys):
     code = cli(*command, str(files[kind]))
@@ -81,11 +94,14 @@ def test_param_load_names_a_file_that_is_not_a_parameter_file(files, tmp_path, c
     assert "a folder, not a parameter file" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("content, reason", [
-    (RANDOM, "not a parameter file (binary, not UTF-8 text"),
-    (TEXT.encode(), "maps node names to {ros__parameters: {...}}, as `hri-lab param dump` writes it"),
-    (b"x: " + b"[" * 40 + b"]" * 40, "nests at most 16 levels"),  # the server's limits, headless too
-])
+@pytest.mark.parametrize(
+    "content, reason",
+    [
+        (RANDOM, "not a parameter file (binary, not UTF-8 text"),
+        (TEXT.encode(), "maps node names to {ros__parameters: {...}}, as `hri-lab param dump` writes it"),
+        (b"x: " + b"[" * 40 + b"]" * 40, "nests at most 16 levels"),  # the server's limits, headless too
+    ],
+)
 def test_experiment_params_names_a_file_that_is_not_a_parameter_file(tmp_path, content, reason, capsys):
     path = tmp_path / "lab.yaml"
     path.write_bytes(content)
@@ -100,8 +116,10 @@ def test_serve_params_names_a_binary_file_and_does_not_start(files, capsys):
     assert f"cannot load parameters from {files['random']}: not a parameter file (binary" in err
 
 
-@pytest.mark.parametrize("kind, reason", [("random", "is not a Python file (binary, not source text)"),
-                                          ("folder", "is a folder, not a controller file")])
+@pytest.mark.parametrize(
+    "kind, reason",
+    [("random", "is not a Python file (binary, not source text)"), ("folder", "is a folder, not a controller file")],
+)
 def test_a_controller_that_is_not_a_python_file_is_named(files, kind, reason, capsys):
     with pytest.raises(SystemExit) as stop:
         cli("experiment", "--controller", str(files[kind]), "--trials", "1", "--quiet")

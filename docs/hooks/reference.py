@@ -8,12 +8,14 @@ from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SE
 `app.rosbridge.rosapi`. Nothing here is written
 by hand a second time, so the pages cannot drift from the code.
 """
+
 from __future__ import annotations
 
 import argparse
 import functools
 import re
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 MARKER = re.compile(r"<!-- generated: ([a-z-]+) -->")
 
@@ -48,7 +50,8 @@ def http_api() -> str:
             text = summary if not description or description == summary else f"{summary}: {description}"
             codes = ", ".join(sorted(op.get("responses", {})))
             by_tag.setdefault((op.get("tags") or ["other"])[0], []).append(
-                [f"`{method.upper()}`", f"`{path}`", text, codes])
+                [f"`{method.upper()}`", f"`{path}`", text, codes]
+            )
     out = []
     for tag, rows in by_tag.items():
         out += [f"### {tag}", "", _table(["method", "path", "what", "status codes"], rows), ""]
@@ -88,8 +91,16 @@ def cli() -> str:
             continue
         sub.prog = f"hri-lab {name}"
         sub.formatter_class = functools.partial(argparse.HelpFormatter, width=100)  # not the terminal's
-        out += [f"### hri-lab {name}", "", helps.get(name.split()[0], "") if " " not in name else "",
-                "", "```", sub.format_help().rstrip(), "```", ""]
+        out += [
+            f"### hri-lab {name}",
+            "",
+            helps.get(name.split()[0], "") if " " not in name else "",
+            "",
+            "```",
+            sub.format_help().rstrip(),
+            "```",
+            "",
+        ]
     return "\n".join(out)
 
 
@@ -100,8 +111,17 @@ def parameters() -> str:
     rows = []
     for p in LAB_PARAMETERS:
         allowed = f"{p.range[0]:g} .. {p.range[1]:g}" if p.range else ", ".join(p.choices)
-        rows.append([f"`{p.node}`", f"`{p.name}`", p.type, f"`{p.default}`", allowed,
-                     "yes" if p.read_only else "", p.description])
+        rows.append(
+            [
+                f"`{p.node}`",
+                f"`{p.name}`",
+                p.type,
+                f"`{p.default}`",
+                allowed,
+                "yes" if p.read_only else "",
+                p.description,
+            ]
+        )
     return _table(["node", "name", "type", "default", "range / choices", "read-only", "description"], rows)
 
 
@@ -137,7 +157,9 @@ def rosapi() -> str:
     """rosapi's services as the lab answers them, and which of them change something."""
     from app.rosbridge import rosapi as api
 
-    rows = [[f"`{name}`", "changes (needs the token)" if name in api.WRITING else "reads"] for name in sorted(api.NAMES)]
+    rows = [
+        [f"`{name}`", "changes (needs the token)" if name in api.WRITING else "reads"] for name in sorted(api.NAMES)
+    ]
     return _table(["service", "access"], rows)
 
 
@@ -145,7 +167,8 @@ def rosbridge_ops() -> str:
     """The ops a rosbridge connection dispatches (its `op_*` handlers), and which need the token."""
     from app.rosbridge import session
 
-    names = sorted(name[len("op_"):] for name in dir(session.Session) if name.startswith("op_"))
+    names = sorted(name[len("op_") :] for name in dir(session.Session) if name.startswith("op_"))
+
     def token(name: str) -> str:
         if name == "call_service":  # decided per service (session.op_call_service)
             return "yes, but for rosapi's reading services (below)"
@@ -155,8 +178,14 @@ def rosbridge_ops() -> str:
 
 
 GENERATORS: dict[str, Callable[[], str]] = {
-    "http-api": http_api, "cli": cli, "parameters": parameters, "topics": topics, "services": services,
-    "actions": actions, "rosapi": rosapi, "rosbridge-ops": rosbridge_ops,
+    "http-api": http_api,
+    "cli": cli,
+    "parameters": parameters,
+    "topics": topics,
+    "services": services,
+    "actions": actions,
+    "rosapi": rosapi,
+    "rosbridge-ops": rosbridge_ops,
 }
 
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import bisect
 import json
-from typing import cast
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 

@@ -4,13 +4,19 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test experiment bench clean chromium bubblewrap
+.PHONY: run test experiment bench clean chromium bubblewrap docs lint
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
+
+# the documentation site's and the linters' tools (pyproject's docs and lint groups), for make docs / make lint
+DEV := $(VENV)/.dev
+$(DEV): $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[test,docs,lint]'
+	touch $@
 
 # numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run
 KERNELS := sim/physics/contact.py sim/physics/box.py sim/robot/cartesian_velocity.py
@@ -32,6 +38,20 @@ bubblewrap:
 test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
 
+# the documentation site (mkdocs.yml) in site/; its reference pages are generated from the code (docs/hooks/)
+docs: $(DEV) $(VENV)/.kernels
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
+# what CI checks before the tests (.ci/run): ruff, mypy (its files: pyproject's [tool.mypy]), the site without a broken link.
+# RUFF_PENDING: the rules that `ruff check --fix . && ruff format .` settles, run once over the merged tree; after
+# that run RUFF_PENDING is emptied and `ruff format --check` holds too.
+RUFF_PENDING := --extend-ignore I001,UP035,UP037,UP017,UP033,UP041,F401
+lint: $(DEV) $(VENV)/.kernels
+	$(BIN)/ruff check $(RUFF_PENDING) .
+	$(if $(strip $(RUFF_PENDING)),,$(BIN)/ruff format --check .)
+	$(BIN)/mypy
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
 experiment: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab experiment
 
@@ -49,4 +69,4 @@ bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m bench.margin_sweep
 
 clean:
-	rm -rf $(VENV) *.egg-info
+	rm -rf $(VENV) *.egg-info site

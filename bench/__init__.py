@@ -1,4 +1,4 @@
-"""Benchmarks: `python -m bench.NAME` prints a figure of the README (see its Speed section)."""
+"""Benchmarks: `python -m bench.NAME` prints a figure of docs/performance.md."""
 
 
 def percentile(values: list[float], q: float) -> float:

@@ -1,4 +1,4 @@
-"""The SP law, branch by branch, with hand-computed twists (docs/design.md, "The SP method")."""
+"""The SP law, branch by branch, with hand-computed twists (docs/method.md, "The SP controller as hri-lab reconstructs it")."""
 import numpy as np
 import pytest
 

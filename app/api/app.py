@@ -2,6 +2,7 @@
 system), around one Lab whose simulation runs while the app is served."""
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
+from importlib.metadata import version as package_version
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -64,7 +65,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app = FastAPI(
         title="hri-lab",
         description="The simulated cooperative-lifting lab: ROS services, parameters, topics and actions over HTTP.",
-        version="0.1.0",
+        version=package_version("hri-lab"),  # pyproject.toml's, the one version source
         lifespan=lifespan,
         default_response_class=SafeJSONResponse,
         docs_url=None,  # served offline below

@@ -9,6 +9,7 @@ import yaml
 from websockets.sync.client import connect
 
 from app.ros.names import absolute, node_name
+from app.ros.params import ParameterRefused, read_parameter_file
 
 DEFAULT_URL = "http://127.0.0.1:8000"
 
@@ -152,8 +153,10 @@ def param(args) -> int:
         print(_request(args, "GET", "/params/dump", params={"node": node} if node else None).text, end="")
         return 0
     if args.action == "load":
-        with open(args.file, encoding="utf-8") as handle:
-            text = handle.read()
+        try:
+            text = read_parameter_file(args.file)
+        except ParameterRefused as exc:
+            raise CliError(f"{args.file}: {exc}") from None
         response = _request(args, "POST", "/params/load", content=text.encode("utf-8"),
                             headers={"content-type": "application/yaml"})
         body = response.json()

@@ -4,14 +4,13 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
 
 from tqdm import tqdm
 
 from app.cli.controllers import loaded_factory
 from app.cli.outputs import summary_figure, trial_outputs
 from app.lab import overrides
-from app.ros.params import ParameterRefused
+from app.ros.params import ParameterRefused, read_parameter_file
 from sim.procedures.experiment import (
     format_comparison,
     format_sweep,
@@ -29,7 +28,10 @@ def _overrides(args: argparse.Namespace) -> list:
     """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
     found = []
     if args.params:
-        found, ignored = overrides.parse_file(Path(args.params).read_text(encoding="utf-8"))
+        try:
+            found, ignored = overrides.parse_file(read_parameter_file(args.params))
+        except ParameterRefused as exc:
+            raise ParameterRefused(f"{args.params}: {exc}") from None
         if ignored and not args.quiet:
             print(f"hri-lab: {args.params}: not applicable to a headless trial, ignored: {', '.join(ignored)}", file=sys.stderr)
     return found + overrides.parse_set(args.set or [])

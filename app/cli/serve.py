@@ -18,7 +18,7 @@ from app.api.access import TOKEN_ENV, is_loopback, token_problem
 from app.api.app import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
-from app.ros.params import ParameterRefused
+from app.ros.params import ParameterRefused, read_parameter_file
 from app.rosbridge.protocol import MAX_FRAME
 from sim.controllers.plugin import PluginFactory
 
@@ -26,8 +26,7 @@ from sim.controllers.plugin import PluginFactory
 def load_parameter_file(lab: Lab, path: str) -> None:
     """Apply a `param dump` file at start (the seed's launch file); read-only ones too, as
     parameter overrides can at declaration. Any refusal stops the start with its reason."""
-    with open(path, encoding="utf-8") as handle:
-        results = lab.params.load(handle.read(), force=True)
+    results = lab.params.load(read_parameter_file(path), force=True)
     failed = [r for r in results if not r["successful"]]
     if failed:
         raise ParameterRefused("; ".join(f"/{r['node']}/{r['name']}: {r['reason']}" for r in failed))

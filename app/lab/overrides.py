@@ -17,7 +17,7 @@ import yaml
 from sim.procedures.experiment import Setup, SweepPoint
 
 from app.lab.params import LAB_PARAMETERS
-from app.ros.params import Parameter, ParameterRefused, ParameterServer
+from app.ros.params import Parameter, ParameterRefused, ParameterServer, parse_parameter_file
 
 VALIDATOR = ParameterServer(LAB_PARAMETERS, lab=None)  # validate() only: nothing is applied
 MAX_SWEEP_POINTS = 30
@@ -69,12 +69,10 @@ def parse_set(assignments: list[str] | str) -> list[Override]:
 def parse_file(text: str) -> tuple[list[Override], list[str]]:
     """A `param dump` file -> (validated overrides, names of the parameters ignored because they
     do not apply to a trial). Read-only ones are accepted as at `serve --params`."""
-    try:
-        tree = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise ParameterRefused(f"invalid YAML: {exc}") from None
+    tree = parse_parameter_file(text)  # the server's limits: size, depth, no aliases
     if not isinstance(tree, dict):
-        raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}")
+        raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}, "
+                               "as `hri-lab param dump` writes it")
     overrides, ignored = [], []
     for node, body in tree.items():
         params = body.get("ros__parameters") if isinstance(body, dict) else None

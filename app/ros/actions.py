@@ -15,6 +15,7 @@ GET .../goals/{id} (long-poll with ?after=N&wait=S for feedback beyond the N-th)
 POST .../goals/{id}/cancel; WebSocket .../goals/{id}/stream (every feedback and the final state).
 """
 import asyncio
+import builtins
 import threading
 import time
 import traceback
@@ -48,9 +49,9 @@ TERMINAL = {GoalStatus.SUCCEEDED, GoalStatus.ABORTED, GoalStatus.PREEMPTED, Goal
 class Action:
     name: str
     type: str
-    goal: type[RosMessage]
-    result: type[RosMessage]
-    feedback: type[RosMessage]
+    goal: builtins.type[RosMessage]  # builtins.: the field `type` above shadows the builtin here
+    result: builtins.type[RosMessage]
+    feedback: builtins.type[RosMessage]
     execute: Callable[[Any, Any, "GoalHandle"], RosMessage]
     description: str = ""
     precondition: Callable[[Any, Any], str | None] | None = None  # (lab, goal) -> why it cannot run now

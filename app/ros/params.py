@@ -8,6 +8,7 @@ Deviation from ROS 2: JSON has one number type, so an integer is accepted for a 
 """
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable, Literal
 
 import yaml
@@ -131,7 +132,8 @@ class ParameterServer:
         """Set every parameter of a dump; one result per parameter (like `ros2 param load`)."""
         tree = parse_parameter_file(text)
         if not isinstance(tree, dict):
-            raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}")
+            raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}, "
+                                   "as `hri-lab param dump` writes it")
         results = []
         for node, body in tree.items():
             params = body.get("ros__parameters") if isinstance(body, dict) else None
@@ -144,6 +146,33 @@ class ParameterServer:
                 except ParameterRefused as refused:
                     results.append({"node": node_name(str(node)), "name": name, "successful": False, "reason": str(refused)})
         return results
+
+
+FILE_FORMAT = "YAML mapping node names to {ros__parameters: {name: value}}, as `hri-lab param dump` writes it"
+
+
+def read_parameter_file(path: str | Path) -> str:
+    """The text of a parameter file, or ParameterRefused saying what the file is instead: missing,
+    a folder, larger than MAX_FILE_BYTES, or not UTF-8 text (e.g. a recording handed by mistake).
+    The callers name the file before the reason, as they do for the refusals of its contents."""
+    path = Path(path)
+    if path.is_dir():
+        raise ParameterRefused(f"a folder, not a parameter file ({FILE_FORMAT})")
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        raise ParameterRefused("no such file") from None
+    except OSError as exc:
+        raise ParameterRefused(f"cannot read it: {exc.strerror}") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise ParameterRefused(f"not a parameter file (larger than {MAX_FILE_BYTES} bytes; a parameter file "
+                               f"is {FILE_FORMAT})")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise ParameterRefused(f"not a parameter file (binary, not UTF-8 text; a parameter file is "
+                               f"{FILE_FORMAT})") from None
 
 
 def parse_parameter_file(text: str) -> Any:

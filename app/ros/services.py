@@ -6,6 +6,8 @@ list and call.
 A handler gets the Lab and the validated request and returns the response; `call` is the one way
 to run it. A `ServiceFailure` is a failed call with a reason (HTTP 400).
 """
+import builtins
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -41,8 +43,8 @@ class NodeFailure(ServiceFailure):
 class Service:
     name: str  # "/add_two_ints"
     type: str  # "hri_lab/AddTwoInts"
-    request: type[RosMessage]
-    response: type[RosMessage]
+    request: builtins.type[RosMessage]  # builtins.: the field `type` above shadows the builtin here
+    response: builtins.type[RosMessage]
     handler: Callable[[Any, Any], RosMessage]  # (lab, request) -> response
     description: str = ""
 
@@ -64,7 +66,7 @@ class Service:
 
 
 class ServiceRegistry:
-    def __init__(self, services: list[Service] = ()) -> None:
+    def __init__(self, services: Iterable[Service] = ()) -> None:
         self._services: dict[str, Service] = {}
         for service in services:
             self.add(service)

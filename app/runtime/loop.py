@@ -164,7 +164,7 @@ class SimulationLoop:
 
     def _run_commands(self) -> list[tuple[int, bool, Any]]:
         """Run the queued functions; their (call id, ok, result or exception)."""
-        done = []
+        done: list[tuple[int, bool, Any]] = []
         while True:
             try:
                 call_id, fn, args = self._commands.get_nowait()

@@ -31,6 +31,7 @@ from concurrent.futures import Future
 from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
+from multiprocessing.process import BaseProcess
 from typing import Any, Callable, Iterator
 
 from sim.world import Snapshot, World
@@ -69,7 +70,7 @@ class SimulationProcess:
         self._ids = itertools.count()
         self._pending: dict[int, Future] = {}
         self._lock = threading.Lock()  # _pending, _conn, _process, sending
-        self._process: multiprocessing.Process | None = None
+        self._process: BaseProcess | None = None
         self._conn: Connection | None = None
         self._stop = threading.Event()
         # the finest spacing (s of wall clock) between published snapshots that a reader needs now
@@ -123,6 +124,7 @@ class SimulationProcess:
             self._process = None
             if process is None:
                 return
+            assert conn is not None  # set together with the process (_spawn)
             try:
                 conn.send_bytes(b"")  # asks the child to stop its loop and exit
             except OSError:
@@ -174,8 +176,10 @@ class SimulationProcess:
                 return future
             call_id = next(self._ids)
             self._pending[call_id] = future
+            conn = self._conn
+            assert conn is not None  # set together with the process (_spawn), which is not None here
             try:
-                self._conn.send_bytes(call_id.to_bytes(8, "little") + data)
+                conn.send_bytes(call_id.to_bytes(8, "little") + data)
             except OSError:  # the child is gone (the watchdog restarts it)
                 del self._pending[call_id]
                 future.set_exception(SimulationRestarting("the simulation process is gone; it is being restarted"))

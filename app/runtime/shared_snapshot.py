@@ -48,7 +48,7 @@ class SharedSnapshot:
         self._numbers: list[tuple[Callable, int]] = []
         self._texts: list[tuple[Callable, int]] = []  # (getter, byte offset)
         self._floats = 0
-        text_fields = []
+        text_fields: list[tuple[Callable, int]] = []
         self._root = self._plan(sample, "", text_fields)
         numbers_bytes = 8 * self._floats
         for getter, index in text_fields:
@@ -67,7 +67,7 @@ class SharedSnapshot:
         self._cached: Any = None
 
     def _plan(self, obj: Any, prefix: str, text_fields: list) -> _Node:
-        fields = []
+        fields: list[tuple[str, _Node | _Leaf]] = []
         for f in dataclasses.fields(obj):
             value, path = getattr(obj, f.name), prefix + f.name
             getter = operator.attrgetter(path)

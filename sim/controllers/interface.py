@@ -23,7 +23,7 @@ class LiftingParams:
     f_n_min: float = 0.0  # N, lower end of the normal-force band
     f_n_band: float = 5.0  # N, f_n_max = f_n_min + f_n_band
     mu: float = 0.5  # friction coefficient the controller assumes (plate on box)
-    alpha: float = 0.5  # safety margin on the friction cone (< 1); chosen from bench/margin_sweep.py (README)
+    alpha: float = 0.5  # safety margin on the friction cone (< 1); chosen from bench/margin_sweep.py (docs/method.md)
     k_n: float = 0.005  # (m/s)/N, normal force -> normal speed
     k_t: float = 0.1  # (m/s)/N, tangential excess force -> tangential speed
     k_w: float = 1.0  # (rad/s)/Nm, moment at the plate centre -> angular speed

@@ -7,6 +7,7 @@ The file is never imported here: it runs in a sandboxed process (sim/controllers
 """
 from __future__ import annotations
 
+import codecs
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,6 +37,26 @@ def split_spec(spec: str) -> tuple[Path, str]:
     return Path(spec), DEFAULT_CLASS
 
 
+def check_file(path: Path) -> None:
+    """PluginError saying what `path` is when it cannot be a controller file: missing, a folder, or
+    not Python source text (binary: e.g. a recording or a compiled file handed by mistake)."""
+    if path.is_dir():
+        raise PluginError(f"{path} is a folder, not a controller file: name the .py file in it "
+                          "(`hri-lab grade` takes folders of them)")
+    if not path.is_file():
+        raise PluginError(f"no controller file {path}")
+    with open(path, "rb") as f:
+        head = f.read(65536)
+    try:
+        codecs.getincrementaldecoder("utf-8")().decode(head)  # a character cut at the end is text too
+        binary = b"\0" in head
+    except UnicodeDecodeError:
+        binary = True
+    if binary:
+        raise PluginError(f"{path} is not a Python file (binary, not source text): a controller is a .py file "
+                          f"with a class {DEFAULT_CLASS} (start from `hri-lab template`)")
+
+
 @dataclass(frozen=True)
 class PluginFactory:
     """A picklable factory (trials may run in other processes): each call starts the file's class
@@ -49,8 +70,7 @@ class PluginFactory:
 
     def __call__(self) -> SandboxedController:
         path, name = split_spec(self.spec)
-        if not path.is_file():
-            raise PluginError(f"no controller file {path}")
+        check_file(path)
         controller = SandboxedController(path, name, self.budget, self.sandboxed)
         if self.eager:
             try:

@@ -1,6 +1,8 @@
 """The Single Point (SP) controller: the lab's Algorithm 1 (Marullo et al., IEEE RA-L 2020) as
 hri-lab reconstructs it. The paper's text was not at hand: every step, gain and sign below is our
-reconstruction, documented here and in the README, and configurable through LiftingParams.
+reconstruction, configurable through LiftingParams. The steps' prose, with their reasons, is
+docs/method.md ("The SP controller as hri-lab reconstructs it"); the numbered comments below mark
+the lines that do each step.
 
 Model: the plate touches the box at a single point (the plate centre p_c) with Coulomb friction
 mu. A point contact holds no moment, and its friction holds only inside the cone |f_t| <= mu f_n.

@@ -247,6 +247,7 @@ class VirtualHuman:
         """The box orientation the wrist aims at: as let go, tilted by participant.tilt about the
         carry direction along the carry (minimum-jerk over the path's duration)."""
         tilt = self.participant.tilt
+        assert self.box_level is not None  # called once the box is let go (the wrist's moment)
         if tilt == 0.0 or self.phase not in ("carrying", "holding", "done"):
             return self.box_level
         progress = 1.0 if self.phase != "carrying" else minimum_jerk(self.phase_time / (self.path.duration - self.path.hold))

@@ -147,6 +147,7 @@ class TrialMonitor:
             return f"not carried: the path ended after {world.time - self.carry_start:.2f} s, it takes {path.duration:.2f} s"
         # where the person's path takes the box: the palm to the path's end, the box turned with it
         #   goal = p_palm,0 + (hand shift) + path goal + R_box R_box,0^T (p_box,0 - p_palm,0)
+        assert self.box_rotation_start is not None  # set when the person let go (carry_start)
         turn = world.box.rotation @ self.box_rotation_start.T
         palm_goal = self.palm_start + (world.human.start - self.hand_start) + path.goal
         goal = palm_goal + turn @ (self.box_start - self.palm_start)

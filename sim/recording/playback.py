@@ -11,6 +11,7 @@ import bisect
 import json
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -44,29 +45,38 @@ class Playback:
         scenes: dict[int, dict] = {}
         joints: list[tuple[int, np.ndarray]] = []
         self.topics: dict[str, tuple[str, list[int], list[bytes]]] = {}  # name -> (type, log times, raw JSON)
+        try:
+            self._read(tf, scenes, joints)
+            if not scenes or not joints:
+                raise reader.RecordingError(f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording")
+            joint_times = [t for t, _ in joints]
+            self.frames: list[Frame] = []
+            for t in sorted(scenes):
+                if t not in tf:
+                    continue
+                i = max(0, bisect.bisect_right(joint_times, t) - 1)
+                self.frames.append(self._frame(t, joints[i][1], tf[t], scenes[t]))
+        except (ValueError, KeyError, TypeError, IndexError) as exc:  # JSON of another shape (or not JSON)
+            raise reader.RecordingError(f"{self.path}: its messages are not hri-lab's ({type(exc).__name__}: "
+                                        f"{str(exc)[:100]}): not a hri-lab recording") from None
+        self.times = np.array([f.time for f in self.frames])
+
+    def _read(self, tf: dict[int, dict], scenes: dict[int, dict], joints: list[tuple[int, np.ndarray]]) -> None:
+        """Every message of the file into the /tf samples, /scene samples, joint states and topics."""
         for m in reader.messages(self.path, decode=False):
+            raw_data = cast(bytes, m.data)  # decode=False: the raw JSON
             if m.topic == "/tf":
-                data = json.loads(m.data)
+                data = json.loads(raw_data)
                 tf.setdefault(m.log_time, {})[data["child_frame_id"]] = (
                     _vec(data["translation"]), rotation_of(data["rotation"]))
             elif m.topic == "/scene":
-                scenes[m.log_time] = json.loads(m.data)
+                scenes[m.log_time] = json.loads(raw_data)
             else:
                 kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
                 times.append(m.log_time)
-                raw.append(m.data)
+                raw.append(raw_data)
                 if m.topic == "/joint_states":
-                    joints.append((m.log_time, np.array(json.loads(m.data)["position"], float)))
-        if not scenes or not joints:
-            raise reader.RecordingError(f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording")
-        joint_times = [t for t, _ in joints]
-        self.frames: list[Frame] = []
-        for t in sorted(scenes):
-            if t not in tf:
-                continue
-            i = max(0, bisect.bisect_right(joint_times, t) - 1)
-            self.frames.append(self._frame(t, joints[i][1], tf[t], scenes[t]))
-        self.times = np.array([f.time for f in self.frames])
+                    joints.append((m.log_time, np.array(json.loads(raw_data)["position"], float)))
 
     def _frame(self, t: int, q: np.ndarray, frames: dict, scene: dict) -> Frame:
         entities = {e["id"]: e for e in scene["entities"]}

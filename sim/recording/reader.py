@@ -5,6 +5,7 @@ has neither: it is read front to back up to the last complete chunk, and `comple
 """
 from __future__ import annotations
 
+import codecs
 import json
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -25,6 +26,35 @@ class RecordingError(Exception):
     """Not a readable recording (the reason is the message)."""
 
 
+MCAP_MAGIC = b"\x89MCAP0\r\n"  # the first bytes of every MCAP file (the MCAP specification)
+HOW_TO_RECORD = "make one with `hri-lab record`, `hri-lab experiment --record DIR` or the lab's /start_recording"
+
+
+def check_file(path: Path) -> None:
+    """Raise RecordingError saying what `path` is when it is not an MCAP file: missing, a folder,
+    empty, text or some other binary (a file cut short after MCAP's magic bytes is still read)."""
+    if path.is_dir():
+        raise RecordingError(f"{path}: a folder, not an MCAP recording: name a .mcap file in it")
+    if not path.is_file():
+        raise RecordingError(f"{path}: no such file")
+    with open(path, "rb") as f:
+        head = f.read(4096)
+    if head.startswith(MCAP_MAGIC):
+        return
+    if not head:
+        what = "an empty file"
+    elif len(head) < len(MCAP_MAGIC) and MCAP_MAGIC.startswith(head):
+        what = "a file cut short before its first record"
+    else:
+        try:
+            codecs.getincrementaldecoder("utf-8")().decode(head)  # a character cut at 4096 bytes is text too
+            what = "a text file"
+        except UnicodeDecodeError:
+            what = "a binary file of another format"
+    raise RecordingError(f"{path}: not an MCAP recording ({what}; an MCAP file starts with the bytes "
+                         f"\\x89MCAP0): {HOW_TO_RECORD}")
+
+
 def _summary(path: Path):
     try:
         with open(path, "rb") as f:
@@ -39,8 +69,7 @@ def messages(path: str | Path, topics: list[str] | None = None, decode: bool = T
     """Every message in log-time order (file order for a file cut short), decoded from JSON
     (decode=False: the raw bytes)."""
     path = Path(path)
-    if not path.is_file():
-        raise RecordingError(f"{path}: no such file")
+    check_file(path)
     complete = _summary(path) is not None
     with open(path, "rb") as f:
         reader = make_reader(f) if complete else NonSeekingReader(f)
@@ -57,6 +86,7 @@ def messages(path: str | Path, topics: list[str] | None = None, decode: bool = T
 def metadata(path: str | Path) -> dict[str, dict]:
     """name -> record of the file's metadata (values decoded from JSON where they are JSON)."""
     path = Path(path)
+    check_file(path)
     out: dict[str, dict] = {}
     complete = _summary(path) is not None
     with open(path, "rb") as f:
@@ -108,8 +138,7 @@ class BagInfo:
 def info(path: str | Path) -> BagInfo:
     """What `ros2 bag info` tells: size, duration, start, end, message count, topics with type and count."""
     path = Path(path)
-    if not path.is_file():
-        raise RecordingError(f"{path}: no such file")
+    check_file(path)
     summary = _summary(path)
     if summary is not None and summary.statistics is not None:
         stats = summary.statistics

@@ -90,7 +90,8 @@ def _rgba(rgb, a: float = 1.0) -> dict:
 
 
 def rgb_of(colour: dict) -> tuple[int, int, int]:
-    return tuple(int(round(colour[k] * 255.0)) for k in ("r", "g", "b"))
+    r, g, b = (int(round(colour[k] * 255.0)) for k in ("r", "g", "b"))
+    return r, g, b
 
 
 def frame_transform(t: float, child: str, position, rotation) -> dict:

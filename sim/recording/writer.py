@@ -81,8 +81,10 @@ class Recording:
         self._writer = Writer(self._file, chunk_size=256 * 1024, compression=CompressionType.ZSTD)
         self._writer.start(profile="", library="hri-lab")
         self._channels: dict[str, int] = {}
-        self._last_state = self._last_scene = self._last_flush = None
-        self._last_time = None
+        self._last_state: float | None = None  # s, simulated
+        self._last_scene: float | None = None
+        self._last_flush: int | None = None  # ns, log time
+        self._last_time: float | None = None
         self._writer.add_metadata("hri_lab", {
             "source": source, "world": json.dumps(world_description(config)),
             "decimation": json.dumps({"topics_hz": round(1 / state_period, 3), "scene_hz": round(1 / scene_period, 3)}),
@@ -103,7 +105,7 @@ class Recording:
     def due(self, t: float) -> bool:
         """Whether a Snapshot at simulated time t (s) would be sampled (saves taking it otherwise)."""
         return (self._last_state is None or t < self._last_state or t - self._last_state >= self.state_period - 1e-9
-                or t - self._last_scene >= self.scene_period - 1e-9)
+                or self._last_scene is None or t - self._last_scene >= self.scene_period - 1e-9)
 
     def add(self, s: Snapshot, log_time: int | None = None, trial_state: dict | None = None) -> bool:
         """Record `s` if a sample is due (decimation). log_time in ns (default: the simulated

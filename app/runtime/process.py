@@ -37,6 +37,7 @@ from typing import Any, Callable, Iterator
 from sim.world import Snapshot, World
 
 from app.runtime.loop import LoopStats, Published, SimulationLoop, raise_priority
+from app.runtime.sample_ring import SampleRing
 from app.runtime.shared_snapshot import SharedSnapshot
 
 _FORK = multiprocessing.get_context("fork")
@@ -76,6 +77,7 @@ class SimulationProcess:
         # the finest spacing (s of wall clock) between published snapshots that a reader needs now
         # (read by the loop of every process forked from here: app/runtime/loop.py, idle batches)
         self._granularity = _FORK.RawValue("d", math.inf)
+        self.wrenches = SampleRing()  # every step's F_ext (a 1 kHz subscriber's source)
         self._needed: Counter[float] = Counter()
         self._needed_lock = threading.Lock()
 
@@ -90,7 +92,7 @@ class SimulationProcess:
     def _spawn(self) -> None:
         parent_end, child_end = _FORK.Pipe()
         process = _FORK.Process(target=_child_main, args=(self.world, self.realtime, self._shared, child_end, parent_end,
-                                                          self._granularity),
+                                                          self._granularity, self.wrenches),
                                 name="hri-lab-sim", daemon=True)
         process.start()
         child_end.close()
@@ -243,7 +245,7 @@ def _close_inherited_sockets(keep: int) -> None:
 
 
 def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Connection, parent_end: Connection,
-                granularity) -> None:
+                granularity, wrenches: SampleRing) -> None:
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
     the supervisor is gone: the pipe ends)."""
     parent_end.close()
@@ -263,7 +265,11 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
         with send_lock:
             conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 
-    loop = SimulationLoop(world, shared.write, reply, realtime=realtime, granularity=granularity)
+    def publish(published: Published) -> None:
+        shared.write(published)
+        wrenches.append(published.snapshot.time, published.snapshot.wrench_ee)
+
+    loop = SimulationLoop(world, publish, reply, realtime=realtime, granularity=granularity)
 
     def receive() -> None:
         while True:

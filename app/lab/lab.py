@@ -43,6 +43,11 @@ class Lab:
         """The latest published state of the world."""
         return self.runtime.snapshot()
 
+    def wrench_samples(self, seen: int) -> tuple[Any, int, int]:
+        """Every step's (time, F_ext) after the first `seen` samples: (rows, new count, lost);
+        app/runtime/sample_ring.py."""
+        return self.runtime.wrenches.since(seen)
+
     def needs(self, period: float) -> ContextManager[None]:
         """While the block runs, a reader of snapshots needs a fresh one every `period` s (an idle
         loop wakes that often; app/runtime/loop.py)."""

@@ -1,6 +1,7 @@
 """The Lab: the server's one simulation (in its own process, app/runtime), its parameters and its log."""
 import time
 from collections import deque
+from concurrent.futures import Future
 from typing import Any, Callable, TypeVar
 
 from sim.controllers.interface import Controller
@@ -38,6 +39,11 @@ class Lab:
         """Run fn(world, *args) in the simulation between two steps and return its result; fn is a
         function of app/lab/commands.py (sent by name)."""
         return self.runtime.call(fn, *args, timeout=timeout)
+
+    def submit(self, fn: Callable[..., T], *args: Any) -> Future:
+        """Send fn(world, *args) to the simulation without waiting (a stream of commands, e.g. a
+        node's Twists); the future holds its result or its exception. fn as for `call`."""
+        return self.runtime.submit(fn, *args)
 
     def snapshot(self) -> Snapshot:
         """The latest published state of the world."""

@@ -28,7 +28,7 @@ from typing import Any
 from pydantic import ConfigDict, ValidationError
 
 from app.lab import commands as cmd
-from app.ros.messages import Bool, Empty, RosMessage, String
+from app.ros.messages import Bool, Empty, RosMessage, String, validation_reason
 from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
 
 NODE_SERVICE_TIMEOUT = 2.0  # s a node has to answer a call
@@ -67,7 +67,7 @@ def normalise_type(name: str) -> str:
 
 @dataclass
 class Provider:
-    session: Any  # app.rosbridge.session.Session: has `name`, `loop` and `async send(dict)`
+    session: Any  # a rosbridge session (app/rosbridge/session.py): has `name`, `loop` and `async send(dict)`
     type: str
 
 
@@ -214,7 +214,7 @@ class NodeServices:
         try:
             return service.response.model_validate(values if values is not None else {})
         except ValidationError as exc:
-            where = "; ".join(f"{'.'.join(str(x) for x in e['loc']) or 'response'}: {e['msg']}" for e in exc.errors())
+            where = validation_reason(exc, "response")
             raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
 
     def _effect(self, name: str, request: RosMessage) -> None:

@@ -11,6 +11,7 @@ from sim.world import Snapshot, World, WorldConfig
 
 from app.lab.params import LAB_PARAMETERS
 from app.lab.recorder import DEFAULT_DIR, LiveRecorder
+from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.runtime.process import SimulationProcess
 
@@ -22,7 +23,8 @@ class Lab:
         self.runtime = SimulationProcess(World(config or WorldConfig(), controller or SPController()), realtime=realtime)
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
-        self.params = ParameterServer(LAB_PARAMETERS, self)
+        self.params = ParameterServer(LAB_PARAMETERS, self)  # the declared ROS 2 node parameters
+        self.param_tree = ParameterTree()  # ROS 1's parameter server: any name (rosapi, rospy)
         self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
         self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
         self.recorder: LiveRecorder | None = None  # the live recording (app/lab/recorder.py), one at a time

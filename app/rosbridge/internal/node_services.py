@@ -208,12 +208,16 @@ class NodeServices:
         return True
 
     def _response(self, name: str, ok: bool, values: Any) -> RosMessage:
+        """The node's answer as the service's response. As rosbridge_suite's service_response does
+        (what roslibpy's and roslibjs' servers were tested against), `result: false` with values
+        that are a response still delivers them: the call succeeds with those values. Values that
+        are no response make a failed call: with `result: false`, the values are its reason."""
         service = self.registry.get(name)
-        if not ok:
-            raise ServiceFailure(f"service {name} failed in its node: {values}")
         try:
             return service.response.model_validate(values if values is not None else {})
         except ValidationError as exc:
+            if not ok:
+                raise ServiceFailure(f"service {name} failed in its node: {values}") from None
             where = validation_reason(exc, "response")
             raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from app.ros import rosout
 from app.ros.messages import RosType
 from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
@@ -233,7 +234,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/node_details":
         node = str(args.get("node", ""))
         if node == LAB_NODE:
-            return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS],
+            return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
                     "services": [s.name for s in bridge.services if bridge.nodes.provided_by(s.name) is None]}
         other = next((s for s in bridge.sessions if s.name == node), None)
         if other is None:

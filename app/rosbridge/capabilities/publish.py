@@ -1,5 +1,6 @@
 """publish: a node's message to the other subscribers of its topic; a geometry_msgs/Twist on the
-command topic drives the robot (commands.external_twist, through the lab's one door)."""
+command topic drives the robot (commands.external_twist, through the lab's one door); a log line
+on /rosout joins the lab's log (app/ros/rosout.py)."""
 from __future__ import annotations
 
 import asyncio
@@ -8,6 +9,7 @@ import math
 from typing import Any
 
 from app.lab import commands as cmd
+from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
@@ -24,6 +26,15 @@ async def publish(session: Any, message: dict, id_: Any) -> None:
         if commands is None:
             commands = session.state["commands"] = Commands(session)
         commands.offer(twist_values(msg))
+        return
+    if topic == rosout.TOPIC:
+        if topic not in session.publishing:
+            raise BadFrame(f"publish: advertise {topic} first (op advertise with type {rosout.TYPE})")
+        try:
+            line = rosout.from_message(msg, session.state["rosout_type"], session.name)
+        except rosout.BadLogMessage as bad:
+            raise BadFrame(f"publish {topic}: {bad}") from None
+        session.lab.rosout.publish(line)
         return
     if topic in bridge.topics:
         raise BadFrame(f"publish: topic {topic} is published by the lab")

@@ -1,12 +1,14 @@
 """subscribe / unsubscribe: throttle_rate (ms) and queue_length; one stream per topic and client, at
 the lowest throttle and longest queue of its subscriptions, as rosbridge does. The lab's topics
 are sampled from its snapshot (newest first; what a slow client cannot take is dropped, the
-simulation never waits); node topics are relayed from their publishers."""
+simulation never waits); node topics are relayed from their publishers; /rosout carries each
+log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
 from __future__ import annotations
 
 import asyncio
 from typing import Any
 
+from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
 from app.rosbridge.internal.state import NodeTopic
@@ -30,6 +32,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
     known = bridge.topic_types().get(topic)
     if known is None and not type_name:
         raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
+    if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
+        known = normalise_type(type_name)  # a ROS 1 client reads /rosout as rosgraph_msgs/Log
     if known is not None and type_name and normalise_type(type_name) != known:
         raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
     stream = session.streams.get(topic)
@@ -39,7 +43,11 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
         stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
         stream.configure()
         stream.tasks.append(asyncio.ensure_future(stream.deliver()))
-        if lab_topic is not None:
+        if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
+            loop = asyncio.get_running_loop()
+            stream.on_stop.append(session.lab.rosout.listen(
+                lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))))
+        elif lab_topic is not None:
             stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic)))
         else:
             entry = bridge.node_topics.setdefault(topic, NodeTopic(normalise_type(type_name or known)))

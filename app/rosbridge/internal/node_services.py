@@ -98,13 +98,30 @@ class NodeServices:
             return own(lab, request)
 
         note = " Left to the students: a node provides it." if own is None else ""
-        return Service(name, service.type, service.request, service.response, handler, service.description + note)
+        return Service(name, service.type, service.request, service.response, self._logged(name, handler),
+                       service.description + note)
 
     def _handler(self, name: str):
         def handler(lab, request: RosMessage) -> RosMessage:
             return self.call(name, request)
 
-        return handler
+        return self._logged(name, handler)
+
+    def _logged(self, name: str, handler):
+        """The handler, its calls on /rosout: answered (DEBUG, who answered), failed (ERROR, why)."""
+
+        def logged(lab, request: RosMessage) -> RosMessage:
+            provider = self.providers.get(name)
+            by = f"node {provider.session.name}" if provider is not None else "the lab"
+            try:
+                response = handler(lab, request)
+            except Exception as exc:
+                lab.rosout.log("service", f"call of {name} failed ({by}): {exc}", "ERROR")
+                raise
+            lab.rosout.log("service", f"{name} answered by {by}", "DEBUG")
+            return response
+
+        return logged
 
     def advertise(self, name: str, type_name: str, session: Any) -> None:
         """A node provides `name`; raises ServiceFailure with the reason it cannot."""
@@ -190,10 +207,17 @@ class NodeServices:
 
     async def call_async(self, name: str, request: RosMessage) -> RosMessage:
         """The same from the server's event loop (a node calling another node's service)."""
-        with self._calling(name, request) as (provider, message, future):
-            await provider.session.send(message)
-            ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
-        response = self._response(name, ok, values)
+        by = "a node"
+        try:
+            with self._calling(name, request) as (provider, message, future):
+                by = f"node {provider.session.name}"
+                await provider.session.send(message)
+                ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
+            response = self._response(name, ok, values)
+        except Exception as exc:
+            self.lab.rosout.log("service", f"call of {name} failed ({by}): {exc}", "ERROR")
+            raise
+        self.lab.rosout.log("service", f"{name} answered by {by}", "DEBUG")
         await asyncio.to_thread(self._effect, name, request)
         return response
 

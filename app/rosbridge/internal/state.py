@@ -7,6 +7,7 @@ import threading
 from typing import Any
 
 from app.lab.topics import TOPICS, franka_state
+from app.ros import rosout
 from app.rosbridge.internal.node_services import NodeServices
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
@@ -43,6 +44,7 @@ class Bridge:
 
     def topic_types(self) -> dict[str, str]:
         types = {t.name: t.type for t in TOPICS}
+        types[rosout.TOPIC] = rosout.TYPE
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import asyncio
 import math
 from collections import deque
-from typing import Any
+from typing import Any, Callable
 
 
 class Stream:
@@ -22,6 +22,7 @@ class Stream:
         self.ready = asyncio.Event()
         self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
         self.tasks: list[asyncio.Task] = []
+        self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
 
     @property
     def period(self) -> float:
@@ -55,3 +56,6 @@ class Stream:
     def stop(self) -> None:
         for task in self.tasks:
             task.cancel()
+        for stop in self.on_stop:
+            stop()
+        self.on_stop.clear()

@@ -129,8 +129,7 @@ def test_rosout_listed_and_carries_nodes_lines_in_both_types(ros, lab):
         assert httpx.get(f"{lab.url}/log", params={"level": "LOUD"}).status_code == 422
         talker.unadvertise()
     finally:
-        other.close()
-        other.terminate()
+        other.close()  # (terminate() would stop the event loop roslibpy's clients share)
 
 
 def other_name(ros, other):
@@ -170,3 +169,49 @@ def test_topic_echo_rosout_cli(lab):
         echo.wait()
         echo.stdout.close()
         echo.stderr.close()
+
+
+# --- /tf, /tf_static, /republish_tfs -------------------------------------------------------------
+def test_tf_client_reads_frames_through_republish_tfs(ros, lab):
+    """roslibpy's TFClient (unchanged): identity for the fixed frame, the flange where franka_states has it."""
+    from roslibpy.tf import TFClient
+
+    client = TFClient(ros, fixed_frame="world")
+    got = {}
+    done = {name: threading.Event() for name in ("world", "panda_link8")}
+
+    def keep(name):
+        def callback(transform):
+            got[name] = transform
+            done[name].set()
+
+        return callback
+
+    client.subscribe(frame_id="/world", callback=keep("world"))
+    client.subscribe(frame_id="panda_link8", callback=keep("panda_link8"))
+    assert all(event.wait(30) for event in done.values())
+    assert got["world"] == {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}
+    o_t_ee = httpx.get(f"{lab.url}/topics/franka_state_controller/franka_states").json()["O_T_EE"]  # column-major 4x4
+    flange = got["panda_link8"]["translation"]
+    assert [flange["x"], flange["y"], flange["z"]] == pytest.approx(o_t_ee[12:15], abs=1e-6)  # the robot is still
+    with pytest.raises(roslibpy.core.ServiceException, match="frame 'nowhere' does not exist"):
+        roslibpy.Service(ros, "/republish_tfs", "tf2_web_republisher/RepublishTFs").call(
+            roslibpy.ServiceRequest({"source_frames": ["nowhere"], "target_frame": "world", "rate": 10.0}), timeout=30)
+
+
+def test_tf_and_tf_static_topics(ros, lab):
+    static, moving = Inbox(ros, "/tf_static", "tf2_msgs/TFMessage"), Inbox(ros, "/tf", "tf2_msgs/TFMessage")
+    message = static.wait(lambda m: True)
+    edges = {(t["header"]["frame_id"], t["child_frame_id"]): t["transform"] for t in message["transforms"]}
+    assert edges[("panda_link8", "plate")]["translation"] == {"x": 0.0, "y": 0.0, "z": 0.02}  # plate_offset
+    assert ("world", "panda_link0") in edges and ("panda_hand", "panda_leftfinger") in edges
+    tf_message = moving.wait(lambda m: True)
+    children = {t["child_frame_id"]: t["header"]["frame_id"] for t in tf_message["transforms"]}
+    assert children == {**{f"panda_link{i}": f"panda_link{i - 1}" for i in range(1, 8)}, "box": "panda_link0",
+                        "palm": "panda_link0"}
+    wait_for(lambda: len(moving.messages) >= 3)  # /tf goes on; /tf_static (latched) was sent once
+    assert len(static.messages) == 1
+    static.topic.unsubscribe()
+    moving.topic.unsubscribe()
+    assert {"/tf", "/tf_static"} <= set(ros.get_topics())
+    assert "/republish_tfs" in ros.get_services()

@@ -70,6 +70,7 @@ class Session:
         self.closed = True
         self.bridge.sessions.remove(self)
         self.bridge.nodes.drop(self)
+        self.bridge.node_actions.drop(self)
         for stream in self.streams.values():
             stream.stop()
             self.bridge.leave(stream.topic, subscription=stream)

@@ -7,12 +7,13 @@ from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Query, WebSocket, WebSocketDisconnect
 from fastapi.responses import JSONResponse
+from pydantic import ValidationError
 
 from app.api.deps import ActionsDep
 from app.api.topics import client_gone
 from app.api.typed_routes import with_body
 from app.ros.actions import TERMINAL, Action, ActionServer, GoalHandle, GoalStatus
-from app.ros.messages import INT64_MAX, BadArguments, RosMessage, message_from_args
+from app.ros.messages import INT64_MAX, RosMessage
 from app.ros.names import absolute
 
 
@@ -46,12 +47,11 @@ def router(actions: list[Action]) -> APIRouter:
         action = server.get(name)
         if action is None:
             return JSONResponse({"detail": f"action '{absolute(name)}' does not exist"}, status_code=404)
-        if body is not None and not isinstance(body, dict):
-            return JSONResponse({"detail": "the goal is a JSON object of its fields"}, status_code=422)
         try:
-            goal = message_from_args(action.goal, body, "goal")
-        except BadArguments as bad:
-            return JSONResponse({"detail": str(bad)}, status_code=422)
+            goal = action.goal.model_validate(body if body is not None else {})
+        except ValidationError as exc:  # FastAPI's shape: a list naming each field
+            errors = [{"type": e["type"], "loc": ["body", *e["loc"]], "msg": e["msg"]} for e in exc.errors()]
+            return JSONResponse({"detail": errors}, status_code=422)
         return _accept(server, action, goal)
 
     @r.get("/actions/{name}", summary="Type and .action definition of an action")

@@ -193,6 +193,13 @@ PARAM_SERVICES = {"/rosapi/get_param": _get_param, "/rosapi/set_param": _set_par
 _UNSET = object()
 
 
+def _samples(snapshot) -> dict[str, tuple[str, dict]]:
+    """topic -> (type, a message of it): the lab's topics from the snapshot, /rosout a line."""
+    samples = {t.name: (t.type, t.build(snapshot)) for t in TOPICS}
+    samples[rosout.TOPIC] = (rosout.TYPE, rosout.LogLine(0.0, "INFO", "", "").message())
+    return samples
+
+
 def call(bridge, session, name: str, args: dict) -> dict:
     """Answer a rosapi service (runs in a worker thread: parameters ask the simulation)."""
     lab = bridge.lab
@@ -222,18 +229,17 @@ def call(bridge, session, name: str, args: dict) -> dict:
         return {"typedefs": model_typedefs(f"{wanted}_{part.capitalize()}", getattr(service, part))}
     if name == "/rosapi/message_details":
         wanted = str(args.get("type", ""))
-        snapshot = lab.snapshot()
-        topic = next((t for t in TOPICS if t.type == wanted), None)
-        if topic is not None:
-            return {"typedefs": message_typedefs(wanted, topic.build(snapshot))}
-        for typedefs in (message_typedefs(t.type, t.build(snapshot)) for t in TOPICS):
+        samples = _samples(lab.snapshot())
+        sample = next((m for t, m in samples.values() if t == wanted), None)
+        if sample is not None:
+            return {"typedefs": message_typedefs(wanted, sample)}
+        for typedefs in (message_typedefs(t, m) for t, m in samples.values()):
             nested = next((d for d in typedefs if d["type"] == wanted), None)
             if nested is not None:
                 return {"typedefs": [nested]}
         return {"typedefs": []}
     if name == "/rosapi/topics_and_raw_types":
-        snapshot = lab.snapshot()
-        texts = {t.name: full_text(message_typedefs(t.type, t.build(snapshot))) for t in TOPICS}
+        texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(lab.snapshot()).items()}
         topics = bridge.topic_types()
         return {"topics": list(topics), "types": list(topics.values()),
                 "typedefs_full_text": [texts.get(t, "") for t in topics]}

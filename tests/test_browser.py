@@ -202,3 +202,39 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, page):
     page.evaluate("document.querySelector('#ros').scrollTop = 0")
     page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
     assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000
+
+
+def test_console_shows_rosout_filtered_by_node_and_level(page, server):
+    """The console tab: /rosout lines as they come, filtered by node and level."""
+    page.locator("nav button[data-tab=console]").click()
+    page.locator("#console-level").select_option("DEBUG")
+    assert httpx.post(f"{server}/services/add_two_ints", json={"a": 20, "b": 22}, timeout=30).json()["sum"] == 42
+    wait_text(page, "#console-lines", "/add_two_ints answered by the lab")
+    page.locator("#console-level").select_option("INFO")  # the service's DEBUG lines are filtered out
+    assert "/add_two_ints answered" not in text_of(page, "#console-lines")
+    page.locator("#console-level").select_option("DEBUG")
+    page.wait_for_function("() => [...document.querySelectorAll('#console-node option')].some(o => o.value === 'service')")
+    page.locator("#console-node").select_option("service")
+    rows = page.locator("#console-lines tbody tr")
+    assert rows.count() > 0
+    assert all(node == "service" for node in rows.locator("td:nth-child(3)").all_inner_texts())
+
+
+def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
+    """An action a rosbridge client provides shows on the actions tab while it is provided; a goal
+    typed as JSON (its type is the student's own) runs to its result; it goes with its node."""
+    from tests.test_rosbridge_ros_system import CountingServer
+
+    node = CountingServer(int(server.rsplit(":", 1)[1]))
+    try:
+        page.locator("nav button[data-tab=actions]").click()
+        counting = page.locator(".action[data-name='/counting']")
+        counting.wait_for()
+        counting.locator("input[name=json]").fill('{"target": 2}')
+        counting.locator("button[type=submit]").click()
+        wait_text(page, ".action[data-name='/counting'] .goal", "succeeded")
+        assert "current=2" in text_of(page, ".action[data-name='/counting'] .goal")
+        assert '"final": 2' in text_of(page, ".action[data-name='/counting'] .goal") or "final: 2" in text_of(page, ".action[data-name='/counting'] .goal")
+    finally:
+        node.close()
+    counting.wait_for(state="detached")

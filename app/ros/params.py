@@ -103,12 +103,17 @@ class ParameterServer:
         return (self.remote is not None and all(n != node for n, _ in self.declarations)
                 and node in self.remote.nodes())
 
+    def _remote(self) -> "RemoteParameters":
+        """The nodes' parameters (set whenever remote_node() said yes)."""
+        assert self.remote is not None
+        return self.remote
+
     def has(self, node: str, name: str) -> bool:
         if (node_name(node), name) in self.declarations:
             return True
         if self.remote_node(node):
             try:
-                return name in self.remote.names(node_name(node))
+                return name in self._remote().names(node_name(node))
             except ParameterRefused:
                 return False
         return False
@@ -126,7 +131,7 @@ class ParameterServer:
         if param is not None:
             return param.describe()
         if self.remote_node(node):
-            return self.remote.describe(node_name(node), name)
+            return self._remote().describe(node_name(node), name)
         raise ParameterRefused("Parameter not set.", 404)
 
     def declaration(self, node: str, name: str) -> Parameter:
@@ -138,7 +143,7 @@ class ParameterServer:
     def get(self, node: str, name: str) -> Any:
         param = self.declarations.get((node_name(node), name))
         if param is None and self.remote_node(node):
-            value = self.remote.get(node_name(node), [name])[0]
+            value = self._remote().get(node_name(node), [name])[0]
             if value is None:
                 raise ParameterRefused("Parameter not set.", 404)
             return value
@@ -152,7 +157,7 @@ class ParameterServer:
         """Set or raise ParameterRefused with rclcpp's reason (a node's: its own reason). force: skip
         read-only (start-up files)."""
         if (node_name(node), name) not in self.declarations and self.remote_node(node):
-            self.remote.set(node_name(node), name, value)
+            self._remote().set(node_name(node), name, value)
             return
         param, value = self.validate(node, name, value, force)
         if param.apply is not None:
@@ -188,7 +193,7 @@ class ParameterServer:
             for node in self.remote.nodes():
                 if node not in declared_nodes:
                     try:
-                        out += [(node, name) for name in self.remote.names(node)]
+                        out += [(node, name) for name in self._remote().names(node)]
                     except ParameterRefused:
                         continue
         return out
@@ -203,8 +208,8 @@ class ParameterServer:
                 if node in declared_nodes:
                     continue
                 try:
-                    names = self.remote.names(node)
-                    values = self.remote.get(node, names) if names else []
+                    names = self._remote().names(node)
+                    values = self._remote().get(node, names) if names else []
                 except ParameterRefused:
                     continue
                 out += [(Parameter(node, name, type_name(value), None, ""), value) for name, value in zip(names, values)]  # type: ignore[arg-type]

@@ -59,11 +59,11 @@ def _stamp(stamp: Any) -> float:
     """builtin_interfaces/Time (sec, nanosec) or ROS 1's (secs, nsecs) -> s; absent: now."""
     if not isinstance(stamp, dict) or not stamp:
         return time.time()
-    sec, nanosec = stamp.get("sec", stamp.get("secs", 0)), stamp.get("nanosec", stamp.get("nsecs", 0))
-    for value in (sec, nanosec):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise BadLogMessage("field 'stamp' must hold numbers sec and nanosec")
-    return float(sec) + float(nanosec) * 1e-9
+    parts = [stamp.get("sec", stamp.get("secs", 0)), stamp.get("nanosec", stamp.get("nsecs", 0))]
+    numbers = [float(v) for v in parts if not isinstance(v, bool) and isinstance(v, (int, float))]
+    if len(numbers) != 2 or not all(math.isfinite(v) for v in numbers):
+        raise BadLogMessage("field 'stamp' must hold numbers sec and nanosec")
+    return numbers[0] + numbers[1] * 1e-9
 
 
 def from_message(msg: dict, type_name: str, node: str) -> LogLine:

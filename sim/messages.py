@@ -10,9 +10,16 @@ import pinocchio as pin
 from sim.robot.panda import ARM_JOINTS
 from sim.world import Snapshot
 
+F_EXT = "/franka_state_controller/F_ext"
+
+
 def header(s: Snapshot, frame_id: str) -> dict:
-    sec = int(s.time)
-    return {"stamp": {"sec": sec, "nanosec": int(round((s.time - sec) * 1e9))}, "frame_id": frame_id}
+    return header_at(s.time, frame_id)
+
+
+def header_at(time: float, frame_id: str) -> dict:
+    sec = int(time)
+    return {"stamp": {"sec": sec, "nanosec": int(round((time - sec) * 1e9))}, "frame_id": frame_id}
 
 
 def vector3(v) -> dict:
@@ -25,7 +32,12 @@ def pose(position, rotation) -> dict:
 
 
 def wrench_stamped(s: Snapshot) -> dict:
-    return {"header": header(s, "panda_K"), "wrench": {"force": vector3(s.wrench_ee[:3]), "torque": vector3(s.wrench_ee[3:])}}
+    return wrench_stamped_at(s.time, s.wrench_ee)
+
+
+def wrench_stamped_at(time: float, wrench_ee) -> dict:
+    """F_ext at `time` (s): franka_ros's K_F_ext_hat_K, in the EE frame panda_K."""
+    return {"header": header_at(time, "panda_K"), "wrench": {"force": vector3(wrench_ee[:3]), "torque": vector3(wrench_ee[3:])}}
 
 
 def joint_state(s: Snapshot) -> dict:
@@ -89,7 +101,7 @@ class Topic:
 
 
 TOPICS = [
-    Topic("/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", wrench_stamped),
+    Topic(F_EXT, "geometry_msgs/WrenchStamped", wrench_stamped),
     Topic("/joint_states", "sensor_msgs/JointState", joint_state),
     Topic("/cartesian_velocity_controller/command", "geometry_msgs/Twist", twist),
     Topic("/object_pose", "geometry_msgs/PoseStamped", object_pose),

@@ -131,6 +131,26 @@ def test_subscribe_at_the_stated_rate(ros):
     assert np.all(gaps >= 0.0195)  # never faster than throttle_rate (20 ms of simulation time)
 
 
+def test_f_ext_at_throttle_0_is_every_step_in_order(ros):
+    """A 1 kHz subscriber (a lifting node's F_ext) gets every step's sample, one control period
+    (1 ms of simulation time) apart, however late the server's thread gets the CPU."""
+    stamps = []
+    done = threading.Event()
+
+    def on_message(message):
+        stamps.append(message["header"]["stamp"]["sec"] * 1_000_000_000 + message["header"]["stamp"]["nanosec"])
+        if len(stamps) >= 300:
+            done.set()
+
+    topic = roslibpy.Topic(ros, "/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", throttle_rate=0,
+                           queue_length=1000)
+    topic.subscribe(on_message)
+    assert done.wait(60)
+    topic.unsubscribe()
+    gaps_ns = np.diff(stamps[:300])
+    assert np.all(np.abs(gaps_ns - 1_000_000) <= 1000), sorted(set(gaps_ns.tolist()))[:5]
+
+
 def test_published_commands_drive_the_robot_until_they_stop(ros, lab):
     command = roslibpy.Topic(ros, "/cartesian_velocity_controller/command", "geometry_msgs/Twist")
     command.advertise()

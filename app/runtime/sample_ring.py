@@ -15,7 +15,7 @@ import mmap
 
 import numpy as np
 
-CAPACITY = 1024  # samples: about 1 s at 1 kHz
+CAPACITY = 4096  # samples: about 4 s at 1 kHz
 _FIELDS = 7  # time (s), then the wrench (N, Nm)
 
 

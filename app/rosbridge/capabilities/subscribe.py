@@ -6,7 +6,10 @@ log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
 from __future__ import annotations
 
 import asyncio
+from contextlib import ExitStack
 from typing import Any
+
+from sim.messages import F_EXT, wrench_stamped_at
 
 from app.lab.topics import LATCHED
 from app.ros import rosout
@@ -48,6 +51,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
             loop = asyncio.get_running_loop()
             stream.on_stop.append(session.lab.rosout.listen(
                 lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))))
+        elif topic == F_EXT:  # every step's sample, not only the newest when we look
+            stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
         elif lab_topic is not None:
             stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic,
                                                              bridge.min_period_s.get(topic, 0.0))))
@@ -65,19 +70,62 @@ async def sample(lab: Any, stream: Stream, topic, min_period_s: float = 0.0) -> 
     behind, it skips, it never queues up. A latched topic is sent again only when it changed."""
     loop = asyncio.get_running_loop()
     due, last, sent = loop.time(), None, None
-    while True:
-        snapshot = lab.snapshot()
-        period = max(stream.period, min_period_s)
-        if last is None or snapshot.time - last >= period - 0.0005:
-            last = snapshot.time
-            message = topic.build(snapshot)
-            if topic.name not in LATCHED or message != sent:
-                stream.offer(message)
-            sent = message
-            due = max(due + period, loop.time())
-        else:  # early (the wall clock ran ahead of the simulation): wait for the rest
-            due = loop.time() + period - (snapshot.time - last)
-        await asyncio.sleep(due - loop.time())
+    with Need(lab) as need:
+        while True:
+            snapshot = lab.snapshot()
+            period = max(stream.period, min_period_s)
+            need.every(period)
+            if last is None or snapshot.time - last >= period - 0.0005:
+                last = snapshot.time
+                message = topic.build(snapshot)
+                if topic.name not in LATCHED or message != sent:
+                    stream.offer(message)
+                sent = message
+                due = max(due + period, loop.time())
+            else:  # early (the wall clock ran ahead of the simulation): wait for the rest
+                due = loop.time() + period - (snapshot.time - last)
+            await asyncio.sleep(due - loop.time())
+
+
+POLL_S = 0.001  # s between two reads of the F_ext ring (the control period)
+
+
+async def sample_every_step(lab: Any, stream: Stream) -> None:
+    """F_ext from the ring of every step's sample (app/runtime/sample_ring.py): each sample at least
+    throttle_rate of simulation time after the last one sent (0: every step), in order, however
+    late this thread got the CPU; what a slow client cannot take is dropped by its queue."""
+    _, seen, _ = lab.wrench_samples(0)  # from now on
+    last = None
+    with Need(lab) as need:
+        while True:
+            period = stream.period
+            need.every(period)
+            rows, seen, _ = lab.wrench_samples(seen)
+            for row in rows:
+                if last is None or row[0] - last >= period - 0.0005:
+                    last = row[0]
+                    stream.offer(wrench_stamped_at(float(row[0]), row[1:]))
+            await asyncio.sleep(POLL_S)
+
+
+class Need:
+    """How often this subscription needs a fresh snapshot (Lab.needs), kept to its current period."""
+
+    def __init__(self, lab: Any) -> None:
+        self.lab, self.period, self._held = lab, None, ExitStack()
+
+    def every(self, period: float) -> None:
+        if period != self.period:
+            self._held.close()
+            self._held = ExitStack()
+            self._held.enter_context(self.lab.needs(max(period, 0.001)))
+            self.period = period
+
+    def __enter__(self) -> Need:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self._held.close()
 
 
 async def unsubscribe(session: Any, message: dict, id_: Any) -> None:

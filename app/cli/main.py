@@ -88,6 +88,15 @@ def build_parser() -> argparse.ArgumentParser:
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
 
+    run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
+    run.add_argument("--url", default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
+                     help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
+    run.add_argument("--workspace", metavar="DIR", help="where the program's own interface packages are "
+                     "(PKG/srv/X.srv, PKG/msg/X.msg, PKG/action/X.action; default: its folder and parents)")
+    run.add_argument("program", metavar="FILE.py")
+    run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
+    run.set_defaults(func=_command("app.rosclient.run"))
+
     client_cli.add_parsers(sub)
     bag.add_parsers(sub)
     return parser

@@ -23,7 +23,8 @@ class Program:
                                      cwd=Path(__file__).parent.parent)
         self.lines: list[str] = []
         self._new: queue.Queue = queue.Queue()
-        threading.Thread(target=self._read, daemon=True).start()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
 
     def _read(self) -> None:
         for line in self.proc.stdout:
@@ -55,9 +56,7 @@ class Program:
 
     def wait(self, timeout: float = 60.0) -> int:
         code = self.proc.wait(timeout=timeout)
-        end = time.monotonic() + 10
-        while self._new.get(timeout=max(end - time.monotonic(), 0.01)) is not None:
-            pass
+        self._reader.join(timeout=10)  # the rest of its output
         return code
 
     def interrupt(self, timeout: float = 30.0) -> int:

@@ -1,0 +1,142 @@
+"""Students' rospy and rclpy programs (tests/ros_programs/) run unchanged with `hri-lab run` against a
+real lab (`serve --exercises`): their services answer HTTP and other programs, their clients call
+the lab's services and each other's, topics reach each other, rclpy parameters are served with
+the standard rcl_interfaces services, Ctrl+C ends spin, and bad programs get ROS's errors."""
+import httpx
+import pytest
+
+from app.cli.launch import running_server
+from tests.ros_running import run
+
+
+@pytest.fixture(scope="module")
+def lab():
+    with running_server("--view", "none", "--exercises") as server:
+        yield server
+
+
+def call(lab, name, body):
+    return httpx.post(f"{lab.url}/services/{name.strip('/')}", json=body, timeout=30)
+
+
+@pytest.mark.parametrize("api", ["rospy", "rclpy"])
+def test_add_two_ints_server_and_client(lab, api):
+    server = run(lab.url, f"add_two_ints_server_{api}.py")
+    try:
+        server.wait_for_line("Ready to add two ints.")
+        client = run(lab.url, f"add_two_ints_client_{api}.py", "20", "22")
+        assert client.wait() == 0, client.output
+        assert ("20 + 22 = 42" if api == "rospy" else "for 20 + 22 = 42") in client.output
+        assert call(lab, "add_two_ints", {"a": -5, "b": 2}).json() == {"sum": -3}  # HTTP, answered by the program
+        server.wait_for_line("-5" if api == "rospy" else "a: -5 b: 2")  # its log line: the program served it
+    finally:
+        assert server.interrupt() == 0, server.output  # Ctrl+C ends spin(), the program ends normally
+
+
+def test_a_workspace_srv_types_the_programs_services(lab):
+    server = run(lab.url, "multiply_divide_server_rclpy.py")
+    try:
+        server.wait_for_line("calculator ready")
+        assert call(lab, "multiply_three", {"a": 2, "b": 3, "c": 7}).json() == {"product": 42}
+        assert call(lab, "divide_ints", {"a": 7, "b": 2}).json() == {"result": 3.5, "message": "Division ok."}
+        assert call(lab, "divide_ints", {"a": 7, "b": 0}).json()["message"] == "Division by zero!"
+    finally:
+        assert server.interrupt() == 0
+    assert "calculator stopped by Ctrl+C" in server.output  # KeyboardInterrupt out of rclpy.spin, as in rclpy
+
+
+def test_a_call_to_a_missing_service_times_out_with_ros_exception(lab):
+    client = run(lab.url, "missing_service_client_rospy.py")
+    assert client.wait() != 0
+    assert "rospy.ROSException: timeout exceeded while waiting for service /add_three_ints" in client.output
+
+
+def test_a_wrong_request_field_is_an_error_naming_it(lab):
+    server = run(lab.url, "add_two_ints_server_rospy.py")
+    try:
+        server.wait_for_line("Ready to add two ints.")
+        client = run(lab.url, "bad_field_client_rospy.py")
+        assert client.wait() != 0
+        assert "TypeError: example_interfaces/AddTwoIntsRequest has no field 'c' (its fields: a, b)" in client.output
+    finally:
+        server.interrupt()
+
+
+def test_the_lifting_servers_answer_the_lab_and_apply_the_band(lab):
+    server = run(lab.url, "lifting_services_rospy.py")
+    try:
+        server.wait_for_line("lifting services ready")
+        answer = call(lab, "start_cooperative_lifting", {"force": 11.5}).json()
+        assert answer == {"message": "Cooperative lifting starts with 11.5 N"}
+        server.wait_for_line("band 11.5 .. 16.5 N")
+        state = httpx.get(f"{lab.url}/topics/lifting_state").json()
+        assert state["started"] and state["f_n_min"] == 11.5
+        stopped = call(lab, "stop_cooperative_lifting", {}).json()  # the handler returned a bare string
+        assert stopped == {"message": "Cooperative lifting stopped, f_n_min reset to 0 N"}
+    finally:
+        assert server.interrupt() == 0
+    assert "spin returned" in server.output
+
+
+def test_echo_with_a_keyword_field(lab):
+    server = run(lab.url, "echo_server_rclpy.py")
+    try:
+        server.wait_for_line("echo ready")
+        assert call(lab, "echo", {"in": "hello lab"}).json() == {"out": "hello lab"}
+    finally:
+        server.interrupt()
+
+
+def test_the_login_chain_publishes_subscribes_and_calls(lab):
+    programs = [run(lab.url, "login_server_rospy.py")]
+    try:
+        programs[0].wait_for_line("login server ready")
+        programs.append(run(lab.url, "login_checker_rospy.py", "_user:=ada"))
+        programs.append(run(lab.url, "magic_number_publisher_rospy.py"))
+        assert "Welcome, ada!" in programs[1].wait_for_line("magic 42: success=True")
+        programs[1].wait_for_line("success=False Login failed")
+    finally:
+        for program in programs:
+            program.interrupt()
+
+
+def test_rclpy_parameters_are_served_with_rclcpp_refusals(lab):
+    node = run(lab.url, "keys_to_twist_rclpy.py", "wd", "--ros-args", "-p", "linear_speed:=0.25")
+    try:
+        node.wait_for_line("key w: linear.x=0.25")  # --ros-args -p overrides the declared default
+        node.wait_for_line("key d: linear.x=0 angular.z=-0.5")
+
+        def set_parameter(name, kind, value):
+            field = {3: "double_value", 4: "string_value", 2: "integer_value"}[kind]
+            body = {"parameters": [{"name": name, "value": {"type": kind, field: value}}]}
+            return call(lab, "keytwist_param/set_parameters", body).json()["results"][0]
+
+        assert set_parameter("linear_speed", 3, 1.5) == {"successful": True, "reason": ""}
+        node.wait_for_line("key w: linear.x=1.5")  # the next get_parameter sees it
+        assert set_parameter("linear_speed", 3, 9.0) == {"successful": False,
+                                                          "reason": "linear_speed above 5 m/s is unsafe"}
+        assert set_parameter("linear_speed", 4, "fast")["reason"] == (
+            "Wrong parameter type, parameter {linear_speed} is of type {double}, setting it to {string} is not allowed.")
+        assert set_parameter("angular_speed", 3, 2.5)["reason"] == (
+            "Parameter {angular_speed} doesn't comply with floating point range.")
+        assert set_parameter("top_speed", 3, 1.0)["reason"] == (
+            "parameter 'top_speed' cannot be set because it was not declared")
+        listed = call(lab, "keytwist_param/list_parameters", {"prefixes": [], "depth": 0}).json()
+        assert listed["result"]["names"] == ["angular_speed", "linear_speed"]
+        values = call(lab, "keytwist_param/get_parameters", {"names": ["linear_speed"]}).json()["values"]
+        assert values[0]["type"] == 3 and values[0]["double_value"] == 1.5
+        described = call(lab, "keytwist_param/describe_parameters", {"names": ["angular_speed"]}).json()
+        assert described["descriptors"][0]["floating_point_range"][0]["to_value"] == 2.0
+    finally:
+        node.interrupt()
+
+
+def test_the_lab_going_away_ends_the_program_with_a_message():
+    with running_server("--view", "none") as own_lab:
+        program = run(own_lab.url, "add_two_ints_server_rospy.py")
+        program.wait_for_line("Ready to add two ints.")
+    try:
+        assert program.wait() == 1
+    finally:
+        program.stop()
+    assert "[FATAL] lost the lab" in program.output

@@ -436,6 +436,41 @@ async function renderView() {
   } else embed();
 }
 
+// --- console: /rosout, filtered by node and level ---------------------------------------------
+const LOG_LEVELS = { 10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL" };
+const LOG_ORDER = ["DEBUG", "INFO", "WARN", "ERROR", "FATAL"];
+const CONSOLE_MAX = 500;  // lines kept on the page
+function renderConsole() {
+  const lines = [];  // {stamp, level, node, msg}
+  const nodes = new Set();
+  const body = byId("console-lines").querySelector("tbody");
+  const nodeSelect = byId("console-node"), levelSelect = byId("console-level");
+  const visible = (line) => (!nodeSelect.value || line.node === nodeSelect.value)
+    && LOG_ORDER.indexOf(line.level) >= LOG_ORDER.indexOf(levelSelect.value);
+  const row = (line) => $("tr", { class: `log-${line.level.toLowerCase()}` },
+    $("td", { text: new Date(line.stamp * 1000).toLocaleTimeString() }), $("td", { text: line.level }),
+    $("td", { text: line.node }), $("td", { text: line.msg }));
+  const redraw = () => body.replaceChildren(...lines.filter(visible).map(row));
+  const add = (line) => {
+    lines.push(line);
+    if (lines.length > CONSOLE_MAX) lines.shift();
+    if (!nodes.has(line.node)) { nodes.add(line.node); nodeSelect.append($("option", { text: line.node, value: line.node })); }
+    if (visible(line)) {
+      body.append(row(line));
+      while (body.children.length > CONSOLE_MAX) body.firstChild.remove();
+    }
+  };
+  nodeSelect.onchange = levelSelect.onchange = redraw;
+  byId("console-clear").onclick = () => { lines.length = 0; redraw(); };
+  api("GET", "/log").then(({ data }) => {
+    if (Array.isArray(data)) for (const line of data) add(line);
+    stream("/rosout", 1, (m) => {
+      const line = { stamp: m.stamp.sec + m.stamp.nanosec * 1e-9, level: LOG_LEVELS[m.level] || String(m.level), node: m.name, msg: m.msg };
+      add(line);
+    });
+  });
+}
+
 for (const button of document.querySelectorAll("nav button")) {
   button.addEventListener("click", () => {
     for (const b of document.querySelectorAll("nav button")) b.classList.toggle("active", b === button);
@@ -449,5 +484,6 @@ renderServices();
 renderParams();
 renderTopics();
 renderActions();
+renderConsole();
 pollSlow();
 setInterval(pollSlow, 2000);

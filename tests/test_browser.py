@@ -202,3 +202,19 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, page):
     page.evaluate("document.querySelector('#ros').scrollTop = 0")
     page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
     assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000
+
+
+def test_console_shows_rosout_filtered_by_node_and_level(page, server):
+    """The console tab: /rosout lines as they come, filtered by node and level."""
+    page.locator("nav button[data-tab=console]").click()
+    page.locator("#console-level").select_option("DEBUG")
+    assert httpx.post(f"{server}/services/add_two_ints", json={"a": 20, "b": 22}, timeout=30).json()["sum"] == 42
+    wait_text(page, "#console-lines", "/add_two_ints answered by the lab")
+    page.locator("#console-level").select_option("INFO")  # the service's DEBUG lines are filtered out
+    assert "/add_two_ints answered" not in text_of(page, "#console-lines")
+    page.locator("#console-level").select_option("DEBUG")
+    page.wait_for_function("() => [...document.querySelectorAll('#console-node option')].some(o => o.value === 'service')")
+    page.locator("#console-node").select_option("service")
+    rows = page.locator("#console-lines tbody tr")
+    assert rows.count() > 0
+    assert all(node == "service" for node in rows.locator("td:nth-child(3)").all_inner_texts())

@@ -6,7 +6,7 @@ streams) and the 3D view stay open, and the view's controls are turned off when 
 The token is compared as bytes in constant time (any header bytes are a 401, never a 500); wrong
 tokens from one client address are answered one at a time, each after a delay that doubles per
 failure (0.1 s up to 2 s), so guessing is slow. Cross-site requests are refused before this
-(app/api/security.py)."""
+(app/api/security.py). The token's rules and checks are app/tokens.py's."""
 from __future__ import annotations
 
 import asyncio
@@ -16,8 +16,8 @@ import json
 import socket
 import time
 
-TOKEN_ENV = "HRI_LAB_TOKEN"
-MIN_TOKEN_LENGTH = 16
+from app.tokens import presented_token
+
 MUTATING = {"POST", "PUT", "PATCH", "DELETE"}
 
 
@@ -32,29 +32,6 @@ def is_loopback(host: str) -> bool:
     except OSError:
         return False
     return bool(addresses) and all(ipaddress.ip_address(a.split("%")[0]).is_loopback for a in addresses)
-
-
-def token_problem(token: str) -> str | None:
-    """Why a token cannot protect a server (None: it can)."""
-    if len(token) < MIN_TOKEN_LENGTH:
-        return f"the token must have at least {MIN_TOKEN_LENGTH} characters (e.g. `openssl rand -hex 16`)"
-    return None
-
-
-def token_matches(presented: bytes | str, token: str) -> bool:
-    """The presented token equals the server's, compared as bytes in constant time."""
-    if isinstance(presented, str):
-        presented = presented.encode("utf-8", "surrogatepass")
-    return hmac.compare_digest(presented, token.encode("utf-8"))
-
-
-def presented_token(headers: list[tuple[bytes, bytes]]) -> bytes:
-    """The token a request carries, as the raw header bytes."""
-    values = dict(headers)
-    auth = values.get(b"authorization", b"")
-    if auth[:7].lower() == b"bearer ":
-        return auth[7:].strip()
-    return values.get(b"x-hri-lab-token", b"").strip()
 
 
 class Throttle:

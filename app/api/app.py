@@ -18,7 +18,8 @@ from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
 from app.api.docs import add_offline_docs
-from app.api.access import TokenMiddleware, token_problem
+from app.api.access import TokenMiddleware
+from app.tokens import token_problem
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
@@ -27,8 +28,9 @@ from app.lab.lab import Lab
 from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
 from app.ros.actions import ActionServer
-from app.rosbridge import bridge as rosbridge
-from app.rosbridge.nodes import NodeServices
+from app.rosbridge import server as rosbridge
+from app.rosbridge.internal.state import Bridge
+from app.rosbridge.internal.node_services import NodeServices
 from app.runtime.process import SimulationRestarting
 
 
@@ -102,7 +104,7 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
     app.include_router(teleop_api.router)
     app.include_router(robot_api.router)
     app.include_router(files_api.router)
-    app.state.bridge = rosbridge.Bridge(lab, nodes, app.state.actions, token)
+    app.state.bridge = Bridge(lab, nodes, app.state.actions, token)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
     document(app)

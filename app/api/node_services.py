@@ -12,7 +12,7 @@ from pydantic import ValidationError
 from app.api.deps import LabDep
 from app.ros.names import absolute
 from app.ros.services import ServiceFailure
-from app.rosbridge.nodes import NodeServices
+from app.rosbridge.internal.node_services import NodeServices
 
 
 def router(nodes: NodeServices) -> APIRouter:

@@ -1,10 +1,11 @@
 """The server itself: the page at /, /health, /log (rosout) and /view (where the 3D view is)."""
 from pathlib import Path
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, HTTPException, Request
 from fastapi.responses import FileResponse
 
 from app.api.deps import LabDep
+from app.ros.rosout import LEVELS
 
 STATIC = Path(__file__).resolve().parents[2] / "static"
 
@@ -46,6 +47,17 @@ def view_info(request: Request) -> dict:
     return {"url": view.url, "light": view.light}
 
 
-@router.get("/log", summary="Recent log lines of the services (rosout)")
-def log(lab: LabDep) -> list[dict]:
-    return list(lab.log)
+@router.get("/log", summary="Recent lines of /rosout: the lab's and every node's (rqt_console)",
+            description="Oldest first; `node` and `level` (DEBUG, INFO, WARN, ERROR, FATAL: that level and "
+                        "above) filter them, `after` keeps the lines stamped later (s).")
+def log(lab: LabDep, node: str | None = None, level: str | None = None, after: float | None = None) -> list[dict]:
+    if level is not None and level.upper() not in LEVELS:
+        raise HTTPException(422, f"level must be one of {', '.join(LEVELS)}")
+    lines = lab.rosout.recent()
+    if node:
+        lines = [line for line in lines if line.node.strip("/") == node.strip("/")]
+    if level:
+        lines = [line for line in lines if LEVELS[line.level] >= LEVELS[level.upper()]]
+    if after is not None:
+        lines = [line for line in lines if line.stamp > after]
+    return [line.as_dict() for line in lines]

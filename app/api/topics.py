@@ -3,16 +3,20 @@
 A stream (`/topics/{name}/stream?rate=HZ`) sends the newest message at most `rate` times a second.
 It only reads snapshots, so it never blocks the simulation; a client that reads slowly gets fewer,
 always fresh, messages (the ones it could not take are dropped). `rate` is 0.1 to 1000 Hz; a stream
-ends as soon as its client goes (it listens for the close while it waits)."""
+ends as soon as its client goes (it listens for the close while it waits). /rosout is a log, not a
+state: its stream sends every line as it comes (app/ros/rosout.py)."""
 import asyncio
+from collections import deque
 
 from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
 
 from app.api.deps import LabDep
+from app.ros import rosout
 from app.ros.names import absolute
 from sim.messages import Topic
 
 MIN_RATE_HZ, MAX_RATE_HZ = 0.1, 1000.0
+MAX_QUEUED = 1000  # /rosout lines waiting for a slow client
 
 
 def router(topics: list[Topic]) -> APIRouter:
@@ -21,10 +25,15 @@ def router(topics: list[Topic]) -> APIRouter:
 
     @r.get("/topics", summary="Topics with their types (ros2 topic list -t)")
     def list_topics() -> list[dict]:
-        return [{"name": t.name, "type": t.type} for t in topics]
+        return [{"name": t.name, "type": t.type} for t in topics] + [{"name": rosout.TOPIC, "type": rosout.TYPE}]
 
     @r.get("/topics/{name:path}", summary="Latest message of a topic (ros2 topic echo --once)")
     def latest(name: str, lab: LabDep) -> dict:
+        if absolute(name) == rosout.TOPIC:
+            lines = lab.rosout.recent()
+            if not lines:
+                raise HTTPException(404, f"no line on {rosout.TOPIC} yet")
+            return lines[-1].message()
         topic = by_name.get(absolute(name))
         if topic is None:
             raise HTTPException(404, f"topic '{absolute(name)}' does not exist")
@@ -33,6 +42,8 @@ def router(topics: list[Topic]) -> APIRouter:
     @r.websocket("/topics/{name:path}/stream")
     async def stream(websocket: WebSocket, name: str, lab: LabDep,
                      rate: float = Query(10.0, ge=MIN_RATE_HZ, le=MAX_RATE_HZ)) -> None:
+        if absolute(name) == rosout.TOPIC:
+            return await _log_stream(websocket, lab)
         topic = by_name.get(absolute(name))
         if topic is None:
             await websocket.close(code=1008, reason=f"topic '{absolute(name)}' does not exist")
@@ -65,3 +76,32 @@ async def client_gone(websocket: WebSocket) -> None:
         message = await websocket.receive()
         if message["type"] == "websocket.disconnect":
             return
+
+
+async def _log_stream(websocket: WebSocket, lab) -> None:
+    """/rosout: every line from now on, in order (a log is not sampled; `rate` does not apply); a
+    client that cannot keep up loses the oldest of MAX_QUEUED waiting lines."""
+    await websocket.accept()
+    loop = asyncio.get_running_loop()
+    queue: deque = deque(maxlen=MAX_QUEUED)
+    ready = asyncio.Event()
+
+    def offer(line) -> None:
+        queue.append(line)
+        ready.set()
+
+    stop = lab.rosout.listen(lambda line: loop.call_soon_threadsafe(offer, line))
+    gone = asyncio.ensure_future(client_gone(websocket))
+    try:
+        while not gone.done():
+            waiting = asyncio.ensure_future(ready.wait())
+            await asyncio.wait([gone, waiting], return_when=asyncio.FIRST_COMPLETED)
+            waiting.cancel()
+            ready.clear()
+            while queue:
+                await websocket.send_json(queue.popleft().message())
+    except (WebSocketDisconnect, RuntimeError):
+        return
+    finally:
+        stop()
+        gone.cancel()

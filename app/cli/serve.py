@@ -14,7 +14,8 @@ from pathlib import Path
 import uvicorn
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
-from app.api.access import TOKEN_ENV, is_loopback, token_problem
+from app.api.access import is_loopback
+from app.tokens import TOKEN_ENV, token_problem
 from app.api.app import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab

@@ -1,6 +1,5 @@
 """The Lab: the server's one simulation (in its own process, app/runtime), its parameters and its log."""
-import time
-from collections import deque
+from concurrent.futures import Future
 from typing import Any, Callable, TypeVar
 
 from sim.controllers.interface import Controller
@@ -8,9 +7,12 @@ from sim.controllers.sp import SPController
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot, World, WorldConfig
 
+from app.lab.events import LAB_NODE, LabEvents
 from app.lab.params import LAB_PARAMETERS
 from app.lab.recorder import DEFAULT_DIR, LiveRecorder
+from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
+from app.ros.rosout import Rosout
 from app.runtime.process import SimulationProcess
 
 T = TypeVar("T")
@@ -20,16 +22,21 @@ class Lab:
     def __init__(self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None) -> None:
         self.runtime = SimulationProcess(World(config or WorldConfig(), controller or SPController()), realtime=realtime)
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
-        self.log: deque[dict] = deque(maxlen=200)  # what the services print (rosout)
-        self.params = ParameterServer(LAB_PARAMETERS, self)
+        self.rosout = Rosout()  # /rosout: the lab's log lines and every node's
+        self.events = LabEvents(self)  # logs reflexes, trials and restarts as they happen
+        self.params = ParameterServer(LAB_PARAMETERS, self)  # the declared ROS 2 node parameters
+        self.param_tree = ParameterTree()  # ROS 1's parameter server: any name (rosapi, rospy)
         self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
         self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
         self.recorder: LiveRecorder | None = None  # the live recording (app/lab/recorder.py), one at a time
 
     def start(self) -> None:
         self.runtime.start()
+        self.info(LAB_NODE, "the simulation started")
+        self.events.start()
 
     def stop(self) -> None:
+        self.events.stop()
         if self.recorder is not None:  # a recording is finished (indexed) on shutdown
             self.recorder.stop()
         self.runtime.stop()
@@ -39,10 +46,15 @@ class Lab:
         function of app/lab/commands.py (sent by name)."""
         return self.runtime.call(fn, *args, timeout=timeout)
 
+    def submit(self, fn: Callable[..., T], *args: Any) -> Future:
+        """Send fn(world, *args) to the simulation without waiting (a stream of commands, e.g. a
+        node's Twists); the future holds its result or its exception. fn as for `call`."""
+        return self.runtime.submit(fn, *args)
+
     def snapshot(self) -> Snapshot:
         """The latest published state of the world."""
         return self.runtime.snapshot()
 
     def info(self, node: str, message: str) -> None:
-        """A log line (like rosout)."""
-        self.log.append({"stamp": time.time(), "node": node, "level": "INFO", "msg": message})
+        """One of the lab's log lines on /rosout (level INFO)."""
+        self.rosout.log(node, message)

@@ -6,7 +6,7 @@ fields are refused) whose fields are annotated with these types, e.g. `a: Int64`
 from dataclasses import dataclass
 from typing import Annotated
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
@@ -88,3 +88,24 @@ _ZEROS = {"float64": 0.0, "int64": 0, "int32": 0, "bool": False, "string": ""}
 
 class Empty(RosMessage):
     """A message with no field (an empty request or goal)."""
+
+
+class BadArguments(ValueError):
+    """Arguments that are not a message of the wanted type; the message names the fields."""
+
+
+def validation_reason(exc: ValidationError, what: str = "request") -> str:
+    """A pydantic ValidationError as one line naming each field: `a: Input should be ...`."""
+    return "; ".join(f"{'.'.join(str(x) for x in e['loc']) or what}: {e['msg']}" for e in exc.errors())
+
+
+def message_from_args(model: type[BaseModel], args, what: str = "request"):
+    """The message of `model` from a client's args: an object of its fields, a list of the fields in
+    order (rosbridge's positional args), or None (every field at its default). BadArguments names
+    each field that is wrong."""
+    if isinstance(args, list):
+        args = dict(zip([f.alias or n for n, f in model.model_fields.items()], args))
+    try:
+        return model.model_validate(args if args is not None else {})
+    except ValidationError as exc:
+        raise BadArguments(validation_reason(exc, what)) from None

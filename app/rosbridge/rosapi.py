@@ -1,12 +1,15 @@
 """rosapi: the services rosbridge clients use to look around (roslibpy's get_topics, get_param,
 Foxglove's topics_and_raw_types, ...), answered from the lab's own registries. Parameter names are
-rosapi's `/node:name`; values travel as JSON text, as rosapi has them."""
+rosapi's `/node:name` (ROS 2) or `/ns/name` (ROS 1's parameter server); values travel as JSON
+text, as rosapi has them."""
 from __future__ import annotations
 
 import json
 from typing import Any
 
+from app.ros import rosout
 from app.ros.messages import RosType
+from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
 from app.lab.topics import TOPICS
@@ -15,9 +18,9 @@ LAB_NODE = "/hri_lab"
 READ_ONLY = {"/rosapi/topics", "/rosapi/topic_type", "/rosapi/topics_for_type", "/rosapi/services", "/rosapi/service_type",
              "/rosapi/services_for_type", "/rosapi/service_request_details", "/rosapi/service_response_details",
              "/rosapi/message_details", "/rosapi/nodes", "/rosapi/node_details", "/rosapi/get_param_names",
-             "/rosapi/get_param", "/rosapi/has_param", "/rosapi/get_time", "/rosapi/topics_and_raw_types",
-             "/rosapi/action_servers"}
-WRITING = {"/rosapi/set_param"}
+             "/rosapi/get_param", "/rosapi/has_param", "/rosapi/search_param", "/rosapi/get_time",
+             "/rosapi/topics_and_raw_types", "/rosapi/action_servers"}
+WRITING = {"/rosapi/set_param", "/rosapi/delete_param"}
 NAMES = READ_ONLY | WRITING
 
 # nested message types of the lab's topics, by field name (ROS's own spellings)
@@ -87,11 +90,102 @@ def model_typedefs(type_name: str, model) -> list[dict]:
     return [typedef]
 
 
-def _param_name(name: str) -> tuple[str, str]:
+# --- parameters ------------------------------------------------------------------------------
+# Two kinds of names, as rosapi has them: ROS 2's `/node:name` (a node's declared parameter, typed,
+# with rclcpp's refusals) and ROS 1's `/ns/name` (the lab's ROS 1 parameter server, any name; a
+# `/node/name` that a node declares is that declared parameter).
+
+
+def _node_param(name: str) -> tuple[str, str] | None:
+    """`/node:name` -> (node, name); None for a ROS 1 name."""
     node, sep, param = name.partition(":")
-    if not sep or not param:
+    if not sep:
+        return None
+    if not param or not node.strip("/"):
         raise ServiceFailure(f"Malformed parameter name: {name}; expecting <node_name>:<param_name>")
     return node.strip("/"), param
+
+
+def _declared(lab, name: str) -> tuple[str, str] | None:
+    """The declared parameter a ROS 1 name `/node/name` is, if any."""
+    parts = canonical(name).strip("/").split("/")
+    return (parts[0], parts[1]) if len(parts) == 2 and (parts[0], parts[1]) in lab.params.declarations else None
+
+
+def _json_arg(args: dict, key: str, what: str) -> Any:
+    text = args.get(key, "")
+    try:
+        return json.loads(text)
+    except (TypeError, ValueError):
+        raise ServiceFailure(f"{what}: '{key}' must be JSON text, e.g. \"0.6\" or \"\\\"patch\\\"\"") from None
+
+
+def _get_param(lab, args: dict) -> dict:
+    name = str(args.get("name", ""))
+    default_text = args.get("default_value", args.get("default", ""))  # ROS 2's field, ROS 1's
+    node_param = _node_param(name) or _declared(lab, name)
+    if node_param is not None:
+        try:
+            return {"value": json.dumps(lab.params.get(*node_param))}
+        except ParameterRefused:
+            if default_text:
+                return {"value": default_text}
+            raise ServiceFailure(f"parameter {node_param[0]}:{node_param[1]} is not declared") from None
+    value = lab.param_tree.get(name, _UNSET)
+    if value is _UNSET:
+        node = canonical(name).strip("/")
+        declared = {p: v for (n, p), v in ((k, lab.params.get(*k)) for k in lab.params.declarations) if n == node}
+        if declared:  # a node's namespace: its declared parameters
+            return {"value": json.dumps(declared)}
+        return {"value": default_text if default_text else "null"}  # ROS 1's rosapi: the default, else null
+    return {"value": json.dumps(value)}
+
+
+def _set_param(lab, args: dict) -> dict:
+    name = str(args.get("name", ""))
+    value = _json_arg(args, "value", "set_param")
+    node_param = _node_param(name) or _declared(lab, name)
+    if node_param is not None:
+        try:
+            lab.params.set(*node_param, value)
+        except ParameterRefused as refused:
+            raise ServiceFailure(str(refused)) from None
+        return {}
+    lab.param_tree.set(name, value)
+    return {}
+
+
+def _delete_param(lab, args: dict) -> dict:
+    name = str(args.get("name", ""))
+    node_param = _node_param(name) or _declared(lab, name)
+    if node_param is not None:
+        raise ServiceFailure(f"parameter {node_param[0]}:{node_param[1]} is declared by its node: it can be set, "
+                             f"not deleted")
+    lab.param_tree.delete(name)  # deleting a name that is not set is no error (rosapi's)
+    return {}
+
+
+def _has_param(lab, args: dict) -> dict:
+    name = str(args.get("name", ""))
+    node_param = _node_param(name) or _declared(lab, name)
+    if node_param is not None:
+        return {"exists": node_param in lab.params.declarations}
+    return {"exists": lab.param_tree.has(name)}
+
+
+def _get_param_names(lab, args: dict) -> dict:
+    return {"names": [f"/{p.node}:{p.name}" for p in lab.params.declarations.values()] + lab.param_tree.names()}
+
+
+def _search_param(lab, args: dict) -> dict:
+    found = lab.param_tree.search(str(args.get("name", "")))
+    return {"global_name": found or ""}
+
+
+PARAM_SERVICES = {"/rosapi/get_param": _get_param, "/rosapi/set_param": _set_param,
+                  "/rosapi/delete_param": _delete_param, "/rosapi/has_param": _has_param,
+                  "/rosapi/get_param_names": _get_param_names, "/rosapi/search_param": _search_param}
+_UNSET = object()
 
 
 def call(bridge, session, name: str, args: dict) -> dict:
@@ -140,7 +234,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/node_details":
         node = str(args.get("node", ""))
         if node == LAB_NODE:
-            return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS],
+            return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
                     "services": [s.name for s in bridge.services if bridge.nodes.provided_by(s.name) is None]}
         other = next((s for s in bridge.sessions if s.name == node), None)
         if other is None:
@@ -148,31 +242,11 @@ def call(bridge, session, name: str, args: dict) -> dict:
         return other.details()
     if name == "/rosapi/action_servers":
         return {"action_servers": list(bridge.actions.actions)}
-    if name == "/rosapi/get_param_names":
-        return {"names": [f"/{p.node}:{p.name}" for p in lab.params.declarations.values()]}
-    if name == "/rosapi/has_param":
-        node, param = _param_name(str(args.get("name", "")))
-        return {"exists": (node, param) in lab.params.declarations}
-    if name == "/rosapi/get_param":
-        node, param = _param_name(str(args.get("name", "")))
+    if name in PARAM_SERVICES:
         try:
-            return {"value": json.dumps(lab.params.get(node, param))}
-        except ParameterRefused:
-            default = args.get("default_value", "")
-            if default:
-                return {"value": default}
-            raise ServiceFailure(f"parameter {node}:{param} is not declared") from None
-    if name == "/rosapi/set_param":
-        node, param = _param_name(str(args.get("name", "")))
-        try:
-            value = json.loads(args.get("value", ""))
-        except (TypeError, ValueError):
-            raise ServiceFailure("set_param: 'value' must be JSON text, e.g. \"0.6\" or \"\\\"patch\\\"\"") from None
-        try:
-            lab.params.set(node, param, value)
-        except ParameterRefused as refused:
-            raise ServiceFailure(str(refused)) from None
-        return {}
+            return PARAM_SERVICES[name](lab, args)
+        except ParamError as error:
+            raise ServiceFailure(f"{name.removeprefix('/rosapi/')}: {error}") from None
     if name == "/rosapi/get_time":
         time = lab.snapshot().time
         sec = int(time)

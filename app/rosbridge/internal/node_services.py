@@ -28,7 +28,7 @@ from typing import Any
 from pydantic import ConfigDict, ValidationError
 
 from app.lab import commands as cmd
-from app.ros.messages import Bool, Empty, RosMessage, String
+from app.ros.messages import Bool, Empty, RosMessage, String, validation_reason
 from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
 
 NODE_SERVICE_TIMEOUT = 2.0  # s a node has to answer a call
@@ -67,7 +67,7 @@ def normalise_type(name: str) -> str:
 
 @dataclass
 class Provider:
-    session: Any  # app.rosbridge.session.Session: has `name`, `loop` and `async send(dict)`
+    session: Any  # a rosbridge session (app/rosbridge/session.py): has `name`, `loop` and `async send(dict)`
     type: str
 
 
@@ -98,13 +98,30 @@ class NodeServices:
             return own(lab, request)
 
         note = " Left to the students: a node provides it." if own is None else ""
-        return Service(name, service.type, service.request, service.response, handler, service.description + note)
+        return Service(name, service.type, service.request, service.response, self._logged(name, handler),
+                       service.description + note)
 
     def _handler(self, name: str):
         def handler(lab, request: RosMessage) -> RosMessage:
             return self.call(name, request)
 
-        return handler
+        return self._logged(name, handler)
+
+    def _logged(self, name: str, handler):
+        """The handler, its calls on /rosout: answered (DEBUG, who answered), failed (ERROR, why)."""
+
+        def logged(lab, request: RosMessage) -> RosMessage:
+            provider = self.providers.get(name)
+            by = f"node {provider.session.name}" if provider is not None else "the lab"
+            try:
+                response = handler(lab, request)
+            except Exception as exc:
+                lab.rosout.log("service", f"call of {name} failed ({by}): {exc}", "ERROR")
+                raise
+            lab.rosout.log("service", f"{name} answered by {by}", "DEBUG")
+            return response
+
+        return logged
 
     def advertise(self, name: str, type_name: str, session: Any) -> None:
         """A node provides `name`; raises ServiceFailure with the reason it cannot."""
@@ -190,10 +207,17 @@ class NodeServices:
 
     async def call_async(self, name: str, request: RosMessage) -> RosMessage:
         """The same from the server's event loop (a node calling another node's service)."""
-        with self._calling(name, request) as (provider, message, future):
-            await provider.session.send(message)
-            ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
-        response = self._response(name, ok, values)
+        by = "a node"
+        try:
+            with self._calling(name, request) as (provider, message, future):
+                by = f"node {provider.session.name}"
+                await provider.session.send(message)
+                ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)
+            response = self._response(name, ok, values)
+        except Exception as exc:
+            self.lab.rosout.log("service", f"call of {name} failed ({by}): {exc}", "ERROR")
+            raise
+        self.lab.rosout.log("service", f"{name} answered by {by}", "DEBUG")
         await asyncio.to_thread(self._effect, name, request)
         return response
 
@@ -208,13 +232,17 @@ class NodeServices:
         return True
 
     def _response(self, name: str, ok: bool, values: Any) -> RosMessage:
+        """The node's answer as the service's response. As rosbridge_suite's service_response does
+        (what roslibpy's and roslibjs' servers were tested against), `result: false` with values
+        that are a response still delivers them: the call succeeds with those values. Values that
+        are no response make a failed call: with `result: false`, the values are its reason."""
         service = self.registry.get(name)
-        if not ok:
-            raise ServiceFailure(f"service {name} failed in its node: {values}")
         try:
             return service.response.model_validate(values if values is not None else {})
         except ValidationError as exc:
-            where = "; ".join(f"{'.'.join(str(x) for x in e['loc']) or 'response'}: {e['msg']}" for e in exc.errors())
+            if not ok:
+                raise ServiceFailure(f"service {name} failed in its node: {values}") from None
+            where = validation_reason(exc, "response")
             raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
 
     def _effect(self, name: str, request: RosMessage) -> None:

@@ -1,21 +1,14 @@
-"""The rosbridge v2 endpoint: a WebSocket at `/` on the lab's own port (roslibpy's
-`Ros(host, port)` connects to ws://host:port/). The HTTP page stays at `/`: Starlette matches a
-route by the scope's type, so GET / is the page and a WebSocket upgrade on / is rosbridge.
-
-One more front end onto the same service registry, parameters, topics and actions as the HTTP
-API and the dashboard (app/rosbridge/session.py has the ops). Access follows the API's rules: with
-a token set, every mutating op needs it (the upgrade's `Authorization: Bearer <token>` or
-`X-HRI-Lab-Token` header, or rosauth's `{"op": "auth", "mac": "<token>"}`); reading is open.
-"""
+"""The bridge's shared state: the lab, its registries, the services and topics nodes provide,
+the connected sessions. Every session (app/rosbridge/session.py) reads and changes it; it imports
+no session."""
 from __future__ import annotations
 
 import threading
 from typing import Any
 
-from fastapi import APIRouter, WebSocket
-
-from app.rosbridge.nodes import NodeServices
 from app.lab.topics import TOPICS, franka_state
+from app.ros import rosout
+from app.rosbridge.internal.node_services import NodeServices
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 
@@ -25,8 +18,8 @@ class NodeTopic:
 
     def __init__(self, type_name: str) -> None:
         self.type = type_name
-        self.publishers: set[Any] = set()
-        self.subscriptions: set[Any] = set()  # app.rosbridge.session.Stream
+        self.publishers: set[Any] = set()  # sessions
+        self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
 
 
 class Bridge:
@@ -51,6 +44,7 @@ class Bridge:
 
     def topic_types(self) -> dict[str, str]:
         types = {t.name: t.type for t in TOPICS}
+        types[rosout.TOPIC] = rosout.TYPE
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 
@@ -64,16 +58,3 @@ class Bridge:
         entry.subscriptions.discard(subscription)
         if not entry.publishers and not entry.subscriptions:
             del self.node_topics[topic]
-
-
-def router(bridge: Bridge) -> APIRouter:
-    from app.rosbridge.session import Session
-
-    r = APIRouter()
-
-    @r.websocket("/")
-    async def rosbridge(websocket: WebSocket) -> None:
-        """rosbridge v2 (JSON over WebSocket)."""
-        await Session(bridge, websocket).run()
-
-    return r

@@ -1,0 +1,44 @@
+"""advertise / unadvertise: a client announces the topics it publishes (the lab's own topics are the
+lab's; the command topic and /rosout may be published by any client)."""
+from __future__ import annotations
+
+from typing import Any
+
+from app.ros import rosout
+from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.node_services import normalise_type
+from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
+from app.rosbridge.protocol import BadFrame, field, name_field
+
+
+async def advertise(session: Any, message: dict, id_: Any) -> None:
+    bridge = session.bridge
+    topic = name_field(message, "topic")
+    type_name = normalise_type(field(message, "type", str))
+    known = bridge.topic_types().get(topic)
+    if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
+        if type_name not in rosout.TYPES:
+            raise BadFrame(f"advertise: topic {topic} is of type {rosout.TYPE} (or {rosout.ROS1_TYPE}), not {type_name}")
+        session.state["rosout_type"] = type_name
+        session.publishing.add(topic)
+        return
+    if topic in bridge.topics and topic != COMMAND_TOPIC:
+        raise BadFrame(f"advertise: topic {topic} is published by the lab")
+    if known is not None and known != type_name:
+        raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
+    if topic != COMMAND_TOPIC:
+        entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
+        entry.publishers.add(session)
+    session.publishing.add(topic)
+
+
+async def unadvertise(session: Any, message: dict, id_: Any) -> None:
+    topic = name_field(message, "topic")
+    if topic not in session.publishing:
+        await session.report("warning", f"unadvertise: {topic} is not advertised by this client", id_)
+        return
+    session.publishing.discard(topic)
+    session.bridge.leave(topic, publisher=session)
+
+
+OPS = {"advertise": Op(advertise, mutating=True), "unadvertise": Op(unadvertise)}

@@ -1,0 +1,104 @@
+"""publish: a node's message to the other subscribers of its topic; a geometry_msgs/Twist on the
+command topic drives the robot (commands.external_twist, through the lab's one door); a log line
+on /rosout joins the lab's log (app/ros/rosout.py)."""
+from __future__ import annotations
+
+import asyncio
+import json
+import math
+from typing import Any
+
+from app.lab import commands as cmd
+from app.ros import rosout
+from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.state import COMMAND_TOPIC
+from app.rosbridge.protocol import BadFrame, field, name_field
+
+MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
+
+
+async def publish(session: Any, message: dict, id_: Any) -> None:
+    topic = name_field(message, "topic")
+    msg = field(message, "msg", dict)
+    bridge = session.bridge
+    if topic == COMMAND_TOPIC:
+        commands = session.state.get("commands")
+        if commands is None:
+            commands = session.state["commands"] = Commands(session)
+        commands.offer(twist_values(msg))
+        return
+    if topic == rosout.TOPIC:
+        if topic not in session.publishing:
+            raise BadFrame(f"publish: advertise {topic} first (op advertise with type {rosout.TYPE})")
+        try:
+            line = rosout.from_message(msg, session.state["rosout_type"], session.name)
+        except rosout.BadLogMessage as bad:
+            raise BadFrame(f"publish {topic}: {bad}") from None
+        session.lab.rosout.publish(line)
+        return
+    if topic in bridge.topics:
+        raise BadFrame(f"publish: topic {topic} is published by the lab")
+    entry = bridge.node_topics.get(topic)
+    if entry is None or session not in entry.publishers:
+        raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
+    for stream in list(entry.subscriptions):
+        stream.offer(msg)
+
+
+class Commands:
+    """A client's Twists into the simulation, newest first: sent without waiting for the step that
+    applies them, at most MAX_COMMANDS_IN_FLIGHT unanswered (beyond, a flood is coalesced)."""
+
+    def __init__(self, session: Any) -> None:
+        self.session = session
+        self.newest: list[float] | None = None  # the newest Twist not yet handed to the simulation
+        self.forwarding = False
+        self.in_flight = 0
+
+    def offer(self, twist: list[float]) -> None:
+        self.newest = twist
+        if not self.forwarding:
+            self.forwarding = True
+            self.session.spawn(self.forward())
+
+    async def forward(self) -> None:
+        session = self.session
+        try:
+            while self.newest is not None:
+                if self.in_flight >= MAX_COMMANDS_IN_FLIGHT:
+                    await asyncio.sleep(0.001)
+                    continue
+                twist, self.newest = self.newest, None
+                self.in_flight += 1
+                future = session.lab.submit(cmd.external_twist, twist)
+                future.add_done_callback(lambda f: session.loop.call_soon_threadsafe(self.done, f))
+        finally:
+            self.forwarding = False
+
+    def done(self, future) -> None:
+        self.in_flight -= 1
+        if future.exception() is not None:
+            self.session.spawn(self.session.report("error", f"publish {COMMAND_TOPIC}: {future.exception()}"))
+
+
+def twist_values(msg: dict) -> list[float]:
+    """geometry_msgs/Twist -> [vx, vy, vz, wx, wy, wz]; missing fields are 0, anything else but
+    finite numbers is refused (no NaN/inf reaches the simulation)."""
+    values = []
+    for part in ("linear", "angular"):
+        vector = msg.get(part, {})
+        if not isinstance(vector, dict):
+            raise BadFrame(f"publish {COMMAND_TOPIC}: field 'msg.{part}' must be an object with x, y, z")
+        for axis in "xyz":
+            value = vector.get(axis, 0.0)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise BadFrame(f"publish {COMMAND_TOPIC}: field 'msg.{part}.{axis}' must be a finite number, "
+                               f"got {json.dumps(value)[:40]}")
+            values.append(float(value))
+    extra = set(msg) - {"linear", "angular"}
+    if extra:
+        raise BadFrame(f"publish {COMMAND_TOPIC}: geometry_msgs/Twist has no field '{sorted(extra)[0]}'")
+    return values
+
+
+OPS = {"publish": Op(publish, mutating=True)}

@@ -1,0 +1,92 @@
+"""subscribe / unsubscribe: throttle_rate (ms) and queue_length; one stream per topic and client, at
+the lowest throttle and longest queue of its subscriptions, as rosbridge does. The lab's topics
+are sampled from its snapshot (newest first; what a slow client cannot take is dropped, the
+simulation never waits); node topics are relayed from their publishers; /rosout carries each
+log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
+from __future__ import annotations
+
+import asyncio
+from typing import Any
+
+from app.ros import rosout
+from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.node_services import normalise_type
+from app.rosbridge.internal.state import NodeTopic
+from app.rosbridge.internal.streams import Stream
+from app.rosbridge.protocol import BadFrame, field, name_field
+
+MAX_QUEUE = 1000  # queue_length cap
+
+
+async def subscribe(session: Any, message: dict, id_: Any) -> None:
+    bridge = session.bridge
+    topic = name_field(message, "topic")
+    type_name = field(message, "type", str, None)
+    throttle = field(message, "throttle_rate", int, 0)
+    queue_length = field(message, "queue_length", int, 0)
+    if throttle < 0 or queue_length < 0:
+        raise BadFrame("subscribe: 'throttle_rate' and 'queue_length' must be >= 0")
+    compression = field(message, "compression", str, "none")
+    if compression not in ("none", ""):
+        raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
+    known = bridge.topic_types().get(topic)
+    if known is None and not type_name:
+        raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
+    if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
+        known = normalise_type(type_name)  # a ROS 1 client reads /rosout as rosgraph_msgs/Log
+    if known is not None and type_name and normalise_type(type_name) != known:
+        raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
+    stream = session.streams.get(topic)
+    if stream is None:
+        lab_topic = bridge.topics.get(topic)
+        stream = session.streams[topic] = Stream(session, topic, paced=lab_topic is None)
+        stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
+        stream.configure()
+        stream.tasks.append(asyncio.ensure_future(stream.deliver()))
+        if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
+            loop = asyncio.get_running_loop()
+            stream.on_stop.append(session.lab.rosout.listen(
+                lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))))
+        elif lab_topic is not None:
+            stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic)))
+        else:
+            entry = bridge.node_topics.setdefault(topic, NodeTopic(normalise_type(type_name or known)))
+            entry.subscriptions.add(stream)
+    else:
+        stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
+        stream.configure()
+
+
+async def sample(lab: Any, stream: Stream, topic) -> None:
+    """A lab topic from the snapshot: at most one message per throttle_rate of simulation time
+    (rosbridge's minimum gap), paced by the wall clock; behind, it skips, it never queues up."""
+    loop = asyncio.get_running_loop()
+    due, last = loop.time(), None
+    while True:
+        snapshot = lab.snapshot()
+        period = stream.period
+        if last is None or snapshot.time - last >= period - 0.0005:
+            last = snapshot.time
+            stream.offer(topic.build(snapshot))
+            due = max(due + period, loop.time())
+        else:  # early (the wall clock ran ahead of the simulation): wait for the rest
+            due = loop.time() + period - (snapshot.time - last)
+        await asyncio.sleep(due - loop.time())
+
+
+async def unsubscribe(session: Any, message: dict, id_: Any) -> None:
+    topic = name_field(message, "topic")
+    stream = session.streams.get(topic)
+    if stream is None:
+        await session.report("warning", f"unsubscribe: not subscribed to {topic}", id_)
+        return
+    if id_ is not None and id_ in stream.options and len(stream.options) > 1:
+        del stream.options[id_]
+        stream.configure()
+        return
+    stream.stop()
+    del session.streams[topic]
+    session.bridge.leave(topic, subscription=stream)
+
+
+OPS = {"subscribe": Op(subscribe), "unsubscribe": Op(unsubscribe)}

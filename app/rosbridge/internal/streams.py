@@ -1,0 +1,61 @@
+"""A topic as one client receives it (rosbridge_suite's subscribers' queue)."""
+from __future__ import annotations
+
+import asyncio
+import math
+from collections import deque
+from typing import Any, Callable
+
+
+class Stream:
+    """A topic as one client receives it: newest messages in a bounded queue, sent in order.
+
+    A lab topic is paced where it is sampled (capabilities/subscribe.py, simulation time). A node
+    topic is paced here, on the sending side, as rosbridge's queue does: every message is queued
+    (full: the oldest is dropped) and the sender waits out the throttle period (wall clock) before
+    the next, so the newest message of a burst is always sent, at most one throttle period late."""
+
+    def __init__(self, session: Any, topic: str, paced: bool = False) -> None:
+        self.session, self.topic, self.paced = session, topic, paced  # session: has `async send(dict)`
+        self.options: dict[Any, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
+        self.queue: deque[dict] = deque(maxlen=1)
+        self.ready = asyncio.Event()
+        self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
+        self.tasks: list[asyncio.Task] = []
+        self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
+
+    @property
+    def period(self) -> float:
+        """s between messages: the lowest throttle_rate of the subscriptions (at most 1 kHz)."""
+        return max(min(t for t, _ in self.options.values()) / 1000.0, 0.001)
+
+    def configure(self) -> None:
+        length = max(max(q for _, q in self.options.values()), 1)
+        if length != self.queue.maxlen:
+            self.queue = deque(self.queue, maxlen=length)
+
+    def offer(self, message: dict) -> None:
+        """Queue a message for the sender (full: the oldest is dropped); never refused."""
+        self.queue.append(message)
+        self.ready.set()
+
+    async def deliver(self) -> None:
+        loop = asyncio.get_running_loop()
+        while True:
+            await self.ready.wait()
+            self.ready.clear()
+            while self.queue:
+                if self.paced:
+                    wait = self.last_sent + self.period - loop.time()
+                    if wait > 0:  # newer messages may come meanwhile: the queue is read after the wait
+                        await asyncio.sleep(wait)
+                        continue
+                    self.last_sent = loop.time()
+                await self.session.send({"op": "publish", "topic": self.topic, "msg": self.queue.popleft()})
+
+    def stop(self) -> None:
+        for task in self.tasks:
+            task.cancel()
+        for stop in self.on_stop:
+            stop()
+        self.on_stop.clear()

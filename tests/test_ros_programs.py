@@ -7,6 +7,7 @@ import pytest
 
 from app.cli.launch import running_server
 from tests.ros_running import run
+from tests.waiting import wait_for
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +29,10 @@ def test_add_two_ints_server_and_client(lab, api):
         assert client.wait() == 0, client.output
         assert ("20 + 22 = 42" if api == "rospy" else "for 20 + 22 = 42") in client.output
         assert call(lab, "add_two_ints", {"a": -5, "b": 2}).json() == {"sum": -3}  # HTTP, answered by the program
-        server.wait_for_line("-5" if api == "rospy" else "a: -5 b: 2")  # its log line: the program served it
+        line = server.wait_for_line("-5" if api == "rospy" else "a: -5 b: 2")  # its log line: the program served it
+        logged = wait_for(lambda: [entry for entry in httpx.get(f"{lab.url}/log").json() if "-5" in entry["msg"]])
+        assert logged[0]["node"].strip("/") == ("add_two_ints_server" if api == "rospy" else "minimal_service")
+        assert logged[0]["msg"] in line  # the same line on /rosout
     finally:
         assert server.interrupt() == 0, server.output  # Ctrl+C ends spin(), the program ends normally
 

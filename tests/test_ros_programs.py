@@ -30,9 +30,10 @@ def test_add_two_ints_server_and_client(lab, api):
         assert ("20 + 22 = 42" if api == "rospy" else "for 20 + 22 = 42") in client.output
         assert call(lab, "add_two_ints", {"a": -5, "b": 2}).json() == {"sum": -3}  # HTTP, answered by the program
         line = server.wait_for_line("-5" if api == "rospy" else "a: -5 b: 2")  # its log line: the program served it
-        logged = wait_for(lambda: [entry for entry in httpx.get(f"{lab.url}/log").json() if "-5" in entry["msg"]])
-        assert logged[0]["node"].strip("/") == ("add_two_ints_server" if api == "rospy" else "minimal_service")
-        assert logged[0]["msg"] in line  # the same line on /rosout
+        node = "add_two_ints_server" if api == "rospy" else "minimal_service"
+        logged = wait_for(lambda: [entry for entry in httpx.get(f"{lab.url}/log").json()
+                                   if "-5" in entry["msg"] and entry["node"].strip("/") == node])
+        assert logged[0]["msg"] in line  # the same line on /rosout, under the node's name
     finally:
         assert server.interrupt() == 0, server.output  # Ctrl+C ends spin(), the program ends normally
 

@@ -15,10 +15,11 @@ PROGRAMS = Path(__file__).parent / "ros_programs"
 
 
 class Program:
-    def __init__(self, url: str, command: str, *args: str, env: dict | None = None) -> None:
+    def __init__(self, url: str | None, command: str, *args: str, env: dict | None = None) -> None:
         full_env = {k: v for k, v in os.environ.items() if k != "HRI_LAB_URL"}
         full_env.update(env or {})
-        self.proc = subprocess.Popen([sys.executable, "-m", "app.cli", command, "--url", url, *args],
+        url_args = ["--url", url] if url else []
+        self.proc = subprocess.Popen([sys.executable, "-m", "app.cli", command, *url_args, *args],
                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=full_env,
                                      cwd=Path(__file__).parent.parent)
         self.lines: list[str] = []

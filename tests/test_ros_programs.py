@@ -6,7 +6,7 @@ import httpx
 import pytest
 
 from app.cli.launch import running_server
-from tests.ros_running import run
+from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
 
 
@@ -17,7 +17,11 @@ def lab():
 
 
 def call(lab, name, body):
-    return httpx.post(f"{lab.url}/services/{name.strip('/')}", json=body, timeout=30)
+    return call_url(lab.url, name, body)
+
+
+def call_url(url, name, body):
+    return httpx.post(f"{url}/services/{name.strip('/')}", json=body, timeout=30)
 
 
 @pytest.mark.parametrize("api", ["rospy", "rclpy"])
@@ -145,3 +149,29 @@ def test_the_lab_going_away_ends_the_program_with_a_message():
     finally:
         program.stop()
     assert "[FATAL] lost the lab" in program.output
+
+
+def test_launch_starts_the_lab_and_three_nodes_ctrl_c_stops_all():
+    launch = Program(None, "launch", str(PROGRAMS / "calculator.launch.xml"), "speed:=0.75")
+    try:
+        url = launch.wait_for_line("the lab: ").split("the lab: ")[1].strip()
+        launch.wait_for_line("[calculator] ")
+        launch.wait_for_line("[keytwist_param] key w: linear.x=0.75")  # <param> from the launch argument
+        assert call_url(url, "multiply_three", {"a": 1, "b": 2, "c": 3}).json() == {"product": 6}
+        wait_for(lambda: call_url(url, "echo", {"in": "up"}).status_code == 200)
+    finally:
+        code = launch.interrupt(timeout=60)
+    assert code == 0, launch.output
+    assert "calculator stopped by Ctrl+C" in launch.output and "process has died" not in launch.output
+
+
+def test_launch_reports_a_crashing_node_by_name_with_its_exit_status(lab):
+    launch = Program(lab.url, "launch", str(PROGRAMS / "crashing.launch"))
+    try:
+        launch.wait_for_line("[lost_client-4] process has died [pid")
+        assert "exit code 1" in launch.wait_for_line("[lost_client-4] process has died")
+        launch.wait_for_line("[login_checker] ")  # the include's nodes run on, its <arg> passed
+        wait_for(lambda: any("Welcome, lin!" in e["msg"] for e in httpx.get(f"{lab.url}/log").json()), timeout=60)
+    finally:
+        code = launch.interrupt(timeout=60)
+    assert code == 1  # a node crashed

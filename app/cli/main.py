@@ -97,6 +97,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
     run.set_defaults(func=_command("app.rosclient.run"))
 
+    lch = sub.add_parser("launch", help="start the lab and the nodes of a roslaunch / ROS 2 XML launch file")
+    lch.add_argument("--url", help="a running lab (default: start one, like roslaunch starts roscore)")
+    lch.add_argument("--workspace", metavar="DIR", help="where the programs' own interface packages are")
+    lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
+    lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
+    lch.set_defaults(func=_command("app.rosclient.launch"))
+
     client_cli.add_parsers(sub)
     bag.add_parsers(sub)
     return parser

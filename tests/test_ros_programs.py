@@ -5,6 +5,7 @@ the standard rcl_interfaces services, Ctrl+C ends spin, and bad programs get ROS
 import httpx
 import pytest
 
+from app.cli.grade_services import grade_services
 from app.cli.launch import running_server
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
@@ -175,3 +176,22 @@ def test_launch_reports_a_crashing_node_by_name_with_its_exit_status(lab):
     finally:
         code = launch.interrupt(timeout=60)
     assert code == 1  # a node crashed
+
+
+def test_grade_services_grades_rospy_and_rclpy_programs(lab):
+    programs = [run(lab.url, name) for name in ("lifting_services_rospy.py", "add_two_ints_server_rclpy.py",
+                                                "multiply_divide_server_rclpy.py", "echo_server_rclpy.py",
+                                                "login_server_rospy.py")]
+    try:
+        for program, ready in zip(programs, ("lifting services ready", "Ready to add", "calculator ready",
+                                             "echo ready", "login server ready")):
+            program.wait_for_line(ready)
+        report = grade_services(lab.url, seed=5)
+    finally:
+        for program in programs:
+            program.interrupt()
+    points = {item.name.split(":")[0]: (item.points, item.max_points, item.detail) for item in report.items}
+    for service in ("/start_cooperative_lifting", "/stop_cooperative_lifting", "/add_two_ints", "/echo", "/login",
+                    "/divide_ints", "/multiply_three"):
+        assert points[service][0] == points[service][1] > 0, points[service]  # start: its message states only the force
+    assert points["/planar_torques"][0] == 0  # not provided by any program

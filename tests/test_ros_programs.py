@@ -2,6 +2,9 @@
 real lab (`serve --exercises`): their services answer HTTP and other programs, their clients call
 the lab's services and each other's, topics reach each other, rclpy parameters are served with
 the standard rcl_interfaces services, Ctrl+C ends spin, and bad programs get ROS's errors."""
+import subprocess
+import sys
+
 import httpx
 import pytest
 
@@ -195,3 +198,37 @@ def test_grade_services_grades_rospy_and_rclpy_programs(lab):
                     "/divide_ints", "/multiply_three"):
         assert points[service][0] == points[service][1] > 0, points[service]  # start: its message states only the force
     assert points["/planar_torques"][0] == 0  # not provided by any program
+
+
+def test_every_lab_topic_is_a_message_of_its_declared_type(lab):
+    from app.lab.topics import TOPICS
+    from app.rosclient.interfaces import Interfaces
+
+    interfaces = Interfaces([])
+    for topic in TOPICS:
+        sample = httpx.get(f"{lab.url}/topics/{topic.name.strip('/')}").json()
+        message = interfaces.message(topic.type)
+        assert message.from_json(sample).to_json() == sample, topic.name  # the same fields, types and sizes
+
+
+@pytest.mark.parametrize("api", ["rospy", "rclpy"])
+def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
+    services, lifting = tmp_path / f"services_{api}.py", tmp_path / f"lifting_{api}.py"
+    for path, kind in ((services, "services"), (lifting, "node")):
+        printed = subprocess.run([sys.executable, "-m", "app.cli", "template", kind, *(["--api", api] if api != "rospy"
+                                  else [])], capture_output=True, text=True, timeout=60)
+        path.write_text(printed.stdout)
+        assert f"import {api}" in printed.stdout
+    programs = []
+    try:
+        for path in (services, lifting):
+            programs.append(run(lab.url, str(path)))
+            programs[-1].wait_for_line("node ready")
+        assert call(lab, "add_two_ints", {"a": 2, "b": 3}).json() == {"sum": 5}
+        assert call(lab, "divide_ints", {"a": 7, "b": 2}).status_code == 200  # TODO: wrong, well-formed
+        assert call(lab, "compute_wrench", {"torques": [0.0] * 7}).status_code == 200
+        wait_for(lambda: httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node")
+    finally:
+        for program in programs:
+            program.interrupt()
+    httpx.post(f"{lab.url}/services/error_recovery")

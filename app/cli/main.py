@@ -66,8 +66,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     tpl = sub.add_parser("template", help="print a starting file: the controller (default), a services node or the lifting node")
     tpl.add_argument("kind", nargs="?", choices=("controller", "services", "node"), default="controller",
-                     help="controller: cooperative_lifting.py (plug-in); services: a roslibpy node with the handout's "
-                          "servers; node: the lifting application as a roslibpy node")
+                     help="controller: cooperative_lifting.py (plug-in); services: a node with the handout's "
+                          "servers; node: the lifting application as a node")
+    tpl.add_argument("--api", choices=("rospy", "rclpy", "roslibpy"), default="rospy",
+                     help="the node's client library (default rospy, like the handout; rospy and rclpy programs "
+                          "run with `hri-lab run`)")
     tpl.set_defaults(func=_template)
 
     grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
@@ -130,7 +133,10 @@ def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
         path = Path(importlib.util.find_spec("sim.controllers.template").origin)
     else:
-        path = Path(__file__).parent / "templates" / {"services": "services_node.py", "node": "lifting_node.py"}[args.kind]
+        names = {("services", "roslibpy"): "services_node.py", ("node", "roslibpy"): "lifting_node.py",
+                 ("services", "rospy"): "services_rospy.py", ("node", "rospy"): "lifting_rospy.py",
+                 ("services", "rclpy"): "services_rclpy.py", ("node", "rclpy"): "lifting_rclpy.py"}
+        path = Path(__file__).parent / "templates" / names[args.kind, args.api]
     print(path.read_text(encoding="utf-8"), end="")
     return 0
 

@@ -89,3 +89,22 @@ def test_a_missing_definition_names_where_it_was_looked_for(tmp_path):
     (tmp_path / "my_pkg" / "srv" / "Half.srv").write_text("int64 a\n")
     with pytest.raises(DefinitionError, match="expected 2 sections separated by '---'"):
         Interfaces([tmp_path]).get("my_pkg", "srv", "Half")
+
+
+def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
+    import importlib
+    import sys
+
+    from app.rosclient.interfaces import Finder
+
+    finder = Finder(Interfaces([PROGRAMS]))
+    sys.meta_path.insert(0, finder)
+    try:
+        msg = importlib.import_module("cpp_package.msg")
+        action = importlib.import_module("cpp_package.action")
+        assert msg.CountingGoal is action.Counting.Goal and msg.CountingAction is action.Counting
+        assert importlib.import_module("cpp_package.srv").MultiplyThreeRequest(1, 2, 3).c == 3
+    finally:
+        sys.meta_path.remove(finder)
+        for name in [m for m in sys.modules if m.startswith("cpp_package")]:
+            del sys.modules[name]

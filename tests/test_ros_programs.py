@@ -232,3 +232,15 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
         for program in programs:
             program.interrupt()
     httpx.post(f"{lab.url}/services/error_recovery")
+
+
+def test_actionlib_and_rclpy_action_clients_of_the_lab_action(lab):
+    preempting = run(lab.url, "count_client_actionlib.py")
+    assert preempting.wait(timeout=120) == 0, preempting.output
+    line = preempting.wait_for_line("state ")
+    assert line.startswith("state 2 (PREEMPTED is 2), final_count ")
+    assert 2 <= int(line.split()[-1]) < 30
+    counting = run(lab.url, "count_client_rclpy.py")
+    assert counting.wait(timeout=120) == 0, counting.output
+    assert "Received feedback: 1" in counting.output
+    assert "Result: final_count 2, status 4" in counting.output  # action_msgs/GoalStatus SUCCEEDED

@@ -456,11 +456,16 @@ class _KindModule(types.ModuleType):
             raise AttributeError(attr)
         interfaces, package, kind = self._interfaces, self._package, self._kind
         if interfaces.find(package, kind, attr) is None:
-            for suffix in {"srv": ("Request", "Response"), "action": ("Goal", "Result", "Feedback", "Action"),
-                           "msg": ()}[kind]:
+            # rospy's XRequest/XResponse; actionlib's XAction/XGoal/XResult/XFeedback (in .action and, as
+            # genmsg makes them, in .msg)
+            for suffix, source in {"srv": (("Request", "srv"), ("Response", "srv")),
+                                   "action": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"),
+                                              ("Action", "action")),
+                                   "msg": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"),
+                                           ("Action", "action"))}[kind]:
                 stem = attr[: -len(suffix)]
-                if attr.endswith(suffix) and stem and interfaces.find(package, kind, stem) is not None:
-                    made = interfaces.get(package, kind, stem)
+                if attr.endswith(suffix) and stem and interfaces.find(package, source, stem) is not None:
+                    made = interfaces.get(package, source, stem)
                     value = made if suffix == "Action" else getattr(made, suffix)
                     setattr(self, attr, value)
                     return value

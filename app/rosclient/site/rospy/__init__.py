@@ -277,7 +277,7 @@ def myargv(argv: list[str] | None = None) -> list[str]:
 
 
 def resolve_name(name: str, caller_id: str | None = None) -> str:
-    return process.resolve(name, get_name())
+    return process.resolve(name, get_name() if _node["name"] else "")
 
 
 def _require_node(what: str) -> None:

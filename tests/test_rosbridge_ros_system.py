@@ -129,8 +129,7 @@ def test_rosout_listed_and_carries_nodes_lines_in_both_types(ros, lab):
         assert httpx.get(f"{lab.url}/log", params={"level": "LOUD"}).status_code == 422
         talker.unadvertise()
     finally:
-        other.close()
-        other.terminate()
+        other.close()  # (terminate() would stop the event loop roslibpy's clients share)
 
 
 def other_name(ros, other):
@@ -170,3 +169,209 @@ def test_topic_echo_rosout_cli(lab):
         echo.wait()
         echo.stdout.close()
         echo.stderr.close()
+
+
+# --- /tf, /tf_static, /republish_tfs -------------------------------------------------------------
+def test_tf_client_reads_frames_through_republish_tfs(ros, lab):
+    """roslibpy's TFClient (unchanged): identity for the fixed frame, the flange where franka_states has it."""
+    from roslibpy.tf import TFClient
+
+    client = TFClient(ros, fixed_frame="world")
+    got = {}
+    done = {name: threading.Event() for name in ("world", "panda_link8")}
+
+    def keep(name):
+        def callback(transform):
+            got[name] = transform
+            done[name].set()
+
+        return callback
+
+    client.subscribe(frame_id="/world", callback=keep("world"))
+    client.subscribe(frame_id="panda_link8", callback=keep("panda_link8"))
+    assert all(event.wait(30) for event in done.values())
+    assert got["world"] == {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}
+    o_t_ee = httpx.get(f"{lab.url}/topics/franka_state_controller/franka_states").json()["O_T_EE"]  # column-major 4x4
+    flange = got["panda_link8"]["translation"]
+    assert [flange["x"], flange["y"], flange["z"]] == pytest.approx(o_t_ee[12:15], abs=1e-6)  # the robot is still
+    with pytest.raises(roslibpy.core.ServiceException, match="frame 'nowhere' does not exist"):
+        roslibpy.Service(ros, "/republish_tfs", "tf2_web_republisher/RepublishTFs").call(
+            roslibpy.ServiceRequest({"source_frames": ["nowhere"], "target_frame": "world", "rate": 10.0}), timeout=30)
+
+
+def test_tf_and_tf_static_topics(ros, lab):
+    static, moving = Inbox(ros, "/tf_static", "tf2_msgs/TFMessage"), Inbox(ros, "/tf", "tf2_msgs/TFMessage")
+    message = static.wait(lambda m: True)
+    edges = {(t["header"]["frame_id"], t["child_frame_id"]): t["transform"] for t in message["transforms"]}
+    assert edges[("panda_link8", "plate")]["translation"] == {"x": 0.0, "y": 0.0, "z": 0.02}  # plate_offset
+    assert ("world", "panda_link0") in edges and ("panda_hand", "panda_leftfinger") in edges
+    tf_message = moving.wait(lambda m: True)
+    children = {t["child_frame_id"]: t["header"]["frame_id"] for t in tf_message["transforms"]}
+    assert children == {**{f"panda_link{i}": f"panda_link{i - 1}" for i in range(1, 8)}, "box": "panda_link0",
+                        "palm": "panda_link0"}
+    wait_for(lambda: len(moving.messages) >= 3)  # /tf goes on; /tf_static (latched) was sent once
+    assert len(static.messages) == 1
+    static.topic.unsubscribe()
+    moving.topic.unsubscribe()
+    assert {"/tf", "/tf_static"} <= set(ros.get_topics())
+    assert "/republish_tfs" in ros.get_services()
+
+
+# --- service_response with result: false ---------------------------------------------------------
+def test_service_response_result_false_still_delivers_values(ros, lab):
+    """As rosbridge_suite's service_response (what roslibpy's servers were tested against): the
+    values are the response; values that are no response make a failed call with them as the reason."""
+    def add(request, response):
+        response["sum"] = request["a"] + request["b"]
+        return False  # roslibpy's ros1 test_service does this
+
+    def refuse(request, response):
+        response["error"] = "no such thing"
+        return False
+
+    server = roslibpy.Service(ros, "/false_sum", "rospy_tutorials/AddTwoInts")
+    server.advertise(add)
+    refusing = roslibpy.Service(ros, "/false_refuse", "rospy_tutorials/AddTwoInts")
+    refusing.advertise(refuse)
+    wait_for(lambda: {"/false_sum", "/false_refuse"} <= set(ros.get_services()))
+    try:
+        assert roslibpy.Service(ros, "/false_sum", "rospy_tutorials/AddTwoInts").call(
+            roslibpy.ServiceRequest({"a": 2, "b": 40}), timeout=30)["sum"] == 42
+        answer = httpx.post(f"{lab.url}/services/false_sum", json={"a": 1, "b": 1}, timeout=30)
+        assert (answer.status_code, answer.json()) == (200, {"sum": 2})
+        refused = httpx.post(f"{lab.url}/services/false_refuse", json={"a": 1, "b": 1}, timeout=30)
+        assert refused.status_code == 400 and "no such thing" in refused.json()["detail"]
+    finally:
+        server.unadvertise()
+        refusing.unadvertise()
+
+
+# --- actions provided by clients ------------------------------------------------------------------
+class CountingServer:
+    """A client that provides /counting (a student's own type counting_pkg/Counting: int32 target ---
+    int32 final --- int32 current) over raw rosbridge frames, as rosbridge_suite's protocol has it:
+    counts to the goal, one feedback per number, stops on cancel_action_goal with status 5."""
+
+    def __init__(self, port, name="/counting", step_s=0.05):
+        import websockets.sync.client
+
+        self.name, self.step_s = name, step_s
+        self.ws = websockets.sync.client.connect(f"ws://127.0.0.1:{port}/")
+        self.lock = threading.Lock()
+        self.canceled: dict[str, threading.Event] = {}
+        self.goals: list[dict] = []
+        self.send({"op": "advertise_action", "action": name, "type": "counting_pkg/action/Counting"})
+        self.reader = threading.Thread(target=self.read, daemon=True)
+        self.reader.start()
+
+    def send(self, message):
+        with self.lock:
+            self.ws.send(json.dumps(message))
+
+    def read(self):
+        try:
+            for text in self.ws:
+                message = json.loads(text)
+                if message["op"] == "send_action_goal":
+                    self.goals.append(message)
+                    self.canceled[message["id"]] = threading.Event()
+                    threading.Thread(target=self.count, args=(message,), daemon=True).start()
+                elif message["op"] == "cancel_action_goal":
+                    self.canceled[message["id"]].set()
+        except Exception:  # noqa: BLE001 - the socket closed
+            pass
+
+    def count(self, goal):
+        current = 0
+        for current in range(1, goal["args"]["target"] + 1):
+            if self.canceled[goal["id"]].wait(self.step_s):
+                self.send({"op": "action_result", "id": goal["id"], "action": self.name, "values": {"final": current - 1},
+                           "status": 5, "result": True})
+                return
+            self.send({"op": "action_feedback", "id": goal["id"], "action": self.name, "values": {"current": current}})
+        self.send({"op": "action_result", "id": goal["id"], "action": self.name, "values": {"final": current},
+                   "status": 4, "result": True})
+
+    def close(self):
+        self.ws.close()
+        self.reader.join(timeout=10)
+
+
+def goal_view(lab, name, goal_id, after=0):
+    return httpx.get(f"{lab.url}/actions{name}/goals/{goal_id}", params={"after": after, "wait": 5}, timeout=30).json()
+
+
+def wait_goal(lab, name, goal_id, status):
+    def reached():
+        view = goal_view(lab, name, goal_id)
+        return view if view["status"] == status else None
+
+    return wait_for(reached, 60)
+
+
+@pytest.fixture
+def counting(lab):
+    server = CountingServer(lab.port)
+    wait_for(lambda: any(a["name"] == "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
+    yield server
+    server.close()
+
+
+def test_client_action_listed_and_served_over_http(lab, ros, counting):
+    assert {"name": "/counting", "type": "counting_pkg/action/Counting"} in httpx.get(f"{lab.url}/actions").json()
+    assert "/counting" in rosapi(ros, "action_servers")["action_servers"]
+    sent = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 3}, timeout=30)
+    assert sent.status_code == 202, sent.text
+    view = wait_goal(lab, "/counting", sent.json()["goal_id"], "succeeded")
+    assert view["result"] == {"final": 3} and view["feedback"] == [{"current": 1}, {"current": 2}, {"current": 3}]
+    assert counting.goals[-1]["args"] == {"target": 3} and counting.goals[-1]["action_type"] == "counting_pkg/action/Counting"
+
+
+def test_client_action_preempted_over_http_and_busy_rejected(lab, counting):
+    goal_id = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
+    wait_for(lambda: goal_view(lab, "/counting", goal_id)["feedback_count"] >= 1)
+    busy = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30)
+    assert busy.status_code == 409 and busy.json()["status"] == "rejected"  # actionlib's: one goal at a time
+    canceled = httpx.post(f"{lab.url}/actions/counting/goals/{goal_id}/cancel", timeout=30).json()
+    assert canceled["status"] in ("preempting", "preempted")
+    view = wait_goal(lab, "/counting", goal_id, "preempted")
+    assert view["result"]["final"] >= 1  # what the node had counted, its canceled result
+
+
+def test_client_action_goal_from_cli_and_from_another_client(lab, ros, counting):
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "app.cli", "action", "send_goal", "/counting", "{target: 2}", "--feedback",
+                          "--url", lab.url], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "current: 2" in out.stdout and "final: 2" in out.stdout and "SUCCEEDED" in out.stdout
+    client = roslibpy.ActionClient(ros, "/counting", "counting_pkg/action/Counting")
+    results, feedbacks = [], []
+    goal_id = client.send_goal(roslibpy.Goal({"target": 2}), results.append, feedbacks.append, results.append)
+    client.wait_goal(goal_id, 60)
+    assert results[0]["values"] == {"final": 2} and results[0]["status"].value == 4  # action_msgs: SUCCEEDED
+    assert [f["current"] for f in feedbacks] == [1, 2]
+
+
+def test_client_action_goes_with_its_node_and_its_goal_aborts(lab):
+    server = CountingServer(lab.port, step_s=0.2)
+    wait_for(lambda: any(a["name"] == "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
+    goal_id = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
+    wait_for(lambda: goal_view(lab, "/counting", goal_id)["status"] == "active")
+    server.close()
+    view = wait_goal(lab, "/counting", goal_id, "aborted")
+    assert "withdrew action /counting" in view["message"]
+    wait_for(lambda: all(a["name"] != "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
+    assert httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30).status_code == 404
+
+
+def test_advertise_action_refusals(lab):
+    import websockets.sync.client
+
+    with websockets.sync.client.connect(f"ws://127.0.0.1:{lab.port}/") as ws:
+        ws.send(json.dumps({"op": "advertise_action", "action": "/count", "type": "hri_lab/Count"}))
+        assert "action /count is the lab's" in json.loads(ws.recv(timeout=30))["msg"]
+        ws.send(json.dumps({"op": "action_result", "id": "nope", "action": "/counting", "values": {}, "status": 4,
+                            "result": True}))
+        assert "no goal with id nope" in json.loads(ws.recv(timeout=30))["msg"]

@@ -1,15 +1,18 @@
 """/actions: send goals, follow their feedback (long-poll or WebSocket) and cancel them
-(ros2 action list / send_goal), for every action of the server."""
+(ros2 action list / send_goal), for every action of the server: the lab's, and those nodes
+provide over rosbridge (app/rosbridge/internal/node_actions.py)."""
 import asyncio
 
-from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
+from typing import Any
+
+from fastapi import APIRouter, Body, HTTPException, Query, WebSocket, WebSocketDisconnect
 from fastapi.responses import JSONResponse
 
 from app.api.deps import ActionsDep
 from app.api.topics import client_gone
 from app.api.typed_routes import with_body
 from app.ros.actions import TERMINAL, Action, ActionServer, GoalHandle, GoalStatus
-from app.ros.messages import INT64_MAX, RosMessage
+from app.ros.messages import INT64_MAX, BadArguments, RosMessage, message_from_args
 from app.ros.names import absolute
 
 
@@ -22,9 +25,9 @@ def router(actions: list[Action]) -> APIRouter:
             raise HTTPException(404, f"no goal {goal_id} of action {absolute(name)}")
         return handle
 
-    @r.get("/actions", summary="Actions with their types (ros2 action list -t)")
-    def list_actions() -> list[dict]:
-        return [{"name": a.name, "type": a.type} for a in actions]
+    @r.get("/actions", summary="Actions with their types (ros2 action list -t): the lab's and the nodes'")
+    def list_actions(server: ActionsDep) -> list[dict]:
+        return [{"name": a.name, "type": a.type} for a in list(server.actions.values())]
 
     for action in actions:
         r.add_api_route(
@@ -34,6 +37,22 @@ def router(actions: list[Action]) -> APIRouter:
             methods=["POST"], status_code=202, summary=f"send a goal to {action.name} ({action.type})",
             description=f"{action.description}\n\n```\n{action.definition}\n```",
         )
+
+    @r.post("/actions/{name}/goals", status_code=202, summary="Send a goal to an action a node provides",
+            description="The lab's actions have typed routes of their own (above); this one serves the actions "
+                        "nodes advertise at run time. The goal is checked against the action's type when the lab "
+                        "knows it (422 naming the field).")
+    def send_node_goal(name: str, server: ActionsDep, body: Any = Body(None)) -> JSONResponse:
+        action = server.get(name)
+        if action is None:
+            return JSONResponse({"detail": f"action '{absolute(name)}' does not exist"}, status_code=404)
+        if body is not None and not isinstance(body, dict):
+            return JSONResponse({"detail": "the goal is a JSON object of its fields"}, status_code=422)
+        try:
+            goal = message_from_args(action.goal, body, "goal")
+        except BadArguments as bad:
+            return JSONResponse({"detail": str(bad)}, status_code=422)
+        return _accept(server, action, goal)
 
     @r.get("/actions/{name}", summary="Type and .action definition of an action")
     def action_info(name: str, server: ActionsDep) -> dict:

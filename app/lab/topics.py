@@ -1,5 +1,6 @@
 """The lab's topics (docs/design.md, "The ROS vocabulary over HTTP"): the ones a recording stores
-(sim/messages.py, so headless trials record them too) and franka_states, which nodes read."""
+(sim/messages.py, so headless trials record them too), franka_states, which nodes read, and the
+frames (/tf, /tf_static: app/lab/tf.py)."""
 import threading
 
 import numpy as np
@@ -8,6 +9,8 @@ from sim.messages import TOPICS as RECORDED_TOPICS
 from sim.messages import Topic, header
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
+
+from app.lab import tf
 
 
 _MODEL_LOCK = threading.Lock()
@@ -27,4 +30,10 @@ def franka_state(s: Snapshot) -> dict:
             "K_F_ext_hat_K": s.wrench_ee.tolist(), "O_Jac_EE": jacobian.flatten(order="F").tolist()}
 
 
-TOPICS = [*RECORDED_TOPICS, Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state)]
+TOPICS = [*RECORDED_TOPICS, Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state),
+          Topic("/tf", "tf2_msgs/TFMessage", tf.tf), Topic("/tf_static", "tf2_msgs/TFMessage", tf.tf_static)]
+# at most this often to one subscriber (s): the frames cost a forward kinematics each (tf2's
+# broadcasters publish at tens of Hz)
+MIN_PERIOD_S = {"/tf": 0.01, "/tf_static": 0.1}
+# sent again only when it changed (ROS's latched / transient-local topics)
+LATCHED = {"/tf_static"}

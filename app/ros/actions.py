@@ -7,7 +7,8 @@ cancels the running one first). A goal runs in its own thread; `execute(lab, goa
 publishes feedback with `handle.feedback(...)`, checks `handle.cancel_requested` (or sleeps
 with `handle.wait(s)`, which wakes on cancel) and returns the result. Returning while a cancel
 is requested ends PREEMPTED; raising `GoalFailure` ends ABORTED with its message (any other
-exception: ABORTED with its type and message); returning ends SUCCEEDED. An action may declare
+exception: ABORTED with its type and message); raising `GoalPreempted(result)` ends PREEMPTED with
+that result; returning ends SUCCEEDED. An action may declare
 `precondition(lab, goal) -> reason or None`: a goal that cannot run now is REJECTED up front (409).
 
 Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal id and status;
@@ -29,6 +30,15 @@ from app.ros.names import absolute
 
 class GoalFailure(Exception):
     """A goal that could not be done (the reason is the message, shown as it is)."""
+
+
+class GoalPreempted(Exception):
+    """Raised by `execute`: the goal ends PREEMPTED with this result (e.g. a node's server that
+    canceled its goal and sent what it had)."""
+
+    def __init__(self, result: RosMessage, message: str = "canceled") -> None:
+        super().__init__(message)
+        self.result = result
 
 
 class GoalStatus(str, Enum):
@@ -174,6 +184,17 @@ class ActionServer:
     def get(self, name: str) -> Action | None:
         return self.actions.get(absolute(name))
 
+    def add(self, action: Action) -> None:
+        """An action added while the server runs (one a node provides)."""
+        with self._lock:
+            if action.name in self.actions:
+                raise ValueError(f"action {action.name} exists already")
+            self.actions[action.name] = action
+
+    def remove(self, name: str) -> Action | None:
+        with self._lock:
+            return self.actions.pop(absolute(name), None)
+
     def goal(self, name: str, goal_id: str) -> GoalHandle | None:
         """The goal `goal_id` of action `name` (None if there is no such goal of that action)."""
         handle = self.goals.get(goal_id)
@@ -217,6 +238,9 @@ class ActionServer:
             result = handle.action.execute(self.lab, handle.goal, handle)
         except GoalFailure as failure:
             handle.set_status(GoalStatus.ABORTED, str(failure))
+            return
+        except GoalPreempted as preempted:
+            handle.set_status(GoalStatus.PREEMPTED, str(preempted), preempted.result.model_dump(by_alias=True))
             return
         except Exception as exc:  # noqa: BLE001 - an aborted goal, the server goes on
             reason = "".join(traceback.format_exception_only(exc)).strip()

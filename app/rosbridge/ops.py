@@ -2,11 +2,12 @@
 twice is a bug found at import)."""
 from __future__ import annotations
 
-from app.rosbridge.capabilities import (actions, advertise, advertise_service, call_service, connection, publish,
-                                        service_response, subscribe)
+from app.rosbridge.capabilities import (actions, advertise, advertise_action, advertise_service, call_service,
+                                        connection, publish, service_response, subscribe)
 from app.rosbridge.capabilities.op import Op
 
-MODULES = (connection, subscribe, advertise, publish, call_service, advertise_service, service_response, actions)
+MODULES = (connection, subscribe, advertise, publish, call_service, advertise_service, service_response, actions,
+           advertise_action)
 
 
 def _gather() -> dict[str, Op]:

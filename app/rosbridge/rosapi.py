@@ -13,6 +13,7 @@ from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
 from app.lab.topics import TOPICS
+from app.rosbridge import tf_republisher
 
 LAB_NODE = "/hri_lab"
 READ_ONLY = {"/rosapi/topics", "/rosapi/topic_type", "/rosapi/topics_for_type", "/rosapi/services", "/rosapi/service_type",
@@ -28,7 +29,9 @@ NESTED = {"header": "std_msgs/Header", "stamp": "builtin_interfaces/Time", "wren
           "force": "geometry_msgs/Vector3", "torque": "geometry_msgs/Vector3", "linear": "geometry_msgs/Vector3",
           "angular": "geometry_msgs/Vector3", "pose": "geometry_msgs/Pose", "position": "geometry_msgs/Point",
           "orientation": "geometry_msgs/Quaternion", "tangential_force": "geometry_msgs/Vector3",
-          "centre_of_pressure": "hri_lab/Point2"}
+          "centre_of_pressure": "hri_lab/Point2", "transforms": "geometry_msgs/TransformStamped",
+          "transform": "geometry_msgs/Transform", "translation": "geometry_msgs/Vector3",
+          "rotation": "geometry_msgs/Quaternion"}
 
 
 def _scalar(value: Any) -> str:
@@ -199,11 +202,14 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/topic_type":
         return {"type": bridge.topic_types().get("/" + str(args.get("topic", "")).strip("/"), "")}
     if name == "/rosapi/services":
-        return {"services": [s.name for s in bridge.services] + sorted(NAMES)}
+        return {"services": [s.name for s in bridge.services] + sorted(NAMES) + [tf_republisher.SERVICE]}
     if name == "/rosapi/services_for_type":
         return {"services": [s.name for s in bridge.services if s.type == args.get("type")]}
     if name == "/rosapi/service_type":
-        service = bridge.services.get(str(args.get("service", "")))
+        wanted = str(args.get("service", ""))
+        if wanted == tf_republisher.SERVICE:
+            return {"type": tf_republisher.TYPE}
+        service = bridge.services.get(wanted)
         return {"type": service.type if service else ""}
     if name in ("/rosapi/service_request_details", "/rosapi/service_response_details"):
         wanted = str(args.get("type", ""))

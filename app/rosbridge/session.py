@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import json
-from typing import Any
+from typing import Any, Callable
 
 from fastapi import WebSocket
 
@@ -34,6 +34,7 @@ class Session:
         self.services: set[str] = set()
         self.goals: dict[Any, Any] = {}  # goal id -> GoalHandle
         self.state: dict[str, Any] = {}  # a capability's own per-client state, by capability
+        self.on_close: list[Callable[[], None]] = []  # what goes with the client (e.g. its tf topics)
         self.tasks: set[asyncio.Task] = set()
         self.in_flight = 0
         self.closed = False
@@ -69,6 +70,7 @@ class Session:
         self.closed = True
         self.bridge.sessions.remove(self)
         self.bridge.nodes.drop(self)
+        self.bridge.node_actions.drop(self)
         for stream in self.streams.values():
             stream.stop()
             self.bridge.leave(stream.topic, subscription=stream)
@@ -79,6 +81,8 @@ class Session:
                 self.bridge.actions.cancel(handle)
         for task in list(self.tasks):
             task.cancel()
+        for closing in self.on_close:
+            closing()
 
     async def send(self, message: dict) -> None:
         if self.closed:

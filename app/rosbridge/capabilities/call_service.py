@@ -1,4 +1,5 @@
-"""call_service: any service of the lab's registry (the lab's, rosapi's, other nodes'), answered
+"""call_service: any service of the lab's registry (the lab's, rosapi's, other nodes', the tf
+republisher's), answered
 with service_response {values, result}; a failed call is `result: false` with the reason as its
 values (and an error status)."""
 from __future__ import annotations
@@ -8,11 +9,12 @@ from typing import Any
 
 from app.ros.messages import BadArguments, message_from_args
 from app.ros.services import ServiceFailure
-from app.rosbridge import rosapi
+from app.rosbridge import rosapi, tf_republisher
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.protocol import BadFrame, name_field
 
 MAX_CALLS_IN_FLIGHT = 64  # per client: service calls and goals being served at once
+READ_ONLY = rosapi.READ_ONLY | {tf_republisher.SERVICE}  # callable without the token
 
 
 async def call_service(session: Any, message: dict, id_: Any) -> None:
@@ -20,7 +22,7 @@ async def call_service(session: Any, message: dict, id_: Any) -> None:
     args = message.get("args")
     if args is not None and not isinstance(args, (dict, list)):
         raise BadFrame("call_service: field 'args' must be an object (or a list of the request's fields in order)")
-    if name in rosapi.WRITING or (name not in rosapi.READ_ONLY and not name.startswith("/rosapi/")):
+    if name in rosapi.WRITING or (name not in READ_ONLY and not name.startswith("/rosapi/")):
         if not session.authorized:
             raise BadFrame(f"call_service {name}: this lab needs a token for changes (op auth, or the "
                            f"Authorization header)")
@@ -49,6 +51,8 @@ async def serve(session: Any, name: str, args: Any) -> tuple[bool, Any]:
     try:
         if name.startswith("/rosapi/"):
             return True, await asyncio.to_thread(rosapi.call, bridge, session, name, args if isinstance(args, dict) else {})
+        if name == tf_republisher.SERVICE:
+            return True, tf_republisher.republish(session, args if isinstance(args, dict) else {})
         service = bridge.services.get(name)
         if service is None:
             return False, f"service {name} does not exist"

@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 from typing import Any
 
+from app.lab.topics import LATCHED
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
@@ -48,7 +49,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
             stream.on_stop.append(session.lab.rosout.listen(
                 lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))))
         elif lab_topic is not None:
-            stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic)))
+            stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic,
+                                                             bridge.min_period_s.get(topic, 0.0))))
         else:
             entry = bridge.node_topics.setdefault(topic, NodeTopic(normalise_type(type_name or known)))
             entry.subscriptions.add(stream)
@@ -57,17 +59,21 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
         stream.configure()
 
 
-async def sample(lab: Any, stream: Stream, topic) -> None:
+async def sample(lab: Any, stream: Stream, topic, min_period_s: float = 0.0) -> None:
     """A lab topic from the snapshot: at most one message per throttle_rate of simulation time
-    (rosbridge's minimum gap), paced by the wall clock; behind, it skips, it never queues up."""
+    (rosbridge's minimum gap; the topic's own min_period_s when longer), paced by the wall clock;
+    behind, it skips, it never queues up. A latched topic is sent again only when it changed."""
     loop = asyncio.get_running_loop()
-    due, last = loop.time(), None
+    due, last, sent = loop.time(), None, None
     while True:
         snapshot = lab.snapshot()
-        period = stream.period
+        period = max(stream.period, min_period_s)
         if last is None or snapshot.time - last >= period - 0.0005:
             last = snapshot.time
-            stream.offer(topic.build(snapshot))
+            message = topic.build(snapshot)
+            if topic.name not in LATCHED or message != sent:
+                stream.offer(message)
+            sent = message
             due = max(due + period, loop.time())
         else:  # early (the wall clock ran ahead of the simulation): wait for the rest
             due = loop.time() + period - (snapshot.time - last)

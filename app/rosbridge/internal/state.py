@@ -6,8 +6,9 @@ from __future__ import annotations
 import threading
 from typing import Any
 
-from app.lab.topics import TOPICS, franka_state
+from app.lab.topics import MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
+from app.rosbridge.internal.node_actions import NodeActions
 from app.rosbridge.internal.node_services import NodeServices
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
@@ -27,7 +28,9 @@ class Bridge:
 
     def __init__(self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
-        self.topics = {t.name: t for t in TOPICS}
+        self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
+        self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
+        self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
         self.node_topics: dict[str, NodeTopic] = {}
         self.sessions: list[Any] = []
         self._counter = 0
@@ -42,8 +45,17 @@ class Bridge:
         self._counter += 1
         return f"/rosbridge_client_{self._counter}"
 
+    def add_topic(self, topic, min_period_s: float = 0.0) -> None:
+        """A topic sampled from the snapshot, added while the lab runs (e.g. /republish_tfs')."""
+        self.topics[topic.name] = topic
+        self.min_period_s[topic.name] = min_period_s
+
+    def remove_topic(self, name: str) -> None:
+        self.topics.pop(name, None)
+        self.min_period_s.pop(name, None)
+
     def topic_types(self) -> dict[str, str]:
-        types = {t.name: t.type for t in TOPICS}
+        types = {t.name: t.type for t in self.topics.values()}
         types[rosout.TOPIC] = rosout.TYPE
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types

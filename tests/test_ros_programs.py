@@ -244,3 +244,23 @@ def test_actionlib_and_rclpy_action_clients_of_the_lab_action(lab):
     assert counting.wait(timeout=120) == 0, counting.output
     assert "Received feedback: 1" in counting.output
     assert "Result: final_count 2, status 4" in counting.output  # action_msgs/GoalStatus SUCCEEDED
+
+
+def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab):
+    server = run(lab.url, "counting_server_actionlib.py", "_delay:=0.3")
+    try:
+        server.wait_for_line("counting server ready")
+        assert "/counting" in [a["name"] for a in httpx.get(f"{lab.url}/actions").json()]
+        client = run(lab.url, "counting_client_actionlib.py")
+        assert client.wait(timeout=120) == 0, client.output
+        line = client.wait_for_line("state ")
+        assert line.startswith("state 2 reached ") and int(line.split()[-1]) >= 2  # PREEMPTED, with its result
+        server.wait_for_line("counting preempted at")
+        goal = httpx.post(f"{lab.url}/actions/counting/goals", json={"count": 2}, timeout=30)
+        assert goal.status_code in (200, 201, 202), goal.text  # an HTTP goal, served by the program
+        goal_id = goal.json()["goal_id"]
+        done = wait_for(lambda: (lambda v: v if v["status"] == "succeeded" else None)(
+            httpx.get(f"{lab.url}/actions/counting/goals/{goal_id}").json()), timeout=60)
+        assert done["result"] == {"reached": 2} and len(done["feedback"]) == 2
+    finally:
+        server.interrupt()

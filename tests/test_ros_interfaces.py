@@ -108,3 +108,35 @@ def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
         sys.meta_path.remove(finder)
         for name in [m for m in sys.modules if m.startswith("cpp_package")]:
             del sys.modules[name]
+
+
+def test_cv_bridge_converts_images_as_cv_bridge_does():
+    import sys
+
+    import numpy as np
+
+    from app.rosclient import boot
+    from app.rosclient.interfaces import Finder
+
+    finder = Finder(Interfaces([]))
+    sys.meta_path.insert(0, finder)
+    sys.path.insert(0, str(boot.SITE))
+    try:
+        from cv_bridge import CvBridge, CvBridgeError
+
+        bridge = CvBridge()
+        rgb = np.zeros((2, 3, 3), np.uint8)
+        rgb[0, 0] = (255, 0, 0)  # red
+        msg = bridge.cv2_to_imgmsg(rgb, "rgb8")
+        assert (msg.height, msg.width, msg.step, msg.encoding) == (2, 3, 9, "rgb8")
+        bgr = bridge.imgmsg_to_cv2(type(msg).from_json(msg.to_json()), "bgr8")  # through rosbridge's JSON
+        assert tuple(bgr[0, 0]) == (0, 0, 255) and bgr.shape == (2, 3, 3)
+        assert bridge.imgmsg_to_cv2(msg, "mono8")[0, 0] == 76  # 0.299 * 255, OpenCV's weights
+        with pytest.raises(CvBridgeError, match="incompatible"):
+            bridge.cv2_to_imgmsg(rgb, "mono8")
+    finally:
+        sys.path.remove(str(boot.SITE))
+        sys.meta_path.remove(finder)
+        for name in [m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs",
+                                                                    "builtin_interfaces")]:
+            del sys.modules[name]

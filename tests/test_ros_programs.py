@@ -264,3 +264,15 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab):
         assert done["result"] == {"reached": 2} and len(done["feedback"]) == 2
     finally:
         server.interrupt()
+
+
+def test_a_failed_call_is_a_service_exception_or_the_futures_exception(lab):
+    rospy_client = run(lab.url, "failed_call_rospy.py")
+    assert rospy_client.wait() == 0, rospy_client.output
+    assert "Service call failed: service [/divide_ints] failed: service /divide_ints is not provided yet" \
+        in rospy_client.output
+    rclpy_client = run(lab.url, "failed_call_rclpy.py")
+    assert rclpy_client.wait() == 0, rclpy_client.output
+    assert "done before spin: False" in rclpy_client.output  # callbacks run inside spin, as in rclpy
+    assert "done: True, exception: service /divide_ints failed: service /divide_ints is not provided yet" \
+        in rclpy_client.output

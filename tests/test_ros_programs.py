@@ -246,8 +246,9 @@ def test_actionlib_and_rclpy_action_clients_of_the_lab_action(lab):
     assert "Result: final_count 2, status 4" in counting.output  # action_msgs/GoalStatus SUCCEEDED
 
 
-def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab):
-    server = run(lab.url, "counting_server_actionlib.py", "_delay:=0.3")
+@pytest.mark.parametrize("api, delay", [("actionlib", "_delay:=0.3"), ("rclpy", "--ros-args -p delay:=0.3")])
+def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, api, delay):
+    server = run(lab.url, f"counting_server_{api}.py", *delay.split())
     try:
         server.wait_for_line("counting server ready")
         assert "/counting" in [a["name"] for a in httpx.get(f"{lab.url}/actions").json()]

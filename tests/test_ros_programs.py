@@ -277,3 +277,14 @@ def test_a_failed_call_is_a_service_exception_or_the_futures_exception(lab):
     assert "done before spin: False" in rclpy_client.output  # callbacks run inside spin, as in rclpy
     assert "done: True, exception: service /divide_ints failed: service /divide_ints is not provided yet" \
         in rclpy_client.output
+
+
+def test_rospy_reads_and_writes_the_parameter_server(lab):
+    program = run(lab.url, "params_rospy.py")
+    assert program.wait() == 0, program.output
+    lines = program.output
+    assert "gains: {'k_n': 0.005, 'k_t': [0.1, 0.2]}" in lines
+    assert "private rate: 5 5" in lines  # ~rate is /param_talker/rate
+    assert "has greeting: True" in lines and "has greeting after delete: False" in lines
+    assert "default: none" in lines and "KeyError: 'greeting'" in lines
+    assert "declared by the lab: 5.0" in lines  # the lab's declared ROS 2 parameter, by its ROS 1 name

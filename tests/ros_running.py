@@ -15,13 +15,15 @@ PROGRAMS = Path(__file__).parent / "ros_programs"
 
 
 class Program:
-    def __init__(self, url: str | None, command: str, *args: str, env: dict | None = None) -> None:
+    def __init__(self, url: str | None, command: str, *args: str, env: dict | None = None,
+                 terminal: bool = False) -> None:
         full_env = {k: v for k, v in os.environ.items() if k != "HRI_LAB_URL"}
         full_env.update(env or {})
         url_args = ["--url", url] if url else []
         self.proc = subprocess.Popen([sys.executable, "-m", "app.cli", command, *url_args, *args],
                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=full_env,
-                                     cwd=Path(__file__).parent.parent)
+                                     cwd=Path(__file__).parent.parent, start_new_session=terminal)
+        self.terminal = terminal  # in a process group of its own, as a terminal's foreground job
         self.lines: list[str] = []
         self._new: queue.Queue = queue.Queue()
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -61,9 +63,12 @@ class Program:
         return code
 
     def interrupt(self, timeout: float = 30.0) -> int:
-        """Ctrl+C, as a terminal sends it; the exit status."""
+        """Ctrl+C, as a terminal sends it (to the whole foreground group when it has one); the exit status."""
         if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
+            if self.terminal:
+                os.killpg(self.proc.pid, signal.SIGINT)
+            else:
+                self.proc.send_signal(signal.SIGINT)
         try:
             return self.wait(timeout)
         except subprocess.TimeoutExpired:

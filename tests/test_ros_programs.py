@@ -156,7 +156,7 @@ def test_the_lab_going_away_ends_the_program_with_a_message():
 
 
 def test_launch_starts_the_lab_and_three_nodes_ctrl_c_stops_all():
-    launch = Program(None, "launch", str(PROGRAMS / "calculator.launch.xml"), "speed:=0.75")
+    launch = Program(None, "launch", str(PROGRAMS / "calculator.launch.xml"), "speed:=0.75", terminal=True)
     try:
         url = launch.wait_for_line("the lab: ").split("the lab: ")[1].strip()
         launch.wait_for_line("[calculator] ")

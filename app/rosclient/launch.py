@@ -313,7 +313,7 @@ def run(args: argparse.Namespace) -> int:
         from app.cli.launch import ServerProcess
 
         print("starting the lab (hri-lab serve) ...", flush=True)
-        server = ServerProcess("--view", "none")
+        server = ServerProcess("--view", "none", own_session=True)  # stopped after the nodes, not by Ctrl+C
         url = server.url
         print(f"the lab: {url}", flush=True)
     logs = Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))

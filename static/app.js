@@ -79,9 +79,15 @@ function schemaForm(schema, submitLabel, onSubmit) {
     inputs[name] = { input, kind };
     form.append($("label", {}, `${name} `, input));
   }
+  let open = null;  // a type the lab does not know (a node's own): the fields as one JSON object
+  if (!Object.keys(props).length && schema && schema.additionalProperties) {
+    open = $("input", { type: "text", name: "json", class: "wide", placeholder: '{"field": value} (JSON)' });
+    form.append($("label", {}, "JSON ", open));
+  }
   form.append($("button", { type: "submit", text: submitLabel }));
   const literal = (text) => (JSON_NUMBER.test(text) ? text : JSON.stringify(text));  // not a number: sent as text, the server names the field
   function collect() {
+    if (open) return open.value.trim() || "{}";
     const parts = [];
     for (const [name, { input, kind }] of Object.entries(inputs)) {
       const v = input.value.trim();
@@ -209,10 +215,18 @@ function goalBlock(name, goalId, onResult) {
   return block;
 }
 
+// the lab's actions and those nodes provide: kept in step with GET /actions (a node's action comes
+// and goes with its node)
+const shownActions = new Map();  // name -> its item
 async function renderActions() {
   const root = byId("actions");
   const list = (await api("GET", "/actions")).data;
+  if (!Array.isArray(list)) return;
+  const names = new Set(list.map((a) => a.name));
+  for (const [name, item] of shownActions) if (!names.has(name) && item) { item.remove(); shownActions.delete(name); }
   for (const { name, type } of list) {
+    if (shownActions.has(name)) continue;
+    shownActions.set(name, null);
     const info = (await api("GET", `/actions${name}`)).data;
     const goals = $("div", { class: "goals" });
     const refusalLine = $("p", { class: "refusal refused", hidden: "" });
@@ -227,10 +241,12 @@ async function renderActions() {
       while (goals.children.length > 3) goals.lastChild.remove();
     });
     form.append(cancel);
-    root.append($("div", { class: "item action", "data-name": name },
+    const item = $("div", { class: "item action", "data-name": name },
       $("h3", {}, name, " ", $("span", { class: "type", text: `[${type}]` })),
       $("p", { class: "description", text: info.description }),
-      $("pre", { text: info.definition }), form, refusalLine, goals));
+      $("pre", { text: info.definition }), form, refusalLine, goals);
+    shownActions.set(name, item);
+    root.append(item);
   }
 }
 
@@ -436,8 +452,7 @@ async function renderView() {
   } else embed();
 }
 
-// --- console: /rosout, filtered by node and level ---------------------------------------------
-const LOG_LEVELS = { 10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL" };
+// --- console: /rosout (GET /log, polled), filtered by node and level ------------------------------
 const LOG_ORDER = ["DEBUG", "INFO", "WARN", "ERROR", "FATAL"];
 const CONSOLE_MAX = 500;  // lines kept on the page
 function renderConsole() {
@@ -462,13 +477,18 @@ function renderConsole() {
   };
   nodeSelect.onchange = levelSelect.onchange = redraw;
   byId("console-clear").onclick = () => { lines.length = 0; redraw(); };
-  api("GET", "/log").then(({ data }) => {
-    if (Array.isArray(data)) for (const line of data) add(line);
-    stream("/rosout", 1, (m) => {
-      const line = { stamp: m.stamp.sec + m.stamp.nanosec * 1e-9, level: LOG_LEVELS[m.level] || String(m.level), node: m.name, msg: m.msg };
-      add(line);
-    });
-  });
+  let seen = 0;  // the newest line's seq: the console asks for what came after it
+  let polling = false;
+  const poll = async () => {
+    if (polling) return;  // one request at a time: a slow answer never doubles the lines
+    polling = true;
+    try {
+      const { data } = await api("GET", `/log?after_seq=${seen}`);
+      if (Array.isArray(data)) for (const line of data) if (line.seq > seen) { add(line); seen = line.seq; }
+    } finally { polling = false; }
+  };
+  poll();
+  setInterval(poll, 1000);
 }
 
 for (const button of document.querySelectorAll("nav button")) {
@@ -487,3 +507,4 @@ renderActions();
 renderConsole();
 pollSlow();
 setInterval(pollSlow, 2000);
+setInterval(renderActions, 2000);

@@ -218,3 +218,23 @@ def test_console_shows_rosout_filtered_by_node_and_level(page, server):
     rows = page.locator("#console-lines tbody tr")
     assert rows.count() > 0
     assert all(node == "service" for node in rows.locator("td:nth-child(3)").all_inner_texts())
+
+
+def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
+    """An action a rosbridge client provides shows on the actions tab while it is provided; a goal
+    typed as JSON (its type is the student's own) runs to its result; it goes with its node."""
+    from tests.test_rosbridge_ros_system import CountingServer
+
+    node = CountingServer(int(server.rsplit(":", 1)[1]))
+    try:
+        page.locator("nav button[data-tab=actions]").click()
+        counting = page.locator(".action[data-name='/counting']")
+        counting.wait_for()
+        counting.locator("input[name=json]").fill('{"target": 2}')
+        counting.locator("button[type=submit]").click()
+        wait_text(page, ".action[data-name='/counting'] .goal", "succeeded")
+        assert "current=2" in text_of(page, ".action[data-name='/counting'] .goal")
+        assert '"final": 2' in text_of(page, ".action[data-name='/counting'] .goal") or "final: 2" in text_of(page, ".action[data-name='/counting'] .goal")
+    finally:
+        node.close()
+    counting.wait_for(state="detached")

@@ -266,7 +266,10 @@ class CountingServer:
 
     def send(self, message):
         with self.lock:
-            self.ws.send(json.dumps(message))
+            try:
+                self.ws.send(json.dumps(message))
+            except Exception:  # noqa: BLE001 - closed: the node is gone (what the test makes happen)
+                pass
 
     def read(self):
         try:
@@ -375,3 +378,108 @@ def test_advertise_action_refusals(lab):
         ws.send(json.dumps({"op": "action_result", "id": "nope", "action": "/counting", "values": {}, "status": 4,
                             "result": True}))
         assert "no goal with id nope" in json.loads(ws.recv(timeout=30))["msg"]
+
+
+# --- parameters of a node, through its standard parameter services ---------------------------------
+class ParamNode:
+    """A client node `/keytwist_param` declaring linear_speed (double in [0, 5]) and angular_speed,
+    serving rcl_interfaces' parameter services over raw rosbridge frames as rclpy does; its
+    on-set check refuses linear_speed above 4 with a reason."""
+
+    def __init__(self, port, node="/keytwist_param"):
+        import websockets.sync.client
+
+        self.node = node
+        self.values = {"linear_speed": 0.1, "angular_speed": 0.5}
+        self.ws = websockets.sync.client.connect(f"ws://127.0.0.1:{port}/")
+        self.lock = threading.Lock()
+        for service, type_ in (("get_parameters", "GetParameters"), ("set_parameters", "SetParameters"),
+                               ("list_parameters", "ListParameters"), ("describe_parameters", "DescribeParameters")):
+            self.send({"op": "advertise_service", "service": f"{node}/{service}", "type": f"rcl_interfaces/srv/{type_}"})
+        self.reader = threading.Thread(target=self.read, daemon=True)
+        self.reader.start()
+
+    def send(self, message):
+        with self.lock:
+            try:
+                self.ws.send(json.dumps(message))
+            except Exception:  # noqa: BLE001 - closed
+                pass
+
+    def read(self):
+        try:
+            for text in self.ws:
+                message = json.loads(text)
+                if message["op"] == "call_service":
+                    values = self.serve(message["service"].rsplit("/", 1)[1], message["args"])
+                    self.send({"op": "service_response", "id": message["id"], "service": message["service"],
+                               "values": values, "result": True})
+        except Exception:  # noqa: BLE001 - the socket closed
+            pass
+
+    def serve(self, service, args):
+        if service == "list_parameters":
+            return {"result": {"names": sorted(self.values), "prefixes": []}}
+        if service == "get_parameters":
+            return {"values": [{"type": 3, "double_value": self.values[n]} if n in self.values else {"type": 0}
+                               for n in args["names"]]}
+        if service == "describe_parameters":
+            return {"descriptors": [{"name": n, "type": 3, "description": f"{n} (m/s)" if n == "linear_speed" else n,
+                                     "read_only": False, "floating_point_range": [{"from_value": 0.0, "to_value": 5.0,
+                                                                                    "step": 0.0}], "integer_range": []}
+                                    for n in args["names"]]}
+        results = []
+        for parameter in args["parameters"]:
+            value = parameter["value"]
+            if value["type"] != 3:
+                results.append({"successful": False, "reason": f"Wrong parameter type, parameter {{{parameter['name']}}} "
+                                                               f"is of type {{double}}"})
+            elif parameter["name"] == "linear_speed" and value["double_value"] > 4.0:
+                results.append({"successful": False, "reason": "linear_speed must be <= 4.0"})
+            else:
+                self.values[parameter["name"]] = value["double_value"]
+                results.append({"successful": True, "reason": ""})
+        return {"results": results}
+
+    def close(self):
+        self.ws.close()
+        self.reader.join(timeout=10)
+
+
+def cli(lab, *args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True, text=True,
+                          timeout=120)
+
+
+def test_node_parameters_in_the_labs_registry(lab, ros):
+    node = ParamNode(lab.port)
+    try:
+        wait_for(lambda: any(p["node"] == "keytwist_param" for p in httpx.get(f"{lab.url}/params", timeout=30).json()))
+        listed = {(p["node"], p["name"]): p for p in httpx.get(f"{lab.url}/params", timeout=30).json()}
+        assert listed[("keytwist_param", "linear_speed")]["value"] == 0.1
+        assert listed[("cooperative_lifting", "mu")]["type"] == "double"  # the lab's own stay
+        out = cli(lab, "param", "set", "/keytwist_param", "linear_speed", "3.5")
+        assert out.returncode == 0 and "Set parameter successful" in out.stdout, out.stdout + out.stderr
+        assert node.values["linear_speed"] == 3.5  # the running node has it
+        assert "3.5" in cli(lab, "param", "get", "/keytwist_param", "linear_speed").stdout
+        refused = cli(lab, "param", "set", "/keytwist_param", "linear_speed", "4.5")
+        assert refused.returncode != 0 and "Setting parameter failed: linear_speed must be <= 4.0" in refused.stdout
+        assert cli(lab, "param", "set", "/keytwist_param", "angular_speed", "2").returncode == 0  # an integer, sent as double
+        assert node.values["angular_speed"] == 2.0
+        described = httpx.get(f"{lab.url}/params/keytwist_param/linear_speed/describe", timeout=30).json()
+        assert (described["type"], described["min_value"], described["max_value"]) == ("double", 0.0, 5.0)
+        assert "linear_speed (m/s)" in cli(lab, "param", "describe", "/keytwist_param", "linear_speed").stdout
+        assert "keytwist_param:" in cli(lab, "param", "dump", "/keytwist_param").stdout
+        assert "/keytwist_param:linear_speed" in ros.get_params()
+        assert ros.get_param("/keytwist_param:linear_speed") == 3.5
+        ros.set_param("/keytwist_param:linear_speed", 1.5)
+        assert node.values["linear_speed"] == 1.5
+        with pytest.raises(roslibpy.core.ServiceException, match="linear_speed must be <= 4.0"):
+            ros.set_param("/keytwist_param:linear_speed", 9.0)
+    finally:
+        node.close()
+    wait_for(lambda: all(p["node"] != "keytwist_param" for p in httpx.get(f"{lab.url}/params", timeout=30).json()))
+    assert httpx.get(f"{lab.url}/params/keytwist_param/linear_speed", timeout=30).status_code == 404

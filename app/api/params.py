@@ -1,4 +1,5 @@
-"""/params: ROS 2 parameters over HTTP (ros2 param list / get / set / describe / dump / load)."""
+"""/params: ROS 2 parameters over HTTP (ros2 param list / get / set / describe / dump / load): the
+lab's declared ones and those of nodes that declare their own (app/ros/params.py)."""
 from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Request
@@ -7,7 +8,6 @@ from fastapi.responses import JSONResponse, PlainTextResponse
 from pydantic import BaseModel, ConfigDict
 
 from app.api.deps import ParamsDep
-from app.ros.names import node_name
 from app.ros.params import ParameterRefused
 
 
@@ -55,18 +55,20 @@ async def load(request: Request, server: ParamsDep):
 @router.get("/params/{node}/{name}", summary="Value of a parameter (ros2 param get)")
 def get(node: str, name: str, server: ParamsDep):
     try:
-        value = server.get(node, name)
+        type_, value = server.typed(node, name)
     except ParameterRefused as exc:
         return _refused(exc)
-    return {"node": node, "name": name, "type": server.declaration(node, name).type, "value": value}
+    return {"node": node, "name": name, "type": type_, "value": value}
 
 
 @router.get("/params/{node}/{name}/describe", summary="Descriptor of a parameter (ros2 param describe)")
 def describe(node: str, name: str, server: ParamsDep):
-    param = server.declarations.get((node_name(node), name))
-    if param is None:
-        raise HTTPException(404, "Parameter not set.")
-    return param.describe()
+    try:
+        return server.describe(node, name)
+    except ParameterRefused as exc:
+        if exc.status == 404:
+            raise HTTPException(404, str(exc)) from None
+        return _refused(exc)
 
 
 @router.put("/params/{node}/{name}", summary="Set a parameter (ros2 param set)")

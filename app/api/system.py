@@ -1,7 +1,7 @@
 """The server itself: the page at /, /health, /log (rosout) and /view (where the 3D view is)."""
 from pathlib import Path
 
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import FileResponse
 
 from app.api.deps import LabDep
@@ -49,8 +49,9 @@ def view_info(request: Request) -> dict:
 
 @router.get("/log", summary="Recent lines of /rosout: the lab's and every node's (rqt_console)",
             description="Oldest first; `node` and `level` (DEBUG, INFO, WARN, ERROR, FATAL: that level and "
-                        "above) filter them, `after` keeps the lines stamped later (s).")
-def log(lab: LabDep, node: str | None = None, level: str | None = None, after: float | None = None) -> list[dict]:
+                        "above) filter them, `after_seq` keeps the lines that came after the one of that `seq`.")
+def log(lab: LabDep, node: str | None = None, level: str | None = None,
+        after_seq: int = Query(0, ge=0, le=2**63 - 1)) -> list[dict]:
     if level is not None and level.upper() not in LEVELS:
         raise HTTPException(422, f"level must be one of {', '.join(LEVELS)}")
     lines = lab.rosout.recent()
@@ -58,6 +59,5 @@ def log(lab: LabDep, node: str | None = None, level: str | None = None, after: f
         lines = [line for line in lines if line.node.strip("/") == node.strip("/")]
     if level:
         lines = [line for line in lines if LEVELS[line.level] >= LEVELS[level.upper()]]
-    if after is not None:
-        lines = [line for line in lines if line.stamp > after]
+    lines = [line for line in lines if line.seq > after_seq]
     return [line.as_dict() for line in lines]

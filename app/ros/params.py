@@ -5,10 +5,12 @@ One declaration per parameter (HTTP: app/api/params.py); `apply` runs in the sim
 in the running controller or simulation; `read` (when given) reads the value from the world, for
 values that services also change (f_n_min is set by start/stop_cooperative_lifting).
 Deviation from ROS 2: JSON has one number type, so an integer is accepted for a double.
+Nodes that declare their own parameters (an rclpy node over rosbridge) join through `remote`: their
+parameters are listed, read, set and described through the node's standard parameter services.
 """
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, Literal
+from typing import Any, Callable, Literal, Protocol
 
 import yaml
 
@@ -68,11 +70,63 @@ class ParameterRefused(Exception):
         self.status = status
 
 
+class RemoteParameters(Protocol):
+    """The parameters of nodes that run elsewhere (a rosbridge client's rclpy node), reached through
+    the node's own parameter services: app/rosbridge/internal/node_params.py. Each method raises
+    ParameterRefused with the node's reason (or why the node could not be asked)."""
+
+    def nodes(self) -> list[str]: ...  # the nodes whose parameters can be reached now
+
+    def names(self, node: str) -> list[str]: ...
+
+    def get(self, node: str, names: list[str]) -> list[Any]: ...  # JSON values, None: not set
+
+    def set(self, node: str, name: str, value: Any) -> None: ...
+
+    def describe(self, node: str, name: str) -> dict: ...  # Parameter.describe()'s shape
+
+
 class ParameterServer:
+    """The lab's declared parameters, and (through `remote`) those of nodes that declare their own:
+    one registry for HTTP, the CLI, the page and rosapi."""
+
     def __init__(self, declarations: list[Parameter], lab: Any) -> None:
         self.lab = lab
         self.declarations = {(p.node, p.name): p for p in declarations}
         self.values = {(p.node, p.name): p.default for p in declarations}
+        self.remote: RemoteParameters | None = None  # set by the server that reaches nodes (rosbridge)
+
+    def remote_node(self, node: str) -> bool:
+        """`node` is a node's that declares its own parameters (not one of the lab's)."""
+        node = node_name(node)
+        return (self.remote is not None and all(n != node for n, _ in self.declarations)
+                and node in self.remote.nodes())
+
+    def has(self, node: str, name: str) -> bool:
+        if (node_name(node), name) in self.declarations:
+            return True
+        if self.remote_node(node):
+            try:
+                return name in self.remote.names(node_name(node))
+            except ParameterRefused:
+                return False
+        return False
+
+    def typed(self, node: str, name: str) -> tuple[str, Any]:
+        """(type, value) of a parameter, declared here or by its node."""
+        if self.remote_node(node) and (node_name(node), name) not in self.declarations:
+            value = self.get(node, name)
+            return type_name(value), value
+        value = self.get(node, name)
+        return self.declaration(node, name).type, value
+
+    def describe(self, node: str, name: str) -> dict:
+        param = self.declarations.get((node_name(node), name))
+        if param is not None:
+            return param.describe()
+        if self.remote_node(node):
+            return self.remote.describe(node_name(node), name)
+        raise ParameterRefused("Parameter not set.", 404)
 
     def declaration(self, node: str, name: str) -> Parameter:
         param = self.declarations.get((node_name(node), name))
@@ -82,6 +136,11 @@ class ParameterServer:
 
     def get(self, node: str, name: str) -> Any:
         param = self.declarations.get((node_name(node), name))
+        if param is None and self.remote_node(node):
+            value = self.remote.get(node_name(node), [name])[0]
+            if value is None:
+                raise ParameterRefused("Parameter not set.", 404)
+            return value
         if param is None:
             raise ParameterRefused("Parameter not set.", 404)
         if param.read is not None:
@@ -89,7 +148,11 @@ class ParameterServer:
         return self.values[(param.node, param.name)]
 
     def set(self, node: str, name: str, value: Any, force: bool = False) -> None:
-        """Set or raise ParameterRefused with rclcpp's reason. force: skip read-only (start-up files)."""
+        """Set or raise ParameterRefused with rclcpp's reason (a node's: its own reason). force: skip
+        read-only (start-up files)."""
+        if (node_name(node), name) not in self.declarations and self.remote_node(node):
+            self.remote.set(node_name(node), name, value)
+            return
         param, value = self.validate(node, name, value, force)
         if param.apply is not None:
             self.lab.call(param.apply, value)
@@ -116,8 +179,35 @@ class ParameterServer:
             raise ParameterRefused(f"Parameter {{{name}}} must be one of {', '.join(param.choices)}.")
         return param, value
 
+    def names(self) -> list[tuple[str, str]]:
+        """(node, name) of every parameter: the lab's, then each node's that answers."""
+        out = list(self.declarations)
+        if self.remote is not None:
+            declared_nodes = {n for n, _ in self.declarations}
+            for node in self.remote.nodes():
+                if node not in declared_nodes:
+                    try:
+                        out += [(node, name) for name in self.remote.names(node)]
+                    except ParameterRefused:
+                        continue
+        return out
+
     def items(self) -> list[tuple[Parameter, Any]]:
-        return [(p, self.get(p.node, p.name)) for p in self.declarations.values()]
+        """Every parameter with its value: the lab's, then each node's (a node that does not
+        answer is left out)."""
+        out = [(p, self.get(p.node, p.name)) for p in self.declarations.values()]
+        if self.remote is not None:
+            declared_nodes = {n for n, _ in self.declarations}
+            for node in self.remote.nodes():
+                if node in declared_nodes:
+                    continue
+                try:
+                    names = self.remote.names(node)
+                    values = self.remote.get(node, names) if names else []
+                except ParameterRefused:
+                    continue
+                out += [(Parameter(node, name, type_name(value), None, ""), value) for name, value in zip(names, values)]  # type: ignore[arg-type]
+        return out
 
     def dump(self, node: str | None = None) -> str:
         """YAML like `ros2 param dump`: node: {ros__parameters: {name: value}}."""

@@ -11,7 +11,7 @@ import math
 import threading
 import time
 from collections import deque
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any, Callable
 
 TOPIC = "/rosout"
@@ -37,6 +37,7 @@ class LogLine:
     file: str = ""
     function: str = ""
     line: int = 0
+    seq: int = 0  # the server's count of lines, in the order they came (GET /log?after_seq=)
 
     def as_dict(self) -> dict:
         """GET /log's shape: stamp, node, level, msg (and where it was logged)."""
@@ -93,6 +94,7 @@ class Rosout:
         self.lines: deque[LogLine] = deque(maxlen=max_lines)
         self._listeners: list[Callable[[LogLine], None]] = []
         self._lock = threading.Lock()
+        self._count = 0
 
     def log(self, node: str, msg: str, level: str = "INFO") -> None:
         """One of the lab's own lines."""
@@ -100,6 +102,8 @@ class Rosout:
 
     def publish(self, line: LogLine) -> None:
         with self._lock:
+            self._count += 1
+            line = replace(line, seq=self._count)
             self.lines.append(line)
             listeners = list(self._listeners)
         for listener in listeners:

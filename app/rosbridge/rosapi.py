@@ -112,7 +112,7 @@ def _node_param(name: str) -> tuple[str, str] | None:
 def _declared(lab, name: str) -> tuple[str, str] | None:
     """The declared parameter a ROS 1 name `/node/name` is, if any."""
     parts = canonical(name).strip("/").split("/")
-    return (parts[0], parts[1]) if len(parts) == 2 and (parts[0], parts[1]) in lab.params.declarations else None
+    return (parts[0], parts[1]) if len(parts) == 2 and lab.params.has(parts[0], parts[1]) else None
 
 
 def _json_arg(args: dict, key: str, what: str) -> Any:
@@ -130,14 +130,16 @@ def _get_param(lab, args: dict) -> dict:
     if node_param is not None:
         try:
             return {"value": json.dumps(lab.params.get(*node_param))}
-        except ParameterRefused:
+        except ParameterRefused as refused:
+            if refused.status != 404:  # the node could not be asked
+                raise ServiceFailure(str(refused)) from None
             if default_text:
                 return {"value": default_text}
             raise ServiceFailure(f"parameter {node_param[0]}:{node_param[1]} is not declared") from None
     value = lab.param_tree.get(name, _UNSET)
     if value is _UNSET:
         node = canonical(name).strip("/")
-        declared = {p: v for (n, p), v in ((k, lab.params.get(*k)) for k in lab.params.declarations) if n == node}
+        declared = {p.name: v for p, v in lab.params.items() if p.node == node}
         if declared:  # a node's namespace: its declared parameters
             return {"value": json.dumps(declared)}
         return {"value": default_text if default_text else "null"}  # ROS 1's rosapi: the default, else null
@@ -172,12 +174,12 @@ def _has_param(lab, args: dict) -> dict:
     name = str(args.get("name", ""))
     node_param = _node_param(name) or _declared(lab, name)
     if node_param is not None:
-        return {"exists": node_param in lab.params.declarations}
+        return {"exists": lab.params.has(*node_param)}
     return {"exists": lab.param_tree.has(name)}
 
 
 def _get_param_names(lab, args: dict) -> dict:
-    return {"names": [f"/{p.node}:{p.name}" for p in lab.params.declarations.values()] + lab.param_tree.names()}
+    return {"names": [f"/{node}:{name}" for node, name in lab.params.names()] + lab.param_tree.names()}
 
 
 def _search_param(lab, args: dict) -> dict:

@@ -9,6 +9,7 @@ from typing import Any
 from app.lab.topics import MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
 from app.rosbridge.internal.node_actions import NodeActions
+from app.rosbridge.internal.node_params import NodeParameters
 from app.rosbridge.internal.node_services import NodeServices
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
@@ -29,6 +30,7 @@ class Bridge:
     def __init__(self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
         self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
+        lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
         self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
         self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
         self.node_topics: dict[str, NodeTopic] = {}

@@ -288,3 +288,27 @@ def test_rospy_reads_and_writes_the_parameter_server(lab):
     assert "has greeting: True" in lines and "has greeting after delete: False" in lines
     assert "default: none" in lines and "KeyError: 'greeting'" in lines
     assert "declared by the lab: 5.0" in lines  # the lab's declared ROS 2 parameter, by its ROS 1 name
+
+
+def test_hri_lab_param_set_reaches_the_running_program(lab):
+    node = run(lab.url, "keys_to_twist_rclpy.py", "w")
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True,
+                              text=True, timeout=60)
+
+    try:
+        node.wait_for_line("key w: linear.x=0.1 ")
+        listed = wait_for(lambda: (lambda out: out if "linear_speed" in out else None)(
+            cli("param", "list", "/keytwist_param").stdout))
+        assert "angular_speed" in listed  # the program's declared parameters, in the lab's registry
+        assert any(p["node"].strip("/") == "keytwist_param" and p["name"] == "linear_speed"
+                   for p in httpx.get(f"{lab.url}/params").json())
+        changed = cli("param", "set", "/keytwist_param", "linear_speed", "3.5")
+        assert changed.returncode == 0, changed.stdout + changed.stderr
+        node.wait_for_line("key w: linear.x=3.5 ")  # the published twist follows
+        refused = cli("param", "set", "/keytwist_param", "linear_speed", "9.0")
+        assert refused.returncode != 0 and "linear_speed above 5 m/s is unsafe" in refused.stdout + refused.stderr
+        assert "3.5" in cli("param", "get", "/keytwist_param", "linear_speed").stdout
+    finally:
+        node.interrupt()

@@ -190,8 +190,8 @@ def test_action_goal_with_feedback_and_cancel(ros):
 
 def test_the_printed_templates_run_as_printed(lab, tmp_path):
     services, lifting = tmp_path / "services_node.py", tmp_path / "lifting_node.py"
-    services.write_text(cli(lab.url, "template", "services").stdout)
-    lifting.write_text(cli(lab.url, "template", "node").stdout)
+    services.write_text(cli(lab.url, "template", "services", "--api", "roslibpy").stdout)
+    lifting.write_text(cli(lab.url, "template", "node", "--api", "roslibpy").stdout)
     assert "class CooperativeLifting" in cli(lab.url, "template").stdout  # the plug-in's, as before
     nodes = []
     try:

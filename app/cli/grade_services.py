@@ -255,14 +255,17 @@ def _states(message: str, value: float) -> bool:
 
 
 def check_start(g: Grading) -> None:
+    """The band is judged from the lab's state (f_n_min = force, f_n_max = force + 5); the message
+    must only state the force (the handout asks for one like "Cooperative lifting starts with 11.5 N")."""
     force = float(g.integers(16, 30, 1)[0]) / 2  # 8.0 .. 15.0 N in halves
     message = g.lab.answer("start_cooperative_lifting", {"force": force})["message"]
     state = g.lab.topic("lifting_state")
-    if not (state["started"] and math.isclose(state["f_n_min"], force)):
-        raise Wrong(f"force = {force}: the lab's /lifting_state shows started={state['started']}, f_n_min={state['f_n_min']}")
     f_n_max = force + 5.0
-    if not (_states(message, force) and _states(message, f_n_max)):
-        raise Wrong(f"force = {force}: message {message!r} does not state f_n_min = {force:g} N and f_n_max = {f_n_max:g} N")
+    if not (state["started"] and math.isclose(state["f_n_min"], force) and math.isclose(state["f_n_max"], f_n_max)):
+        raise Wrong(f"force = {force}: the lab's /lifting_state shows started={state['started']}, "
+                    f"f_n_min={state['f_n_min']}, f_n_max={state['f_n_max']} (expected {force:g} and {f_n_max:g} N)")
+    if not _states(message, force):
+        raise Wrong(f"force = {force}: message {message!r} does not state the force {force:g} N")
 
 
 def check_stop(g: Grading) -> None:

@@ -19,7 +19,7 @@ class ServerProcess:
     """`hri-lab serve ARGS` on a free port. Without --output-dir its recordings and figures go to a
     temporary folder that goes with it (never into the working tree)."""
 
-    def __init__(self, *args: str, timeout: float = 120.0) -> None:
+    def __init__(self, *args: str, timeout: float = 120.0, own_session: bool = False) -> None:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.started = time.perf_counter()
@@ -28,6 +28,7 @@ class ServerProcess:
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *output, *args],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            start_new_session=own_session,  # out of the terminal's Ctrl+C: its starter stops it (hri-lab launch)
         )
         self.banner = self._wait_ready(timeout)
         self.ready_after = time.perf_counter() - self.started

@@ -66,8 +66,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     tpl = sub.add_parser("template", help="print a starting file: the controller (default), a services node or the lifting node")
     tpl.add_argument("kind", nargs="?", choices=("controller", "services", "node"), default="controller",
-                     help="controller: cooperative_lifting.py (plug-in); services: a roslibpy node with the handout's "
-                          "servers; node: the lifting application as a roslibpy node")
+                     help="controller: cooperative_lifting.py (plug-in); services: a node with the handout's "
+                          "servers; node: the lifting application as a node")
+    tpl.add_argument("--api", choices=("rospy", "rclpy", "roslibpy"), default="rospy",
+                     help="the node's client library (default rospy, like the handout; rospy and rclpy programs "
+                          "run with `hri-lab run`)")
     tpl.set_defaults(func=_template)
 
     grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
@@ -87,6 +90,22 @@ def build_parser() -> argparse.ArgumentParser:
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
+
+    run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
+    run.add_argument("--url", default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
+                     help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
+    run.add_argument("--workspace", metavar="DIR", help="where the program's own interface packages are "
+                     "(PKG/srv/X.srv, PKG/msg/X.msg, PKG/action/X.action; default: its folder and parents)")
+    run.add_argument("program", metavar="FILE.py")
+    run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
+    run.set_defaults(func=_command("app.rosclient.run"))
+
+    lch = sub.add_parser("launch", help="start the lab and the nodes of a roslaunch / ROS 2 XML launch file")
+    lch.add_argument("--url", help="a running lab (default: start one, like roslaunch starts roscore)")
+    lch.add_argument("--workspace", metavar="DIR", help="where the programs' own interface packages are")
+    lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
+    lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
+    lch.set_defaults(func=_command("app.rosclient.launch"))
 
     client_cli.add_parsers(sub)
     bag.add_parsers(sub)
@@ -114,7 +133,10 @@ def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
         path = Path(importlib.util.find_spec("sim.controllers.template").origin)
     else:
-        path = Path(__file__).parent / "templates" / {"services": "services_node.py", "node": "lifting_node.py"}[args.kind]
+        names = {("services", "roslibpy"): "services_node.py", ("node", "roslibpy"): "lifting_node.py",
+                 ("services", "rospy"): "services_rospy.py", ("node", "rospy"): "lifting_rospy.py",
+                 ("services", "rclpy"): "services_rclpy.py", ("node", "rclpy"): "lifting_rclpy.py"}
+        path = Path(__file__).parent / "templates" / names[args.kind, args.api]
     print(path.read_text(encoding="utf-8"), end="")
     return 0
 

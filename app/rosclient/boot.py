@@ -1,0 +1,34 @@
+"""A student's program as `hri-lab run` starts it: `python -m app.rosclient.boot FILE [ARGS...]`.
+
+Only this process gets the ROS client libraries (app/rosclient/site) on sys.path and the interface
+finder on sys.meta_path; then FILE runs as `__main__` with sys.argv = [FILE, ARGS...] (its
+`--ros-args` included, as ros2 run passes them), its folder first on sys.path like `python FILE`.
+"""
+from __future__ import annotations
+
+import os
+import runpy
+import sys
+from pathlib import Path
+
+SITE = Path(__file__).parent / "site"
+
+
+def main() -> None:
+    if len(sys.argv) < 2:
+        print("usage: python -m app.rosclient.boot FILE.py [ARGS...]", file=sys.stderr)
+        raise SystemExit(2)
+    program = Path(sys.argv[1])
+    from app.rosclient import interfaces, process
+
+    interfaces.install(interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None))
+    sys.path[0:0] = [str(program.resolve().parent), str(SITE)]
+    sys.argv = [str(program), *sys.argv[2:]]
+    try:
+        runpy.run_path(str(program), run_name="__main__")
+    finally:
+        process.close()
+
+
+if __name__ == "__main__":
+    main()

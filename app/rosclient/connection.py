@@ -1,0 +1,211 @@
+"""A program's one connection to the lab: rosbridge v2 (JSON over a WebSocket) with the `websockets`
+package's threaded client.
+
+rospy and rclpy (app/rosclient/site) are layers over this: topics (advertise/publish/subscribe),
+services (call_service; advertise_service, answered with service_response), ROS 2 actions
+(send_action_goal/cancel_action_goal as a client; advertise_action, answered with action_feedback
+and action_result, as a server). Incoming frames are read on one thread ("rosbridge-reader") and
+handed to the handlers registered here; the layers decide on which thread the user's callbacks
+run. The lab going away calls `on_lost` (by default: a clear message and exit status 1).
+"""
+from __future__ import annotations
+
+import itertools
+import json
+import os
+import sys
+import threading
+from concurrent.futures import Future
+from typing import Any, Callable
+from urllib.parse import urlsplit, urlunsplit
+
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import connect
+
+DEFAULT_URL = "http://127.0.0.1:8000"
+EXIT_LAB_GONE = 1
+
+
+def websocket_url(url: str) -> str:
+    """http(s)://host:port[/path] -> ws(s)://host:port/ (the lab's rosbridge endpoint is at /)."""
+    parts = urlsplit(url if "://" in url else "http://" + url)
+    scheme = {"http": "ws", "https": "wss"}.get(parts.scheme, parts.scheme)
+    return urlunsplit((scheme, parts.netloc, parts.path or "/", "", ""))
+
+
+class RosbridgeError(Exception):
+    """A call the lab (or the node that serves it) answered as failed; the message is the reason."""
+
+
+class Connection:
+    def __init__(self, url: str | None = None, token: str | None = None) -> None:
+        self.url = url or os.environ.get("HRI_LAB_URL", DEFAULT_URL)
+        token = token if token is not None else os.environ.get("HRI_LAB_TOKEN")
+        headers = {"Authorization": f"Bearer {token}"} if token else None
+        try:
+            self.ws = connect(websocket_url(self.url), additional_headers=headers, max_size=None,
+                              open_timeout=10, close_timeout=1)
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(f"cannot reach the lab at {self.url} ({exc}); start it with `hri-lab serve` "
+                                  f"or give its address with --url / $HRI_LAB_URL") from None
+        self.closing = False
+        self.on_lost: Callable[[str], None] = _exit_lab_gone
+        self._ids = itertools.count(1)
+        self._lock = threading.Lock()
+        self._calls: dict[str, Future] = {}
+        self._goals: dict[str, tuple[Callable, Callable]] = {}  # id -> (on_feedback, on_result)
+        self.topic_handlers: dict[str, list[Callable[[dict], None]]] = {}
+        self.service_handlers: dict[str, Callable[[dict], None]] = {}
+        self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
+        self.status_handler: Callable[[dict], None] = _print_status
+        self._reader = threading.Thread(target=self._read, name="rosbridge-reader", daemon=True)
+        self._reader.start()
+
+    def next_id(self, prefix: str) -> str:
+        return f"{prefix}:{next(self._ids)}"
+
+    def send(self, message: dict) -> None:
+        try:
+            self.ws.send(json.dumps(message))
+        except ConnectionClosed:
+            if not self.closing:
+                self._lost("the connection closed while sending")
+
+    def close(self) -> None:
+        self.closing = True
+        self.ws.close()
+
+    # --- topics ---------------------------------------------------------------------------------
+    def subscribe(self, topic: str, type_name: str, handler: Callable[[dict], None], queue_length: int = 0,
+                  throttle_rate: int = 0) -> str:
+        with self._lock:
+            self.topic_handlers.setdefault(topic, []).append(handler)
+        sid = self.next_id(f"subscribe:{topic}")
+        self.send({"op": "subscribe", "id": sid, "topic": topic, "type": type_name, "queue_length": queue_length,
+                   "throttle_rate": throttle_rate})
+        return sid
+
+    def unsubscribe(self, topic: str, sid: str, handler: Callable[[dict], None]) -> None:
+        with self._lock:
+            handlers = self.topic_handlers.get(topic, [])
+            if handler in handlers:
+                handlers.remove(handler)
+        self.send({"op": "unsubscribe", "id": sid, "topic": topic})
+
+    # --- services -------------------------------------------------------------------------------
+    def call_service(self, name: str, args: dict, timeout: float | None = None) -> Any:
+        """The response values; RosbridgeError with the reason when the call failed."""
+        future = self.call_service_async(name, args)
+        ok, values = future.result(timeout)
+        if not ok:
+            raise RosbridgeError(values if isinstance(values, str) else json.dumps(values))
+        return values
+
+    def call_service_async(self, name: str, args: dict) -> Future:
+        """A Future of (ok, values)."""
+        call_id = self.next_id(f"call_service:{name}")
+        future: Future = Future()
+        with self._lock:
+            self._calls[call_id] = future
+        self.send({"op": "call_service", "id": call_id, "service": name, "args": args})
+        return future
+
+    def advertise_service(self, name: str, type_name: str, handler: Callable[[dict], None]) -> None:
+        self.service_handlers[name] = handler
+        self.send({"op": "advertise_service", "service": name, "type": type_name})
+
+    def service_response(self, call_id: Any, name: str, values: Any, ok: bool) -> None:
+        self.send({"op": "service_response", "id": call_id, "service": name, "values": values, "result": ok})
+
+    # --- actions (ROS 2 ops) ----------------------------------------------------------------------
+    def send_action_goal(self, action: str, type_name: str, args: dict, on_feedback: Callable[[dict], None],
+                         on_result: Callable[[dict], None]) -> str:
+        goal_id = self.next_id(f"send_action_goal:{action}")
+        with self._lock:
+            self._goals[goal_id] = (on_feedback, on_result)
+        self.send({"op": "send_action_goal", "id": goal_id, "action": action, "action_type": type_name,
+                   "args": args, "feedback": True})
+        return goal_id
+
+    def cancel_action_goal(self, action: str, goal_id: str) -> None:
+        self.send({"op": "cancel_action_goal", "id": goal_id, "action": action})
+
+    def advertise_action(self, name: str, type_name: str, on_goal: Callable[[dict], None],
+                         on_cancel: Callable[[dict], None]) -> None:
+        self.action_handlers[name] = (on_goal, on_cancel)
+        self.send({"op": "advertise_action", "action": name, "type": type_name})
+
+    # --- reading ----------------------------------------------------------------------------------
+    def _read(self) -> None:
+        try:
+            for text in self.ws:
+                try:
+                    message = json.loads(text)
+                except ValueError:
+                    continue
+                self._dispatch(message)
+        except ConnectionClosed:
+            pass
+        except Exception as exc:  # noqa: BLE001 - any failure of the socket is the lab gone
+            if not self.closing:
+                self._lost(str(exc))
+                return
+        if not self.closing:
+            self._lost("the lab closed the connection")
+
+    def _dispatch(self, message: dict) -> None:
+        op = message.get("op")
+        if op == "publish":
+            with self._lock:
+                handlers = list(self.topic_handlers.get(message.get("topic"), ()))
+            for handler in handlers:
+                handler(message.get("msg") or {})
+        elif op == "service_response":
+            with self._lock:
+                future = self._calls.pop(message.get("id"), None)
+            if future is not None and not future.done():
+                future.set_result((bool(message.get("result", True)), message.get("values")))
+        elif op == "call_service":
+            handler = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
+            if handler is not None:
+                handler(message)
+            else:
+                self.service_response(message.get("id"), message.get("service"), "no such service here", False)
+        elif op in ("action_feedback", "action_result"):
+            with self._lock:
+                entry = self._goals.get(message.get("id"))
+                if op == "action_result":
+                    self._goals.pop(message.get("id"), None)
+            if entry is not None:
+                entry[0 if op == "action_feedback" else 1](message)
+        elif op in ("send_action_goal", "cancel_action_goal"):
+            entry = self.action_handlers.get("/" + str(message.get("action", "")).strip("/"))
+            if entry is not None:
+                entry[0 if op == "send_action_goal" else 1](message)
+        elif op == "status":
+            id_ = str(message.get("id", ""))
+            if id_ == "rosout":
+                if message.get("level") == "error":
+                    from app.rosclient import process
+
+                    process.rosout_refused(str(message.get("msg")))
+            elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
+                self.status_handler(message)
+
+    def _lost(self, reason: str) -> None:
+        with self._lock:
+            calls, self._calls = list(self._calls.values()), {}
+        for future in calls:
+            if not future.done():
+                future.set_result((False, f"the lab at {self.url} went away"))
+        self.on_lost(reason)
+
+
+def _print_status(message: dict) -> None:
+    if message.get("level") in ("error", "warning"):
+        print(f"[{message['level'].upper()}] lab: {message.get('msg')}", file=sys.stderr, flush=True)
+
+
+def _exit_lab_gone(reason: str) -> None:
+    print(f"[FATAL] lost the lab ({reason}): the program stops", file=sys.stderr, flush=True)
+    os._exit(EXIT_LAB_GONE)

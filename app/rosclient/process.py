@@ -1,0 +1,159 @@
+"""What rospy and rclpy share in one program: the lab connection (made when the program first
+initialises ROS), ROS names, wall time, the /rosout publisher and the shutdown state.
+
+`hri-lab run` (app/rosclient/run.py) starts the program with $HRI_LAB_URL, $HRI_LAB_TOKEN and the
+interface finder installed; a program started otherwise (plain `python`) connects to the same
+variables' lab.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+from app.rosclient.connection import Connection
+
+POLL = 0.1  # s between looks at the lab's registry while waiting for a service or an action server
+
+_lock = threading.Lock()
+_connection: list[Connection] = []
+shutdown_event = threading.Event()
+shutdown_reason: list[str] = []
+_advertised: set[str] = set()
+
+
+def ensure_interfaces() -> None:
+    """The interface finder, when the program was not started by boot.py (plain `python FILE`)."""
+    from app.rosclient import interfaces
+
+    if not any(isinstance(f, interfaces.Finder) for f in sys.meta_path):
+        interfaces.install(interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE")))
+
+
+def connection() -> Connection:
+    with _lock:
+        if not _connection:
+            _connection.append(Connection())
+        return _connection[0]
+
+
+def connected() -> bool:
+    return bool(_connection)
+
+
+def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
+    """A ROS name made absolute: `~x` is private to the node, `x` relative to the namespace."""
+    if name.startswith("~"):
+        return "/" + "/".join(p for p in (namespace.strip("/"), node_name.strip("/"), name[1:].strip("/")) if p)
+    if name.startswith("/"):
+        return "/" + name.strip("/")
+    return "/" + "/".join(p for p in (namespace.strip("/"), name.strip("/")) if p)
+
+
+def advertise_once(topic: str, type_name: str) -> None:
+    if topic not in _advertised:
+        _advertised.add(topic)
+        connection().send({"op": "advertise", "topic": topic, "type": type_name})
+
+
+def publish(topic: str, type_name: str, msg: dict) -> None:
+    advertise_once(topic, type_name)
+    connection().send({"op": "publish", "topic": topic, "msg": msg})
+
+
+def service_names() -> set[str]:
+    return set(connection().call_service("/rosapi/services", {}, timeout=10).get("services", []))
+
+
+def action_names() -> set[str]:
+    return set(connection().call_service("/rosapi/action_servers", {}, timeout=10).get("action_servers", []))
+
+
+def wait_until(test: Callable[[], bool], timeout: float | None) -> bool:
+    """Poll `test` every POLL s until true (True) or `timeout` s passed (False); None waits forever."""
+    deadline = None if timeout is None or timeout < 0 else time.monotonic() + timeout
+    while not shutdown_event.is_set():
+        if test():
+            return True
+        if deadline is not None and time.monotonic() >= deadline:
+            return False
+        time.sleep(POLL if deadline is None else max(0.0, min(POLL, deadline - time.monotonic())))
+    return False
+
+
+def stamp_now() -> dict:
+    now = time.time()
+    sec = int(now)
+    return {"sec": sec, "nanosec": int((now - sec) * 1e9)}
+
+
+ROSOUT_ID = "rosout"  # the id of /rosout's frames: a refusal of them is never shown, it ends the publishing
+_rosout_refused: list[str] = []
+
+
+def rosout(msg: dict, type_name: str) -> None:
+    """A log line on /rosout (only once the program is connected: logging never connects; a lab that
+    refuses the program's /rosout lines gets no more of them)."""
+    if not _connection or shutdown_event.is_set() or _rosout_refused:
+        return
+    try:
+        conn = _connection[0]
+        if "/rosout" not in _advertised:
+            _advertised.add("/rosout")
+            conn.send({"op": "advertise", "id": ROSOUT_ID, "topic": "/rosout", "type": type_name})
+        conn.send({"op": "publish", "id": ROSOUT_ID, "topic": "/rosout", "msg": msg})
+    except Exception:  # noqa: BLE001 - a log line never fails the program
+        pass
+
+
+def rosout_refused(reason: str) -> None:
+    _rosout_refused.append(reason)
+
+
+def ok() -> bool:
+    return not shutdown_event.is_set()
+
+
+def shutdown(reason: str = "") -> None:
+    if not shutdown_event.is_set():
+        shutdown_reason.append(reason)
+        shutdown_event.set()
+        wake = sys.modules.get("rclpy.executors")  # a spinning rclpy executor looks again
+        if wake is not None:
+            with wake.WAKE:
+                wake.WAKE.notify_all()
+
+
+def close() -> None:
+    shutdown("")
+    if _connection:
+        _connection[0].close()
+
+
+def program_args(argv: list[str] | None = None) -> tuple[list[str], list[str]]:
+    """argv split into the program's own arguments and the ones after --ros-args (to --, or the end)."""
+    argv = list(sys.argv if argv is None else argv)
+    if "--ros-args" not in argv:
+        return argv, []
+    i = argv.index("--ros-args")
+    rest = argv[i + 1:]
+    end = rest.index("--") if "--" in rest else len(rest)
+    return argv[:i] + rest[end + 1:], rest[:end]
+
+
+def parse_value(text: str) -> Any:
+    """A parameter value given as text (`-p name:=value`, `_name:=value`, launch files): YAML's
+    reading of it, as ROS does."""
+    import yaml
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError:
+        return text
+
+
+def env_flag(name: str) -> bool:
+    return os.environ.get(name, "") not in ("", "0")

@@ -211,9 +211,10 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/topic_type":
         return {"type": bridge.topic_types().get("/" + str(args.get("topic", "")).strip("/"), "")}
     if name == "/rosapi/services":
-        return {"services": [s.name for s in bridge.services] + sorted(NAMES) + [tf_republisher.SERVICE]}
+        offered = [s.name for s in bridge.services if bridge.nodes.offered(s.name)]
+        return {"services": offered + sorted(NAMES) + [tf_republisher.SERVICE]}
     if name == "/rosapi/services_for_type":
-        return {"services": [s.name for s in bridge.services if s.type == args.get("type")]}
+        return {"services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]}
     if name == "/rosapi/service_type":
         wanted = str(args.get("service", ""))
         if wanted == tf_republisher.SERVICE:
@@ -249,7 +250,8 @@ def call(bridge, session, name: str, args: dict) -> dict:
         node = str(args.get("node", ""))
         if node == LAB_NODE:
             return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
-                    "services": [s.name for s in bridge.services if bridge.nodes.provided_by(s.name) is None]}
+                    "services": [s.name for s in bridge.services
+                                 if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)]}
         other = next((s for s in bridge.sessions if s.name == node), None)
         if other is None:
             return {"subscribing": [], "publishing": [], "services": []}

@@ -160,6 +160,11 @@ class NodeServices:
     def provided_by(self, name: str) -> Provider | None:
         return self.providers.get(name)
 
+    def offered(self, name: str) -> bool:
+        """Somebody answers `name` now: the lab, or a node (an exercise left to the nodes is not
+        offered until one provides it, as a ROS service exists only while its server runs)."""
+        return name not in self.slots or name in self.providers
+
     def goes_to_node(self, name: str) -> bool:
         """A call of `name` is a node's to answer (provided, or an exercise left to the nodes)."""
         return name in self.providers or name in self.slots

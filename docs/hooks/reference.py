@@ -164,17 +164,15 @@ def rosapi() -> str:
 
 
 def rosbridge_ops() -> str:
-    """The ops a rosbridge connection dispatches (its `op_*` handlers), and which need the token."""
-    from app.rosbridge import session
-
-    names = sorted(name[len("op_") :] for name in dir(session.Session) if name.startswith("op_"))
+    """The ops a rosbridge connection dispatches (app/rosbridge/ops.py), and which need the token."""
+    from app.rosbridge.ops import OPS
 
     def token(name: str) -> str:
-        if name == "call_service":  # decided per service (session.op_call_service)
+        if name == "call_service":  # decided per service (capabilities/call_service.py)
             return "yes, but for rosapi's reading services (below)"
-        return "yes" if name in session.MUTATING else ""
+        return "yes" if OPS[name].mutating else ""
 
-    return _table(["op", "needs the token (when the lab has one)"], [[f"`{name}`", token(name)] for name in names])
+    return _table(["op", "needs the token (when the lab has one)"], [[f"`{name}`", token(name)] for name in sorted(OPS)])
 
 
 GENERATORS: dict[str, Callable[[], str]] = {

@@ -1,6 +1,6 @@
 """The sandbox's cost: one controller step in-process vs across the sandbox boundary (bubblewrap,
 two pipes), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
-parent's CPU: sim/controllers/sandbox.py), and the wall time of a whole `hri-lab grade` of the
+parent's CPU: sim/controllers/sandbox/), and the wall time of a whole `hri-lab grade` of the
 reference SP file.
 
     .venv/bin/python -m bench.grade_time [--steps 20000] [--no-grade]

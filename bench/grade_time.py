@@ -1,5 +1,5 @@
 """The sandbox's cost: one controller step in-process vs across the sandbox boundary (bubblewrap,
-two pipes), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
+a shared-memory slot, a wake-up byte each way), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
 parent's CPU: sim/controllers/sandbox/), and the wall time of a whole `hri-lab grade` of the
 reference SP file.
 

@@ -142,3 +142,26 @@ def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
                          capture_output=True, text=True, env=env, timeout=120)
     assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
     assert run.stdout == ""
+
+
+def test_the_shared_slot_cannot_be_shrunk_under_the_parent():
+    """The slot is sealed: the child's ftruncate fails in the child (unsealed, this process would
+    die of SIGBUS at its next step)."""
+    assert "PermissionError" in fault_of("ShrinksTheSlot")
+
+
+def test_a_stale_answer_in_the_slot_is_not_taken_for_the_answer():
+    """Each answer carries its request's number: a NaN twist under the previous number, with a
+    wake-up, is passed over and the step's own answer is returned."""
+    controller = PluginFactory(f"{FAULTS}:AnswersEarly")()
+    reference = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+    params = LiftingParams()
+    try:
+        for controller_ in (controller, reference):
+            controller_.start(params, 10.0)
+        for _ in range(5):
+            inputs = (np.array([0.3, -0.2, 4.0, 0.01, 0, 0]), np.eye(4), params, 1e-3)
+            assert np.allclose(controller.step(*inputs), reference.step(*inputs))
+    finally:
+        controller.close()
+        reference.close()

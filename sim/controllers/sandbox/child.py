@@ -47,57 +47,56 @@ def limit(memory_bytes: int, cpu_seconds: int) -> None:
 
 
 class ChildEnd:
-    """Serves one instance of the student's class over two pipes."""
+    """Serves one instance of the student's class through the slot (wire.py)."""
 
-    def __init__(self, read_fd: int, write_fd: int) -> None:
-        self.read_fd, self.write_fd = read_fd, write_fd
-        self._inbox = b""  # bytes read from the parent, not yet used
+    def __init__(self, wake_fd: int, answer_fd: int, slot_fd: int) -> None:
+        self.wake_fd, self.answer_fd = wake_fd, answer_fd
+        self.slot = wire.Slot(slot_fd)
+        self.seen = 0  # the last request's sequence number
 
-    def _receive(self) -> tuple[bytes, bytes] | None:
-        header = self._exact(wire.HEADER.size)
-        if header is None:
-            return None
-        op, size = wire.HEADER.unpack(header)
-        return op, self._exact(size) or b""
-
-    def _exact(self, size: int) -> bytes | None:
-        """`size` bytes (a whole request usually arrives in one read); None at the end of input."""
-        while len(self._inbox) < size:
-            chunk = os.read(self.read_fd, wire.READ_CHUNK)
-            if not chunk:
+    def _receive(self) -> tuple[int, bytes, int] | None:
+        """The next request (sequence number, opcode, payload bytes); None at the end of input."""
+        while True:
+            if not os.read(self.wake_fd, 64):
                 return None
-            self._inbox += chunk
-        data, self._inbox = self._inbox[:size], self._inbox[size:]
-        return data
+            seq, op, size = self.slot.request()
+            if seq != self.seen:
+                self.seen = seq
+                return seq, op, size
 
-    def _send(self, kind: bytes, payload: bytes) -> None:
-        wire.write_all(self.write_fd, wire.HEADER.pack(kind, len(payload)) + payload)
+    def _send(self, seq: int, kind: bytes, payload: bytes = b"") -> None:
+        self.slot.put_answer(seq, kind, payload)
+        os.write(self.answer_fd, b"\1")
 
-    def _error(self, what: str, exc: BaseException) -> None:
+    def _error(self, seq: int, exc: BaseException) -> None:
         trace = "".join(traceback.format_exception(exc))
-        self._send(b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[:wire.MAX_TEXT].encode("utf-8", errors="replace"))
+        self._send(seq, b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[:wire.MAX_TEXT].encode("utf-8", errors="replace"))
 
     def serve(self, class_name: str) -> int:
         message = self._receive()
         if message is None:
             return 0
-        filename, _, source = message[1].partition(b"\0")
+        seq, _, size = message
+        filename, _, source = self.slot.request_payload(size).partition(b"\0")
         try:
             instance = self._load(filename.decode(), source.decode("utf-8", errors="replace"), class_name)
         except BaseException as exc:  # noqa: BLE001 - even sys.exit() at import is a load error
             if isinstance(exc, LookupError):
-                self._send(b"e", str(exc.args[0]).encode())
+                self._send(seq, b"e", str(exc.args[0]).encode())
             else:
-                self._send(b"e", f"importing {filename.decode()} failed: {type(exc).__name__}: {exc}".encode())
+                self._send(seq, b"e", f"importing {filename.decode()} failed: {type(exc).__name__}: {exc}".encode())
             return 1
         has = [callable(getattr(instance, name, None)) for name in ("start", "stop")]
-        self._send(b"k", bytes(has))
+        self._send(seq, b"k", bytes(has))
         while (message := self._receive()) is not None:
-            op, payload = message
+            seq, op, size = message
             try:
-                self._send(*self._handle(instance, op, payload))
+                if op == b"S":
+                    self._step(instance, seq)
+                else:
+                    self._send(seq, *self._handle(instance, op, self.slot.request_payload(size)))
             except BaseException as exc:  # noqa: BLE001 - reported; the parent decides
-                self._error(op.decode(), exc)
+                self._error(seq, exc)
         return 0
 
     @staticmethod
@@ -115,23 +114,27 @@ class ChildEnd:
                 raise LookupError(f"{class_name} in {filename} has no {method}() method")
         return cls()
 
+    def _step(self, instance, seq: int) -> None:
+        """One step: the inputs copied out of the slot (the student's code keeps no view of it)."""
+        values = self.slot.step_in.tolist()
+        raw = instance.step(np.array(values[:6]), np.array(values[6:22]).reshape(4, 4),
+                            wire.params_from_floats(values[22:-1]), values[-1])
+        try:
+            twist = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise TypeError(f"step returned {type(raw).__name__}, not 6 numbers") from None
+        if twist.shape != (6,):
+            raise ValueError(f"step returned shape {twist.shape}, expected (6,) = [vx, vy, vz, wx, wy, wz]")
+        self.slot.twist_out[:] = twist
+        wire.HEADER.pack_into(self.slot.memory, wire.ANSWER_AT, seq, b"k", wire.TWIST_BYTES)
+        os.write(self.answer_fd, b"\1")
+
     @staticmethod
     def _handle(instance, op: bytes, payload: bytes) -> tuple[bytes, bytes]:
         if op == b"R":
             instance.reset()
             return b"k", b""
         values = struct.unpack(f"<{len(payload) // 8}d", payload)
-        if op == b"S":
-            wrench, transform = np.array(values[:6]), np.array(values[6:22]).reshape(4, 4)
-            params = wire.params_from_floats(values[22:-1])
-            raw = instance.step(wrench, transform, params, values[-1])
-            try:
-                twist = np.asarray(raw, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise TypeError(f"step returned {type(raw).__name__}, not 6 numbers") from None
-            if twist.shape != (6,):
-                raise ValueError(f"step returned shape {twist.shape}, expected (6,) = [vx, vy, vz, wx, wy, wz]")
-            return b"k", twist.tobytes()
         params = wire.params_from_floats(values[:len(wire.PARAM_FIELDS)])
         message = instance.start(params, float(values[-1])) if op == b"A" else instance.stop(params)
         return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[:wire.MAX_TEXT].encode("utf-8", "replace")
@@ -140,7 +143,7 @@ class ChildEnd:
 def main(argv: list[str]) -> int:
     memory_bytes, cpu_seconds, class_name = int(argv[0]), int(argv[1]), argv[2]
     limit(memory_bytes, cpu_seconds)
-    return ChildEnd(wire.REQUEST_FD, wire.ANSWER_FD).serve(class_name)
+    return ChildEnd(wire.WAKE_CHILD_FD, wire.WAKE_PARENT_FD, wire.SLOT_FD).serve(class_name)
 
 
 if __name__ == "__main__":

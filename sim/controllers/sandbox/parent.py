@@ -1,5 +1,6 @@
 """SandboxedController: the Controller protocol (reset/step/start/stop) answered by the student's
-class in a child process inside the jail (jail.py), over the wire (wire.py).
+class in a child process inside the jail (jail.py), through the wire (wire.py): a step's inputs
+are written into the shared slot, one byte wakes the child, one byte wakes us when its twist is there.
 
 The child runs with normal scheduling (posix_spawn resets SCHED_FIFO before exec, so no student
 thread ever runs at the loop's real-time priority). The student's file is sent as text.
@@ -19,6 +20,7 @@ processes CPU time (bench/grade_time.py measures a step's CPU with the cores idl
 """
 from __future__ import annotations
 
+import fcntl
 import math
 import os
 import select
@@ -57,18 +59,21 @@ class SandboxedController:
             self._call(b"R", b"", "reset")
 
     def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
-        request = wire.STEP.pack(b"S", wire.STEP.size - wire.HEADER.size, *np.asarray(wrench_ee, float).ravel()[:6].tolist(),
-                                 *np.asarray(transform_ee_to_base, float).ravel()[:16].tolist(),
-                                 *wire.params_to_floats(params), float(dt))
+        self._ensure()
+        request = self._slot.step_in
+        request[:6] = np.ravel(wrench_ee)[:6]
+        request[6:22] = np.ravel(transform_ee_to_base)[:16]
+        request[22:-1] = wire.params_to_floats(params)
+        request[-1] = dt
         started = time.perf_counter()
-        reply = self._call(b"S", request, "step")
+        kind, size = self._call(b"S", None, "step")
         self._account(time.perf_counter() - started)
-        if len(reply) != wire.TWIST.size:
-            self._fault(f"{self.name}.step returned {len(reply) // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
-        twist = wire.TWIST.unpack(reply)
-        if not all(map(math.isfinite, twist)):
-            self._fault(f"{self.name}.step returned a non-finite twist {list(twist)}")
-        return np.array(twist)
+        if size != wire.TWIST_BYTES:
+            self._fault(f"{self.name}.step returned {size // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
+        twist = self._slot.twist_out.copy()  # out of the slot first, then checked: the child cannot change it now
+        if not all(map(math.isfinite, twist.tolist())):
+            self._fault(f"{self.name}.step returned a non-finite twist {twist.tolist()}")
+        return twist
 
     def start(self, params: LiftingParams, force: float) -> str:
         if not (self._faulted and not self.has_start):  # a stopped file without start() still has the lab's
@@ -85,15 +90,18 @@ class SandboxedController:
         return self._service(b"O", wire.params_to_floats(params), params, "stop")
 
     def close(self) -> None:
-        """End the child (EOF, then SIGKILL if it lingers)."""
+        """End the child (the end of its input, then SIGKILL if it lingers)."""
         pid, self.pid = self.pid, None
-        for fd in (getattr(self, "_to_child", None), getattr(self, "_from_child", None)):
+        for fd in (getattr(self, "_to_child", None), getattr(self, "_from_child", None), getattr(self, "_errors", None)):
             if fd is not None:
                 try:
                     os.close(fd)
                 except OSError:
                     pass
-        self._to_child = self._from_child = None
+        self._to_child = self._from_child = self._errors = None
+        slot, self._slot = getattr(self, "_slot", None), None
+        if slot is not None:
+            slot.close()
         if pid is not None and self._owner == os.getpid():
             watch.reap(pid, grace=0.5)
 
@@ -105,7 +113,7 @@ class SandboxedController:
 
     def __getstate__(self) -> dict:  # a copy in another process starts its own child
         state = dict(self.__dict__)
-        state.update(pid=None, _to_child=None, _from_child=None, _owner=0)
+        state.update(pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0)
         return state
 
     def load(self) -> "SandboxedController":
@@ -131,7 +139,8 @@ class SandboxedController:
             raise ControllerFault(self._faulted)
         self.pid = None  # a child of another process (fork) is not ours to talk to
         self._spawn()
-        reply = self._call(b"L", str(self.path).encode() + b"\0" + self.source.encode(), "load", self.budget.load_timeout)
+        kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
+        reply = self._slot.answer_payload(min(size, 2))
         self.has_start, self.has_stop = bool(reply[:1] == b"\1"), bool(reply[1:2] == b"\1")
         self._steps = 0
         tree = self._tree()
@@ -144,66 +153,91 @@ class SandboxedController:
     def _spawn(self) -> None:
         child = child_command(self.budget, self.class_name)
         argv = bwrap_command(child) if self.sandboxed else child
+        self._load_request = str(self.path).encode() + b"\0" + self.source.encode()
+        slot_fd = os.memfd_create("controller-slot", os.MFD_CLOEXEC | os.MFD_ALLOW_SEALING)
+        os.ftruncate(slot_fd, wire.slot_bytes(len(self._load_request)))
+        # its size fixed for good: a child that shrank it would fault the parent's reads (SIGBUS)
+        fcntl.fcntl(slot_fd, fcntl.F_ADD_SEALS, fcntl.F_SEAL_SHRINK | fcntl.F_SEAL_GROW | fcntl.F_SEAL_SEAL)
         to_child_r, to_child_w = os.pipe()
         from_child_r, from_child_w = os.pipe()
         errors_r, errors_w = os.pipe()
+        # what the child gets, above the numbers it gets them as (a dup2 onto 3 must not clobber a source)
+        slot_fd, to_child_r, from_child_w, errors_w = (_above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w))
         try:
             self.pid = os.posix_spawn(argv[0], argv, CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV}, file_actions=[
                 (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
                 (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
                 (os.POSIX_SPAWN_DUP2, errors_w, 2),
-                (os.POSIX_SPAWN_DUP2, to_child_r, wire.REQUEST_FD),
-                (os.POSIX_SPAWN_DUP2, from_child_w, wire.ANSWER_FD),
+                (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
+                (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
+                (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
             ], setsid=True, scheduler=(os.SCHED_OTHER, os.sched_param(0)))
         except OSError as exc:
-            for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w):
+            for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
                 os.close(fd)
             raise ControllerFault(f"cannot start the controller's process: {exc}") from None
         for fd in (to_child_r, from_child_w, errors_w):
             os.close(fd)
         self._owner = os.getpid()
         self._to_child, self._from_child, self._errors = to_child_w, from_child_r, errors_r
-        self._inbox = b""  # bytes read from the child, not yet used
-        os.set_blocking(errors_r, False)
+        self._slot = wire.Slot(slot_fd)
+        os.close(slot_fd)  # the map stays
+        self._seq = 0
+        # our ends only (a pipe's two ends are two files): a child that never reads its wake-ups
+        # cannot block a write here, nor can anything the child does make a read here block
+        for fd in (to_child_w, from_child_r, errors_r):
+            os.set_blocking(fd, False)
+        self._poll = select.poll()
+        self._poll.register(from_child_r, select.POLLIN)
 
     # one request, one answer
-    def _call(self, op: bytes, payload: bytes, what: str, timeout: float | None = None) -> bytes:
-        """One request (op and payload; a step's request comes packed with its header) and its answer."""
+    def _call(self, op: bytes, payload: bytes | None, what: str, timeout: float | None = None) -> tuple[bytes, int]:
+        """One request (a step's floats are in the slot already: payload None) and its answer's
+        (kind, payload bytes); an error answer is a fault."""
         if op != b"L":
             self._ensure()
+        self._seq += 1
+        seq = self._seq
+        if payload is None:
+            wire.HEADER.pack_into(self._slot.memory, wire.REQUEST_AT, seq, op, wire.STEP_FLOATS * 8)
+        else:
+            self._slot.put_request(seq, op, payload)
         try:
-            wire.write_all(self._to_child, payload if op == b"S" else wire.HEADER.pack(op, len(payload)) + payload)
-        except (BrokenPipeError, OSError):
+            os.write(self._to_child, b"\1")
+        except BlockingIOError:
+            self._fault(f"{self.name}.{what}: the controller's process does not take its requests")
+        except OSError:
             self._fault(f"{self.name}.{what}: {self._death()}")
-        deadline = time.perf_counter() + (timeout or self.budget.step_timeout)
-        header = self._read(wire.HEADER.size, deadline, what)
-        kind, size = wire.HEADER.unpack(header)
+        kind, size = self._answer(seq, time.perf_counter() + (timeout or self.budget.step_timeout), what)
         if size > wire.MAX_REPLY:
             self._fault(f"{self.name}.{what} answered {size} bytes (at most {wire.MAX_REPLY})")
-        body = self._read(size, deadline, what)
         if kind == b"e":
-            self._fault(wire.text(body) if what == "load" else f"{self.name}.{what} {wire.text(body)}")
+            body = wire.text(self._slot.answer_payload(size))
+            self._fault(body if what == "load" else f"{self.name}.{what} {body}")
         if kind not in (b"k", b"p"):
             self._fault(f"{self.name}.{what}: the controller's process answered nonsense")
-        return body
+        return kind, size
 
-    def _read(self, size: int, deadline: float, what: str) -> bytes:
-        """`size` bytes of the answer (what the pipe holds is read at once and kept for the next call)."""
-        while len(self._inbox) < size:
+    def _answer(self, seq: int, deadline: float, what: str) -> tuple[bytes, int]:
+        """Wait for the answer to request `seq` (a wake-up byte, then its sequence number in the slot)."""
+        while True:
             left = deadline - time.perf_counter()
-            ready = select.select([self._from_child], [], [], max(0.0, left))[0] if left > 0 else []
-            if not ready:
+            if left <= 0 or not self._poll.poll(left * 1e3 + 1):
                 waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
                 self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
-            chunk = os.read(self._from_child, wire.READ_CHUNK)
-            if not chunk:
+            try:
+                woken = os.read(self._from_child, 64)
+            except BlockingIOError:  # woken for nothing
+                continue
+            if not woken:
                 self._fault(f"importing {self.path} failed: {self._death()}" if what == "load" else f"{self.name}.{what}: {self._death()}")
-            self._inbox += chunk
-        data, self._inbox = self._inbox[:size], self._inbox[size:]
-        return data
+            answered, kind, size = self._slot.answer()
+            if answered == seq:
+                return kind, size
 
     def _service(self, op: bytes, values: list[float], params: LiftingParams, what: str) -> str:
-        reply = self._call(op, np.asarray(values, float).tobytes(), what)
+        kind, size = self._call(op, np.asarray(values, float).tobytes(), what)
+        reply = self._slot.answer_payload(size)
         count = len(wire.PARAM_FIELDS) * 8
         new = np.frombuffer(reply[:count], dtype=np.float64) if len(reply) >= count else np.array([np.nan])
         fields = dict(zip(wire.PARAM_FIELDS, new.tolist()))
@@ -268,3 +302,12 @@ class SandboxedController:
         self.close()
         self._faulted = reason
         raise ControllerFault(reason)
+
+
+def _above(fd: int, highest: int) -> int:
+    """fd moved to a number above `highest` (close-on-exec; posix_spawn's dup2 clears it on the copy)."""
+    if fd > highest:
+        return fd
+    moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, highest + 1)
+    os.close(fd)
+    return moved

@@ -165,3 +165,12 @@ def test_a_stale_answer_in_the_slot_is_not_taken_for_the_answer():
     finally:
         controller.close()
         reference.close()
+
+
+def test_a_file_built_on_the_lab_sp_loads_no_robot_model_in_its_child():
+    """A student's file that subclasses the lab's SP (as the reference does) imports sim.controllers.sp
+    in its child for every graded item: that loads no pinocchio (0.3 s of start-up each)."""
+    probe = ("import sys, sim.controllers.sp; "
+             "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "[]", out.stdout + out.stderr

@@ -111,7 +111,7 @@ def main() -> None:
     if not args.no_grade:
         for flags in ([], ["--unsandboxed"]):
             wall, cpu, said = grade_once(flags)
-            print(f"hri-lab grade reference_sp.py --jobs 2 {' '.join(flags)}: {wall:.1f} s wall, {said}")
+            print(f"hri-lab grade reference_sp.py {' '.join(['--jobs', '2', *flags])}: {wall:.1f} s wall, {said}")
             if flags:
                 print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
             else:

@@ -1,6 +1,6 @@
 """The sandbox's cost: one controller step in-process vs across the sandbox boundary (bubblewrap,
-two pipes), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
-parent's CPU: sim/controllers/sandbox.py), and the wall time of a whole `hri-lab grade` of the
+a shared-memory slot, a wake-up byte each way), the CPU a sandboxed step costs with the cores idle and busy (the child is kept on its
+parent's CPU: sim/controllers/sandbox/), and the wall time of a whole `hri-lab grade` of the
 reference SP file.
 
     .venv/bin/python -m bench.grade_time [--steps 20000] [--no-grade]
@@ -46,9 +46,35 @@ def cpu_per_step(steps: int) -> float:
     return used / steps
 
 
+def start_up(count: int = 5) -> tuple[float, float]:
+    """(median wall s, mean child CPU s) to start a sandboxed child and load the file into it: what
+    every graded item pays once (the child's CPU read from /proc just after the load)."""
+    walls, cpus = [], []
+    for _ in range(count):
+        started = time.perf_counter()
+        controller = PluginFactory(REFERENCE)()
+        walls.append(time.perf_counter() - started)
+        cpus.append(controller._cpu_time())
+        controller.close()
+    return float(np.median(walls)), float(np.mean(cpus))
+
+
 def busy_cores(count: int) -> list[subprocess.Popen]:
     """Processes that keep `count` cores busy (what the test suite or a batch grade does)."""
     return [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(count)]
+
+
+def grade_once(flags: list[str]) -> tuple[float, float, str]:
+    """(wall s, CPU s of the grade and the processes it reaped, its last line) of one grade."""
+    cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    started = time.perf_counter()
+    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet", *flags],
+                         capture_output=True, text=True)
+    wall = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - cpu_before.ru_utime - cpu_before.ru_stime
+    said = run.stdout.strip().splitlines()[-1] if run.stdout.strip() else run.stderr[-300:]
+    return wall, cpu, f"exit {run.returncode}, {said}"
 
 
 def main() -> None:
@@ -56,13 +82,21 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--no-grade", action="store_true")
     args = parser.parse_args()
-    inside = step_times(SPController(), args.steps)
-    sandboxed = PluginFactory(REFERENCE)()
-    across = step_times(sandboxed, args.steps)
-    sandboxed.close()
-    print(f"SP step in-process:   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us")
-    print(f"SP step sandboxed:    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
-    print(f"boundary per step:    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
+    for load in ("idle", "busy"):
+        hogs = busy_cores(os.cpu_count() or 1) if load == "busy" else []
+        try:
+            inside = step_times(SPController(), args.steps)
+            sandboxed = PluginFactory(REFERENCE)()
+            across = step_times(sandboxed, args.steps)
+            sandboxed.close()
+        finally:
+            for hog in hogs:
+                hog.kill()
+                hog.wait()
+        cores = "cores idle" if load == "idle" else "every core busy"
+        print(f"SP step in-process ({cores}):   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us")
+        print(f"SP step sandboxed ({cores}):    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
+        print(f"boundary per step ({cores}):    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
     idle = cpu_per_step(args.steps)
     hogs = busy_cores(os.cpu_count() or 1)
     try:
@@ -72,17 +106,17 @@ def main() -> None:
             hog.kill()
             hog.wait()
     print(f"CPU per sandboxed step (parent + child): {idle * 1e6:.0f} us, {busy * 1e6:.0f} us with every core busy")
+    wall, cpu = start_up()
+    print(f"a child's start-up (bwrap, Python, numpy, the file): {wall:.2f} s wall, {cpu:.2f} s CPU in the child")
     if not args.no_grade:
-        cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        started = time.perf_counter()
-        run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet"],
-                             capture_output=True, text=True)
-        wall = time.perf_counter() - started
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu = after.ru_utime + after.ru_stime - cpu_before.ru_utime - cpu_before.ru_stime
-        print(f"hri-lab grade reference_sp.py --jobs 2: {wall:.1f} s wall, exit {run.returncode}, "
-              f"{run.stdout.strip().splitlines()[-1] if run.stdout.strip() else run.stderr[-300:]}")
-        print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
+        for flags in ([], ["--unsandboxed"]):
+            wall, cpu, said = grade_once(flags)
+            print(f"hri-lab grade reference_sp.py {' '.join(['--jobs', '2', *flags])}: {wall:.1f} s wall, {said}")
+            if flags:
+                print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
+            else:
+                print(f"  CPU without the jails' (bubblewrap's pid namespace hides them from getrusage): {cpu:.1f} s; "
+                      "--unsandboxed does the same work in plain child processes, all counted:")
     with open("/proc/loadavg") as handle:
         print(f"load average while measuring: {handle.read().split()[0]} (2 cores)")
 

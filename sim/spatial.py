@@ -1,10 +1,12 @@
-"""Small spatial-algebra helpers (twists/wrenches are [linear, angular])."""
+"""Small spatial-algebra helpers (twists/wrenches are [linear, angular]).
+
+pinocchio is imported where it is used, not here: the controllers' side (sim/controllers/, which a
+sandboxed child imports for every graded item) uses rotate_twist and must not pay pinocchio's start-up."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
-import pinocchio as pin
 
 
 
@@ -16,11 +18,15 @@ def rotate_twist(rotation_a_to_b: np.ndarray, twist_a: np.ndarray) -> np.ndarray
 
 def rotation_exp(omega_dt: np.ndarray) -> np.ndarray:
     """Rotation matrix exp([omega_dt]x) (Rodrigues, via pinocchio)."""
+    import pinocchio as pin
+
     return pin.exp3(omega_dt)
 
 
 def rotation_log(rotation: np.ndarray) -> np.ndarray:
     """Rotation vector log(R) (rad), via pinocchio."""
+    import pinocchio as pin
+
     return pin.log3(rotation)
 
 

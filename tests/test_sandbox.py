@@ -121,7 +121,7 @@ def test_the_child_follows_the_parent_to_its_cpu():
 def test_the_childs_own_code_loads_no_robot_model():
     """The child's side of the sandbox (and the interface a student's file imports) loads neither
     pinocchio nor numba: every item of a grade starts a child, so its start-up is paid many times."""
-    probe = ("import sys, sim.controllers.sandbox_child, sim.controllers.sandbox, sim.controllers.interface; "
+    probe = ("import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
              "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr
@@ -142,3 +142,35 @@ def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
                          capture_output=True, text=True, env=env, timeout=120)
     assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
     assert run.stdout == ""
+
+
+def test_the_shared_slot_cannot_be_shrunk_under_the_parent():
+    """The slot is sealed: the child's ftruncate fails in the child (unsealed, this process would
+    die of SIGBUS at its next step)."""
+    assert "PermissionError" in fault_of("ShrinksTheSlot")
+
+
+def test_a_stale_answer_in_the_slot_is_not_taken_for_the_answer():
+    """Each answer carries its request's number: a NaN twist under the previous number, with a
+    wake-up, is passed over and the step's own answer is returned."""
+    controller = PluginFactory(f"{FAULTS}:AnswersEarly")()
+    reference = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+    params = LiftingParams()
+    try:
+        for controller_ in (controller, reference):
+            controller_.start(params, 10.0)
+        for _ in range(5):
+            inputs = (np.array([0.3, -0.2, 4.0, 0.01, 0, 0]), np.eye(4), params, 1e-3)
+            assert np.allclose(controller.step(*inputs), reference.step(*inputs))
+    finally:
+        controller.close()
+        reference.close()
+
+
+def test_a_file_built_on_the_lab_sp_loads_no_robot_model_in_its_child():
+    """A student's file that subclasses the lab's SP (as the reference does) imports sim.controllers.sp
+    in its child for every graded item: that loads no pinocchio (0.3 s of start-up each)."""
+    probe = ("import sys, sim.controllers.sp; "
+             "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "[]", out.stdout + out.stderr

@@ -60,7 +60,7 @@ def stop_lifting(params: LiftingParams) -> str:
 
 
 class ControllerFault(Exception):
-    """Why a controller was stopped (a student's plug-in: sim/controllers/sandbox.py); the world
+    """Why a controller was stopped (a student's plug-in: sim/controllers/sandbox/); the world
     turns it into an error state, the message is for the student."""
 
 

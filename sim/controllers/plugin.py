@@ -3,7 +3,7 @@
 config file, never through the API. The class is instantiated with no argument and must have
 `reset()` and `step(wrench_ee, transform_ee_to_base, params, dt)`; it may also have
 `start(params, force) -> str` and `stop(params) -> str`, the handlers of the start/stop services.
-The file is never imported here: it runs in a sandboxed process (sim/controllers/sandbox.py).
+The file is never imported here: it runs in a sandboxed process (sim/controllers/sandbox/).
 """
 from __future__ import annotations
 
@@ -60,7 +60,7 @@ def check_file(path: Path) -> None:
 @dataclass(frozen=True)
 class PluginFactory:
     """A picklable factory (trials may run in other processes): each call starts the file's class
-    in a sandboxed process of its own (sim/controllers/sandbox.py) and returns its controller;
+    in a sandboxed process of its own (sim/controllers/sandbox/) and returns its controller;
     `sandboxed=False` (`--unsandboxed`) drops bubblewrap but keeps the process and its limits."""
 
     spec: str

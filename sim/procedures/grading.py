@@ -16,7 +16,7 @@
    which the person jerks the box 3 cm sideways in 0.3 s while carrying it.
 PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself: a
 follower without the cone, the band or the moments carries the box, yet is not SP).
-A plug-in runs sandboxed (sim/controllers/sandbox.py): exceptions, bad twists, hangs, crashes and
+A plug-in runs sandboxed (sim/controllers/sandbox/): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
 """
 from __future__ import annotations

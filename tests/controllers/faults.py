@@ -97,3 +97,29 @@ class ReachesTheWorld(SPController):
                 world.human.phase = "done"
             frame = frame.f_back
         return np.zeros(6)
+
+
+class ShrinksTheSlot(SPController):
+    """Tries to shrink the shared slot (fd 5) under its parent: the parent would die of SIGBUS."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        os.ftruncate(5, 0)
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class AnswersEarly(SPController):
+    """Before each answer, puts a stale answer (the previous request's number, a NaN twist) in the
+    slot and wakes its parent: the parent must wait for the answer to its own request."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        import mmap
+        import struct
+
+        slot = mmap.mmap(5, os.fstat(5).st_size)
+        seq = struct.unpack_from("<Q", slot, 0)[0]
+        answer_at = os.fstat(5).st_size - (64 << 10)
+        slot[answer_at:answer_at + 48] = struct.pack("<6d", *[float("nan")] * 6)
+        struct.pack_into("<QcI", slot, 64, seq - 1, b"k", 48)
+        os.write(4, b"\1")
+        time.sleep(0.002)  # the parent wakes and sees the stale answer meanwhile
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)

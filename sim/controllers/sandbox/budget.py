@@ -1,0 +1,19 @@
+"""What a sandboxed controller may use (sim/controllers/sandbox/parent.py enforces it)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SandboxBudget:
+    """What a sandboxed controller may use (SI units)."""
+
+    step_timeout: float = 10.0  # s wall for one answer: beyond it the child is hung (generous: a loaded machine stalls)
+    load_timeout: float = 60.0  # s wall to start Python and import the file (a loaded machine is slow)
+    max_sleeps: int = 10  # times step() may sleep or block (voluntary context switches) within `check_every` steps
+    mean_cpu: float = 0.5e-3  # s per step, CPU of all the child's threads, over `window` steps
+    window: int = 1000  # steps
+    slow_step: float = 0.02  # s wall: a step this slow makes us look now
+    check_every: int = 250  # steps between looks at the child's threads and CPU time (/proc)
+    memory_bytes: int = 1 << 30  # RLIMIT_AS
+    cpu_seconds: int = 0  # RLIMIT_CPU of one child (0 = none: the live server runs for hours)

@@ -1,0 +1,150 @@
+"""What runs inside the jail (started by parent.py through jail.py): limits first, then one
+instance of the student's class served over the wire (wire.py). It imports only the wire and the
+controller interface: nothing of the parent's side, no robot model.
+
+Before the student's code runs: normal scheduling (never the loop's SCHED_FIFO), resource limits
+(memory, CPU time, file size, no real-time priority), one BLAS thread, stdout/stderr discarded.
+The student's file arrives as text in the first message: nothing else of the grader's file system
+needs to be visible.
+    python -m sim.controllers.sandbox.child MEMORY_BYTES CPU_SECONDS CLASS_NAME
+"""
+from __future__ import annotations
+
+import linecache
+import os
+import resource
+import struct
+import sys
+import traceback
+import types
+
+import numpy as np
+
+from sim.controllers.sandbox import wire
+
+
+def limit(memory_bytes: int, cpu_seconds: int) -> None:
+    try:
+        os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
+    except (OSError, AttributeError):
+        pass
+    limits = [(resource.RLIMIT_RTPRIO, 0), (resource.RLIMIT_CORE, 0), (resource.RLIMIT_FSIZE, 16 << 20)]
+    if memory_bytes > 0:
+        limits.append((resource.RLIMIT_AS, memory_bytes))
+    if cpu_seconds > 0:
+        limits.append((resource.RLIMIT_CPU, cpu_seconds))
+    for which, value in limits:
+        resource.setrlimit(which, (value, value))
+    try:  # die with the parent also without bwrap (--unsandboxed): prctl(PR_SET_PDEATHSIG, SIGKILL)
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, 9)
+    except (OSError, AttributeError):
+        pass
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+
+
+class ChildEnd:
+    """Serves one instance of the student's class through the slot (wire.py)."""
+
+    def __init__(self, wake_fd: int, answer_fd: int, slot_fd: int) -> None:
+        self.wake_fd, self.answer_fd = wake_fd, answer_fd
+        self.slot = wire.Slot(slot_fd)
+        self.seen = 0  # the last request's sequence number
+
+    def _receive(self) -> tuple[int, bytes, int] | None:
+        """The next request (sequence number, opcode, payload bytes); None at the end of input."""
+        while True:
+            if not os.read(self.wake_fd, 64):
+                return None
+            seq, op, size = self.slot.request()
+            if seq != self.seen:
+                self.seen = seq
+                return seq, op, size
+
+    def _send(self, seq: int, kind: bytes, payload: bytes = b"") -> None:
+        self.slot.put_answer(seq, kind, payload)
+        os.write(self.answer_fd, b"\1")
+
+    def _error(self, seq: int, exc: BaseException) -> None:
+        trace = "".join(traceback.format_exception(exc))
+        self._send(seq, b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[:wire.MAX_TEXT].encode("utf-8", errors="replace"))
+
+    def serve(self, class_name: str) -> int:
+        message = self._receive()
+        if message is None:
+            return 0
+        seq, _, size = message
+        filename, _, source = self.slot.request_payload(size).partition(b"\0")
+        try:
+            instance = self._load(filename.decode(), source.decode("utf-8", errors="replace"), class_name)
+        except BaseException as exc:  # noqa: BLE001 - even sys.exit() at import is a load error
+            if isinstance(exc, LookupError):
+                self._send(seq, b"e", str(exc.args[0]).encode())
+            else:
+                self._send(seq, b"e", f"importing {filename.decode()} failed: {type(exc).__name__}: {exc}".encode())
+            return 1
+        has = [callable(getattr(instance, name, None)) for name in ("start", "stop")]
+        self._send(seq, b"k", bytes(has))
+        while (message := self._receive()) is not None:
+            seq, op, size = message
+            try:
+                if op == b"S":
+                    self._step(instance, seq)
+                else:
+                    self._send(seq, *self._handle(instance, op, self.slot.request_payload(size)))
+            except BaseException as exc:  # noqa: BLE001 - reported; the parent decides
+                self._error(seq, exc)
+        return 0
+
+    @staticmethod
+    def _load(filename: str, source: str, class_name: str):
+        module = types.ModuleType("cooperative_lifting")
+        module.__file__ = filename
+        sys.modules[module.__name__] = module
+        linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+        exec(compile(source, filename, "exec"), module.__dict__)  # noqa: S102 - the sandbox is the point
+        cls = getattr(module, class_name, None)
+        if not isinstance(cls, type):
+            raise LookupError(f"{filename} has no class {class_name} (give another with {filename}:ClassName)")
+        for method in ("reset", "step"):
+            if not callable(getattr(cls, method, None)):
+                raise LookupError(f"{class_name} in {filename} has no {method}() method")
+        return cls()
+
+    def _step(self, instance, seq: int) -> None:
+        """One step: the inputs copied out of the slot (the student's code keeps no view of it)."""
+        values = self.slot.step_in.tolist()
+        raw = instance.step(np.array(values[:6]), np.array(values[6:22]).reshape(4, 4),
+                            wire.params_from_floats(values[22:-1]), values[-1])
+        try:
+            twist = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise TypeError(f"step returned {type(raw).__name__}, not 6 numbers") from None
+        if twist.shape != (6,):
+            raise ValueError(f"step returned shape {twist.shape}, expected (6,) = [vx, vy, vz, wx, wy, wz]")
+        self.slot.twist_out[:] = twist
+        wire.HEADER.pack_into(self.slot.memory, wire.ANSWER_AT, seq, b"k", wire.TWIST_BYTES)
+        os.write(self.answer_fd, b"\1")
+
+    @staticmethod
+    def _handle(instance, op: bytes, payload: bytes) -> tuple[bytes, bytes]:
+        if op == b"R":
+            instance.reset()
+            return b"k", b""
+        values = struct.unpack(f"<{len(payload) // 8}d", payload)
+        params = wire.params_from_floats(values[:len(wire.PARAM_FIELDS)])
+        message = instance.start(params, float(values[-1])) if op == b"A" else instance.stop(params)
+        return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[:wire.MAX_TEXT].encode("utf-8", "replace")
+
+
+def main(argv: list[str]) -> int:
+    memory_bytes, cpu_seconds, class_name = int(argv[0]), int(argv[1]), argv[2]
+    limit(memory_bytes, cpu_seconds)
+    return ChildEnd(wire.WAKE_CHILD_FD, wire.WAKE_PARENT_FD, wire.SLOT_FD).serve(class_name)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

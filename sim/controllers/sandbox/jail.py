@@ -1,0 +1,61 @@
+"""The jail a student's controller runs in: bubblewrap's command line and the child's environment.
+
+`bwrap --unshare-all --cap-drop ALL`: no network, no other process, a read-only view of only what
+Python needs (/usr, the interpreter, the virtual environment, the `sim` package), a private /tmp;
+the child (child.py) sets its own memory and CPU-time limits before the student's code runs.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import sim
+from sim.controllers.sandbox.budget import SandboxBudget
+
+CHILD_MODULE = "sim.controllers.sandbox.child"
+CHILD_ENV = {"PATH": "/usr/bin:/bin", "HOME": "/tmp", "LANG": "C.UTF-8", "PYTHONDONTWRITEBYTECODE": "1",
+             "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+             "NUMBA_NUM_THREADS": "1"}
+
+
+def _readable_roots() -> list[str]:
+    """What the child must see: the interpreter (venv and base), the `sim` package."""
+
+    roots = {sys.prefix, sys.base_prefix, sys.exec_prefix, sys.base_exec_prefix, str(Path(sim.__file__).parent)}
+    roots.add(str(Path(sys.executable).resolve().parent.parent))
+    return sorted(r for r in roots if not r.startswith("/usr"))
+
+
+def bwrap_command(child: list[str]) -> list[str]:
+    bwrap = shutil.which("bwrap") or "bwrap"
+    argv = [bwrap, "--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
+            "--ro-bind", "/usr", "/usr", "--tmpfs", "/tmp", "--proc", "/proc", "--dev", "/dev"]
+    for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
+        if os.path.islink(top):
+            argv += ["--symlink", os.readlink(top), top]
+        elif os.path.isdir(top):
+            argv += ["--ro-bind", top, top]
+    for root in _readable_roots():
+        argv += ["--ro-bind", root, root]
+    return argv + ["--chdir", "/tmp", "--"] + child
+
+
+def child_command(budget: SandboxBudget, class_name: str) -> list[str]:
+    return [sys.executable, "-m", CHILD_MODULE, str(budget.memory_bytes), str(budget.cpu_seconds), class_name]
+
+
+@lru_cache(maxsize=None)
+def sandbox_unavailable() -> str | None:
+    """None when bubblewrap can run here, else why not (for `hri-lab grade`'s refusal)."""
+    if shutil.which("bwrap") is None:
+        return "bubblewrap (bwrap) is not installed: `apt-get install bubblewrap` (make test does it)"
+
+    try:
+        run = subprocess.run(bwrap_command(["/usr/bin/true"]), capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f"bwrap cannot run: {exc}"
+    return None if run.returncode == 0 else f"bwrap cannot run here: {run.stderr.strip() or run.returncode}"

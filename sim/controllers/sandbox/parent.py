@@ -1,0 +1,313 @@
+"""SandboxedController: the Controller protocol (reset/step/start/stop) answered by the student's
+class in a child process inside the jail (jail.py), through the wire (wire.py): a step's inputs
+are written into the shared slot, one byte wakes the child, one byte wakes us when its twist is there.
+
+The child runs with normal scheduling (posix_spawn resets SCHED_FIFO before exec, so no student
+thread ever runs at the loop's real-time priority). The student's file is sent as text.
+
+Faults (ControllerFault, the world turns it into an error state): an exception, a twist that is
+not 6 finite numbers, no answer within `step_timeout` (a hang), the steps' wall time above
+more than `max_sleeps` sleeps or blocking calls inside step() within `check_every` steps (its
+voluntary context switches beyond the one read per step: a busy machine preempts, which is
+involuntary, so load never counts against it), the CPU time (all threads) above `mean_cpu`,
+a thread or process started, the process gone (os._exit, a signal, the memory or CPU limit).
+After a fault the child is killed and every call fails with the same reason until reset()
+(error_recovery), which lets the next call start a fresh child.
+
+Parent and child take turns (one runs while the other waits), so the child is kept on the CPU the
+parent runs on (re-checked every `check_every` steps): waking it on another CPU costs both
+processes CPU time (bench/grade_time.py measures a step's CPU with the cores idle and busy).
+"""
+from __future__ import annotations
+
+import fcntl
+import math
+import os
+import select
+import time
+from pathlib import Path
+
+import numpy as np
+
+from sim.controllers.interface import ControllerFault, LiftingParams, start_lifting, stop_lifting
+from sim.controllers.sandbox import watch, wire
+from sim.controllers.sandbox.budget import SandboxBudget
+from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command, child_command
+
+
+class SandboxedController:
+    """The Controller protocol, answered by the student's class in a sandboxed child process."""
+
+    def __init__(self, path: Path, class_name: str, budget: SandboxBudget = SandboxBudget(), sandboxed: bool = True) -> None:
+        self.path, self.class_name, self.budget, self.sandboxed = Path(path), class_name, budget, sandboxed
+        self.source = self.path.read_text(encoding="utf-8", errors="replace")
+        self.name = class_name
+        self.pid: int | None = None
+        self._owner = 0  # the process that started the child (a fork must start its own)
+        self.has_start = self.has_stop = False
+        self._faulted = ""  # why the last child was stopped: every call fails fast until reset()
+        self._switch_mark = self._switch_steps = 0  # the child's voluntary context switches, steps, at the last look
+        self._steps = 0
+        self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
+        self._tasks = 0
+        self._cpu: int | None = None  # the CPU the child is kept on (the parent's)
+
+    # the Controller protocol
+    def reset(self) -> None:
+        self._faulted = ""  # error_recovery: the next call starts a fresh child
+        if self._alive():
+            self._call(b"R", b"", "reset")
+
+    def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
+        self._ensure()
+        request = self._slot.step_in
+        request[:6] = np.ravel(wrench_ee)[:6]
+        request[6:22] = np.ravel(transform_ee_to_base)[:16]
+        request[22:-1] = wire.params_to_floats(params)
+        request[-1] = dt
+        started = time.perf_counter()
+        kind, size = self._call(b"S", None, "step")
+        self._account(time.perf_counter() - started)
+        if size != wire.TWIST_BYTES:
+            self._fault(f"{self.name}.step returned {size // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
+        twist = self._slot.twist_out.copy()  # out of the slot first, then checked: the child cannot change it now
+        if not all(map(math.isfinite, twist.tolist())):
+            self._fault(f"{self.name}.step returned a non-finite twist {twist.tolist()}")
+        return twist
+
+    def start(self, params: LiftingParams, force: float) -> str:
+        if not (self._faulted and not self.has_start):  # a stopped file without start() still has the lab's
+            self._ensure()
+        if not self.has_start:
+            return start_lifting(params, force)
+        return self._service(b"A", wire.params_to_floats(params) + [float(force)], params, "start")
+
+    def stop(self, params: LiftingParams) -> str:
+        if not (self._faulted and not self.has_stop):
+            self._ensure()
+        if not self.has_stop:
+            return stop_lifting(params)
+        return self._service(b"O", wire.params_to_floats(params), params, "stop")
+
+    def close(self) -> None:
+        """End the child (the end of its input, then SIGKILL if it lingers)."""
+        pid, self.pid = self.pid, None
+        for fd in (getattr(self, "_to_child", None), getattr(self, "_from_child", None), getattr(self, "_errors", None)):
+            if fd is not None:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self._to_child = self._from_child = self._errors = None
+        slot, self._slot = getattr(self, "_slot", None), None
+        if slot is not None:
+            slot.close()
+        if pid is not None and self._owner == os.getpid():
+            watch.reap(pid, grace=0.5)
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass
+
+    def __getstate__(self) -> dict:  # a copy in another process starts its own child
+        state = dict(self.__dict__)
+        state.update(pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0)
+        return state
+
+    def load(self) -> "SandboxedController":
+        """Start the child and import the file now (a file that cannot be loaded fails here)."""
+        self._ensure()
+        return self
+
+    # the child's life
+    def _alive(self) -> bool:
+        return self.pid is not None and self._owner == os.getpid()
+
+    def _tree(self) -> list[int]:
+        return watch.process_tree(self.pid)
+
+    def _cpu_time(self) -> float:
+        """s of CPU used by the child's processes (all threads)."""
+        return watch.cpu_time(self._tree())
+
+    def _ensure(self) -> None:
+        if self._alive():
+            return
+        if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
+            raise ControllerFault(self._faulted)
+        self.pid = None  # a child of another process (fork) is not ours to talk to
+        self._spawn()
+        kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
+        reply = self._slot.answer_payload(min(size, 2))
+        self.has_start, self.has_stop = bool(reply[:1] == b"\1"), bool(reply[1:2] == b"\1")
+        self._steps = 0
+        tree = self._tree()
+        self._switch_mark, self._switch_steps = watch.voluntary_switches(tree), 0
+        self._tasks = watch.count_tasks(tree)
+        self._cpu_mark = (0, watch.cpu_time(tree))
+        self._cpu = None
+        self._follow_parent()
+
+    def _spawn(self) -> None:
+        child = child_command(self.budget, self.class_name)
+        argv = bwrap_command(child) if self.sandboxed else child
+        self._load_request = str(self.path).encode() + b"\0" + self.source.encode()
+        slot_fd = os.memfd_create("controller-slot", os.MFD_CLOEXEC | os.MFD_ALLOW_SEALING)
+        os.ftruncate(slot_fd, wire.slot_bytes(len(self._load_request)))
+        # its size fixed for good: a child that shrank it would fault the parent's reads (SIGBUS)
+        fcntl.fcntl(slot_fd, fcntl.F_ADD_SEALS, fcntl.F_SEAL_SHRINK | fcntl.F_SEAL_GROW | fcntl.F_SEAL_SEAL)
+        to_child_r, to_child_w = os.pipe()
+        from_child_r, from_child_w = os.pipe()
+        errors_r, errors_w = os.pipe()
+        # what the child gets, above the numbers it gets them as (a dup2 onto 3 must not clobber a source)
+        slot_fd, to_child_r, from_child_w, errors_w = (_above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w))
+        try:
+            self.pid = os.posix_spawn(argv[0], argv, CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV}, file_actions=[
+                (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
+                (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
+                (os.POSIX_SPAWN_DUP2, errors_w, 2),
+                (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
+                (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
+                (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
+            ], setsid=True, scheduler=(os.SCHED_OTHER, os.sched_param(0)))
+        except OSError as exc:
+            for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
+                os.close(fd)
+            raise ControllerFault(f"cannot start the controller's process: {exc}") from None
+        for fd in (to_child_r, from_child_w, errors_w):
+            os.close(fd)
+        self._owner = os.getpid()
+        self._to_child, self._from_child, self._errors = to_child_w, from_child_r, errors_r
+        self._slot = wire.Slot(slot_fd)
+        os.close(slot_fd)  # the map stays
+        self._seq = 0
+        # our ends only (a pipe's two ends are two files): a child that never reads its wake-ups
+        # cannot block a write here, nor can anything the child does make a read here block
+        for fd in (to_child_w, from_child_r, errors_r):
+            os.set_blocking(fd, False)
+        self._poll = select.poll()
+        self._poll.register(from_child_r, select.POLLIN)
+
+    # one request, one answer
+    def _call(self, op: bytes, payload: bytes | None, what: str, timeout: float | None = None) -> tuple[bytes, int]:
+        """One request (a step's floats are in the slot already: payload None) and its answer's
+        (kind, payload bytes); an error answer is a fault."""
+        if op != b"L":
+            self._ensure()
+        self._seq += 1
+        seq = self._seq
+        if payload is None:
+            wire.HEADER.pack_into(self._slot.memory, wire.REQUEST_AT, seq, op, wire.STEP_FLOATS * 8)
+        else:
+            self._slot.put_request(seq, op, payload)
+        try:
+            os.write(self._to_child, b"\1")
+        except BlockingIOError:
+            self._fault(f"{self.name}.{what}: the controller's process does not take its requests")
+        except OSError:
+            self._fault(f"{self.name}.{what}: {self._death()}")
+        kind, size = self._answer(seq, time.perf_counter() + (timeout or self.budget.step_timeout), what)
+        if size > wire.MAX_REPLY:
+            self._fault(f"{self.name}.{what} answered {size} bytes (at most {wire.MAX_REPLY})")
+        if kind == b"e":
+            body = wire.text(self._slot.answer_payload(size))
+            self._fault(body if what == "load" else f"{self.name}.{what} {body}")
+        if kind not in (b"k", b"p"):
+            self._fault(f"{self.name}.{what}: the controller's process answered nonsense")
+        return kind, size
+
+    def _answer(self, seq: int, deadline: float, what: str) -> tuple[bytes, int]:
+        """Wait for the answer to request `seq` (a wake-up byte, then its sequence number in the slot)."""
+        while True:
+            left = deadline - time.perf_counter()
+            if left <= 0 or not self._poll.poll(left * 1e3 + 1):
+                waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
+                self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
+            try:
+                woken = os.read(self._from_child, 64)
+            except BlockingIOError:  # woken for nothing
+                continue
+            if not woken:
+                self._fault(f"importing {self.path} failed: {self._death()}" if what == "load" else f"{self.name}.{what}: {self._death()}")
+            answered, kind, size = self._slot.answer()
+            if answered == seq:
+                return kind, size
+
+    def _service(self, op: bytes, values: list[float], params: LiftingParams, what: str) -> str:
+        kind, size = self._call(op, np.asarray(values, float).tobytes(), what)
+        reply = self._slot.answer_payload(size)
+        count = len(wire.PARAM_FIELDS) * 8
+        new = np.frombuffer(reply[:count], dtype=np.float64) if len(reply) >= count else np.array([np.nan])
+        fields = dict(zip(wire.PARAM_FIELDS, new.tolist()))
+        f_n_min, f_n_band, running = fields.get("f_n_min", np.nan), fields.get("f_n_band", np.nan), fields.get("running", np.nan)
+        if not (np.isfinite(f_n_min) and np.isfinite(f_n_band) and running in (0.0, 1.0) and f_n_min >= 0 and f_n_band >= 0):
+            self._fault(f"{self.name}.{what} left f_n_min = {f_n_min}, f_n_band = {f_n_band}, running = {running}: "
+                        "expected finite forces >= 0 and running True or False")
+        # only what the services own changes; the other fields belong to the parameter server
+        params.f_n_min, params.f_n_band, params.running = f_n_min, f_n_band, bool(running)
+        return wire.text(reply[count:])
+
+    # watching the child
+    def _follow_parent(self) -> None:
+        """Keep the child's processes on the CPU this process runs on (they take turns)."""
+        cpu = watch.current_cpu()
+        if cpu is None or cpu == self._cpu:
+            return
+        watch.keep_on_cpu(self._tree(), cpu)
+        self._cpu = cpu
+
+    def _account(self, wall: float) -> None:
+        budget = self.budget
+        self._steps += 1
+        if self._steps % budget.check_every and wall < budget.slow_step:
+            return
+        self._follow_parent()
+        tree = self._tree()
+        tasks = watch.count_tasks(tree)
+        if tasks > self._tasks:
+            self._fault(f"{self.name} started a thread or a process ({tasks - self._tasks} more): a controller runs "
+                        "in its one thread, each step returns the twist")
+        # between two steps the child blocks once, reading the next request; any other voluntary
+        # context switch is a sleep or blocking I/O inside step() (being preempted is involuntary)
+        switches = watch.voluntary_switches(tree)
+        extra = switches - self._switch_mark - (self._steps - self._switch_steps)
+        if self._steps % budget.check_every == 0:
+            self._switch_mark, self._switch_steps = switches, self._steps
+        if extra > budget.max_sleeps:
+            self._fault(f"{self.name}.step sleeps or blocks: {extra} times within {budget.check_every} steps "
+                        f"(at most {budget.max_sleeps}; the loop runs at 1 kHz, a step must return, not wait); "
+                        f"last step {wall * 1e3:.1f} ms")
+        steps, cpu = self._cpu_mark
+        if self._steps - steps >= budget.window:
+            used = watch.cpu_time(tree) - cpu
+            mean = used / (self._steps - steps)
+            if mean > budget.mean_cpu:
+                self._fault(f"{self.name}.step used {mean * 1e3:.2f} ms of CPU per step over {self._steps - steps} steps "
+                            f"(budget {budget.mean_cpu * 1e3:g} ms)")
+            self._cpu_mark = (self._steps, used + cpu)
+
+    def _death(self) -> str:
+        """Why the child is gone (its exit code or signal), with what it said on stderr."""
+        status = watch.reap(self.pid, grace=1.0) if self._alive() else None
+        said = ""
+        try:
+            said = wire.text(os.read(self._errors, wire.MAX_TEXT)).strip()
+        except (OSError, AttributeError, TypeError):
+            pass
+        return watch.why_ended(status) + (f"; it said: {said}" if said else "")
+
+    def _fault(self, reason: str):
+        self.close()
+        self._faulted = reason
+        raise ControllerFault(reason)
+
+
+def _above(fd: int, highest: int) -> int:
+    """fd moved to a number above `highest` (close-on-exec; posix_spawn's dup2 clears it on the copy)."""
+    if fd > highest:
+        return fd
+    moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, highest + 1)
+    os.close(fd)
+    return moved

@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test experiment bench clean chromium bubblewrap docs lint
+.PHONY: run test test-fast experiment bench clean chromium bubblewrap docs lint
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -37,6 +37,10 @@ bubblewrap:
 
 test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
+
+# the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything
+test-fast: $(STAMP) $(VENV)/.kernels
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not e2e and not browser"
 
 # the documentation site (mkdocs.yml) in site/; its reference pages are generated from the code (docs/hooks/)
 docs: $(DEV) $(VENV)/.kernels

@@ -14,7 +14,7 @@ from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, roun
 SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"
 
 
-VIEW = os.environ.get("HRI_LAB_TEST_VIEW", "light")  # "full" for the full-mesh screenshot of the README
+VIEW = os.environ.get("HRI_LAB_TEST_VIEW", "light")  # "full" for the full-mesh screenshot of the docs
 
 
 @pytest.fixture(scope="module")

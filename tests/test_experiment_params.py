@@ -98,7 +98,7 @@ def test_sweep_rows_equal_single_runs():
 
 def test_cli_sweep_reproduces_the_hasty_finding():
     """`hri-lab experiment --sweep alpha=0.5,0.8`: the override reaches the controller (as measured,
-    README "The experiment": at 0.8 the hasty participant drops the box, at 0.5 the robot follows
+    docs/experiment.md: at 0.8 the hasty participant drops the box, at 0.5 the robot follows
     early enough), one table, and its --json for a figure."""
     cmd = [sys.executable, "-m", "app.cli", "experiment", "--sweep", "alpha=0.5,0.8", "--trials", "1",
            "--participant", "hasty", "--seed", "3", "--jobs", "2", "--quiet", "--set", "k_t=0.1"]

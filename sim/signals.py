@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 
 def cutoff_time_constant(cutoff_hz: float) -> float | None:
@@ -42,12 +43,14 @@ def saturate(x: np.ndarray, limit: float) -> np.ndarray:
     return x * (limit / norm) if norm > limit else x
 
 
+@njit(cache=True)
 def minimum_jerk(tau: float) -> float:
     """s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 on [0, 1] (peak speed 1.875 / T)."""
     tau = min(max(tau, 0.0), 1.0)
     return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
+@njit(cache=True)
 def minimum_jerk_rate(tau: float) -> float:
     """ds/dtau = 30 tau^2 (1 - tau)^2 on [0, 1]."""
     tau = min(max(tau, 0.0), 1.0)

@@ -59,13 +59,21 @@ class Box:
 
     def step(self, force: np.ndarray, torque: np.ndarray, dt: float) -> None:
         """Advance dt (s) under the total external force (N) and moment about the centre (Nm), world."""
-        _integrate(
+        self._steps = box_step(
             self.position, self.rotation, self.velocity, self.angular_velocity,
-            force, torque, self.params.mass, self._inertia, self._inertia_inv, GRAVITY, dt,
+            np.asarray(force, float), np.asarray(torque, float), self.params.mass, self._inertia, self._inertia_inv,
+            GRAVITY, dt, self._steps,
         )
-        self._steps += 1
-        if self._steps % 1000 == 0:
-            self.rotation[:] = orthonormalize(self.rotation)
+
+
+@njit(cache=True)
+def box_step(position, rotation, velocity, omega, force, torque, mass, inertia, inertia_inv, gravity, dt, steps):
+    """One step of `_integrate`, and every 1000th the rotation orthonormalized; returns steps + 1."""
+    _integrate(position, rotation, velocity, omega, force, torque, mass, inertia, inertia_inv, gravity, dt)
+    steps += 1
+    if steps % 1000 == 0:
+        rotation[:, :] = orthonormalize(rotation)
+    return steps
 
 
 @njit(cache=True)

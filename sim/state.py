@@ -7,12 +7,17 @@ reads and writes in place; the component's Python attributes are views of it.
         steps = Scalar(12)               # a float read/written at state[12]
         released = Flag(13)              # a bool read/written at state[13] (0.0 / 1.0)
 
-The owner keeps the array in `self.state` (allocated with `allocate(cls)`), so the layout is
-written once, here in the class, and the compiled kernels index it with the same constants.
+The owner keeps the array in `self.state` (allocated with `allocate(cls)`; a class whose `state`
+means something else names its array's attribute in `state_attribute`), so the layout is written
+once, in the class, and the compiled kernels index it with the same constants.
 """
 from __future__ import annotations
 
 import numpy as np
+
+
+def _array(obj) -> np.ndarray:
+    return getattr(obj, getattr(type(obj), "state_attribute", "state"))
 
 
 class Field:
@@ -28,10 +33,10 @@ class Field:
     def __get__(self, obj, owner=None):
         if obj is None:
             return self
-        return obj.state[self.start:self.stop].reshape(self.shape)
+        return _array(obj)[self.start:self.stop].reshape(self.shape)
 
     def __set__(self, obj, value) -> None:
-        obj.state[self.start:self.stop] = np.asarray(value, dtype=float).reshape(-1)
+        _array(obj)[self.start:self.stop] = np.asarray(value, dtype=float).reshape(-1)
 
 
 class Scalar:
@@ -43,10 +48,10 @@ class Scalar:
     def __get__(self, obj, owner=None):
         if obj is None:
             return self
-        return float(obj.state[self.start])
+        return float(_array(obj)[self.start])
 
     def __set__(self, obj, value) -> None:
-        obj.state[self.start] = value
+        _array(obj)[self.start] = value
 
 
 class Flag(Scalar):
@@ -55,10 +60,10 @@ class Flag(Scalar):
     def __get__(self, obj, owner=None):
         if obj is None:
             return self
-        return bool(obj.state[self.start])
+        return bool(_array(obj)[self.start])
 
     def __set__(self, obj, value) -> None:
-        obj.state[self.start] = 1.0 if value else 0.0
+        _array(obj)[self.start] = 1.0 if value else 0.0
 
 
 def size(cls) -> int:

@@ -126,7 +126,7 @@ class LiftingLawController(LiftingController):
 
     def constants(self) -> np.ndarray:
         """The law's own constants (the patch's plate), as patch_twist_ee reads them."""
-        return np.zeros(5)
+        return _NO_CONSTANTS
 
     def law(self) -> int | None:
         """The compiled law (SP, PATCH) this controller runs: the `compiled_law` declared by the
@@ -163,4 +163,5 @@ class LiftingLawController(LiftingController):
         raise NotImplementedError
 
 
+_NO_CONSTANTS = np.zeros(5)
 _LAWS: dict[type, int | None] = {}  # a controller class -> its compiled law (LiftingLawController.law)

@@ -43,16 +43,19 @@ class Box:
         self.angular_velocity = np.zeros(3)
         self._inertia = self.params.inertia_body
         self._inertia_inv = np.linalg.inv(self._inertia)
+        self._half_size = np.asarray(self.params.size, dtype=float) / 2.0
         self._steps = 0
 
     def set_params(self, params: BoxParams) -> None:
         self.params = params
         self._inertia = params.inertia_body
         self._inertia_inv = np.linalg.inv(self._inertia)
+        self._half_size = np.asarray(params.size, dtype=float) / 2.0
 
     @property
     def half_size(self) -> np.ndarray:
-        return np.asarray(self.params.size) / 2.0
+        """Half extents along the box axes (m)."""
+        return self._half_size
 
     def pose(self) -> BoxPose:
         return BoxPose(self.position, self.rotation, self.velocity, self.angular_velocity, self.half_size)

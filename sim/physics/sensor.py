@@ -63,6 +63,7 @@ class WrenchSensor:
         self.state = np.zeros(7)
         self.noise = np.zeros((0, 6))
         self.noise_index = 0
+        self._scales: tuple[SensorParams | None, np.ndarray] = (None, np.zeros(3))
 
     def reset(self) -> None:
         self.state[:] = 0.0
@@ -78,7 +79,9 @@ class WrenchSensor:
     def scales(self) -> np.ndarray:
         """(force std, moment std, cut-off Hz) as measure_into reads them."""
         p = self.params
-        return np.array([p.force_noise_std, p.moment_noise_std, p.filter_cutoff_hz])
+        if self._scales[0] is not p:  # the params are frozen: a change is a new object
+            self._scales = (p, np.array([p.force_noise_std, p.moment_noise_std, p.filter_cutoff_hz]))
+        return self._scales[1]
 
     def measure(self, wrench_ee: np.ndarray, dt: float) -> np.ndarray:
         """One sample (6,) of F_ext from the true wrench_ee."""

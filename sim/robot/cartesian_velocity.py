@@ -234,14 +234,62 @@ def twist_to_joint_velocity(jac, twist, twist_prev, q, qdot_prev, posture, q_res
 @njit(cache=True)
 def damped_least_squares(jac, twist, posture, damping2):
     """qdot = J^T (J J^T + lambda^2 I)^-1 twist + (I - J^T (J J^T)^-1 J) posture.
-    The null-space projector is undamped so that the posture term never moves the EE."""
-    gram = jac @ jac.T
+    The null-space projector is undamped so that the posture term never moves the EE.
+    (J J^T + lambda^2 I and J J^T + 1e-10 I are symmetric positive definite: Cholesky solves.)"""
+    rows, cols = jac.shape
+    gram = np.zeros((rows, rows))
+    for i in range(rows):
+        for j in range(i + 1):
+            acc = 0.0
+            for k in range(cols):
+                acc += jac[i, k] * jac[j, k]
+            gram[i, j] = gram[j, i] = acc
     damped = gram.copy()
-    for i in range(6):
+    for i in range(rows):
         damped[i, i] += damping2
         gram[i, i] += 1e-10
-    qdot = jac.T @ np.linalg.solve(damped, twist)
-    return qdot + posture - jac.T @ np.linalg.solve(gram, jac @ posture)
+    jp = np.zeros(rows)
+    for i in range(rows):
+        for k in range(cols):
+            jp[i] += jac[i, k] * posture[k]
+    y = _cholesky_solve(damped, twist)
+    z = _cholesky_solve(gram, jp)
+    qdot = np.empty(cols)
+    for k in range(cols):
+        acc = posture[k]
+        for i in range(rows):
+            acc += jac[i, k] * (y[i] - z[i])
+        qdot[k] = acc
+    return qdot
+
+
+@njit(cache=True)
+def _cholesky_solve(a, b):
+    """x with a x = b, a symmetric positive definite (a = L L^T, then two triangular solves)."""
+    n = a.shape[0]
+    low = np.zeros((n, n))
+    for i in range(n):
+        for j in range(i + 1):
+            acc = a[i, j]
+            for k in range(j):
+                acc -= low[i, k] * low[j, k]
+            if i == j:
+                low[i, i] = math.sqrt(acc) if acc > 0.0 else 1e-300
+            else:
+                low[i, j] = acc / low[j, j]
+    y = np.empty(n)
+    for i in range(n):
+        acc = b[i]
+        for k in range(i):
+            acc -= low[i, k] * y[k]
+        y[i] = acc / low[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        acc = y[i]
+        for k in range(i + 1, n):
+            acc -= low[k, i] * x[k]
+        x[i] = acc / low[i, i]
+    return x
 
 
 @njit(cache=True)
@@ -296,6 +344,10 @@ def arm_command_twist(state, twist, dt, constants, rotations, translations, axes
         q[i] += qdot[i] * dt
         qdot_prev[i] = qdot[i]
     chain_kinematics(q, rotations, translations, axes, flange_rotation, flange_translation, transform, jacobian)
-    twist_base[:] = jacobian @ qdot
+    for i in range(6):
+        acc = 0.0
+        for k in range(7):
+            acc += jacobian[i, k] * qdot[k]
+        twist_base[i] = acc
     twist_command[:] = twist
     return OK, -1, 0.0

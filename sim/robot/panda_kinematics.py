@@ -60,19 +60,23 @@ def chain_arrays(model, frame_id: int) -> ChainArrays:
 @njit(cache=True)
 def chain_kinematics(q, rotations, translations, axes, flange_rotation, flange_translation, transform, jacobian):
     """Flange pose (4x4, base frame) into `transform` and its Jacobian (6 x n, LOCAL_WORLD_ALIGNED)
-    into `jacobian`, in place (the module docstring's formulas)."""
+    into `jacobian`, in place (the module docstring's formulas; 3x3 products written out, as
+    BLAS calls on 3x3 matrices cost more than the arithmetic)."""
     n = q.shape[0]
     r = np.eye(3)
+    tmp = np.empty((3, 3))
     p = np.zeros(3)
     origins = np.empty((n, 3))
     axes_world = np.empty((n, 3))
     for i in range(n):
-        # T <- T X_i : p += R t_i, R = R R_i
-        p = p + r @ translations[i]
-        r = r @ rotations[i]
-        a = r @ axes[i]
-        origins[i] = p
-        axes_world[i] = a
+        # T <- T X_i : p += R t_i, R <- R R_i
+        for row in range(3):
+            p[row] += r[row, 0] * translations[i, 0] + r[row, 1] * translations[i, 1] + r[row, 2] * translations[i, 2]
+        _mul3(r, rotations[i], tmp)
+        r[:, :] = tmp
+        for row in range(3):
+            origins[i, row] = p[row]
+            axes_world[i, row] = r[row, 0] * axes[i, 0] + r[row, 1] * axes[i, 1] + r[row, 2] * axes[i, 2]
         # R <- R Rot(a_i, q_i) (Rodrigues, a_i unit, in the joint frame)
         ax, ay, az = axes[i, 0], axes[i, 1], axes[i, 2]
         c, s = math.cos(q[i]), math.sin(q[i])
@@ -81,17 +85,27 @@ def chain_kinematics(q, rotations, translations, axes, flange_rotation, flange_t
         rot[0, 0], rot[0, 1], rot[0, 2] = c + ax * ax * v, ax * ay * v - az * s, ax * az * v + ay * s
         rot[1, 0], rot[1, 1], rot[1, 2] = ay * ax * v + az * s, c + ay * ay * v, ay * az * v - ax * s
         rot[2, 0], rot[2, 1], rot[2, 2] = az * ax * v - ay * s, az * ay * v + ax * s, c + az * az * v
-        r = r @ rot
-    p_ee = p + r @ flange_translation
-    r_ee = r @ flange_rotation
+        _mul3(r, rot, tmp)
+        r[:, :] = tmp
     transform[:, :] = 0.0
-    transform[:3, :3] = r_ee
-    transform[:3, 3] = p_ee
+    for row in range(3):
+        transform[row, 3] = p[row] + (r[row, 0] * flange_translation[0] + r[row, 1] * flange_translation[1]
+                                      + r[row, 2] * flange_translation[2])
+    _mul3(r, flange_rotation, tmp)
+    transform[:3, :3] = tmp
     transform[3, 3] = 1.0
     for i in range(n):
-        a = axes_world[i]
-        d0, d1, d2 = p_ee[0] - origins[i, 0], p_ee[1] - origins[i, 1], p_ee[2] - origins[i, 2]
-        jacobian[0, i] = a[1] * d2 - a[2] * d1
-        jacobian[1, i] = a[2] * d0 - a[0] * d2
-        jacobian[2, i] = a[0] * d1 - a[1] * d0
-        jacobian[3, i], jacobian[4, i], jacobian[5, i] = a[0], a[1], a[2]
+        a0, a1, a2 = axes_world[i, 0], axes_world[i, 1], axes_world[i, 2]
+        d0, d1, d2 = transform[0, 3] - origins[i, 0], transform[1, 3] - origins[i, 1], transform[2, 3] - origins[i, 2]
+        jacobian[0, i] = a1 * d2 - a2 * d1
+        jacobian[1, i] = a2 * d0 - a0 * d2
+        jacobian[2, i] = a0 * d1 - a1 * d0
+        jacobian[3, i], jacobian[4, i], jacobian[5, i] = a0, a1, a2
+
+
+@njit(cache=True)
+def _mul3(a, b, out):
+    """out = a b for 3x3 matrices."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]

@@ -12,10 +12,13 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-# numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run
-KERNELS := sim/physics/contact.py sim/physics/box.py sim/robot/cartesian_velocity.py
+# numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run;
+# the same files as sim/kernel_cache.py's KERNEL_MODULES (a change in any of them drops every cache)
+KERNELS := $(addprefix sim/,compiled_step.py signals.py spatial.py controllers/builtin.py controllers/lifting_law.py \
+	controllers/patch.py controllers/sp.py person/human.py physics/box.py physics/contact.py physics/sensor.py \
+	procedures/monitor.py robot/cartesian_velocity.py robot/panda_kinematics.py)
 $(VENV)/.kernels: $(STAMP) $(KERNELS)
-	$(BIN)/python -c "from sim.world import World; World().run(0.01)"
+	$(BIN)/python -c "from sim.compiled_step import warm_up; warm_up()"
 	touch $@
 
 run: $(STAMP) $(VENV)/.kernels bubblewrap

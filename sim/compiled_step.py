@@ -108,3 +108,30 @@ def world_step_builtin(sensor_state, noise, scales, wrench_ee, law, law_state, l
                                   plate_bristles, plate_constants, palm_points, palm_bristles, palm_constants,
                                   plate_out, palm_out, wrench_ee_true, monitor, rules, time_after, mu, twist_command)
     return kind, j, value, box_steps, event
+
+
+def warm_up() -> None:
+    """Compile (or load) every kernel the lab runs, as `make .venv/.kernels` does at set-up: a
+    step with each built-in controller, with a controller in Python, a joint motion, and the
+    components' own methods."""
+    from sim.controllers.interface import LiftingParams, ZeroController
+    from sim.controllers.lifting_law import rate_limit
+    from sim.controllers.patch import PatchController
+    from sim.world import World
+
+    for controller in (None, PatchController(), ZeroController()):
+        world = World() if controller is None else World(controller=controller)
+        world.start_lifting(10.0)
+        world.run(0.005)
+        world.move_to_start()
+        world.run(0.003)
+        world.human.step(1e-3, 0.0, 0.0, 0.0, None, np.eye(3))
+        world.human.hand_wrench(world.box.pose(), 1.0)
+        world.human.tilted_level()
+        world.plate_contact.step(np.eye(3), np.zeros(3), np.zeros(3), np.zeros(3), world.box.pose(), 1e-3)
+        world.box.step(np.zeros(3), np.zeros(3), 1e-3)
+        world.sensor.measure(np.zeros(6), 1e-3)
+        world.arm.command_twist(np.zeros(6), 1e-3)
+        world.controller.step(np.zeros(6), np.eye(4), LiftingParams(running=True), 1e-3)
+    PatchController().twist_ee(np.zeros(6), LiftingParams())
+    rate_limit(np.zeros(6), np.ones(6), LiftingParams(), 1e-3)

@@ -1,46 +1,17 @@
-"""Signal pieces shared by the sensor, the person, the robot's motions and the controllers (SI units)."""
+"""Signal pieces shared by the sensor, the person, the robot's motions and the controllers (SI units, compiled)."""
 from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 
-def cutoff_time_constant(cutoff_hz: float) -> float | None:
-    """tau = 1 / (2 pi f_c) (s) of a first-order low-pass with cut-off f_c (Hz); None for f_c <= 0 (no filter)."""
-    return 1.0 / (2.0 * math.pi * cutoff_hz) if cutoff_hz > 0.0 else None
-
-
-class LowPass:
-    """First-order low-pass, y <- y + a (x - y), a = dt / (tau + dt).
-
-    Without a time constant (tau None: filter off) or before the first sample, y = x."""
-
-    def __init__(self, value: float | np.ndarray | None = None) -> None:
-        self.value = value
-
-    def reset(self, value: float | np.ndarray | None = None) -> None:
-        self.value = value
-
-    def update(self, x, dt: float, time_constant: float | None):
-        """The filtered value after sample x (s: dt, time_constant)."""
-        if time_constant is None or self.value is None:
-            self.value = x.copy() if isinstance(x, np.ndarray) else float(x)
-        else:
-            self.value = self.value + dt / (time_constant + dt) * (x - self.value)
-        return self.value
-
-    def update_hz(self, x, dt: float, cutoff_hz: float):
-        """update() with the cut-off frequency (Hz; <= 0: no filter)."""
-        return self.update(x, dt, cutoff_time_constant(cutoff_hz))
-
-
-def saturate(x: np.ndarray, limit: float) -> np.ndarray:
-    """A 3-vector scaled down to |x| = limit if longer (direction kept)."""
-    a, b, c = x.tolist()
-    norm = math.sqrt(a * a + b * b + c * c)
-    return x * (limit / norm) if norm > limit else x
+@njit(cache=True)
+def low_pass_gain(dt: float, cutoff_hz: float) -> float:
+    """a of a first-order low-pass y <- y + a (x - y): a = dt / (tau + dt), tau = 1 / (2 pi f_c) (s: dt;
+    Hz: f_c > 0; the callers take y = x without a filter, f_c <= 0)."""
+    tau = 1.0 / (2.0 * math.pi * cutoff_hz)
+    return dt / (tau + dt)
 
 
 @njit(cache=True)

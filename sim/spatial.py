@@ -7,12 +7,6 @@ import numpy as np
 from numba import njit
 
 
-def rotate_twist(rotation_a_to_b: np.ndarray, twist_a: np.ndarray) -> np.ndarray:
-    """Express a twist (or wrench) given in frame a in frame b, same reference point:
-    x_b = blockdiag(R, R) @ x_a with R = rotation a -> b."""
-    return np.concatenate((rotation_a_to_b @ twist_a[:3], rotation_a_to_b @ twist_a[3:]))
-
-
 def rotation_exp(omega_dt: np.ndarray) -> np.ndarray:
     """Rotation matrix exp([omega_dt]x) (Rodrigues; pinocchio's exp3, compiled: tests/test_spatial.py)."""
     return exp3(np.asarray(omega_dt, dtype=float))
@@ -77,8 +71,3 @@ def norm3(v: np.ndarray) -> float:
     return math.sqrt(a * a + b * b + c * c)
 
 
-def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b for two 3-vectors (np.cross is slow on tiny arrays; so is arithmetic on numpy scalars)."""
-    a0, a1, a2 = a.tolist()
-    b0, b1, b2 = b.tolist()
-    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])

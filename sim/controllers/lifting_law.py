@@ -17,6 +17,7 @@ from sim.controllers.interface import (
     A_MAX, DW_MAX, F_N_BAND, F_N_MIN, FILTER_HZ, K_N, RUNNING, V_MAX, W_MAX, LiftingController, LiftingParams,
     lifting_vector,
 )
+from sim.signals import low_pass_gain
 from sim.state import Field, Flag, allocate
 
 # the controller's state array (sim/state.py)
@@ -86,11 +87,10 @@ def rate_limit(twist_previous: np.ndarray, twist_target: np.ndarray, params: Lif
 @njit(cache=True)
 def low_pass(state, wrench_ee, p, dt):
     """Step 0: the filtered F_ext, y <- y + a (x - y), a = dt / (tau + dt), tau = 1 / (2 pi filter_hz)
-    (sim.signals.LowPass; no filter for filter_hz <= 0 and at the first sample)."""
+    (sim.signals.low_pass_gain; no filter for filter_hz <= 0 and at the first sample)."""
     filtered = state[FILTERED:FILTERED + 6]
     if p[FILTER_HZ] > 0.0 and state[HAS_FILTERED] != 0.0:
-        tau = 1.0 / (2.0 * math.pi * p[FILTER_HZ])
-        a = dt / (tau + dt)
+        a = low_pass_gain(dt, p[FILTER_HZ])
         for i in range(6):
             filtered[i] = filtered[i] + a * (wrench_ee[i] - filtered[i])
     else:

@@ -5,16 +5,17 @@ the flange frame:
     f_ee = R^T f,   m_ee = R^T (m_c + (p_c - p_ee) x f)
 with f, m_c the plate's contact force and moment on the box about the plate centre p_c (world),
 R = rotation EE -> base. Pressing the plate on the box gives f_n = f_ee . z > 0.
-Then Gaussian noise (N, Nm) and an optional first-order low-pass (sim.signals.LowPass):
+Then Gaussian noise (N, Nm) and an optional first-order low-pass (sim.signals.low_pass_gain):
     y <- y + a (x - y),  a = dt / (tau + dt),  tau = 1 / (2 pi f_c).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
+
+from sim.signals import low_pass_gain
 
 NOISE_BLOCK = 1024  # samples of noise drawn from the world's rng at once (the same stream as one at a time)
 
@@ -93,13 +94,12 @@ class WrenchSensor:
 @njit(cache=True)
 def measure_into(wrench_ee, noise, scales, dt, state, out):
     """out = low-pass(wrench_ee + noise): noise[:3] scaled by the force std, noise[3:] by the moment
-    std; the filter y <- y + a (x - y), a = dt / (tau + dt), tau = 1 / (2 pi f_c) (sim.signals.LowPass;
+    std; the filter y <- y + a (x - y), a = dt / (tau + dt), tau = 1 / (2 pi f_c) (sim.signals.low_pass_gain;
     f_c <= 0 or the first sample: y = x). state = (y, has y)."""
     for i in range(6):
         out[i] = wrench_ee[i] + noise[i] * (scales[0] if i < 3 else scales[1])
     if scales[2] > 0.0 and state[6] != 0.0:
-        tau = 1.0 / (2.0 * math.pi * scales[2])
-        a = dt / (tau + dt)
+        a = low_pass_gain(dt, scales[2])
         for i in range(6):
             out[i] = state[i] + a * (out[i] - state[i])
     for i in range(6):

@@ -13,10 +13,8 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 # numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run;
-# the same files as sim/kernel_cache.py's KERNEL_MODULES (a change in any of them drops every cache)
-KERNELS := $(addprefix sim/,compiled_step.py signals.py spatial.py controllers/builtin.py controllers/lifting_law.py \
-	controllers/patch.py controllers/sp.py person/human.py physics/box.py physics/contact.py physics/sensor.py \
-	procedures/monitor.py robot/cartesian_velocity.py robot/panda_kinematics.py)
+# again whenever a file of sim/ changed (sim/kernel_cache.py then drops the caches built from the old sources)
+KERNELS := $(shell find sim -name '*.py')
 $(VENV)/.kernels: $(STAMP) $(KERNELS)
 	$(BIN)/python -c "from sim.compiled_step import warm_up; warm_up()"
 	touch $@

@@ -2,7 +2,7 @@
 with a built-in controller is one call from Python (World.step, sim/world.py).
 
     world_step_builtin = sense (sensor.measure_into)
-                       + control (builtin.lifting_law_step: SP or patch, steps 0-6)
+                       + control (compiled_law.lifting_law_step: SP or patch, steps 0-6)
                        + robot (cartesian_velocity.arm_command_twist: limits, DLS, the compiled
                          Panda kinematics read out of pinocchio's model, sim/robot/panda_kinematics.py)
                        + world_rest
@@ -10,8 +10,10 @@ with a built-in controller is one call from Python (World.step, sim/world.py).
                          human.hand_wrench, box.box_step, sensor.wrench_at_ee_into; substeps)
                          + the trial's rule (monitor.monitor_update)
 
-Every piece is the function the component's own Python method runs (one source per fact); the
-state is the components' arrays (sim/state.py), changed in place. With any other controller (a
+Every piece is the function the component's own Python method runs (one source per fact), but
+for the built-in controllers, whose Python classes are the law of record a student reads and a
+sandboxed plug-in imports without numba (sim/controllers/compiled_law.py is tested equal to
+them); the state is the components' arrays (sim/state.py), changed in place. With any other controller (a
 student's plug-in, a node's external command) or a joint motion, World.step runs `world_sense`,
 the controller in Python, the robot, then `world_rest`: compiled sense, Python control, compiled rest.
 """
@@ -20,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from sim.controllers.builtin import lifting_law_step
+from sim.controllers.compiled_law import lifting_law_step
 from sim.person.human import hand_wrench, human_step
 from sim.physics.box import box_step
 from sim.physics.contact import patch_step
@@ -115,7 +117,6 @@ def warm_up() -> None:
     step with each built-in controller, with a controller in Python, a joint motion, and the
     components' own methods."""
     from sim.controllers.interface import LiftingParams, ZeroController
-    from sim.controllers.lifting_law import rate_limit
     from sim.controllers.patch import PatchController
     from sim.world import World
 
@@ -133,5 +134,3 @@ def warm_up() -> None:
         world.sensor.measure(np.zeros(6), 1e-3)
         world.arm.command_twist(np.zeros(6), 1e-3)
         world.controller.step(np.zeros(6), np.eye(4), LiftingParams(running=True), 1e-3)
-    PatchController().twist_ee(np.zeros(6), LiftingParams())
-    rate_limit(np.zeros(6), np.ones(6), LiftingParams(), 1e-3)

@@ -1,25 +1,34 @@
-"""Small spatial-algebra helpers (twists/wrenches are [linear, angular])."""
+"""Small spatial-algebra helpers (twists/wrenches are [linear, angular]). exp3, log3 and
+orthonormalize are plain code that numba compiles too (the kernels compile them where they use
+them), so this module never imports numba."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from numba import njit
+import pinocchio as pin
+
+
+
+def rotate_twist(rotation_a_to_b: np.ndarray, twist_a: np.ndarray) -> np.ndarray:
+    """Express a twist (or wrench) given in frame a in frame b, same reference point:
+    x_b = blockdiag(R, R) @ x_a with R = rotation a -> b."""
+    return np.concatenate((rotation_a_to_b @ twist_a[:3], rotation_a_to_b @ twist_a[3:]))
 
 
 def rotation_exp(omega_dt: np.ndarray) -> np.ndarray:
-    """Rotation matrix exp([omega_dt]x) (Rodrigues; pinocchio's exp3, compiled: tests/test_spatial.py)."""
-    return exp3(np.asarray(omega_dt, dtype=float))
+    """Rotation matrix exp([omega_dt]x) (Rodrigues, via pinocchio)."""
+    return pin.exp3(omega_dt)
 
 
 def rotation_log(rotation: np.ndarray) -> np.ndarray:
-    """Rotation vector log(R) (rad) (pinocchio's log3, compiled: tests/test_spatial.py)."""
-    return log3(np.asarray(rotation, dtype=float))
+    """Rotation vector log(R) (rad), via pinocchio."""
+    return pin.log3(rotation)
 
 
-@njit(cache=True)
 def exp3(w):
-    """exp([w]x) = I + sin(t)/t [w]x + (1 - cos t)/t^2 [w]x^2, t = |w| (Taylor terms near t = 0)."""
+    """exp([w]x) (pinocchio's exp3 as plain code that the kernels compile: sim/person/human.py;
+    tests/test_spatial.py) = I + sin(t)/t [w]x + (1 - cos t)/t^2 [w]x^2, t = |w| (Taylor terms near t = 0)."""
     t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
     t = math.sqrt(t2)
     if t < 1e-4:
@@ -34,7 +43,6 @@ def exp3(w):
     return r
 
 
-@njit(cache=True)
 def log3(r):
     """The rotation vector w with exp([w]x) = r, |w| in [0, pi] (pinocchio's log3: the axis from
     the skew part, and from the diagonal near pi where the skew part vanishes)."""
@@ -54,8 +62,7 @@ def log3(r):
     return w
 
 
-@njit(cache=True)
-def orthonormalize(rotation):
+def orthonormalize(rotation: np.ndarray) -> np.ndarray:
     """Nearest rotation matrix (removes integration drift)."""
     u, _, vt = np.linalg.svd(rotation)
     r = u @ vt
@@ -65,9 +72,15 @@ def orthonormalize(rotation):
     return r
 
 
+
 def norm3(v: np.ndarray) -> float:
     """|v| of a 3-vector (np.linalg.norm costs microseconds on tiny arrays)."""
     a, b, c = v.tolist()
     return math.sqrt(a * a + b * b + c * c)
 
 
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b for two 3-vectors (np.cross is slow on tiny arrays; so is arithmetic on numpy scalars)."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])

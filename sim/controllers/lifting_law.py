@@ -1,113 +1,50 @@
 """The pieces of the lifting law that the SP and patch controllers share (each step numbered as
 in sim/controllers/sp.py). Forces in N, speeds in m/s and rad/s, gains in (m/s)/N.
 
-The law is compiled (numba): a controller's state is one array (`LiftingLawController.state`),
-its parameters the vector `lifting_vector(params)` (sim/controllers/interface.py), and
-`lifting_law_step` (sim/controllers/builtin.py) runs steps 0-6 of a built-in controller in one
-call, the same function the compiled world step (sim/compiled_step.py) runs. A subclass with its own `twist_ee` (steps 1-5a in
-Python) still gets steps 0, 5b and 6 from here."""
+A controller's state (the last command, the filtered F_ext, the slipping flag) is one array,
+`LiftingLawController.state` (sim/state.py), so that the compiled world step can run a built-in
+controller's law on it (sim/controllers/compiled_law.py); these classes stay plain Python, the
+law of record that students read and subclass."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 
-from sim.controllers.interface import (
-    A_MAX, DW_MAX, F_N_BAND, F_N_MIN, FILTER_HZ, K_N, RUNNING, V_MAX, W_MAX, LiftingController, LiftingParams,
-    lifting_vector,
-)
-from sim.signals import low_pass_gain
+from sim.controllers.interface import LiftingController, LiftingParams
+from sim.signals import cutoff_time_constant, saturate
+from sim.spatial import rotate_twist
 from sim.state import Field, Flag, allocate
 
 # the controller's state array (sim/state.py)
 TWIST_BASE, FILTERED, HAS_FILTERED, SLIPPING = 0, 6, 12, 13
-SP, PATCH = 0, 1  # the built-in laws lifting_law_step runs (twist_ee of sim/controllers/sp.py, patch.py)
+SP, PATCH = 0, 1  # the built-in laws compiled_law.lifting_law_step runs
 
 
-@njit(cache=True)
-def band_speed(f_n, p):
-    """Step 2, the normal band [f_n_min, f_n_max] (p: lifting_vector):
+def band_speed(f_n: float, params: LiftingParams) -> float:
+    """Step 2, the normal band [f_n_min, f_n_max]:
     f_n < f_n_min -> +k_n (f_n_min - f_n) (press, along +n); f_n > f_n_max -> -k_n (f_n - f_n_max)
     (release, along -n); inside -> 0."""
-    f_n_max = p[F_N_MIN] + p[F_N_BAND]
-    if f_n < p[F_N_MIN]:
-        return p[K_N] * (p[F_N_MIN] - f_n)
-    if f_n > f_n_max:
-        return -p[K_N] * (f_n - f_n_max)
+    if f_n < params.f_n_min:
+        return params.k_n * (params.f_n_min - f_n)
+    if f_n > params.f_n_max:
+        return -params.k_n * (f_n - params.f_n_max)
     return 0.0
 
 
-@njit(cache=True)
-def grip_raise(v_n, f_n, p):
+def grip_raise(v_n: float, f_n: float, params: LiftingParams) -> float:
     """Step 3's grip raise while the friction is beyond its margin: v_n = max(v_n, k_n (f_n_max - f_n))
     below f_n_max (press toward the top of the band, never above it)."""
-    f_n_max = p[F_N_MIN] + p[F_N_BAND]
-    return max(v_n, p[K_N] * (f_n_max - f_n)) if f_n < f_n_max else v_n
+    return max(v_n, params.k_n * (params.f_n_max - f_n)) if f_n < params.f_n_max else v_n
 
 
-@njit(cache=True)
-def saturate_into(out, start, x, y, z, limit):
-    """out[start:start+3] = (x, y, z) scaled down to length `limit` if longer (direction kept)."""
-    norm = math.sqrt(x * x + y * y + z * z)
-    scale = limit / norm if norm > limit else 1.0
-    if norm > limit:
-        out[start], out[start + 1], out[start + 2] = x * scale, y * scale, z * scale
-    else:
-        out[start], out[start + 1], out[start + 2] = x, y, z
-
-
-@njit(cache=True)
-def saturate_twist(vx, vy, vz, wx, wy, wz, p):
+def saturate_twist(v: np.ndarray, w: np.ndarray, params: LiftingParams) -> np.ndarray:
     """Step 5a: twist = [v, w] with |v| <= v_max and |w| <= w_max (directions kept)."""
-    twist = np.empty(6)
-    saturate_into(twist, 0, vx, vy, vz, p[V_MAX])
-    saturate_into(twist, 3, wx, wy, wz, p[W_MAX])
-    return twist
-
-
-@njit(cache=True)
-def rate_limit_into(previous, target, dv_max, dw_max, out):
-    """Step 6: out = previous + (target - previous) with |dv| <= dv_max and |dw| <= dw_max."""
-    delta = np.empty(6)
-    saturate_into(delta, 0, target[0] - previous[0], target[1] - previous[1], target[2] - previous[2], dv_max)
-    saturate_into(delta, 3, target[3] - previous[3], target[4] - previous[4], target[5] - previous[5], dw_max)
-    for i in range(6):
-        out[i] = previous[i] + delta[i]
+    return np.concatenate((saturate(v, params.v_max), saturate(w, params.w_max)))
 
 
 def rate_limit(twist_previous: np.ndarray, twist_target: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
     """Step 6: |dv| <= a_max dt and |dw| <= dw_max dt per control period (franka's limitRate idea)."""
-    out = np.empty(6)
-    rate_limit_into(np.asarray(twist_previous, float), np.asarray(twist_target, float), params.a_max * dt,
-                    params.dw_max * dt, out)
-    return out
-
-
-@njit(cache=True)
-def low_pass(state, wrench_ee, p, dt):
-    """Step 0: the filtered F_ext, y <- y + a (x - y), a = dt / (tau + dt), tau = 1 / (2 pi filter_hz)
-    (sim.signals.low_pass_gain; no filter for filter_hz <= 0 and at the first sample)."""
-    filtered = state[FILTERED:FILTERED + 6]
-    if p[FILTER_HZ] > 0.0 and state[HAS_FILTERED] != 0.0:
-        a = low_pass_gain(dt, p[FILTER_HZ])
-        for i in range(6):
-            filtered[i] = filtered[i] + a * (wrench_ee[i] - filtered[i])
-    else:
-        filtered[:] = wrench_ee
-    state[HAS_FILTERED] = 1.0
-    return filtered.copy()
-
-
-@njit(cache=True)
-def to_base_rate_limited(state, p, twist_ee, rotation, dt, out):
-    """Steps 5b and 6: twist_base = blockdiag(R, R) twist_ee, then rate limited from the last command."""
-    target = np.empty(6)
-    target[:3] = rotation @ twist_ee[:3]
-    target[3:] = rotation @ twist_ee[3:]
-    previous = state[TWIST_BASE:TWIST_BASE + 6]
-    rate_limit_into(previous.copy(), target, p[A_MAX] * dt, p[DW_MAX] * dt, out)
-    previous[:] = out
+    delta = twist_target - twist_previous
+    return twist_previous + np.concatenate((saturate(delta[:3], params.a_max * dt), saturate(delta[3:], params.dw_max * dt)))
 
 
 class LiftingLawController(LiftingController):
@@ -117,25 +54,28 @@ class LiftingLawController(LiftingController):
     5b. twist_base = blockdiag(R, R) twist_ee, R = rotation EE -> base;
     6. rate limit, so noise never trips the robot's acceleration reflex."""
 
-    compiled_law: int | None = None  # SP or PATCH, declared beside a built-in twist_ee that is compiled
+    compiled_law: int | None = None  # SP or PATCH, declared beside a built-in twist_ee (compiled_law.py)
     twist_base = Field(TWIST_BASE, 6)  # last command (for the rate limiter)
+    wrench_filtered = Field(FILTERED, 6)  # step 0's output (sim.signals.LowPass's rule)
+    has_filtered = Flag(HAS_FILTERED)
     slipping = Flag(SLIPPING)  # the friction was beyond its margin in the last step
 
     def reset(self) -> None:
-        self.state = allocate(LiftingLawController)  # from rest, the filter empty
-
-    def constants(self) -> np.ndarray:
-        """The law's own constants (the patch's plate), as patch_twist_ee reads them."""
-        return _NO_CONSTANTS
+        self.state = allocate(LiftingLawController)  # at rest, the filter empty
 
     def law(self) -> int | None:
-        """The compiled law (SP, PATCH) this controller runs: the `compiled_law` declared by the
-        class that defines its twist_ee; None when a subclass has its own twist_ee (in Python)."""
+        """The built-in law (SP, PATCH) the compiled step may run for this controller: the
+        `compiled_law` declared by the class that defines its twist_ee; None when a subclass has
+        its own twist_ee (then this class's step runs, in Python)."""
         cls = type(self)
         if cls not in _LAWS:
             owner = next(k for k in cls.__mro__ if "twist_ee" in vars(k))
             _LAWS[cls] = vars(owner).get("compiled_law")
         return _LAWS[cls]
+
+    def constants(self) -> np.ndarray:
+        """The law's own numbers besides LiftingParams (the patch's plate), as the compiled law reads them."""
+        return _NO_CONSTANTS
 
     def continue_from(self, twist_base: np.ndarray) -> None:
         """Bumpless take-over: step 6 starts from the running command twist_base (m/s, rad/s, base
@@ -143,20 +83,19 @@ class LiftingLawController(LiftingController):
         self.twist_base = twist_base
 
     def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
-        p = lifting_vector(params)
+        # step 0, first-order low-pass (sim.signals.LowPass): y = x without a filter or a first sample
         wrench = np.asarray(wrench_ee, dtype=float)
-        rotation = np.ascontiguousarray(transform_ee_to_base[:3, :3], dtype=float)
-        out = np.empty(6)
-        kind = self.law()
-        if kind is not None:
-            from sim.controllers.builtin import lifting_law_step  # the built-ins import this module
-
-            lifting_law_step(kind, self.state, p, self.constants(), wrench, rotation, dt, out)
-            return out
-        filtered = low_pass(self.state, wrench, p, dt)  # step 0
-        twist_ee = np.asarray(self.twist_ee(filtered, params), float) if params.running else np.zeros(6)
-        to_base_rate_limited(self.state, p, twist_ee, rotation, dt, out)  # steps 5b, 6
-        return out
+        time_constant = cutoff_time_constant(params.filter_hz)
+        if time_constant is None or not self.has_filtered:
+            self.wrench_filtered = wrench
+        else:
+            self.wrench_filtered = self.wrench_filtered + dt / (time_constant + dt) * (wrench - self.wrench_filtered)
+        self.has_filtered = True
+        wrench_filtered = self.wrench_filtered.copy()
+        twist_ee = self.twist_ee(wrench_filtered, params) if params.running else np.zeros(6)
+        twist_target = rotate_twist(transform_ee_to_base[:3, :3], twist_ee)  # step 5b
+        self.twist_base = rate_limit(self.twist_base, twist_target, params, dt)  # step 6
+        return self.twist_base.copy()
 
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
         """Steps 1-5a: the EE twist in the EE frame (m/s, rad/s) from the filtered F_ext."""

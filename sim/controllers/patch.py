@@ -53,17 +53,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from sim.controllers.interface import (
-    ALPHA, F_CONTACT, K_T, K_W, MOMENT_DEADBAND, MU, PLATE_OFFSET, LiftingParams, lifting_vector,
-)
-from sim.controllers.lifting_law import PATCH, SLIPPING, band_speed, grip_raise, saturate_twist
+from sim.controllers.interface import LiftingParams
+from sim.controllers.lifting_law import PATCH, band_speed, grip_raise, saturate_twist
 from sim.controllers.sp import SPController
 from sim.physics.contact import PatchGeometry
 from sim.robot.plate import Plate
 
-# PatchController.constants(): what patch_twist_ee reads besides the lifting parameters
+# PatchController.constants(): what the compiled law reads besides the lifting parameters
 R_EQ, PLATE_WIDTH, PLATE_HEIGHT, KERN_SCALE, TORSION_DEADBAND = range(5)
 
 
@@ -82,37 +79,25 @@ class PatchGrip:
 def patch_grip(wrench_ee: np.ndarray, plate_offset: float, mu: float, r_eq: float) -> PatchGrip:
     """Steps 1-3: centre of pressure, torsion and limit-surface value from F_ext (no deadband)."""
     fx, fy, fz, mx, my, mz = (float(x) for x in wrench_ee)
-    px, py, mcx, mcy, m_n, s = grip(fx, fy, fz, mx, my, mz, plate_offset, mu, r_eq)
-    return PatchGrip(fz, np.array([fx, fy]), np.array([px, py]), np.array([mcx, mcy, mz]), m_n, s)
-
-
-@njit(cache=True)
-def grip(fx, fy, fz, mx, my, mz, d, mu, r_eq):
-    """Steps 1-3 (module docstring) as numbers: (p_x, p_y, m_c,x, m_c,y, m_n, s); without
-    pressure (f_z <= 0) the centre of pressure is (0, 0), m_n = m_z and s = inf."""
-    mcx, mcy = mx + d * fy, my - d * fx
+    d = plate_offset
+    m_c = np.array([mx + d * fy, my - d * fx, mz])
     if fz <= 1e-9:
-        return 0.0, 0.0, mcx, mcy, mz, math.inf
+        return PatchGrip(fz, np.array([fx, fy]), np.zeros(2), m_c, mz, math.inf)
     px, py = (d * fx - my) / fz, (d * fy + mx) / fz
     m_n = mz - (px * fy - py * fx)
     s = (math.hypot(fx, fy) / (mu * fz)) ** 2 + (m_n / (mu * fz * r_eq)) ** 2
-    return px, py, mcx, mcy, m_n, s
+    return PatchGrip(fz, np.array([fx, fy]), np.array([px, py]), m_c, m_n, s)
 
 
 def kern_ratio(cop: np.ndarray, plate: Plate) -> float:
     """Step 4: k = 6 |p_x| / W + 6 |p_y| / H; the whole plate stays pressed while k <= 1 (the
     kern), and the centre of pressure is inside the plate while max(2|p_x|/W, 2|p_y|/H) <= 1."""
-    return kern(float(cop[0]), float(cop[1]), plate.width, plate.height)
-
-
-@njit(cache=True)
-def kern(px, py, width, height):
-    """Step 4's k = 6 |p_x| / W + 6 |p_y| / H."""
-    return 6.0 * abs(px) / width + 6.0 * abs(py) / height
+    return 6.0 * abs(float(cop[0])) / plate.width + 6.0 * abs(float(cop[1])) / plate.height
 
 
 class PatchController(SPController):
-    """Patch-aware lifting: the SP band, following on the limit-surface margin, moments held in the kern."""
+    """Patch-aware lifting: the SP band, following on the limit-surface margin, moments held in the kern
+    (compiled too: sim/controllers/compiled_law.py, tested equal)."""
 
     compiled_law = PATCH
     torsion_deadband = 0.025  # Nm, db_n of step 3 (about 3 std of the filtered torsion noise)
@@ -126,42 +111,34 @@ class PatchController(SPController):
         super().__init__()
 
     def constants(self) -> np.ndarray:
-        """(r_eq, plate width, height, kern_scale, torsion deadband) as patch_twist_ee reads them."""
+        """(r_eq, plate width, height, kern_scale, torsion deadband) as the compiled law reads them."""
         return np.array([self.r_eq, self.plate.width, self.plate.height, self.kern_scale, self.torsion_deadband])
 
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
-        return patch_twist_ee(np.asarray(wrench_ee, dtype=float), lifting_vector(params), self.constants(), self.state)
-
-
-@njit(cache=True)
-def patch_twist_ee(wrench_ee, p, c, state):
-    """Steps 1-7 of the module docstring (p = lifting_vector(params), c = PatchController.constants();
-    the slipping flag into state)."""
-    fx, fy, fz, mx, my, mz = wrench_ee[0], wrench_ee[1], wrench_ee[2], wrench_ee[3], wrench_ee[4], wrench_ee[5]
-    px, py, mcx, mcy, grip_m_n, _ = grip(fx, fy, fz, mx, my, mz, p[PLATE_OFFSET], p[MU], c[R_EQ])
-    f_n = fz
-    in_contact = f_n >= p[F_CONTACT]
-    v_n = band_speed(f_n, p)  # step 5: the normal band
-    vx = vy = 0.0
-    wx = wy = wz = 0.0
-    slipping = False
-    if in_contact:
-        # step 3: limit surface with the torsion deadband
-        m_n = math.copysign(max(abs(grip_m_n) - c[TORSION_DEADBAND], 0.0), grip_m_n)
-        friction = p[MU] * f_n
-        s = (math.sqrt(fx * fx + fy * fy) / friction) ** 2 + (m_n / (friction * c[R_EQ])) ** 2
-        if s > p[ALPHA] ** 2:
-            # step 6: follow with the excess beyond the alpha-scaled limit surface
-            slipping = True
-            excess = 1.0 - p[ALPHA] / math.sqrt(s)
-            vx, vy = -p[K_T] * excess * fx, -p[K_T] * excess * fy
-            wz = -p[K_W] * excess * m_n
-            v_n = grip_raise(v_n, f_n, p)  # step 5: toward f_n_max while beyond the margin
-        # step 7: tipping moments held inside the kern (and the noise floor), excess complied with
-        m_norm = math.sqrt(mcx * mcx + mcy * mcy)
-        if m_norm > 0.0:
-            k = kern(px, py, c[PLATE_WIDTH], c[PLATE_HEIGHT]) / c[KERN_SCALE]
-            held = min(1.0, max(1.0 / k if k > 0.0 else math.inf, p[MOMENT_DEADBAND] / m_norm))
-            wx, wy = -p[K_W] * (1.0 - held) * mcx, -p[K_W] * (1.0 - held) * mcy
-    state[SLIPPING] = 1.0 if slipping else 0.0
-    return saturate_twist(vx, vy, v_n, wx, wy, wz, p)  # step 8 (SP's 5a)
+        grip = patch_grip(wrench_ee, params.plate_offset, params.mu, self.r_eq)
+        f_n = grip.f_n
+        in_contact = f_n >= params.f_contact
+        v_n = band_speed(f_n, params)  # step 5: the normal band
+        v_t = np.zeros(2)
+        w = np.zeros(3)
+        self.slipping = False
+        if in_contact:
+            # step 3: limit surface with the torsion deadband
+            m_n = math.copysign(max(abs(grip.m_n) - self.torsion_deadband, 0.0), grip.m_n)
+            friction = params.mu * f_n
+            s = (float(np.linalg.norm(grip.f_t)) / friction) ** 2 + (m_n / (friction * self.r_eq)) ** 2
+            if s > params.alpha**2:
+                # step 6: follow with the excess beyond the alpha-scaled limit surface
+                self.slipping = True
+                excess = 1.0 - params.alpha / math.sqrt(s)
+                v_t = -params.k_t * excess * grip.f_t
+                w[2] = -params.k_w * excess * m_n
+                v_n = grip_raise(v_n, f_n, params)  # step 5: toward f_n_max while beyond the margin
+            # step 7: tipping moments held inside the kern (and the noise floor), excess complied with
+            m_xy = grip.m_c[:2]
+            m_norm = float(np.linalg.norm(m_xy))
+            if m_norm > 0.0:
+                k = kern_ratio(grip.cop, self.plate) / self.kern_scale
+                held = min(1.0, max(1.0 / k if k > 0.0 else math.inf, params.moment_deadband / m_norm))
+                w[:2] = -params.k_w * (1.0 - held) * m_xy
+        return saturate_twist(np.array([v_t[0], v_t[1], v_n]), w, params)  # step 8 (SP's 5a)

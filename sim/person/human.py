@@ -24,8 +24,7 @@ from numba import njit
 
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.physics.contact import BoxPose
-from sim.signals import minimum_jerk
-from sim.spatial import exp3, log3
+from sim import signals, spatial
 from sim.state import Field, Flag, Scalar, allocate
 
 
@@ -95,6 +94,11 @@ class HumanParams:
 
 PHASES = ("grasping", "releasing", "settling", "carrying", "holding", "done", "manual")
 GRASPING, RELEASING, SETTLING, CARRYING, HOLDING, DONE, MANUAL = range(len(PHASES))
+
+# plain code of sim/signals.py and sim/spatial.py, compiled here for the kernels
+minimum_jerk = njit(cache=True)(signals.minimum_jerk)
+exp3 = njit(cache=True)(spatial.exp3)
+log3 = njit(cache=True)(spatial.log3)
 
 # the person's state array (sim/state.py)
 (TIME, PHASE_TIME, SQUEEZE, GRIP_TIME, FELT_GRIP, LETTING_GO, GRASP_WEIGHT, PHASE, HAS_LEVEL, HAS_GRASP,

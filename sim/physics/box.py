@@ -12,9 +12,10 @@ import numpy as np
 from numba import njit
 
 from sim.physics.contact import BoxPose
-from sim.spatial import orthonormalize
+from sim import spatial
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2
+orthonormalize = njit(cache=True)(spatial.orthonormalize)  # sim/spatial.py's, compiled for box_step
 
 
 @dataclass(frozen=True)

@@ -15,8 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from sim.signals import low_pass_gain
+from sim import signals
 
+low_pass_gain = njit(cache=True)(signals.low_pass_gain)  # sim/signals.py's, compiled for the kernels
 NOISE_BLOCK = 1024  # samples of noise drawn from the world's rng at once (the same stream as one at a time)
 
 

@@ -45,10 +45,17 @@ def test_the_compiled_law_commands_what_the_python_class_commands(make):
             params.running = not params.running
 
 
-def test_a_subclass_with_its_own_twist_ee_runs_in_python():
+def test_a_subclass_with_its_own_twist_ee_or_step_runs_in_python():
     class Lazy(SPController):
         def twist_ee(self, wrench_ee, params):
             return np.zeros(6)
 
-    assert SPController().law() is not None and PatchController().law() is not None
-    assert Lazy().law() is None
+    class Still(PatchController):
+        def step(self, wrench_ee, transform_ee_to_base, params, dt):
+            return np.zeros(6)
+
+    class Same(PatchController):
+        pass
+
+    assert SPController().law() is not None and PatchController().law() is not None and Same().law() is not None
+    assert Lazy().law() is None and Still().law() is None

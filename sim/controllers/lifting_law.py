@@ -66,11 +66,12 @@ class LiftingLawController(LiftingController):
     def law(self) -> int | None:
         """The built-in law (SP, PATCH) the compiled step may run for this controller: the
         `compiled_law` declared by the class that defines its twist_ee; None when a subclass has
-        its own twist_ee (then this class's step runs, in Python)."""
+        its own twist_ee or its own step (then its step runs, in Python)."""
         cls = type(self)
         if cls not in _LAWS:
             owner = next(k for k in cls.__mro__ if "twist_ee" in vars(k))
-            _LAWS[cls] = vars(owner).get("compiled_law")
+            own_step = cls.step is not LiftingLawController.step
+            _LAWS[cls] = None if own_step else vars(owner).get("compiled_law")
         return _LAWS[cls]
 
     def constants(self) -> np.ndarray:

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from sim import signals, spatial
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.physics.contact import BoxPose
-from sim import signals, spatial
 from sim.state import Field, Flag, Scalar, allocate
 
 

@@ -114,8 +114,8 @@ def world_step_builtin(sensor_state, noise, scales, wrench_ee, law, law_state, l
 
 def warm_up() -> None:
     """Compile (or load) every kernel the lab runs, as `make .venv/.kernels` does at set-up: a
-    step with each built-in controller, with a controller in Python, a joint motion, and the
-    components' own methods."""
+    step with each built-in controller, with a controller in Python, a joint motion, with a
+    patched component, and the components' own methods."""
     from sim.controllers.interface import LiftingParams, ZeroController
     from sim.controllers.patch import PatchController
     from sim.world import World
@@ -134,3 +134,6 @@ def warm_up() -> None:
         world.sensor.measure(np.zeros(6), 1e-3)
         world.arm.command_twist(np.zeros(6), 1e-3)
         world.controller.step(np.zeros(6), np.eye(4), LiftingParams(running=True), 1e-3)
+        world.human.step = world.human.step  # a patched component: the rest through Python methods
+        world.run(0.002)
+        del world.human.step

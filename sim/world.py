@@ -28,10 +28,13 @@ from sim.person.participants import PARTICIPANTS, Participant
 from sim.robot.joint_trajectory import JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel
 from sim.robot.plate import Plate
-from sim.physics.sensor import SensorParams, WrenchSensor
+from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
 from sim.controllers.sp import SPController
 from sim.procedures.monitor import NONE, TrialMonitor, TrialOutcome
 from sim.robot.teleop import Jog
+
+
+_PATCHABLE_HUMAN = {"step", "hand_wrench"}  # VirtualHuman's methods the compiled rest runs as kernels
 
 
 @dataclass(frozen=True)
@@ -253,7 +256,8 @@ class World:
         controller = self.controller
         law = controller.law() if isinstance(controller, LiftingLawController) else None
         jogging = self.jog is not None and not params.running
-        if law is not None and self.motion is None and not jogging:
+        rest_compiled = self._components_plain()
+        if law is not None and self.motion is None and not jogging and rest_compiled:
             self.jog = None
             arm, chain, sensor = self.arm, self.arm.chain, self.sensor
             kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
@@ -263,16 +267,60 @@ class World:
                 chain.flange_translation, *self._rest_arguments(dt),
             )
             if kind != OK:
-                arm.stop_with_error(arm._reason(kind, j, value))
+                arm.stop_with_error(arm.reflex_reason(kind, j, value))
         else:
             sensor = self.sensor
             compiled_step.world_sense(sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true,
                                       self.wrench_ee)
             self._control_and_move(dt)
-            self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
+            if rest_compiled:
+                self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
+            else:
+                self._rest_in_python(dt)
+                event = None
         self.time += dt
-        if event != NONE:
-            trial.conclude(event, self)  # the trial's success rule (sim/procedures/monitor.py)
+        if event is None:
+            trial.update(self)  # the trial's success rule (sim/procedures/monitor.py)
+        elif event != NONE:
+            trial.conclude(event, self)
+
+    def _components_plain(self) -> bool:
+        """True when the human, the box and the contacts are the lab's own, unpatched (the compiled
+        rest runs their kernels); a replaced or patched one (a subclass, a method set on the
+        instance, e.g. a fault injected by a test) runs through its Python methods."""
+        human, box = self.human, self.box
+        return (type(human) is VirtualHuman and not _PATCHABLE_HUMAN & vars(human).keys()
+                and type(box) is Box and "step" not in vars(box)
+                and type(self.plate_contact) is PatchContact and "step_into" not in vars(self.plate_contact)
+                and type(self.palm_contact) is PatchContact and "step_into" not in vars(self.palm_contact))
+
+    def _rest_in_python(self, dt: float) -> None:
+        """4. human and 5. physics through the components' Python methods (the same kernels, one call each)."""
+        params, palm = self.params, self.palm_out
+        band = (params.f_n_min, params.f_n_max) if params.running else None
+        self.human.step(dt, float(palm[9]), float(np.linalg.norm(palm[10:13])), float(self.plate_out[9]), band,
+                        self.box.rotation)
+        sub_dt = dt / self.substeps
+        for _ in range(self.substeps):
+            self._physics(sub_dt)
+
+    def _physics(self, dt: float) -> None:
+        arm = self.arm
+        transform = arm.transform_ee_to_base
+        rotation = np.ascontiguousarray(transform[:3, :3])
+        arm_plate = rotation[:, 2] * self.config.plate.offset
+        position_plate = transform[:3, 3] + arm_plate
+        twist = arm.twist_base
+        velocity_plate = twist[:3] + np.cross(twist[3:], arm_plate)
+        box = self.box.pose()
+        self.plate_contact.step_into(rotation, position_plate, velocity_plate, twist[3:].copy(), box, dt, self.plate_out)
+        human = self.human
+        self.palm_contact.step_into(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt,
+                                    self.palm_out)
+        plate, palm = self.plate_out, self.palm_out
+        grasp_force, grasp_moment = human.hand_wrench(box, float(palm[9]))
+        self.box.step(plate[0:3] + palm[0:3] + grasp_force, plate[3:6] + palm[3:6] + grasp_moment, dt)
+        self.wrench_ee_true[:] = wrench_at_ee(plate[0:3], plate[6:9], position_plate, transform)
 
     def _lifting_vector(self) -> np.ndarray:
         """lifting_vector(self.params), rebuilt only when a parameter changed."""
@@ -285,7 +333,8 @@ class World:
         """world_rest's arguments: human, physics and the trial's rule after this step."""
         params, box, human, plate, palm = self.params, self.box, self.human, self.plate_contact, self.palm_contact
         return (
-            dt, self.substeps, self.config.plate.offset, params.running, params.f_n_min, params.f_n_max,
+            float(dt), int(self.substeps), float(self.config.plate.offset), bool(params.running),
+            float(params.f_n_min), float(params.f_n_max),
             self.arm.state, human.state, human.constants,
             box.position, box.rotation, box.velocity, box.angular_velocity, box.half_size, float(box.params.mass),
             box._inertia, box._inertia_inv, GRAVITY, box._steps,

@@ -124,13 +124,13 @@ class CartesianVelocityInterface:
             return
         twist = np.asarray(twist_base, dtype=float)
         if twist.shape != (6,):
-            self.stop_with_error(self._reason(INVALID, -1, 0.0))
+            self.stop_with_error(self.reflex_reason(INVALID, -1, 0.0))
             return
         c = self.chain
         kind, j, value = arm_command_twist(self.state, twist, dt, self.constants(), c.rotations, c.translations,
                                            c.axes, c.flange_rotation, c.flange_translation)
         if kind != OK:
-            self.stop_with_error(self._reason(kind, j, value))
+            self.stop_with_error(self.reflex_reason(kind, j, value))
 
     def command_joint_velocity(self, qdot: np.ndarray, dt: float) -> None:
         """Execute one control period of joint velocities (rad/s), e.g. a joint-space motion."""
@@ -144,7 +144,7 @@ class CartesianVelocityInterface:
             kind, j, value = check_joint_limits(qdot, self.qdot, self.q, dt, self.model.qdot_max, self.qdd_max,
                                                 self.model.q_min, self.model.q_max)
             if kind != OK:
-                raise Reflex(self._reason(kind, j, value))
+                raise Reflex(self.reflex_reason(kind, j, value))
             self._integrate(qdot, dt)
             self.twist_command = self.twist_base
             self.posture = 0.0  # a twist command after this motion ramps the posture term from zero
@@ -157,7 +157,7 @@ class CartesianVelocityInterface:
         self._halt()
 
     # --- internals --------------------------------------------------------------------------
-    def _reason(self, kind: int, j: int, value: float) -> str:
+    def reflex_reason(self, kind: int, j: int, value: float) -> str:
         """The reflex's message for a limit the kernels found broken (kind, joint or axis, value)."""
         model, lim = self.model, self.limits
         return {

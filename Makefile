@@ -18,10 +18,11 @@ $(DEV): $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,docs,lint]'
 	touch $@
 
-# numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run
-KERNELS := sim/physics/contact.py sim/physics/box.py sim/robot/cartesian_velocity.py
+# numba's kernels compiled at set-up (cached beside their sources), not by every first process of a run;
+# again whenever a file of sim/ changed (sim/kernel_cache.py then drops the caches built from the old sources)
+KERNELS := $(shell find sim -name '*.py')
 $(VENV)/.kernels: $(STAMP) $(KERNELS)
-	$(BIN)/python -c "from sim.world import World; World().run(0.01)"
+	$(BIN)/python -c "from sim.compiled_step import warm_up; warm_up()"
 	touch $@
 
 run: $(STAMP) $(VENV)/.kernels bubblewrap

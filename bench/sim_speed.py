@@ -1,6 +1,7 @@
 """Simulation speed: microseconds per 1 kHz step of the full loop (robot + contacts + box +
 human + controller + sensor), the real-time factor, the nine-trial experiment's wall time, and a
-profile of where a step's time goes.
+profile of where a step's time goes; also the step with the controller in Python (what a plug-in
+or a node's command takes: compiled sense, Python control, compiled rest; docs/simulation-compiled.md).
 
     .venv/bin/python -m bench.sim_speed [--repeats 5] [--steps 5000] [--no-experiment]
 """
@@ -13,6 +14,7 @@ import pstats
 import statistics
 import time
 
+from sim.controllers.sp import SPController
 from sim.procedures.experiment import run_experiment
 from sim.person.participants import PARTICIPANTS
 from sim.world import World
@@ -27,6 +29,13 @@ def carrying_world() -> World:
         world.step()
     world.run(1.0)
     return world
+
+
+class SPInPython(SPController):
+    """The SP law run by its Python class (a subclass with its own twist_ee is never compiled)."""
+
+    def twist_ee(self, wrench_ee, params):
+        return super().twist_ee(wrench_ee, params)
 
 
 def time_steps(world: World, steps: int) -> float:
@@ -49,6 +58,10 @@ def main() -> None:
     print(f"full step: median {median * 1e6:.1f} us  (min {min(per_step) * 1e6:.1f}, max {max(per_step) * 1e6:.1f}, "
           f"{args.repeats} x {args.steps} steps)")
     print(f"real-time factor at 1 kHz: {1e-3 / median:.1f}x  (target >= 20x, <= 50 us/step)")
+    world.set_controller(SPInPython())
+    split = statistics.median(time_steps(world, args.steps) for _ in range(args.repeats))
+    print(f"step with the controller in Python (SP's class): median {split * 1e6:.1f} us")
+    world.set_controller(SPController())
 
     profiler = cProfile.Profile()
     profiler.enable()

@@ -35,6 +35,13 @@ class LowPass:
         return self.update(x, dt, cutoff_time_constant(cutoff_hz))
 
 
+def low_pass_gain(dt: float, cutoff_hz: float) -> float:
+    """a of LowPass for a cut-off f_c > 0 (Hz): dt / (tau + dt), tau = 1 / (2 pi f_c) (plain Python that
+    the compiled kernels compile too: sim/physics/sensor.py)."""
+    tau = 1.0 / (2.0 * math.pi * cutoff_hz)
+    return dt / (tau + dt)
+
+
 def saturate(x: np.ndarray, limit: float) -> np.ndarray:
     """A 3-vector scaled down to |x| = limit if longer (direction kept)."""
     a, b, c = x.tolist()
@@ -43,7 +50,8 @@ def saturate(x: np.ndarray, limit: float) -> np.ndarray:
 
 
 def minimum_jerk(tau: float) -> float:
-    """s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 on [0, 1] (peak speed 1.875 / T)."""
+    """s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 on [0, 1] (peak speed 1.875 / T; compiled too, by
+    sim/person/human.py)."""
     tau = min(max(tau, 0.0), 1.0)
     return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 

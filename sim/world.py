@@ -15,12 +15,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from sim.physics.box import Box, BoxParams
-from sim.robot.cartesian_velocity import CartesianVelocityInterface, Reflex
-from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry
+from sim import compiled_step
+from sim.physics.box import GRAVITY, Box, BoxParams
+from sim.robot.cartesian_velocity import OK, CartesianVelocityInterface, Reflex
+from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry, result_of
 from sim.controllers.external import COMMAND_PERIOD
-from sim.controllers.interface import Controller, LiftingParams
+from sim.controllers.interface import Controller, LiftingParams, lifting_vector
 from sim.controllers.interface import ControllerFault
+from sim.controllers.lifting_law import LiftingLawController
 from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.robot.joint_trajectory import BrakeThenMove, JointBrake, JointTrajectory
@@ -28,9 +30,11 @@ from sim.robot.panda import SIDE_Q, PandaModel
 from sim.robot.plate import Plate
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
 from sim.controllers.sp import SPController
-from sim.procedures.monitor import TrialMonitor, TrialOutcome
-from sim.spatial import cross3, norm3
+from sim.procedures.monitor import NONE, TrialMonitor, TrialOutcome
 from sim.robot.teleop import Jog
+
+
+_PATCHABLE_HUMAN = {"step", "hand_wrench"}  # VirtualHuman's methods the compiled rest runs as kernels
 
 
 @dataclass(frozen=True)
@@ -106,6 +110,7 @@ class World:
         cfg = self.config
         self.model = PandaModel()
         self.arm = CartesianVelocityInterface(self.model, np.array(cfg.start_q))
+        self._arm_constants = self.arm.constants()  # the limits (fixed for a world)
         self.plate_contact = PatchContact(
             PatchGeometry(cfg.plate.width, cfg.plate.height, *cfg.plate_grid), cfg.plate_contact
         )
@@ -114,6 +119,13 @@ class World:
         self.substeps = stable_substeps(cfg)  # physics substeps per step (recomputed when the box or contact changes)
         self.participant: Participant | None = None  # overrides config.participant when set
         self.trial = TrialMonitor()
+        # the step's own arrays, changed in place by the compiled step (sim/compiled_step.py)
+        self.wrench_ee_true = np.zeros(6)  # F_ext without noise (N, Nm; EE frame)
+        self.wrench_ee = np.zeros(6)  # F_ext as measured
+        self.twist_command = np.zeros(6)  # the controller's last command (base frame)
+        self.plate_out = np.zeros(20)  # what the plate's contact did in the last step (contact._patch_kernel's layout)
+        self.palm_out = np.zeros(20)  # the same for the palm
+        self._lifting: tuple = ((), np.zeros(0))  # (the params' values, their lifting_vector)
         self.reset()
 
     # --- set-up -----------------------------------------------------------------------------
@@ -148,16 +160,19 @@ class World:
             self.rng,
         )
         self.human.grasp(self.box.pose())
-        self.wrench_ee_true = np.zeros(6)
-        self.wrench_ee = np.zeros(6)
-        self.twist_command = np.zeros(6)
-        self.plate_state = self._contacts_at_rest()
-        self.palm_state = self.plate_state
+        for array in (self.wrench_ee_true, self.wrench_ee, self.twist_command, self.plate_out, self.palm_out):
+            array[:] = 0.0  # the contacts at rest
         self.trial = TrialMonitor(self.trial.rules)  # no trial until lifting starts
 
-    def _contacts_at_rest(self) -> ContactResult:
-        zero = np.zeros(3)
-        return ContactResult(zero, zero, zero, 0.0, zero, zero, np.zeros(2), 0, 0)
+    @property
+    def plate_state(self) -> ContactResult:
+        """What the plate's contact did to the box in the last step."""
+        return result_of(self.plate_out)
+
+    @property
+    def palm_state(self) -> ContactResult:
+        """What the palm's contact did to the box in the last step."""
+        return result_of(self.palm_out)
 
     # --- commands (what the lab's services do) -----------------------------------------------
     def start_lifting(self, force: float) -> str:
@@ -243,39 +258,121 @@ class World:
 
     # --- stepping ---------------------------------------------------------------------------
     def step(self) -> None:
+        """One control period: one compiled call with a built-in controller (sim/compiled_step.py);
+        with any other controller or a joint motion, compiled sense, the controller in Python,
+        the robot, and the compiled rest."""
         dt = self.config.dt
-        if self.trial.state == "none" and self.params.running and self.human.phase == "grasping":
-            self.trial.begin(self.time, self.human.participant.name, self)  # lifting started: a trial
+        human, params, trial = self.human, self.params, self.trial
+        if trial.state == "none" and params.running and human.phase == "grasping":
+            trial.begin(self.time, human.participant.name, self)  # lifting started: a trial
+        controller = self.controller
+        law = controller.law() if isinstance(controller, LiftingLawController) else None
+        jogging = self.jog is not None and not params.running
+        rest_compiled = self._components_plain()
+        if isinstance(controller, LiftingLawController) and law is not None and self.motion is None and not jogging \
+                and rest_compiled:
+            self.jog = None
+            arm, chain, sensor = self.arm, self.arm.chain, self.sensor
+            kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
+                sensor.state, sensor.next_noise(), sensor.scales(), self.wrench_ee, law, controller.state,
+                self._lifting_vector(), controller.constants(),
+                self._arm_constants, chain.rotations, chain.translations, chain.axes, chain.flange_rotation,
+                chain.flange_translation, *self._rest_arguments(dt),
+            )
+            if kind != OK:
+                arm.stop_with_error(arm.reflex_reason(kind, j, value))
+        else:
+            sensor = self.sensor
+            compiled_step.world_sense(sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true,
+                                      self.wrench_ee)
+            self._control_and_move(dt)
+            if rest_compiled:
+                self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
+            else:
+                self._rest_in_python(dt)
+                event = None
+        self.time += dt
+        if event is None:
+            trial.update(self)  # the trial's success rule (sim/procedures/monitor.py)
+        elif event != NONE:
+            trial.conclude(event, self)
+
+    def _components_plain(self) -> bool:
+        """True when the human, the box and the contacts are the lab's own, unpatched (the compiled
+        rest runs their kernels); a replaced or patched one (a subclass, a method set on the
+        instance, e.g. a fault injected by a test) runs through its Python methods."""
+        human, box = self.human, self.box
+        return (type(human) is VirtualHuman and not _PATCHABLE_HUMAN & vars(human).keys()
+                and type(box) is Box and "step" not in vars(box)
+                and type(self.plate_contact) is PatchContact and "step_into" not in vars(self.plate_contact)
+                and type(self.palm_contact) is PatchContact and "step_into" not in vars(self.palm_contact))
+
+    def _rest_in_python(self, dt: float) -> None:
+        """4. human and 5. physics through the components' Python methods (the same kernels, one call each)."""
+        params, palm = self.params, self.palm_out
+        band = (params.f_n_min, params.f_n_max) if params.running else None
+        self.human.step(dt, float(palm[9]), float(np.linalg.norm(palm[10:13])), float(self.plate_out[9]), band,
+                        self.box.rotation)
+        sub_dt = dt / self.substeps
+        for _ in range(self.substeps):
+            self._physics(sub_dt)
+
+    def _physics(self, dt: float) -> None:
+        arm = self.arm
+        transform = arm.transform_ee_to_base
+        rotation = np.ascontiguousarray(transform[:3, :3])
+        arm_plate = rotation[:, 2] * self.config.plate.offset
+        position_plate = transform[:3, 3] + arm_plate
+        twist = arm.twist_base
+        velocity_plate = twist[:3] + np.cross(twist[3:], arm_plate)
+        box = self.box.pose()
+        self.plate_contact.step_into(rotation, position_plate, velocity_plate, twist[3:].copy(), box, dt, self.plate_out)
+        human = self.human
+        self.palm_contact.step_into(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt,
+                                    self.palm_out)
+        plate, palm = self.plate_out, self.palm_out
+        grasp_force, grasp_moment = human.hand_wrench(box, float(palm[9]))
+        self.box.step(plate[0:3] + palm[0:3] + grasp_force, plate[3:6] + palm[3:6] + grasp_moment, dt)
+        self.wrench_ee_true[:] = wrench_at_ee(plate[0:3], plate[6:9], position_plate, transform)
+
+    def _lifting_vector(self) -> np.ndarray:
+        """lifting_vector(self.params), rebuilt only when a parameter changed."""
+        key = tuple(vars(self.params).values())
+        if key != self._lifting[0]:
+            self._lifting = (key, lifting_vector(self.params))
+        return self._lifting[1]
+
+    def _rest_arguments(self, dt: float) -> tuple:
+        """world_rest's arguments: human, physics and the trial's rule after this step."""
+        params, box, human, plate, palm = self.params, self.box, self.human, self.plate_contact, self.palm_contact
+        return (
+            float(dt), int(self.substeps), float(self.config.plate.offset), bool(params.running),
+            float(params.f_n_min), float(params.f_n_max),
+            self.arm.state, human.state, human.constants,
+            box.position, box.rotation, box.velocity, box.angular_velocity, box.half_size, float(box.params.mass),
+            box._inertia, box._inertia_inv, GRAVITY, box._steps,
+            plate.points_patch, plate.bristles, plate.constants, palm.points_patch, palm.bristles, palm.constants,
+            self.plate_out, self.palm_out, self.wrench_ee_true, self.trial.state_array, self.trial.rules_vector,
+            self.time + dt, float(params.mu), self.twist_command,
+        )
+
+    def _control_and_move(self, dt: float) -> None:
+        """2-3. control and robot, in Python: a joint motion, a jog, or a controller's twist."""
         transform = self.arm.transform_ee_to_base
-        # 1. sense
-        self.wrench_ee = self.sensor.measure(self.wrench_ee_true, dt)
-        # 2-3. control and robot
         if self.motion is not None:
             self.arm.command_joint_velocity(self.motion.command(self.arm.q, dt), dt)
-            self.twist_command = self.arm.twist_base.copy()
+            self.twist_command[:] = self.arm.twist_base
             if self.motion.done or self.arm.error:
                 self.motion = None
         elif self.jog is not None and not self.params.running:
-            self.twist_command = self.jog.step(dt)
+            self.twist_command[:] = self.jog.step(dt)
             self.arm.command_twist(self.twist_command, dt)
             if self.jog.done or self.arm.error:
                 self.jog = None
         else:
             self.jog = None
-            self.twist_command = self._control(transform, dt)
+            self.twist_command[:] = self._control(transform, dt)
             self.arm.command_twist(self.twist_command, dt)
-        # 4. human
-        band = (self.params.f_n_min, self.params.f_n_max) if self.params.running else None
-        palm = self.palm_state
-        palm_load = norm3(palm.tangential_force)
-        self.human.step(dt, palm.normal_force, palm_load, self.plate_state.normal_force, band, self.box.rotation)
-        # 5. physics
-        sub_dt = dt / self.substeps
-        for _ in range(self.substeps):
-            self._physics(sub_dt)
-        self.time += dt
-        # 6. the trial's success rule (sim/procedures/monitor.py)
-        self.trial.update(self)
 
     def run(self, duration: float) -> None:
         """Step for `duration` seconds of simulated time."""
@@ -301,27 +398,6 @@ class World:
             self.fail(f"controller error: twist must have shape (6,), got {twist.shape}")
             return np.zeros(6)
         return twist
-
-    def _physics(self, dt: float) -> None:
-        arm = self.arm
-        transform = arm.transform_ee_to_base
-        rotation = transform[:3, :3]
-        arm_plate = rotation[:, 2] * self.config.plate.offset
-        position_plate = transform[:3, 3] + arm_plate
-        twist = arm.twist_base
-        velocity_plate = twist[:3] + cross3(twist[3:], arm_plate)
-        box = self.box.pose()
-        plate = self.plate_contact.step(rotation, position_plate, velocity_plate, twist[3:], box, dt)
-        human = self.human
-        palm = self.palm_contact.step(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt)
-        grasp_force, grasp_moment = human.hand_wrench(box, palm.normal_force)
-        self.box.step(
-            plate.force_box + palm.force_box + grasp_force,
-            plate.torque_box + palm.torque_box + grasp_moment,
-            dt,
-        )
-        self.plate_state, self.palm_state = plate, palm
-        self.wrench_ee_true = wrench_at_ee(plate.force_box, plate.moment_patch, position_plate, transform)
 
     # --- reading ----------------------------------------------------------------------------
     def snapshot(self) -> Snapshot:

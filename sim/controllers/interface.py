@@ -42,6 +42,16 @@ class LiftingParams:
         return self.f_n_min + self.f_n_band
 
 
+LIFTING_FIELDS = tuple(LiftingParams.__dataclass_fields__)  # the order of lifting_vector
+(RUNNING, F_N_MIN, F_N_BAND, MU, ALPHA, K_N, K_T, K_W, MOMENT_DEADBAND, F_CONTACT, V_MAX, W_MAX, A_MAX, DW_MAX,
+ FILTER_HZ, PLATE_OFFSET) = range(len(LIFTING_FIELDS))
+
+
+def lifting_vector(params: LiftingParams) -> np.ndarray:
+    """The parameters as the compiled controllers read them (indices RUNNING ... PLATE_OFFSET)."""
+    return np.array([float(getattr(params, name)) for name in LIFTING_FIELDS])
+
+
 def start_lifting(params: LiftingParams, force: float) -> str:
     """The start_cooperative_lifting service: f_n_min = force, f_n_max = force + band, start."""
     force = float(force)

@@ -1,12 +1,22 @@
 """The pieces of the lifting law that the SP and patch controllers share (each step numbered as
-in sim/controllers/sp.py). Forces in N, speeds in m/s and rad/s, gains in (m/s)/N."""
+in sim/controllers/sp.py). Forces in N, speeds in m/s and rad/s, gains in (m/s)/N.
+
+A controller's state (the last command, the filtered F_ext, the slipping flag) is one array,
+`LiftingLawController.state` (sim/state.py), so that the compiled world step can run a built-in
+controller's law on it (sim/controllers/compiled_law.py); these classes stay plain Python, the
+law of record that students read and subclass."""
 from __future__ import annotations
 
 import numpy as np
 
 from sim.controllers.interface import LiftingController, LiftingParams
-from sim.signals import LowPass, saturate
+from sim.signals import cutoff_time_constant, saturate
 from sim.spatial import rotate_twist
+from sim.state import Field, Flag, allocate
+
+# the controller's state array (sim/state.py)
+TWIST_BASE, FILTERED, HAS_FILTERED, SLIPPING = 0, 6, 12, 13
+SP, PATCH = 0, 1  # the built-in laws compiled_law.lifting_law_step runs
 
 
 def band_speed(f_n: float, params: LiftingParams) -> float:
@@ -44,18 +54,45 @@ class LiftingLawController(LiftingController):
     5b. twist_base = blockdiag(R, R) twist_ee, R = rotation EE -> base;
     6. rate limit, so noise never trips the robot's acceleration reflex."""
 
+    compiled_law: int | None = None  # SP or PATCH, declared beside a built-in twist_ee (compiled_law.py)
+    twist_base = Field(TWIST_BASE, 6)  # last command (for the rate limiter)
+    wrench_filtered = Field(FILTERED, 6)  # step 0's output (sim.signals.LowPass's rule)
+    has_filtered = Flag(HAS_FILTERED)
+    slipping = Flag(SLIPPING)  # the friction was beyond its margin in the last step
+
     def reset(self) -> None:
-        self.twist_base = np.zeros(6)  # last command (for the rate limiter)
-        self.wrench_filter = LowPass()
-        self.slipping = False  # the friction was beyond its margin in the last step
+        self.state = allocate(LiftingLawController)  # at rest, the filter empty
+
+    def law(self) -> int | None:
+        """The built-in law (SP, PATCH) the compiled step may run for this controller: the
+        `compiled_law` declared by the class that defines its twist_ee; None when a subclass has
+        its own twist_ee or its own step (then its step runs, in Python)."""
+        cls = type(self)
+        if cls not in _LAWS:
+            owner = next(k for k in cls.__mro__ if "twist_ee" in vars(k))
+            own_step = cls.step is not LiftingLawController.step
+            _LAWS[cls] = None if own_step else vars(owner).get("compiled_law")
+        return _LAWS[cls]
+
+    def constants(self) -> np.ndarray:
+        """The law's own numbers besides LiftingParams (the patch's plate), as the compiled law reads them."""
+        return _NO_CONSTANTS
 
     def continue_from(self, twist_base: np.ndarray) -> None:
         """Bumpless take-over: step 6 starts from the running command twist_base (m/s, rad/s, base
         frame) instead of rest, so the first command differs from it by at most a_max dt, dw_max dt."""
-        self.twist_base = np.array(twist_base, dtype=float)
+        self.twist_base = twist_base
 
     def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
-        wrench_filtered = self.wrench_filter.update_hz(np.asarray(wrench_ee, dtype=float), dt, params.filter_hz)  # step 0
+        # step 0, first-order low-pass (sim.signals.LowPass): y = x without a filter or a first sample
+        wrench = np.asarray(wrench_ee, dtype=float)
+        time_constant = cutoff_time_constant(params.filter_hz)
+        if time_constant is None or not self.has_filtered:
+            self.wrench_filtered = wrench
+        else:
+            self.wrench_filtered = self.wrench_filtered + dt / (time_constant + dt) * (wrench - self.wrench_filtered)
+        self.has_filtered = True
+        wrench_filtered = self.wrench_filtered.copy()
         twist_ee = self.twist_ee(wrench_filtered, params) if params.running else np.zeros(6)
         twist_target = rotate_twist(transform_ee_to_base[:3, :3], twist_ee)  # step 5b
         self.twist_base = rate_limit(self.twist_base, twist_target, params, dt)  # step 6
@@ -64,3 +101,7 @@ class LiftingLawController(LiftingController):
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
         """Steps 1-5a: the EE twist in the EE frame (m/s, rad/s) from the filtered F_ext."""
         raise NotImplementedError
+
+
+_NO_CONSTANTS = np.zeros(5)
+_LAWS: dict[type, int | None] = {}  # a controller class -> its compiled law (LiftingLawController.law)

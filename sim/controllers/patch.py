@@ -55,10 +55,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim.controllers.interface import LiftingParams
-from sim.controllers.lifting_law import band_speed, grip_raise, saturate_twist
+from sim.controllers.lifting_law import PATCH, band_speed, grip_raise, saturate_twist
 from sim.controllers.sp import SPController
 from sim.physics.contact import PatchGeometry
 from sim.robot.plate import Plate
+
+# PatchController.constants(): what the compiled law reads besides the lifting parameters
+R_EQ, PLATE_WIDTH, PLATE_HEIGHT, KERN_SCALE, TORSION_DEADBAND = range(5)
 
 
 @dataclass(frozen=True)
@@ -93,8 +96,10 @@ def kern_ratio(cop: np.ndarray, plate: Plate) -> float:
 
 
 class PatchController(SPController):
-    """Patch-aware lifting: the SP band, following on the limit-surface margin, moments held in the kern."""
+    """Patch-aware lifting: the SP band, following on the limit-surface margin, moments held in the kern
+    (compiled too: sim/controllers/compiled_law.py, tested equal)."""
 
+    compiled_law = PATCH
     torsion_deadband = 0.025  # Nm, db_n of step 3 (about 3 std of the filtered torsion noise)
 
     def __init__(self, plate: Plate | None = None, r_eq: float | None = None, kern_scale: float = 1.0) -> None:
@@ -104,6 +109,10 @@ class PatchController(SPController):
         self.r_eq = r_eq if r_eq is not None else PatchGeometry(self.plate.width, self.plate.height).mean_radius
         self.kern_scale = kern_scale
         super().__init__()
+
+    def constants(self) -> np.ndarray:
+        """(r_eq, plate width, height, kern_scale, torsion deadband) as the compiled law reads them."""
+        return np.array([self.r_eq, self.plate.width, self.plate.height, self.kern_scale, self.torsion_deadband])
 
     def twist_ee(self, wrench_ee: np.ndarray, params: LiftingParams) -> np.ndarray:
         grip = patch_grip(wrench_ee, params.plate_offset, params.mu, self.r_eq)

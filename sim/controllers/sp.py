@@ -18,14 +18,17 @@ import math
 import numpy as np
 
 from sim.controllers.interface import LiftingParams
-from sim.controllers.lifting_law import LiftingLawController, band_speed, grip_raise, saturate_twist
+from sim.controllers.lifting_law import SP, LiftingLawController, band_speed, grip_raise, saturate_twist
 
 
 class SPController(LiftingLawController):
     """Single Point method: normal-force band, friction-cone tangential following, moment compliance.
 
     Step 0 (low-pass of F_ext), 5b (to the base frame) and 6 (rate limit) are the shared
-    LiftingLawController's (sim/controllers/lifting_law.py); steps 1-5a are here."""
+    LiftingLawController's (sim/controllers/lifting_law.py); steps 1-5a are here (and, compiled,
+    in sim/controllers/compiled_law.py, tested equal)."""
+
+    compiled_law = SP
 
     def __init__(self) -> None:
         self.reset()

@@ -10,6 +10,9 @@ spring back to the path, so the person does not drift):
 At the trial's start the person also GRASPS the box (a 6-D spring-damper between the box and the
 hand, so the box cannot fall yet) and lets go of the grasp, gently, once the robot's grip is in
 the band; from then on the box is held only by the two contacts.
+
+The person's state lives in one array (`VirtualHuman.state`, sim/state.py) that `human_step` and
+`hand_wrench` advance and read: the compiled world step (sim/compiled_step.py) runs the same two.
 """
 from __future__ import annotations
 
@@ -17,11 +20,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
+from sim import signals, spatial
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.physics.contact import BoxPose
-from sim.signals import LowPass, minimum_jerk
-from sim.spatial import cross3, norm3, rotation_exp, rotation_log
+from sim.state import Field, Flag, Scalar, allocate
 
 
 @dataclass(frozen=True)
@@ -47,16 +51,24 @@ class HandPath:
         self.hold = path.hold
         self.duration = sum(t for _, t in self.segments) + path.hold
         self.goal = sum(moves, np.zeros(3))
+        self.moves = np.array(moves)  # (3, 3) m, and each one's duration (s): what human_step reads
+        self.durations = np.array([t for _, t in self.segments])
 
     def offset(self, t: float) -> np.ndarray:
         """Hand displacement (m) from the start at time t (s) since the carry began."""
-        offset = np.zeros(3)
-        for move, duration in self.segments:
-            if t <= 0.0:
-                break
-            offset = offset + move * minimum_jerk(t / duration)
-            t -= duration
-        return offset
+        return path_offset(self.moves, self.durations, t)
+
+
+@njit(cache=True)
+def path_offset(moves, durations, t):
+    """The minimum-jerk segments' displacement (m) at t (s): each segment in turn."""
+    offset = np.zeros(3)
+    for i in range(moves.shape[0]):
+        if t <= 0.0:
+            break
+        offset += moves[i] * minimum_jerk(t / durations[i])
+        t -= durations[i]
+    return offset
 
 
 @dataclass(frozen=True)
@@ -80,10 +92,53 @@ class HumanParams:
     manual_gain: float = 10.0  # 1/s
 
 
-class VirtualHuman:
-    """Scripted (a participant following a pick-and-place path) or manual (target set directly)."""
+PHASES = ("grasping", "releasing", "settling", "carrying", "holding", "done", "manual")
+GRASPING, RELEASING, SETTLING, CARRYING, HOLDING, DONE, MANUAL = range(len(PHASES))
 
-    PHASES = ("grasping", "releasing", "settling", "carrying", "holding", "done", "manual")
+# plain code of sim/signals.py and sim/spatial.py, compiled here for the kernels
+minimum_jerk = njit(cache=True)(signals.minimum_jerk)
+exp3 = njit(cache=True)(spatial.exp3)
+log3 = njit(cache=True)(spatial.log3)
+
+# the person's state array (sim/state.py)
+(TIME, PHASE_TIME, SQUEEZE, GRIP_TIME, FELT_GRIP, LETTING_GO, GRASP_WEIGHT, PHASE, HAS_LEVEL, HAS_GRASP,
+ SQUEEZE_FORCE, TREMOR_AMPLITUDE, TILT, HOLD, PATH_DURATION) = range(15)
+HAND, TARGET, POSITION, VELOCITY, ANGULAR_VELOCITY, START, GRASP_POSITION = 15, 18, 21, 24, 27, 30, 33
+TARGET_ROTATION, ROTATION, BOX_LEVEL, GRASP_ROTATION = 36, 45, 54, 63
+TREMOR_PHASE, TREMOR_FREQUENCY, MOVES, DURATIONS = 72, 74, 76, 85  # 2, 2, 9, 3
+# HumanParams as the kernels read them (field order), then the carry direction (unit, 3)
+(GRIP_DWELL, FEEL_TIME_CONSTANT, RELEASE_TIME, SETTLE_TIME, K_F, GRIP_LOAD_RATIO, K_P, V_SQUEEZE_MAX,
+ GRASP_STIFFNESS, GRASP_DAMPING, GRASP_ROT_STIFFNESS, GRASP_ROT_DAMPING, WRIST_STIFFNESS, WRIST_DAMPING,
+ HAND_LEVER, MANUAL_SPEED, MANUAL_GAIN, CARRY_AXIS) = range(18)
+
+
+class VirtualHuman:
+    """Scripted (a participant following a pick-and-place path) or manual (target set directly).
+
+    Attributes are views of `self.state` (sim/state.py); `step` and `hand_wrench` run the compiled
+    `human_step` and `hand_wrench` below."""
+
+    PHASES = PHASES
+
+    time = Scalar(TIME)  # s since reset
+    phase_time = Scalar(PHASE_TIME)  # s in the current phase
+    squeeze = Scalar(SQUEEZE)  # s (m), the squeeze offset along the palm normal
+    grip_time = Scalar(GRIP_TIME)  # s the robot's grip has been in the band
+    felt_grip = Scalar(FELT_GRIP)  # N, the robot's push as the person feels it (low-passed)
+    letting_go = Flag(LETTING_GO)
+    grasp_weight = Scalar(GRASP_WEIGHT)  # 1 grasped .. 0 let go
+    hand = Field(HAND, 3)  # hand position without squeeze and tremor (m)
+    target = Field(TARGET, 3)  # where the hand is heading (manual mode)
+    target_rotation = Field(TARGET_ROTATION, 3, 3)
+    position = Field(POSITION, 3)  # palm centre (m)
+    velocity = Field(VELOCITY, 3)
+    angular_velocity = Field(ANGULAR_VELOCITY, 3)
+    rotation = Field(ROTATION, 3, 3)  # palm -> world; its z is the push direction
+    start = Field(START, 3)  # the path's origin (m)
+    tremor_phase = Field(TREMOR_PHASE, 2)  # rad
+    tremor_freq = Field(TREMOR_FREQUENCY, 2)  # Hz
+    path_moves = Field(MOVES, 3, 3)  # m, the hand path's segments (HandPath.moves)
+    path_durations = Field(DURATIONS, 3)  # s
 
     def __init__(
         self,
@@ -94,9 +149,13 @@ class VirtualHuman:
         params: HumanParams = HumanParams(),
         rng: np.random.Generator | None = None,
     ) -> None:
+        self.state = allocate(VirtualHuman)
         self.params = params
+        axis = np.asarray(path.carry_direction, float)
+        self.constants = np.concatenate(([float(getattr(params, f)) for f in HumanParams.__dataclass_fields__],
+                                         axis / np.linalg.norm(axis)))
         self.path_spec = path
-        self.rotation = np.array(rotation, float)  # palm -> world; its z is the push direction
+        self.rotation = np.array(rotation, float)
         self.start = np.array(position, float)
         self.rng = rng or np.random.default_rng(0)
         self.set_participant(participant)
@@ -108,24 +167,62 @@ class VirtualHuman:
         self.path = HandPath(self.path_spec, participant.peak_speed)
         self.tremor_phase = self.rng.uniform(0.0, 2.0 * math.pi, 2)
         self.tremor_freq = participant.tremor_frequency * self.rng.uniform(0.9, 1.1, 2)
+        s = self.state
+        s[SQUEEZE_FORCE], s[TREMOR_AMPLITUDE], s[TILT] = participant.squeeze_force, participant.tremor_amplitude, participant.tilt
+        self.path_moves, self.path_durations = self.path.moves, self.path.durations
+        s[HOLD], s[PATH_DURATION] = self.path.hold, self.path.duration
 
     def reset(self) -> None:
-        self.time = 0.0  # s since reset
-        self.hand = self.start.copy()  # hand position without squeeze and tremor (m)
-        self.target = self.start.copy()  # where the hand is heading (manual mode)
-        self.target_rotation = self.rotation.copy()
-        self.position = self.start.copy()  # palm centre (m)
-        self.velocity = np.zeros(3)
-        self.angular_velocity = np.zeros(3)
-        self.squeeze = 0.0  # s (m)
+        self.time = 0.0
+        self.hand = self.start
+        self.target = self.start
+        self.target_rotation = self.rotation
+        self.position = self.start
+        self.velocity = 0.0
+        self.angular_velocity = 0.0
+        self.squeeze = 0.0
         self.phase = "grasping"
         self.phase_time = 0.0
-        self.grip_time = 0.0  # s the robot's grip has been in the band
-        self.felt_grip = LowPass(0.0)  # N, the robot's push as the person feels it
+        self.grip_time = 0.0
+        self.felt_grip = 0.0
         self.letting_go = False
-        self.box_level: np.ndarray | None = None  # box orientation the person keeps once let go
+        self.box_level = None  # box orientation the person keeps once let go
         self.grasp_weight = 1.0
-        self.grasp_offset: tuple[np.ndarray, np.ndarray] | None = None  # box pose in the palm frame
+        self.grasp_offset = None  # box pose in the palm frame
+
+    @property
+    def phase(self) -> str:
+        return PHASES[int(self.state[PHASE])]
+
+    @phase.setter
+    def phase(self, name: str) -> None:
+        self.state[PHASE] = PHASES.index(name)
+
+    @property
+    def box_level(self) -> np.ndarray | None:
+        """The box orientation the wrist keeps once let go (None before)."""
+        return self.state[BOX_LEVEL:BOX_LEVEL + 9].reshape(3, 3) if self.state[HAS_LEVEL] else None
+
+    @box_level.setter
+    def box_level(self, rotation: np.ndarray | None) -> None:
+        self.state[HAS_LEVEL] = rotation is not None
+        if rotation is not None:
+            self.state[BOX_LEVEL:BOX_LEVEL + 9] = np.asarray(rotation, float).ravel()
+
+    @property
+    def grasp_offset(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(box position, box rotation) in the palm frame where the box was grasped (None before)."""
+        s = self.state
+        if not s[HAS_GRASP]:
+            return None
+        return s[GRASP_POSITION:GRASP_POSITION + 3], s[GRASP_ROTATION:GRASP_ROTATION + 9].reshape(3, 3)
+
+    @grasp_offset.setter
+    def grasp_offset(self, offset: tuple[np.ndarray, np.ndarray] | None) -> None:
+        self.state[HAS_GRASP] = offset is not None
+        if offset is not None:
+            self.state[GRASP_POSITION:GRASP_POSITION + 3] = offset[0]
+            self.state[GRASP_ROTATION:GRASP_ROTATION + 9] = np.asarray(offset[1], float).ravel()
 
     def grasp(self, box: BoxPose) -> None:
         """Take hold of the box where it is now (it cannot fall while grasped)."""
@@ -141,8 +238,8 @@ class VirtualHuman:
 
     def set_manual(self) -> None:
         """Hand the palm to a person (the dashboard's gizmo): it follows set_target."""
-        self.target = self.hand.copy()
-        self.target_rotation = self.rotation.copy()
+        self.target = self.hand
+        self.target_rotation = self.rotation
         self._enter("manual")
 
     def set_target(self, position: np.ndarray, rotation: np.ndarray | None = None) -> None:
@@ -156,9 +253,13 @@ class VirtualHuman:
                 raise ValueError("palm target rotation must be a finite 3x3 matrix")
         if self.phase != "manual":
             self.set_manual()
-        self.target = position.copy()
+        self.target = position
         if rotation is not None:
-            self.target_rotation = rotation.copy()
+            self.target_rotation = rotation
+
+    def _enter(self, phase: str) -> None:
+        self.phase = phase
+        self.phase_time = 0.0
 
     # --- behaviour --------------------------------------------------------------------------
     @property
@@ -178,105 +279,152 @@ class VirtualHuman:
         """Advance dt (s). palm_force, palm_load: normal and tangential force (N) felt in the palm;
         plate_force: the robot's normal force (N); band: (f_n_min, f_n_max) of the running
         lifting, None when stopped; box_rotation: the box's orientation (it is kept level)."""
-        self.time += dt
-        self.phase_time += dt
-        self._behave(dt, plate_force, band)
-        p = self.params
-        if self.letting_go:
-            if self.box_level is None:
-                self.box_level = box_rotation.copy()
-            self.grasp_weight = max(0.0, self.grasp_weight - dt / p.release_time)
-        if self.grasp_weight < 1.0:  # the palm regulates its push once the grasp is loosened
-            # grip-load coupling (Johansson & Westling 1984): squeeze at least grip_load_ratio x load
-            squeeze_target = max(self.participant.squeeze_force, p.grip_load_ratio * palm_load)
-            ds = p.k_f * (squeeze_target - palm_force) - p.k_p * self.squeeze
-            self.squeeze += min(max(ds, -p.v_squeeze_max), p.v_squeeze_max) * dt
-        new = self.hand + self.squeeze * self.rotation[:, 2] + self.tremor(self.time)
-        self.velocity = (new - self.position) / dt
-        self.position = new
-
-    def _behave(self, dt: float, plate_force: float, band: tuple[float, float] | None) -> None:
-        """The scripted trial (docs/design.md, "The experiment") or the manual target follower. In both, the
-        person lets go of the grasp once the robot's grip, as felt, stays in the band."""
-        p = self.params
-        if not self.letting_go:
-            felt = self.felt_grip.update(plate_force, dt, p.feel_time_constant)
-            in_band = band is not None and band[0] > 0.0 and band[0] <= felt <= band[1]
-            self.grip_time = self.grip_time + dt if in_band else 0.0
-            if self.grip_time >= p.grip_dwell:
-                self.release()
-        phase = self.phase
-        if phase == "releasing" and self.grasp_weight <= 0.0:
-            self._enter("settling")
-        elif phase == "settling" and self.phase_time >= p.settle_time:
-            self._enter("carrying")
-        elif phase == "carrying":
-            self.hand = self.start + self.path.offset(self.phase_time)
-            if self.phase_time >= self.path.duration - self.path.hold:
-                self._enter("holding")
-        elif phase == "holding" and self.phase_time >= self.path.hold:
-            self._enter("done")
-        elif phase == "manual":
-            self._follow_target(dt)
-
-    def _follow_target(self, dt: float) -> None:
-        """Manual mode: hand' = k (target - hand), |hand'| <= manual_speed; same for the rotation."""
-        p = self.params
-        step = p.manual_gain * dt * (self.target - self.hand)
-        norm = float(np.linalg.norm(step))
-        limit = p.manual_speed * dt
-        self.hand = self.hand + (step * (limit / norm) if norm > limit else step)
-        w = np.clip(p.manual_gain * rotation_log(self.target_rotation @ self.rotation.T), -1.0, 1.0)
-        self.rotation = rotation_exp(w * dt) @ self.rotation
-        self.angular_velocity = w
-
-    def _enter(self, phase: str) -> None:
-        self.phase = phase
-        self.phase_time = 0.0
+        low, high = band if band is not None else (0.0, 0.0)
+        human_step(self.state, self.constants, dt, palm_force, palm_load, plate_force, band is not None, low, high,
+                   np.asarray(box_rotation, float))
 
     def tremor(self, t: float) -> np.ndarray:
-        """Physiological tremor (m) in the palm plane: A sin(2 pi f_i t + phi_i) along palm x, y
-        (along the normal the person regulates force, so no position tremor there)."""
-        a = self.participant.tremor_amplitude
-        fx, fy = self.tremor_freq
-        px, py = self.tremor_phase
-        x, y = a * math.sin(2.0 * math.pi * fx * t + px), a * math.sin(2.0 * math.pi * fy * t + py)
-        return self.rotation[:, 0] * x + self.rotation[:, 1] * y
+        """Physiological tremor (m) in the palm plane (`tremor` below)."""
+        return tremor(self.state, t)
 
     def tilted_level(self) -> np.ndarray:
-        """The box orientation the wrist aims at: as let go, tilted by participant.tilt about the
-        carry direction along the carry (minimum-jerk over the path's duration)."""
-        tilt = self.participant.tilt
-        assert self.box_level is not None  # called once the box is let go (the wrist's moment)
-        if tilt == 0.0 or self.phase not in ("carrying", "holding", "done"):
-            return self.box_level
-        progress = 1.0 if self.phase != "carrying" else minimum_jerk(self.phase_time / (self.path.duration - self.path.hold))
-        axis = np.asarray(self.path_spec.carry_direction, float)
-        return rotation_exp(axis / np.linalg.norm(axis) * tilt * progress) @ self.box_level
+        """The box orientation the wrist aims at (`tilted_level` below)."""
+        return tilted_level(self.state, self.constants)
 
     def hand_wrench(self, box: BoxPose, palm_force: float) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and moment about the box centre (Nm), world, that the hand applies besides the
-        palm contact: the grasp (a 6-D spring-damper to where the box was grasped, faded out by
-        the grasp weight) and, once let go, the wrist's moment that keeps the box level:
-            m_w = K_w log(R_level R_box^T) - D_w w_box,   |m_w| <= hand_lever * F_palm
-        (a hand can only turn the box while it presses on it)."""
+        palm contact (`hand_wrench` below)."""
         force, moment = np.zeros(3), np.zeros(3)
-        p = self.params
-        if self.grasp_offset is not None and self.grasp_weight > 0.0:
-            offset_palm, rotation_box_palm = self.grasp_offset
-            arm = self.rotation @ offset_palm
-            target = self.position + arm
-            target_velocity = self.velocity + cross3(self.angular_velocity, arm)
-            force = p.grasp_stiffness * (target - box.position) + p.grasp_damping * (target_velocity - box.velocity)
-            rot_err = rotation_log((self.rotation @ rotation_box_palm) @ box.rotation.T)
-            moment = p.grasp_rot_stiffness * rot_err + p.grasp_rot_damping * (self.angular_velocity - box.angular_velocity)
-            force, moment = self.grasp_weight * force, self.grasp_weight * moment
-        if self.box_level is not None:
-            level = self.tilted_level()
-            wrist = p.wrist_stiffness * rotation_log(level @ box.rotation.T) - p.wrist_damping * box.angular_velocity
-            capacity = p.hand_lever * max(palm_force, 0.0)
-            norm = norm3(wrist)
-            if norm > capacity:
-                wrist = wrist * (capacity / norm)
-            moment = moment + (1.0 - self.grasp_weight) * wrist
+        hand_wrench(self.state, self.constants, box.position, box.rotation, box.velocity, box.angular_velocity,
+                    palm_force, force, moment)
         return force, moment
+
+
+@njit(cache=True)
+def _enter(s, phase):
+    s[PHASE] = phase
+    s[PHASE_TIME] = 0.0
+
+
+@njit(cache=True)
+def human_step(s, k, dt, palm_force, palm_load, plate_force, band_on, band_low, band_high, box_rotation):
+    """Advance the person's state `s` by dt (s) (VirtualHuman.step's arguments; `k` its constants):
+    the scripted trial (docs/design.md, "The experiment") or the manual target follower; in both,
+    the person lets go of the grasp once the robot's grip, as felt, stays in the band; then the
+    squeeze regulation (module docstring) and the palm's pose with tremor."""
+    s[TIME] += dt
+    s[PHASE_TIME] += dt
+    if s[LETTING_GO] == 0.0:
+        # felt grip: first-order low-pass with the feel time constant
+        s[FELT_GRIP] += dt / (k[FEEL_TIME_CONSTANT] + dt) * (plate_force - s[FELT_GRIP])
+        felt = s[FELT_GRIP]
+        in_band = band_on and band_low > 0.0 and band_low <= felt <= band_high
+        s[GRIP_TIME] = s[GRIP_TIME] + dt if in_band else 0.0
+        if s[GRIP_TIME] >= k[GRIP_DWELL]:  # release(): let go over release_time
+            s[LETTING_GO] = 1.0
+            if s[PHASE] == GRASPING:
+                _enter(s, RELEASING)
+    phase = s[PHASE]
+    if phase == RELEASING and s[GRASP_WEIGHT] <= 0.0:
+        _enter(s, SETTLING)
+    elif phase == SETTLING and s[PHASE_TIME] >= k[SETTLE_TIME]:
+        _enter(s, CARRYING)
+    elif phase == CARRYING:
+        offset = path_offset(s[MOVES:MOVES + 9].reshape((3, 3)), s[DURATIONS:DURATIONS + 3], s[PHASE_TIME])
+        for i in range(3):
+            s[HAND + i] = s[START + i] + offset[i]
+        if s[PHASE_TIME] >= s[PATH_DURATION] - s[HOLD]:
+            _enter(s, HOLDING)
+    elif phase == HOLDING and s[PHASE_TIME] >= s[HOLD]:
+        _enter(s, DONE)
+    elif phase == MANUAL:
+        _follow_target(s, k, dt)
+    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    if s[LETTING_GO] != 0.0:
+        if s[HAS_LEVEL] == 0.0:
+            s[BOX_LEVEL:BOX_LEVEL + 9] = box_rotation.ravel()
+            s[HAS_LEVEL] = 1.0
+        s[GRASP_WEIGHT] = max(0.0, s[GRASP_WEIGHT] - dt / k[RELEASE_TIME])
+    if s[GRASP_WEIGHT] < 1.0:  # the palm regulates its push once the grasp is loosened
+        # grip-load coupling (Johansson & Westling 1984): squeeze at least grip_load_ratio x load
+        squeeze_target = max(s[SQUEEZE_FORCE], k[GRIP_LOAD_RATIO] * palm_load)
+        ds = k[K_F] * (squeeze_target - palm_force) - k[K_P] * s[SQUEEZE]
+        s[SQUEEZE] += min(max(ds, -k[V_SQUEEZE_MAX]), k[V_SQUEEZE_MAX]) * dt
+    shake = tremor(s, s[TIME])
+    for i in range(3):
+        new = s[HAND + i] + s[SQUEEZE] * rotation[i, 2] + shake[i]
+        s[VELOCITY + i] = (new - s[POSITION + i]) / dt
+        s[POSITION + i] = new
+
+
+@njit(cache=True)
+def _follow_target(s, k, dt):
+    """Manual mode: hand' = k (target - hand), |hand'| <= manual_speed; same for the rotation."""
+    step = np.empty(3)
+    for i in range(3):
+        step[i] = k[MANUAL_GAIN] * dt * (s[TARGET + i] - s[HAND + i])
+    norm = math.sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2])
+    limit = k[MANUAL_SPEED] * dt
+    scale = limit / norm if norm > limit else 1.0
+    for i in range(3):
+        s[HAND + i] += step[i] * scale
+    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    target = s[TARGET_ROTATION:TARGET_ROTATION + 9].reshape((3, 3))
+    w = np.minimum(np.maximum(k[MANUAL_GAIN] * log3(target @ rotation.T), -1.0), 1.0)
+    rotation[:, :] = exp3(w * dt) @ rotation
+    s[ANGULAR_VELOCITY:ANGULAR_VELOCITY + 3] = w
+
+
+@njit(cache=True)
+def tremor(s, t):
+    """Physiological tremor (m) in the palm plane: A sin(2 pi f_i t + phi_i) along palm x, y
+    (along the normal the person regulates force, so no position tremor there)."""
+    a = s[TREMOR_AMPLITUDE]
+    x = a * math.sin(2.0 * math.pi * s[TREMOR_FREQUENCY] * t + s[TREMOR_PHASE])
+    y = a * math.sin(2.0 * math.pi * s[TREMOR_FREQUENCY + 1] * t + s[TREMOR_PHASE + 1])
+    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    return rotation[:, 0] * x + rotation[:, 1] * y
+
+
+@njit(cache=True)
+def tilted_level(s, k):
+    """The box orientation the wrist aims at: as let go, tilted by the participant's tilt about the
+    carry direction along the carry (minimum-jerk over the path's duration)."""
+    level = s[BOX_LEVEL:BOX_LEVEL + 9].reshape((3, 3)).copy()
+    phase, tilt = s[PHASE], s[TILT]
+    if tilt == 0.0 or not (phase == CARRYING or phase == HOLDING or phase == DONE):
+        return level
+    progress = 1.0 if phase != CARRYING else minimum_jerk(s[PHASE_TIME] / (s[PATH_DURATION] - s[HOLD]))
+    return exp3(k[CARRY_AXIS:CARRY_AXIS + 3] * (tilt * progress)) @ level
+
+
+@njit(cache=True)
+def hand_wrench(s, k, box_position, box_rotation, box_velocity, box_omega, palm_force, force, moment):
+    """Force (N) and moment about the box centre (Nm), world, into `force` and `moment`, that the
+    hand applies besides the palm contact: the grasp (a 6-D spring-damper to where the box was
+    grasped, faded out by the grasp weight) and, once let go, the wrist's moment that keeps the box level:
+        m_w = K_w log(R_level R_box^T) - D_w w_box,   |m_w| <= hand_lever * F_palm
+    (a hand can only turn the box while it presses on it)."""
+    force[:] = 0.0
+    moment[:] = 0.0
+    weight = s[GRASP_WEIGHT]
+    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    omega = s[ANGULAR_VELOCITY:ANGULAR_VELOCITY + 3]
+    if s[HAS_GRASP] != 0.0 and weight > 0.0:
+        arm = rotation @ s[GRASP_POSITION:GRASP_POSITION + 3]
+        target_velocity = s[VELOCITY:VELOCITY + 3] + np.cross(omega, arm)
+        for i in range(3):
+            target = s[POSITION + i] + arm[i]
+            force[i] = weight * (k[GRASP_STIFFNESS] * (target - box_position[i])
+                                 + k[GRASP_DAMPING] * (target_velocity[i] - box_velocity[i]))
+        rot_err = log3((rotation @ s[GRASP_ROTATION:GRASP_ROTATION + 9].reshape((3, 3))) @ box_rotation.T)
+        for i in range(3):
+            moment[i] = weight * (k[GRASP_ROT_STIFFNESS] * rot_err[i] + k[GRASP_ROT_DAMPING] * (omega[i] - box_omega[i]))
+    if s[HAS_LEVEL] != 0.0:
+        wrist = k[WRIST_STIFFNESS] * log3(tilted_level(s, k) @ box_rotation.T) - k[WRIST_DAMPING] * box_omega
+        capacity = k[HAND_LEVER] * max(palm_force, 0.0)
+        norm = math.sqrt(wrist[0] * wrist[0] + wrist[1] * wrist[1] + wrist[2] * wrist[2])
+        if norm > capacity:
+            wrist = wrist * (capacity / norm)
+        for i in range(3):
+            moment[i] += (1.0 - weight) * wrist[i]

@@ -12,9 +12,10 @@ import numpy as np
 from numba import njit
 
 from sim.physics.contact import BoxPose
-from sim.spatial import orthonormalize
+from sim import spatial
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2
+orthonormalize = njit(cache=True)(spatial.orthonormalize)  # sim/spatial.py's, compiled for box_step
 
 
 @dataclass(frozen=True)
@@ -43,29 +44,40 @@ class Box:
         self.angular_velocity = np.zeros(3)
         self._inertia = self.params.inertia_body
         self._inertia_inv = np.linalg.inv(self._inertia)
+        self._half_size = np.asarray(self.params.size, dtype=float) / 2.0
         self._steps = 0
 
     def set_params(self, params: BoxParams) -> None:
         self.params = params
         self._inertia = params.inertia_body
         self._inertia_inv = np.linalg.inv(self._inertia)
+        self._half_size = np.asarray(params.size, dtype=float) / 2.0
 
     @property
     def half_size(self) -> np.ndarray:
-        return np.asarray(self.params.size) / 2.0
+        """Half extents along the box axes (m)."""
+        return self._half_size
 
     def pose(self) -> BoxPose:
         return BoxPose(self.position, self.rotation, self.velocity, self.angular_velocity, self.half_size)
 
     def step(self, force: np.ndarray, torque: np.ndarray, dt: float) -> None:
         """Advance dt (s) under the total external force (N) and moment about the centre (Nm), world."""
-        _integrate(
+        self._steps = box_step(
             self.position, self.rotation, self.velocity, self.angular_velocity,
-            force, torque, self.params.mass, self._inertia, self._inertia_inv, GRAVITY, dt,
+            np.asarray(force, float), np.asarray(torque, float), self.params.mass, self._inertia, self._inertia_inv,
+            GRAVITY, dt, self._steps,
         )
-        self._steps += 1
-        if self._steps % 1000 == 0:
-            self.rotation[:] = orthonormalize(self.rotation)
+
+
+@njit(cache=True)
+def box_step(position, rotation, velocity, omega, force, torque, mass, inertia, inertia_inv, gravity, dt, steps):
+    """One step of `_integrate`, and every 1000th the rotation orthonormalized; returns steps + 1."""
+    _integrate(position, rotation, velocity, omega, force, torque, mass, inertia, inertia_inv, gravity, dt)
+    steps += 1
+    if steps % 1000 == 0:
+        rotation[:, :] = orthonormalize(rotation)
+    return steps
 
 
 @njit(cache=True)

@@ -109,6 +109,7 @@ class PatchContact:
         p = self.params
         self._k, self._c = p.normal_stiffness / n, p.normal_damping / n
         self._kt, self._ct = p.tangential_stiffness / n, p.tangential_damping / n
+        self.constants = np.array([self._k, self._c, self._kt, self._ct, p.mu])  # what patch_step reads
 
     def set_params(self, params: ContactParams) -> None:
         self.params = params
@@ -128,6 +129,12 @@ class PatchContact:
     ) -> ContactResult:
         """Contact forces for one time step dt (s); advances the bristles."""
         out = np.empty(20)
+        return result_of(self.step_into(rotation_patch_to_world, position_patch, velocity_patch, angular_velocity_patch,
+                                        box, dt, out))
+
+    def step_into(self, rotation_patch_to_world, position_patch, velocity_patch, angular_velocity_patch, box: BoxPose,
+                  dt: float, out: np.ndarray) -> np.ndarray:
+        """`step` into the array `out` (_patch_kernel's layout)."""
         _patch_kernel(
             self.points_patch,
             rotation_patch_to_world,
@@ -148,17 +155,30 @@ class PatchContact:
             dt,
             out,
         )
-        return ContactResult(
-            force_box=out[0:3],
-            torque_box=out[3:6],
-            moment_patch=out[6:9],
-            normal_force=float(out[9]),
-            tangential_force=out[10:13],
-            normal_world=out[17:20],
-            centre_of_pressure=out[13:15],
-            points_in_contact=int(out[15]),
-            points_slipping=int(out[16]),
-        )
+        return out
+
+
+def result_of(out: np.ndarray) -> ContactResult:
+    """The ContactResult of a kernel's `out` array (its own copies of the numbers)."""
+    out = out.copy()
+    return ContactResult(
+        force_box=out[0:3],
+        torque_box=out[3:6],
+        moment_patch=out[6:9],
+        normal_force=float(out[9]),
+        tangential_force=out[10:13],
+        normal_world=out[17:20],
+        centre_of_pressure=out[13:15],
+        points_in_contact=int(out[15]),
+        points_slipping=int(out[16]),
+    )
+
+
+@njit(cache=True)
+def patch_step(points, bristles, constants, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, dt, out):
+    """_patch_kernel with the patch's constants array (PatchContact.constants: k, c, k_t, c_t, mu)."""
+    _patch_kernel(points, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, bristles,
+                  constants[0], constants[1], constants[2], constants[3], constants[4], dt, out)
 
 
 @njit(cache=True)

@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from sim.robot.assets import panda_urdf
+from sim.robot.panda_kinematics import chain_arrays
 
 # franka's "ready" pose (rad).
 READY_Q = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
@@ -48,6 +49,7 @@ class PandaModel:
         self.qdot_max = self.model.velocityLimit.copy()
         self.tau_max = self.model.effortLimit.copy()
         self.nq = self.model.nq
+        self.chain = chain_arrays(self.model, self.flange_id)  # what the compiled step evaluates (panda_kinematics)
 
     def transform_ee_to_base(self, q: np.ndarray) -> np.ndarray:
         """Homogeneous transform (4x4) of the flange in the base frame."""

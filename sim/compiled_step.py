@@ -1,0 +1,139 @@
+"""The world's 1 kHz step as compiled code (numba): the components' kernels composed, so a step
+with a built-in controller is one call from Python (World.step, sim/world.py).
+
+    world_step_builtin = sense (sensor.measure_into)
+                       + control (compiled_law.lifting_law_step: SP or patch, steps 0-6)
+                       + robot (cartesian_velocity.arm_command_twist: limits, DLS, the compiled
+                         Panda kinematics read out of pinocchio's model, sim/robot/panda_kinematics.py)
+                       + world_rest
+    world_rest         = human (human.human_step) + physics (contact.patch_step x 2,
+                         human.hand_wrench, box.box_step, sensor.wrench_at_ee_into; substeps)
+                         + the trial's rule (monitor.monitor_update)
+
+Every piece is the function the component's own Python method runs (one source per fact), but
+for the built-in controllers, whose Python classes are the law of record a student reads and a
+sandboxed plug-in imports without numba (sim/controllers/compiled_law.py is tested equal to
+them); the state is the components' arrays (sim/state.py), changed in place. With any other controller (a
+student's plug-in, a node's external command) or a joint motion, World.step runs `world_sense`,
+the controller in Python, the robot, then `world_rest`: compiled sense, Python control, compiled rest.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from sim.controllers.compiled_law import lifting_law_step
+from sim.person.human import hand_wrench, human_step
+from sim.physics.box import box_step
+from sim.physics.contact import patch_step
+from sim.physics.sensor import measure_into, wrench_at_ee_into
+from sim.procedures.monitor import monitor_update
+from sim.robot.cartesian_velocity import ERROR, TRANSFORM, TWIST_BASE, arm_command_twist
+from sim.person import human as h
+
+
+@njit(cache=True)
+def world_sense(sensor_state, noise, scales, dt, wrench_ee_true, wrench_ee):
+    """1. sense: F_ext = the sensor's sample of the true wrench (noise, low-pass) into wrench_ee."""
+    measure_into(wrench_ee_true, noise, scales, dt, sensor_state, wrench_ee)
+
+
+@njit(cache=True)
+def _physics(dt, plate_offset, arm, human, human_constants, box_position, box_rotation, box_velocity, box_omega,
+             box_half, box_mass, box_inertia, box_inertia_inv, gravity, box_steps, plate_points, plate_bristles,
+             plate_constants, palm_points, palm_bristles, palm_constants, plate_out, palm_out, wrench_ee_true):
+    """5. physics for dt: plate and palm contacts, the hand's wrench, the box; the true F_ext."""
+    transform = arm[TRANSFORM:TRANSFORM + 16].reshape((4, 4))
+    rotation = transform[:3, :3].copy()
+    arm_plate = rotation[:, 2] * plate_offset
+    position_plate = transform[:3, 3] + arm_plate
+    twist = arm[TWIST_BASE:TWIST_BASE + 6]
+    omega = twist[3:].copy()
+    velocity_plate = twist[:3] + np.cross(omega, arm_plate)
+    patch_step(plate_points, plate_bristles, plate_constants, rotation, position_plate, velocity_plate, omega,
+               box_position, box_rotation, box_velocity, box_omega, box_half, dt, plate_out)
+    palm_rotation = human[h.ROTATION:h.ROTATION + 9].reshape((3, 3))
+    patch_step(palm_points, palm_bristles, palm_constants, palm_rotation, human[h.POSITION:h.POSITION + 3],
+               human[h.VELOCITY:h.VELOCITY + 3], human[h.ANGULAR_VELOCITY:h.ANGULAR_VELOCITY + 3],
+               box_position, box_rotation, box_velocity, box_omega, box_half, dt, palm_out)
+    grasp_force, grasp_moment = np.empty(3), np.empty(3)
+    hand_wrench(human, human_constants, box_position, box_rotation, box_velocity, box_omega, palm_out[9],
+                grasp_force, grasp_moment)
+    force = plate_out[0:3] + palm_out[0:3] + grasp_force
+    torque = plate_out[3:6] + palm_out[3:6] + grasp_moment
+    box_steps = box_step(box_position, box_rotation, box_velocity, box_omega, force, torque, box_mass, box_inertia,
+                         box_inertia_inv, gravity, dt, box_steps)
+    wrench_at_ee_into(plate_out[0:3], plate_out[6:9], position_plate, transform, wrench_ee_true)
+    return box_steps
+
+
+@njit(cache=True)
+def world_rest(dt, substeps, plate_offset, band_on, band_low, band_high, arm, human, human_constants,
+               box_position, box_rotation, box_velocity, box_omega, box_half, box_mass, box_inertia, box_inertia_inv,
+               gravity, box_steps, plate_points, plate_bristles, plate_constants, palm_points, palm_bristles,
+               palm_constants, plate_out, palm_out, wrench_ee_true, monitor, rules, time_after, mu, twist_command):
+    """4. human, 5. physics (substeps), 6. the trial's rule; returns (box steps, the rule's event)."""
+    t = palm_out[10:13]
+    palm_load = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    human_step(human, human_constants, dt, palm_out[9], palm_load, plate_out[9], band_on, band_low, band_high,
+               box_rotation)
+    sub_dt = dt / substeps
+    for _ in range(substeps):
+        box_steps = _physics(sub_dt, plate_offset, arm, human, human_constants, box_position, box_rotation,
+                             box_velocity, box_omega, box_half, box_mass, box_inertia, box_inertia_inv, gravity,
+                             box_steps, plate_points, plate_bristles, plate_constants, palm_points, palm_bristles,
+                             palm_constants, plate_out, palm_out, wrench_ee_true)
+    event = monitor_update(monitor, rules, time_after, dt, human[h.PHASE], twist_command, human[h.GRASP_WEIGHT],
+                           arm[ERROR] != 0.0, box_position, box_rotation, human[h.POSITION:h.POSITION + 3],
+                           plate_out, palm_out, mu)
+    return box_steps, event
+
+
+@njit(cache=True)
+def world_step_builtin(sensor_state, noise, scales, wrench_ee, law, law_state, lifting, law_constants,
+                       arm_constants, rotations, translations, axes, flange_rotation, flange_translation,
+                       dt, substeps, plate_offset, band_on, band_low, band_high, arm, human, human_constants,
+                       box_position, box_rotation, box_velocity, box_omega, box_half, box_mass, box_inertia,
+                       box_inertia_inv, gravity, box_steps, plate_points, plate_bristles, plate_constants, palm_points,
+                       palm_bristles, palm_constants, plate_out, palm_out, wrench_ee_true, monitor, rules, time_after,
+                       mu, twist_command):
+    """A whole step with a built-in controller: sense, control, robot, then world_rest.
+    Returns (reflex kind, joint or axis, value, box steps, the trial rule's event)."""
+    measure_into(wrench_ee_true, noise, scales, dt, sensor_state, wrench_ee)
+    rotation = arm[TRANSFORM:TRANSFORM + 16].reshape((4, 4))[:3, :3].copy()
+    lifting_law_step(law, law_state, lifting, law_constants, wrench_ee.copy(), rotation, dt, twist_command)
+    kind, j, value = arm_command_twist(arm, twist_command, dt, arm_constants, rotations, translations, axes,
+                                       flange_rotation, flange_translation)
+    box_steps, event = world_rest(dt, substeps, plate_offset, band_on, band_low, band_high, arm, human,
+                                  human_constants, box_position, box_rotation, box_velocity, box_omega, box_half,
+                                  box_mass, box_inertia, box_inertia_inv, gravity, box_steps, plate_points,
+                                  plate_bristles, plate_constants, palm_points, palm_bristles, palm_constants,
+                                  plate_out, palm_out, wrench_ee_true, monitor, rules, time_after, mu, twist_command)
+    return kind, j, value, box_steps, event
+
+
+def warm_up() -> None:
+    """Compile (or load) every kernel the lab runs, as `make .venv/.kernels` does at set-up: a
+    step with each built-in controller, with a controller in Python, a joint motion, with a
+    patched component, and the components' own methods."""
+    from sim.controllers.interface import LiftingParams, ZeroController
+    from sim.controllers.patch import PatchController
+    from sim.world import World
+
+    for controller in (None, PatchController(), ZeroController()):
+        world = World() if controller is None else World(controller=controller)
+        world.start_lifting(10.0)
+        world.run(0.005)
+        world.move_to_start()
+        world.run(0.003)
+        world.human.step(1e-3, 0.0, 0.0, 0.0, None, np.eye(3))
+        world.human.hand_wrench(world.box.pose(), 1.0)
+        world.human.tilted_level()
+        world.plate_contact.step(np.eye(3), np.zeros(3), np.zeros(3), np.zeros(3), world.box.pose(), 1e-3)
+        world.box.step(np.zeros(3), np.zeros(3), 1e-3)
+        world.sensor.measure(np.zeros(6), 1e-3)
+        world.arm.command_twist(np.zeros(6), 1e-3)
+        world.controller.step(np.zeros(6), np.eye(4), LiftingParams(running=True), 1e-3)
+        world.human.step = world.human.step  # type: ignore[method-assign]  # a patched component: the rest through Python methods
+        world.run(0.002)
+        del world.human.step

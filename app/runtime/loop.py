@@ -12,7 +12,7 @@ An idle lab sleeps: while nobody commands the robot (`World.commanded` is false)
 come for `fine_hold` seconds, nothing needs 1 ms granularity, so the loop wakes once per
 `batch_period` (or as often as the server's readers need a fresh snapshot: `granularity`, e.g. a
 50 Hz topic stream) and runs the periods that came due back to back (the same steps, the same
-simulated time; only their wall-clock spacing changes). A command wakes it at once and the loop is back at
+simulated time; only their wall-clock spacing changes), publishing the last of them. A command wakes it at once and the loop is back at
 1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
 (`LoopStats.batched` counts the ticks stepped in batches).
 """
@@ -63,9 +63,11 @@ class SimulationLoop:
     fine_hold = 1.0  # s at 1 ms granularity after the last command
 
     def __init__(self, world: World, publish: Callable[[Published], None], reply: Reply, realtime: bool = True,
-                 granularity: Any = None) -> None:
+                 granularity: Any = None, sample: Callable[[World], None] | None = None) -> None:
         """granularity: a shared value (.value, s) the server sets to the finest spacing of snapshots
-        its readers need now (app/runtime/process.py, `needs`); None: only `batch_period`."""
+        its readers need now (app/runtime/process.py, `needs`); None: only `batch_period`.
+        sample: called with the world after every step, published or not (every step's F_ext)."""
+        self._sample = sample
         self.world = world
         self._granularity = granularity
         self.realtime = realtime
@@ -114,8 +116,11 @@ class SimulationLoop:
         next_tick = time.perf_counter()
         while not self._stop.is_set():
             done = self._run_commands()
+            # an idle batch's catch-up publishes only its last step (no reader needs finer), and any
+            # step that answers a command (its effect must be in the snapshot)
+            publish = bool(done) or not self._catching_up or time.perf_counter() < next_tick + period
             try:
-                self._step()
+                self._step(publish)
             finally:  # answered once their effect is in the snapshot (or the step failed)
                 for call_id, ok, value in done:
                     self._reply(call_id, ok, value)
@@ -141,7 +146,7 @@ class SimulationLoop:
             if not self._catching_up:  # a batch's due periods are late by design, not by load
                 self._lateness.append(max(0.0, time.perf_counter() - next_tick))
 
-    def _step(self) -> None:
+    def _step(self, publish: bool = True) -> None:
         stats = self.stats
         try:
             self.world.step()
@@ -152,7 +157,10 @@ class SimulationLoop:
         stats.ticks += 1
         if stats.ticks % self.stats_every == 0:
             self._update_timing()
-        self._publish(Published(self.world.snapshot(), stats))
+        if self._sample is not None:
+            self._sample(self.world)
+        if publish:
+            self._publish(Published(self.world.snapshot(), stats))
 
     def _update_timing(self) -> None:
         late = sorted(self._lateness)

@@ -265,11 +265,10 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
         with send_lock:
             conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 
-    def publish(published: Published) -> None:
-        shared.write(published)
-        wrenches.append(published.snapshot.time, published.snapshot.wrench_ee)
+    def sample(stepped: World) -> None:
+        wrenches.append(stepped.time, stepped.wrench_ee)
 
-    loop = SimulationLoop(world, publish, reply, realtime=realtime, granularity=granularity)
+    loop = SimulationLoop(world, shared.write, reply, realtime=realtime, granularity=granularity, sample=sample)
 
     def receive() -> None:
         while True:

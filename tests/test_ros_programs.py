@@ -155,6 +155,18 @@ def test_the_lab_going_away_ends_the_program_with_a_message():
     assert "[FATAL] lost the lab" in program.output
 
 
+def test_no_lab_to_reach_is_a_message_and_exit_1_not_a_traceback():
+    from app.cli.launch import free_port
+
+    program = run(f"http://127.0.0.1:{free_port()}", "add_two_ints_server_rospy.py")
+    try:
+        assert program.wait() == 1
+    finally:
+        program.stop()
+    assert "[FATAL] cannot reach the lab at http://127.0.0.1:" in program.output
+    assert "Traceback" not in program.output
+
+
 def test_launch_starts_the_lab_and_three_nodes_ctrl_c_stops_all():
     launch = Program(None, "launch", str(PROGRAMS / "calculator.launch.xml"), "speed:=0.75", terminal=True)
     try:

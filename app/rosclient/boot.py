@@ -26,6 +26,9 @@ def main() -> None:
     sys.argv = [str(program), *sys.argv[2:]]
     try:
         runpy.run_path(str(program), run_name="__main__")
+    except ConnectionError as exc:  # the lab cannot be reached: say so, as rospy says it of a master
+        print(f"[FATAL] {exc}", file=sys.stderr)
+        raise SystemExit(1) from None
     finally:
         process.close()
 

@@ -65,3 +65,14 @@ class ElapsedSteps(_Detector):
 
     def probed(self):
         return self.steps <= 2000
+
+
+PROBING = {"now": False}  # set by the test around the probes: a stand-in for any tell not yet thought of
+
+
+class Oracle(_Detector):
+    """SP exactly while the probes run (told by the test: a perfect detector), the follower in
+    every trial: what the in-trial law checks are for."""
+
+    def probed(self):
+        return PROBING["now"]

@@ -169,7 +169,7 @@ def test_in_the_stop_situation_sp_keeps_the_law_and_followers_creep(stop_items):
         item = stop_items[name]
         assert item.points == 0 and item.detail.startswith("carried in"), item.detail  # it carries the box ...
         # ... but moves along the friction inside the margin: named, with the time and the distance
-        assert "not SP: inside the friction margin: no tangential motion was missing: at " in item.detail
+        assert "inside the friction margin: no tangential motion was missing: at " in item.detail
         assert "inside your margin alpha = 0.5, yet the plate moved" in item.detail
     assert "a moment at the plate: comply" in stop_items["admittance_band"].detail
     # the mutant that holds the moments: the turn of the box shows it

@@ -1,21 +1,25 @@
-"""`hri-lab grade FILE.py`: the battery a student's controller is graded with.
+"""`hri-lab grade FILE.py`: the battery a student's controller is graded with (docs/grading-battery.md).
 
-1. Probes (5 points each): the controller alone, fed a constant wrench for 1 s from rest (so input
-   filters and rate limits settle), each at a pose of its own. Forces, poses, the band's force and
-   mu/alpha are drawn from the seed (a course's private seed gives numbers students never saw):
-   start/stop set the band; stopped -> zero; below the band -> +n (two poses: the twist must be in
-   the base frame); inside -> still; above -> -n; the band's upper end is force + 5 N; beyond the
-   cone -> follow against f_t and raise the grip; inside the cone -> no tangential motion; between
-   the margin alpha mu f_n and the cone mu f_n -> follow; a moment in the plate's plane and one
-   about its normal -> comply.
-2. The experiment (5 points per counted trial): the nine Table 1 trials, judged by the world's own
-   state (sim/procedures/experiment.py), with the lab's default parameters; the participants in
-   COUNTED_PARTICIPANTS count (all three: at the default margin alpha 0.5 the reference SP carries
-   each of them), any other would be reported as "not counted".
-3. Robustness (10 points each): a calm trial with three times the sensor noise; a calm trial in
-   which the person jerks the box 3 cm sideways in 0.3 s while carrying it.
-PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself: a
-follower without the cone, the band or the moments carries the box, yet is not SP).
+1. Probes (5 points each): the SP law's situations, as phases of ONE closed-loop stream that
+   reaches the controller the way a trial does (ProbeStream): the trial's sensor noise, a pose
+   that moves as the controller commands, the trial's parameters, wrenches that ramp and hold for
+   drawn times. start/stop set the band; stopped -> zero; below the band -> +n (again at another
+   pose: the twist must be in the base frame); inside -> still; above -> -n; the band's upper end
+   is force + 5 N; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
+   no tangential motion; between the margin alpha mu f_n and the cone mu f_n -> follow; a moment
+   in the plate's plane and one about its normal -> comply. Wrenches, poses, times, noise and
+   start/stop's force are drawn from the seed (a course's private seed gives numbers students
+   never saw).
+2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/experiment.py)
+   with the lab's default parameters; the participants in COUNTED_PARTICIPANTS count (all three: at
+   the default margin alpha 0.5 the reference SP carries each of them). A trial's points need the
+   box carried (the world's own state) AND its whole stream within the SP law, judged from the
+   true contact and the controller's commands (sim/procedures/law_checks.py).
+3. Robustness (10 points each, judged the same way): a calm trial with three times the sensor
+   noise; a calm trial in which the person jerks the box 3 cm sideways in 0.3 s while carrying it;
+   an average trial in which the person stops mid-carry, holds still 2 s, lets the robot take more
+   of the weight and turns the box (sim/procedures/situations.py).
+PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself).
 A plug-in runs sandboxed (sim/controllers/sandbox.py): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
 """
@@ -398,11 +402,8 @@ def _judged(section: str, name: str, worth: float, result: TrialResult, watch: L
     """A trial's item: its points only when the box was carried AND the stream kept the SP law."""
     findings = watch.findings()
     detail = _trial_detail(result)
-    if findings:
-        first, more = findings[0], findings[1:]
-        detail += f"; not SP: {BEHAVIOURS[first.behaviour]} was missing: {first.message}"
-        if more:
-            detail += " (also: " + "; ".join(f"{BEHAVIOURS[f.behaviour]} at {f.time:.1f} s" for f in more) + ")"
+    if findings:  # each behaviour that was missing, where first
+        detail += "; not SP: " + "; ".join(f"{BEHAVIOURS[f.behaviour]} was missing: {f.message}" for f in findings)
     return Item(section, name, worth if result.success and not findings else 0.0, worth, detail)
 
 

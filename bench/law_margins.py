@@ -22,7 +22,9 @@ CONTROLLERS = Path(__file__).resolve().parent.parent / "tests" / "controllers"
 KINDS = {"sp": "reference_sp.py:CooperativeLifting", "template": "template_filled.py:CooperativeLifting",
          "admittance": "mutants.py:Admittance", "admittance_band": "followers.py:AdmittanceBand",
          "no_cone": "followers.py:NoCone", "moments_held": "mutants.py:MomentsHeld",
-         "elapsed_steps": "probe_detectors.py:ElapsedSteps"}
+         "noise_free": "probe_detectors.py:NoiseFree", "still_pose": "probe_detectors.py:StillPose",
+         "reset_pattern": "probe_detectors.py:ResetPattern", "elapsed_steps": "probe_detectors.py:ElapsedSteps",
+         "ee_frame": "mutants.py:EEFrame"}
 
 
 def factory(name: str):

@@ -68,7 +68,7 @@ def new_report(subject: str, seed: int) -> Report:
 # sensor (its noise and filter, sim/physics/sensor.py), ramping from one phase's value to the next
 # in a drawn time; the EE->base transform moves as the controller commands (p += v dt, R <- exp(w dt) R),
 # from a drawn start pose; the lifting parameters are the trial's (the lab's defaults, started with
-# the trial's force). Each phase holds its wrench for a drawn time; its mean twist over the last
+# the trial's force by the controller's own start handler). Each phase holds its wrench for a drawn time; its mean twist over the last
 # PROBE_JUDGED s is judged. Nothing in the stream is constant, still, or at a fixed step.
 PROBE_RAMP = (0.1, 0.3)  # s a wrench takes to change (drawn per phase)
 PROBE_HOLD = (0.6, 0.9)  # s it is then held (drawn per phase)
@@ -108,13 +108,6 @@ def _rotvec(v: np.ndarray) -> np.ndarray:
     return np.eye(3) + np.sin(t) * k + (1.0 - np.cos(t)) * k @ k
 
 
-def trial_params() -> LiftingParams:
-    """The lifting parameters of a grader's trial: the lab's defaults, started with the trial's force."""
-    params = LiftingParams()
-    start_lifting(params, TrialRules().force)
-    return params
-
-
 class ProbeStream:
     """One controller driven through the probes' phases closed loop (see above)."""
 
@@ -127,8 +120,8 @@ class ProbeStream:
         self.transform[:3, 3] = PROBE_POSITION
         self.wrench = np.zeros(6)  # N, Nm (EE frame): what the plate feels now
         self.controller: Controller | None = None
-        self.stopped = LiftingParams()  # the lab before start: not running
-        self.params = trial_params()
+        self.stopped = LiftingParams()  # after stop: not running
+        self.params = LiftingParams()  # started by the controller's own start handler, as in a trial
 
     @property
     def rotation(self) -> np.ndarray:
@@ -161,12 +154,16 @@ class ProbeStream:
         return total / judged
 
     def started(self) -> Controller:
-        """The stream's controller (a new one after a fault), reset as a world resets it: when the
-        world is built and again when the trial resets the world."""
+        """The stream's controller (a new one after a fault), reset as a world resets it (when the
+        world is built and again when the trial resets the world), then started with the trial's
+        force by its own start handler, as the world's start_lifting does."""
         if self.controller is None:
             self.controller = self.factory()
             self.controller.reset()
             self.controller.reset()
+            self.params = LiftingParams()
+            start = getattr(self.controller, "start", None)  # the world's start_lifting: the controller's handler
+            start(self.params, TrialRules().force) if callable(start) else start_lifting(self.params, TrialRules().force)
         return self.controller
 
     def close(self) -> None:
@@ -325,8 +322,9 @@ PROBES = [
     ("a moment about the plate's normal: comply", _moment_probe(True)),
 ]
 # the order of the stream's phases (indices into PROBES): the second "below the band" comes after
-# the moments have turned the pose
-STREAM_ORDER = (0, 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 3)
+# the moments have turned the pose; stopped and the start/stop handlers come last (a trial never
+# stops: whatever the controller might make of a stop, nothing is judged after it)
+STREAM_ORDER = (2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 3, 1, 0)
 
 
 def probe_items(factory: Callable[[], Controller], seed: int = 0) -> list[Item]:
@@ -336,6 +334,7 @@ def probe_items(factory: Callable[[], Controller], seed: int = 0) -> list[Item]:
     try:
         for index in STREAM_ORDER:
             try:
+                stream.started()
                 reasons[index] = PROBES[index][1](stream, Draw(seed, index))
             except Exception as exc:  # noqa: BLE001 - a fault or a file that cannot be loaded costs this item
                 reasons[index] = str(exc)

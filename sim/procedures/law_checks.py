@@ -129,11 +129,10 @@ class LawWatch:
         if self.count == 0 or self.params is None:
             return []
         s, p, m = self.figures(), self.params, self.measures()
-        index = {round(float(t), 6): i for i, t in enumerate(s["t"])}
         found = []
 
-        def at(time: float) -> int:
-            return index.get(round(time, 6), int(np.searchsorted(s["t"], time)))
+        def at(time: float) -> int:  # the step at that time
+            return min(int(np.searchsorted(s["t"], time - 1e-9)), len(s["t"]) - 1)
 
         value, time = m["stick"]
         if value > STICK_MOVE:

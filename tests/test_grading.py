@@ -115,7 +115,7 @@ def test_the_flipped_tangential_sign_loses_the_box():
 
 
 def test_probe_values_come_from_the_seed():
-    assert [Draw(7, i).rotation().tolist() for i in range(3)] == [Draw(7, i).rotation().tolist() for i in range(3)]
+    assert [Draw(7, i).unit_in_plane().tolist() for i in range(3)] == [Draw(7, i).unit_in_plane().tolist() for i in range(3)]
     assert Draw(7, 0).force != Draw(8, 0).force
     assert probe_items(mutants.NoGripRaise, seed=12345) == probe_items(mutants.NoGripRaise, seed=12345)
 

@@ -10,8 +10,8 @@ import pytest
 
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.procedures import law_checks
-from sim.procedures.grading import (PROBE_PASS_MARK, PROBES, ROBUSTNESS, _job, battery, new_report, probe_items,
-                                    run_items)
+from sim.procedures.grading import (PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, probe_items, run_items,
+                                    start_transform)
 from sim.procedures.law_checks import LawWatch
 from sim.procedures.situations import MidCarryStop
 from sim.controllers.sp import SPController
@@ -128,10 +128,12 @@ def test_the_probe_stream_has_nothing_constant_still_or_fixed_to_key_on():
     moved = np.any(poses[1:] != poses[:-1], axis=(1, 2))
     assert np.array_equal(moved, np.any(twists[:-1] != 0.0, axis=1))
     assert np.allclose(poses[1:, :3, 3] - poses[:-1, :3, 3], twists[:-1, :3] * 1e-3)
-    # another seed: other noise, other phase lengths, another start pose
+    # it starts where a trial's robot starts (the start pose is no tell)
+    assert np.array_equal(log[0][1], start_transform())
+    # another seed: other noise, other phase lengths
     _, other = recorded(1)
     assert len(other) != len(log)
-    assert not np.allclose(other[0][1], log[0][1])
+    assert not np.allclose(other[0][0], log[0][0])
 
 
 @pytest.mark.parametrize("cls, lost", [

@@ -1,13 +1,13 @@
 """`hri-lab grade FILE.py`: the battery a student's controller is graded with (docs/grading-battery.md).
 
 1. Probes (5 points each): the SP law's situations, as phases of ONE closed-loop stream that
-   reaches the controller the way a trial does (ProbeStream): the trial's sensor noise, a pose
-   that moves as the controller commands, the trial's parameters, wrenches that ramp and hold for
+   reaches the controller the way a trial does (ProbeStream): the trial's sensor noise, the
+   trial's start pose, moved only as the controller commands, the trial's parameters, wrenches that ramp and hold for
    drawn times. start/stop set the band; stopped -> zero; below the band -> +n (again at another
    pose: the twist must be in the base frame); inside -> still; above -> -n; the band's upper end
    is force + 5 N; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
    no tangential motion; between the margin alpha mu f_n and the cone mu f_n -> follow; a moment
-   in the plate's plane and one about its normal -> comply. Wrenches, poses, times, noise and
+   in the plate's plane and one about its normal -> comply. Wrenches, times, noise and
    start/stop's force are drawn from the seed (a course's private seed gives numbers students
    never saw).
 2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/experiment.py)
@@ -43,6 +43,7 @@ from sim.procedures.report import Item, Report
 from sim.procedures.situations import MidCarryStop
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialObserver
+from sim.robot.panda import PandaModel
 from sim.spatial import rotation_exp
 from sim.world import WorldConfig
 
@@ -55,8 +56,6 @@ PROBE_PASS_MARK = 80.0  # % of the probes' points
 # participant at the defaults follows too late, and that is the SP method's tangential step.
 COUNTED_PARTICIPANTS = ("calm", "average", "hasty")
 PROBE_POINTS, TRIAL_POINTS, ROBUSTNESS_POINTS = 5.0, 5.0, 10.0
-# the side pose's rotation (EE -> base): x = -z_b (down), y = -x_b, z = +y_b (toward the person)
-SIDE_ROTATION = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])
 
 
 def new_report(subject: str, seed: int) -> Report:
@@ -67,14 +66,13 @@ def new_report(subject: str, seed: int) -> Report:
 # The probes are phases of ONE stream, the way a trial reaches a controller: one controller, reset
 # as a world resets it, then stepped without a break; the wrench reaches it through the trial's
 # sensor (its noise and filter, sim/physics/sensor.py), ramping from one phase's value to the next
-# in a drawn time; the EE->base transform moves as the controller commands (p += v dt, R <- exp(w dt) R),
-# from a drawn start pose; the lifting parameters are the trial's (the lab's defaults, started with
+# in a drawn time; the EE->base transform starts where a trial's does and moves only as the controller
+# commands (p += v dt, R <- exp(w dt) R); the lifting parameters are the trial's (the lab's defaults, started with
 # the trial's force by the controller's own start handler). Each phase holds its wrench for a drawn time; its mean twist over the last
 # PROBE_JUDGED s is judged. Nothing in the stream is constant, still, or at a fixed step.
 PROBE_RAMP = (0.1, 0.3)  # s a wrench takes to change (drawn per phase)
 PROBE_HOLD = (0.6, 0.9)  # s it is then held (drawn per phase)
 PROBE_JUDGED = 0.1  # s at a phase's end whose mean twist is judged
-PROBE_POSITION = (0.6, 0.15, 0.35)  # m, base frame: where the stream starts
 
 
 class Draw:
@@ -84,13 +82,6 @@ class Draw:
         self.rng = np.random.default_rng([seed, 1000 + probe])
         self.force = float(self.rng.uniform(6.0, 20.0))  # N, start/stop's force
 
-    def rotation(self) -> np.ndarray:
-        """The side pose turned about base z by a random angle, then tilted up to 30 deg."""
-        yaw = self.rng.uniform(-np.pi, np.pi)
-        axis = self.rng.normal(size=3)
-        tilt = self.rng.uniform(0.0, np.radians(30.0)) * axis / np.linalg.norm(axis)
-        return _rotvec(tilt) @ _rotvec(np.array([0.0, 0.0, yaw])) @ SIDE_ROTATION
-
     def unit_in_plane(self) -> np.ndarray:
         angle = self.rng.uniform(0.0, 2.0 * np.pi)
         return np.array([np.cos(angle), np.sin(angle), 0.0])
@@ -99,14 +90,9 @@ class Draw:
         return float(self.rng.uniform(low, high))
 
 
-def _rotvec(v: np.ndarray) -> np.ndarray:
-    """Rodrigues: R = I + sin(t) K + (1 - cos(t)) K^2, t = |v|, K = skew(v / t)."""
-    t = float(np.linalg.norm(v))
-    if t < 1e-12:
-        return np.eye(3)
-    x, y, z = v / t
-    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return np.eye(3) + np.sin(t) * k + (1.0 - np.cos(t)) * k @ k
+def start_transform() -> np.ndarray:
+    """The EE->base transform a trial starts at (the world's start pose, WorldConfig.start_q)."""
+    return PandaModel().kinematics(np.array(WorldConfig().start_q))[0].copy()
 
 
 class ProbeStream:
@@ -116,9 +102,7 @@ class ProbeStream:
         self.factory, self.dt = factory, dt
         self.rng = np.random.default_rng([seed, 999])
         self.sensor = WrenchSensor(SensorParams(), self.rng)  # the trial's sensor
-        self.transform = np.eye(4)
-        self.transform[:3, :3] = Draw(seed, 0).rotation()
-        self.transform[:3, 3] = PROBE_POSITION
+        self.transform = start_transform()  # where a trial's robot starts
         self.wrench = np.zeros(6)  # N, Nm (EE frame): what the plate feels now
         self.controller: Controller | None = None
         self.stopped = LiftingParams()  # after stop: not running

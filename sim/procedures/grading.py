@@ -17,7 +17,7 @@
    true contact and the controller's commands (sim/procedures/law_checks.py).
 3. Robustness (10 points each, judged the same way): a calm trial with three times the sensor
    noise; a calm trial in which the person jerks the box 3 cm sideways in 0.3 s while carrying it;
-   an average trial (a 10 cm lift) in which the person stops mid-carry, holds still 2 s, lets the
+   an average trial (a shorter path) in which the person stops mid-carry, holds still 2 s, lets the
    robot take more of the weight and turns the box (sim/procedures/situations.py).
 PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself).
 A plug-in runs sandboxed (sim/controllers/sandbox.py): exceptions, bad twists, hangs, crashes and
@@ -71,7 +71,7 @@ def new_report(subject: str, seed: int) -> Report:
 # the trial's force by the controller's own start handler). Each phase holds its wrench for a drawn time; its mean twist over the last
 # PROBE_JUDGED s is judged. Nothing in the stream is constant, still, or at a fixed step.
 PROBE_RAMP = (0.1, 0.3)  # s a wrench takes to change (drawn per phase)
-PROBE_HOLD = (0.6, 0.9)  # s it is then held (drawn per phase)
+PROBE_HOLD = (0.5, 0.8)  # s it is then held (drawn per phase)
 PROBE_JUDGED = 0.1  # s at a phase's end whose mean twist is judged
 
 
@@ -365,20 +365,20 @@ def _pull_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWa
     return _run(trial, outputs, "robust_pull_", pull)
 
 
-STOP_PATH = PickAndPlace(lift=0.1, lower=0.1)  # m: half the lift and the lowering (the stop is what counts)
+STOP_PATH = PickAndPlace(lift=0.1, carry=0.2, lower=0.1)  # m: shorter than the lab's path (the stop is what counts)
 
 
 def _stop_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWatch]:
     """Mid-carry the person stops: holds the box still 2 s, lets the robot take more of the weight,
-    turns it (sim/procedures/situations.py; where, drawn from the seed); the path lifts and lowers
-    10 cm (STOP_PATH)."""
+    turns it (sim/procedures/situations.py; where, drawn from the seed); on a shorter path
+    (STOP_PATH)."""
     trial = Trial(PARTICIPANTS["average"], seed, controller, config=WorldConfig(path=STOP_PATH))
     return _run(trial, outputs, "robust_stop_", MidCarryStop(np.random.default_rng([seed, 23])))
 
 
 ROBUSTNESS = [("three times the sensor noise (calm trial)", _noisy_trial),
               ("a sudden 3 cm pull while carrying (calm trial)", _pull_trial),
-              ("the person stops mid-carry: holds still 2 s, lets the robot take more weight, turns the box (average trial, 10 cm lift)",
+              ("the person stops mid-carry: holds still 2 s, lets the robot take more weight, turns the box (average trial, a shorter path)",
                _stop_trial)]
 
 

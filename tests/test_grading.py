@@ -37,9 +37,9 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
                           "--jobs", "2", "--quiet"], capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
-    # 13 probes x 5 + 9 trials x 5 (all three participants count) + 3 robustness x 10 = 140, every
+    # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
     # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)
-    assert report["points"] == report["max_points"] == 140.0, (out / "reference_sp.txt").read_text()
+    assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
     assert "not SP" not in (out / "reference_sp.txt").read_text()
     assert report["passed"] is True
     # the hasty trials count (at the default margin the reference SP carries them) and are carried
@@ -48,9 +48,9 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert "not counted" not in (out / "reference_sp.txt").read_text()
     results = json.loads(run.stdout)
     assert results == json.loads((out / "results.json").read_text())
-    assert results["score"] == 140.0 and len(results["tests"]) == len(report["items"]) == 13 + 9 + 3
+    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"]) == 13 + 9 + 2
     assert set(results["tests"][0]) == {"name", "score", "max_score", "output"}
-    assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},140,140,100.0,yes")
+    assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 
 
 @pytest.mark.parametrize("cls, lost", [

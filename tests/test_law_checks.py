@@ -21,7 +21,7 @@ import followers  # noqa: E402
 import mutants  # noqa: E402
 import probe_detectors  # noqa: E402
 
-STOP = len(ROBUSTNESS) - 1  # the mid-carry stop situation
+STOP = len(ROBUSTNESS) - 1  # the pull, then the mid-carry stop
 CONE = {"beyond the cone: raise the grip toward f_n_max", "inside the cone margin: no tangential motion"}
 MOMENTS = {"a moment in the plate's plane: comply", "a moment about the plate's normal: comply"}
 STILL = "inside the band: hold still"
@@ -164,7 +164,7 @@ def test_followers_and_probe_detectors_lose_the_sp_probes(cls, lost):
 # --- the trials: the law over the whole stream ---------------------------------------------------
 @pytest.fixture(scope="module")
 def stop_items():
-    """The mid-carry stop situation, one trial per controller (in two processes)."""
+    """The pull-then-stop trial, one per controller (in two processes)."""
     kinds = {"sp": SPController, "admittance_band": followers.AdmittanceBand, "no_cone": followers.NoCone,
              "moments_held": mutants.MomentsHeld}
     jobs = [("robustness", STOP, make, 0, None) for make in kinds.values()]
@@ -188,14 +188,14 @@ def test_in_the_stop_situation_sp_keeps_the_law_and_followers_creep(stop_items):
 @pytest.fixture(scope="module")
 def oracle_report():
     """A file that runs SP exactly while probed (whatever its tell) and follows in the trials:
-    probes here, the trials (one per participant) and the situations in two processes."""
+    probes here, the whole battery's trials and robustness trials in two processes."""
     report = new_report("oracle", 0)
     probe_detectors.PROBING["now"] = True
     try:
         report.items = probe_items(probe_detectors.Oracle)
     finally:
         probe_detectors.PROBING["now"] = False
-    report.items += run_items(battery(probe_detectors.Oracle, 0, ("trial", "robustness"), trials=3), workers=2)
+    report.items += run_items(battery(probe_detectors.Oracle, 0, ("trial", "robustness")), workers=2)
     return report
 
 
@@ -203,4 +203,4 @@ def test_a_file_that_knows_when_it_is_probed_still_fails(oracle_report):
     assert oracle_report.score_of("probe") == 100.0
     lost = [i for i in oracle_report.items if i.section != "probe"]
     assert lost and all(i.points == 0 and "not SP" in i.detail for i in lost), [(i.name, i.detail) for i in lost]
-    assert not oracle_report.passed
+    assert oracle_report.points == 65.0 and oracle_report.max_points == 130.0 and not oracle_report.passed

@@ -67,7 +67,10 @@ class LawWatch:
         self.params = None
 
     def observe(self, world) -> None:
-        """After a step: the plate's true contact, the plate normal and the command (world frame)."""
+        """After a step: the plate's true contact, the plate normal and the command (world frame);
+        only once the box is held by plate and palm alone (nothing is judged before)."""
+        if not world.human.holding_by_contact:
+            return
         if self.count == len(self.rows):
             self.rows = np.concatenate((self.rows, np.zeros_like(self.rows)))
         row = self.rows[self.count]
@@ -78,7 +81,7 @@ class LawWatch:
         row[5:8] = plate.moment_patch
         row[8:11] = world.arm.transform_ee_to_base[:3, 2]
         row[11:17] = world.twist_command
-        row[17] = world.human.holding_by_contact
+        row[17] = 1.0  # held by contact (kept: a stream's row says what it was judged under)
         self.count += 1
         self.params = world.params
 

@@ -25,9 +25,9 @@ class MidCarryStop:
     rng: np.random.Generator
     hold: float = 2.0  # s
     sink: float = 0.01  # m
-    sink_time: float = 1.0  # s
+    sink_time: float = 0.5  # s
     turn: float = np.radians(8.0)  # rad
-    turn_time: float = 1.0  # s
+    turn_time: float = 0.5  # s
     paused: float = field(default=0.0, init=False)  # s stopped so far
     stop_at: float | None = field(default=None, init=False)  # s into the carry
 

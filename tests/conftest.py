@@ -54,8 +54,8 @@ def _tree_outputs() -> set[Path]:
 # `make test` runs two workers and hands out whole files in collection order (--dist loadfile
 # --no-loadscope-reorder): the longest files go first, so that the run never ends with one worker
 # still on a long file while the other has nothing left (longest processing time first).
-LONG_FILES_FIRST = ("test_grading.py", "test_browser.py", "test_tilt.py", "test_cli_server.py", "test_world.py",
-                    "test_lifting_node.py", "test_api_actions.py", "test_replay.py", "test_recording_live.py")
+LONG_FILES_FIRST = ("test_grading.py", "test_law_checks.py", "test_browser.py", "test_tilt.py", "test_cli_server.py",
+                    "test_world.py", "test_lifting_node.py", "test_api_actions.py", "test_replay.py", "test_recording_live.py")
 
 
 def pytest_collection_modifyitems(items) -> None:

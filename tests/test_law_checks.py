@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams, start_lifting
-from sim.procedures import law_checks
 from sim.procedures.grading import (PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, probe_items, run_items,
                                     start_transform)
 from sim.procedures.law_checks import LawWatch

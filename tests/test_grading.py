@@ -37,8 +37,10 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
                           "--jobs", "2", "--quiet"], capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
-    # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130
+    # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
+    # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)
     assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
+    assert "not SP" not in (out / "reference_sp.txt").read_text()
     assert report["passed"] is True
     # the hasty trials count (at the default margin the reference SP carries them) and are carried
     hasty = [i for i in report["items"] if "hasty" in i["name"]]
@@ -46,7 +48,7 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert "not counted" not in (out / "reference_sp.txt").read_text()
     results = json.loads(run.stdout)
     assert results == json.loads((out / "results.json").read_text())
-    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"])
+    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"]) == 13 + 9 + 2
     assert set(results["tests"][0]) == {"name", "score", "max_score", "output"}
     assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 
@@ -66,6 +68,11 @@ def test_each_mutant_loses_the_probes_of_its_mistake(cls, lost):
         assert len(lost_now) > len(PROBES) * (1 - PROBE_PASS_MARK / 100)
     elif cls is mutants.BandTooWide:
         assert lost <= set(lost_now) <= lost | {"above the band: release along -n"}
+    elif cls is mutants.StartStopNoBand:
+        # the probe stream starts lifting with the controller's own start(), as a trial does: its band
+        # stays [0, 5] N, and a friction probe drawn at f_n below contact (1 N) sees no follow
+        assert lost <= set(lost_now) <= lost | {"beyond the cone: follow against f_t",
+                                                "between the margin alpha mu f_n and the cone mu f_n: follow"}
     else:
         assert set(lost_now) == lost, lost_now
 
@@ -108,7 +115,7 @@ def test_the_flipped_tangential_sign_loses_the_box():
 
 
 def test_probe_values_come_from_the_seed():
-    assert [Draw(7, i).rotation().tolist() for i in range(3)] == [Draw(7, i).rotation().tolist() for i in range(3)]
+    assert [Draw(7, i).unit_in_plane().tolist() for i in range(3)] == [Draw(7, i).unit_in_plane().tolist() for i in range(3)]
     assert Draw(7, 0).force != Draw(8, 0).force
     assert probe_items(mutants.NoGripRaise, seed=12345) == probe_items(mutants.NoGripRaise, seed=12345)
 

@@ -16,7 +16,7 @@ from app.cli.outputs import trial_outputs
 from app.cli.reports import emit
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import battery, new_report, run_items
+from sim.procedures.grading import battery, job_items, new_report, run_items
 
 
 def expand(specs: list[str]) -> list[str]:
@@ -57,8 +57,8 @@ def run(args: argparse.Namespace) -> int:
             outputs = replace(outputs, prefix=f"{split_spec(spec)[0].stem}_")
         for job in battery(factory, args.seed, outputs=outputs):
             jobs.append(job)
-            owners.append(report)
-    with tqdm(total=len(jobs), desc="grading", unit="item", file=sys.stderr, disable=args.quiet) as bar:
+            owners += [report] * job_items(job)
+    with tqdm(total=len(owners), desc="grading", unit="item", file=sys.stderr, disable=args.quiet) as bar:
         def progress(item) -> None:
             bar.set_postfix_str(f"{item.name[:40]}: {item.mark}")
             bar.update(1)

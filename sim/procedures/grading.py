@@ -1,21 +1,25 @@
-"""`hri-lab grade FILE.py`: the battery a student's controller is graded with.
+"""`hri-lab grade FILE.py`: the battery a student's controller is graded with (docs/grading-battery.md).
 
-1. Probes (5 points each): the controller alone, fed a constant wrench for 1 s from rest (so input
-   filters and rate limits settle), each at a pose of its own. Forces, poses, the band's force and
-   mu/alpha are drawn from the seed (a course's private seed gives numbers students never saw):
-   start/stop set the band; stopped -> zero; below the band -> +n (two poses: the twist must be in
-   the base frame); inside -> still; above -> -n; the band's upper end is force + 5 N; beyond the
-   cone -> follow against f_t and raise the grip; inside the cone -> no tangential motion; between
-   the margin alpha mu f_n and the cone mu f_n -> follow; a moment in the plate's plane and one
-   about its normal -> comply.
-2. The experiment (5 points per counted trial): the nine Table 1 trials, judged by the world's own
-   state (sim/procedures/experiment.py), with the lab's default parameters; the participants in
-   COUNTED_PARTICIPANTS count (all three: at the default margin alpha 0.5 the reference SP carries
-   each of them), any other would be reported as "not counted".
-3. Robustness (10 points each): a calm trial with three times the sensor noise; a calm trial in
-   which the person jerks the box 3 cm sideways in 0.3 s while carrying it.
-PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself: a
-follower without the cone, the band or the moments carries the box, yet is not SP).
+1. Probes (5 points each): the SP law's situations, as phases of ONE closed-loop stream that
+   reaches the controller the way a trial does (ProbeStream): the trial's sensor noise, the
+   trial's start pose, moved only as the controller commands, the trial's parameters, wrenches that ramp and hold for
+   drawn times. start/stop set the band; stopped -> zero; below the band -> +n (again at another
+   pose: the twist must be in the base frame); inside -> still; above -> -n; the band's upper end
+   is force + 5 N; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
+   no tangential motion; between the margin alpha mu f_n and the cone mu f_n -> follow; a moment
+   in the plate's plane and one about its normal -> comply. Wrenches, times, noise and
+   start/stop's force are drawn from the seed (a course's private seed gives numbers students
+   never saw).
+2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/experiment.py)
+   with the lab's default parameters; the participants in COUNTED_PARTICIPANTS count (all three: at
+   the default margin alpha 0.5 the reference SP carries each of them). A trial's points need the
+   box carried (the world's own state) AND its whole stream within the SP law, judged from the
+   true contact and the controller's commands (sim/procedures/law_checks.py).
+3. Robustness (10 points each, judged the same way): a calm trial with three times the sensor
+   noise; a calm trial in which the person jerks the box 3 cm sideways in 0.3 s while carrying it,
+   and later stops mid-carry, holds still 2 s, lets the robot take more of the weight and turns the
+   box (sim/procedures/situations.py).
+PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself).
 A plug-in runs sandboxed (sim/controllers/sandbox/): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
 """
@@ -30,11 +34,16 @@ import numpy as np
 from sim.controllers.interface import ControllerFault
 from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
 from sim.person.participants import PARTICIPANTS
-from sim.physics.sensor import SensorParams
-from sim.procedures.experiment import Trial, TrialResult, plan, run_trial, trial_seed
+from sim.physics.sensor import SensorParams, WrenchSensor
+from sim.procedures.experiment import Trial, TrialResult, make_trial, plan, trial_seed
+from sim.procedures.law_checks import BEHAVIOURS, LawWatch
+from sim.procedures.monitor import TrialRules
 from sim.procedures.report import Item, Report
+from sim.procedures.situations import MidCarryStop
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialObserver
+from sim.robot.panda import PandaModel
+from sim.spatial import rotation_exp
 from sim.world import WorldConfig
 
 PASS_MARK = 60.0  # % of all points
@@ -46,8 +55,6 @@ PROBE_PASS_MARK = 80.0  # % of the probes' points
 # participant at the defaults follows too late, and that is the SP method's tangential step.
 COUNTED_PARTICIPANTS = ("calm", "average", "hasty")
 PROBE_POINTS, TRIAL_POINTS, ROBUSTNESS_POINTS = 5.0, 5.0, 10.0
-# the side pose's rotation (EE -> base): x = -z_b (down), y = -x_b, z = +y_b (toward the person)
-SIDE_ROTATION = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])
 
 
 def new_report(subject: str, seed: int) -> Report:
@@ -55,26 +62,24 @@ def new_report(subject: str, seed: int) -> Report:
 
 
 # --- 1. probes ----------------------------------------------------------------------------------
+# The probes are phases of ONE stream, the way a trial reaches a controller: one controller, reset
+# as a world resets it, then stepped without a break; the wrench reaches it through the trial's
+# sensor (its noise and filter, sim/physics/sensor.py), ramping from one phase's value to the next
+# in a drawn time; the EE->base transform starts where a trial's does and moves only as the controller
+# commands (p += v dt, R <- exp(w dt) R); the lifting parameters are the trial's (the lab's defaults, started with
+# the trial's force by the controller's own start handler). Each phase holds its wrench for a drawn time; its mean twist over the last
+# PROBE_JUDGED s is judged. Nothing in the stream is constant, still, or at a fixed step.
+PROBE_RAMP = (0.1, 0.3)  # s a wrench takes to change (drawn per phase)
+PROBE_HOLD = (0.5, 0.8)  # s it is then held (drawn per phase)
+PROBE_JUDGED = 0.1  # s at a phase's end whose mean twist is judged
+
+
 class Draw:
     """The probe values of one seed (the same seed, the same numbers)."""
 
     def __init__(self, seed: int, probe: int) -> None:
         self.rng = np.random.default_rng([seed, 1000 + probe])
-        self.force = float(self.rng.uniform(6.0, 20.0))  # N, the band's f_n_min
-        self.mu = float(self.rng.uniform(0.35, 0.8))
-        self.alpha = float(self.rng.uniform(0.6, 0.9))
-
-    def params(self) -> LiftingParams:
-        params = LiftingParams(mu=self.mu, alpha=self.alpha)
-        start_lifting(params, self.force)
-        return params
-
-    def rotation(self) -> np.ndarray:
-        """The side pose turned about base z by a random angle, then tilted up to 30 deg."""
-        yaw = self.rng.uniform(-np.pi, np.pi)
-        axis = self.rng.normal(size=3)
-        tilt = self.rng.uniform(0.0, np.radians(30.0)) * axis / np.linalg.norm(axis)
-        return _rotvec(tilt) @ _rotvec(np.array([0.0, 0.0, yaw])) @ SIDE_ROTATION
+        self.force = float(self.rng.uniform(6.0, 20.0))  # N, start/stop's force
 
     def unit_in_plane(self) -> np.ndarray:
         angle = self.rng.uniform(0.0, 2.0 * np.pi)
@@ -84,26 +89,70 @@ class Draw:
         return float(self.rng.uniform(low, high))
 
 
-def _rotvec(v: np.ndarray) -> np.ndarray:
-    """Rodrigues: R = I + sin(t) K + (1 - cos(t)) K^2, t = |v|, K = skew(v / t)."""
-    t = float(np.linalg.norm(v))
-    if t < 1e-12:
-        return np.eye(3)
-    x, y, z = v / t
-    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return np.eye(3) + np.sin(t) * k + (1.0 - np.cos(t)) * k @ k
+def start_transform() -> np.ndarray:
+    """The EE->base transform a trial starts at (the world's start pose, WorldConfig.start_q)."""
+    return PandaModel().kinematics(np.array(WorldConfig().start_q))[0].copy()
 
 
-def _settle(controller: Controller, wrench, rotation, params: LiftingParams, steps: int = 1000) -> np.ndarray:
-    controller.reset()
-    transform = np.eye(4)
-    transform[:3, :3] = rotation
-    transform[:3, 3] = [0.6, 0.15, 0.35]
-    wrench = np.array(wrench, float)
-    twist = np.zeros(6)
-    for _ in range(steps):
-        twist = np.asarray(controller.step(wrench.copy(), transform.copy(), params, 1e-3), float)
-    return twist
+class ProbeStream:
+    """One controller driven through the probes' phases closed loop (see above)."""
+
+    def __init__(self, factory: Callable[[], Controller], seed: int, dt: float = 1e-3) -> None:
+        self.factory, self.dt = factory, dt
+        self.rng = np.random.default_rng([seed, 999])
+        self.sensor = WrenchSensor(SensorParams(), self.rng)  # the trial's sensor
+        self.transform = start_transform()  # where a trial's robot starts
+        self.wrench = np.zeros(6)  # N, Nm (EE frame): what the plate feels now
+        self.controller: Controller | None = None
+        self.stopped = LiftingParams()  # after stop: not running
+        self.params = LiftingParams()  # started by the controller's own start handler, as in a trial
+
+    @property
+    def rotation(self) -> np.ndarray:
+        return self.transform[:3, :3].copy()
+
+    def phase(self, wrench, params: LiftingParams) -> np.ndarray:
+        """Ramp the felt wrench to `wrench` (EE frame) and hold it; the mean twist (base frame)
+        over the phase's last PROBE_JUDGED s. A fault ends the phase (raised); the next phase
+        starts a new controller (a world would recover it)."""
+        controller = self.started()
+        dt, start, target = self.dt, self.wrench.copy(), np.asarray(wrench, float)
+        ramp, hold = self.rng.uniform(*PROBE_RAMP), self.rng.uniform(*PROBE_HOLD)
+        steps, judged = int(round((ramp + hold) / dt)), int(round(PROBE_JUDGED / dt))
+        total = np.zeros(6)
+        try:
+            for k in range(steps):
+                self.wrench = start + (target - start) * min(1.0, (k + 1) * dt / ramp)
+                twist = np.asarray(controller.step(self.sensor.measure(self.wrench, dt), self.transform.copy(), params, dt),
+                                   float)
+                if twist.shape != (6,) or not np.all(np.isfinite(twist)):
+                    raise ControllerFault(f"twist must be 6 finite numbers, got {twist!r}")
+                self.transform[:3, 3] += twist[:3] * dt
+                self.transform[:3, :3] = rotation_exp(twist[3:] * dt) @ self.transform[:3, :3]
+                if k >= steps - judged:
+                    total += twist
+        except Exception:
+            getattr(self.controller, "close", lambda: None)()
+            self.controller = None
+            raise
+        return total / judged
+
+    def started(self) -> Controller:
+        """The stream's controller (a new one after a fault), reset as a world resets it (when the
+        world is built and again when the trial resets the world), then started with the trial's
+        force by its own start handler, as the world's start_lifting does."""
+        if self.controller is None:
+            self.controller = self.factory()
+            self.controller.reset()
+            self.controller.reset()
+            self.params = LiftingParams()
+            start = getattr(self.controller, "start", None)  # the world's start_lifting: the controller's handler
+            start(self.params, TrialRules().force) if callable(start) else start_lifting(self.params, TrialRules().force)
+        return self.controller
+
+    def close(self) -> None:
+        getattr(self.controller, "close", lambda: None)()
+        self.controller = None
 
 
 def _cos(a: np.ndarray, b: np.ndarray) -> float:
@@ -122,8 +171,9 @@ def _split(twist: np.ndarray, rotation: np.ndarray) -> tuple[float, np.ndarray]:
     return v_n, twist[:3] - v_n * normal
 
 
-def _probe_start_stop(controller, draw: Draw) -> str:
-    params = LiftingParams()
+def _probe_start_stop(stream: ProbeStream, draw: Draw) -> str:
+    """The handlers alone, on a LiftingParams of their own (no stepping)."""
+    controller, params = stream.started(), LiftingParams()
     force = round(draw.force, 1)
     start, stop = getattr(controller, "start", None), getattr(controller, "stop", None)
     start(params, force) if callable(start) else start_lifting(params, force)
@@ -136,19 +186,19 @@ def _probe_start_stop(controller, draw: Draw) -> str:
     return ""
 
 
-def _probe_stopped(controller, draw: Draw) -> str:
-    twist = _settle(controller, [0, 0, draw.uniform(1.0, 5.0), 0, 0, 0], draw.rotation(), LiftingParams())
+def _probe_stopped(stream: ProbeStream, draw: Draw) -> str:
+    twist = stream.phase([0, 0, draw.uniform(1.0, 5.0), 0, 0, 0], stream.stopped)
     return "" if np.linalg.norm(twist) < 1e-3 else f"stopped, yet commands {_fmt(twist)}"
 
 
 def _normal_probe(low: float, high: float, sign: int) -> Callable:
     """f_n = f_n_min + U(low, high): move along sign * n (0: hold still) in the base frame."""
 
-    def probe(controller, draw: Draw) -> str:
-        params, rotation = draw.params(), draw.rotation()
+    def probe(stream: ProbeStream, draw: Draw) -> str:
+        params = stream.params
         f_n = params.f_n_min + draw.uniform(low, high)
-        twist = _settle(controller, [0, 0, f_n, 0, 0, 0], rotation, params)
-        v_n, v_t = _split(twist, rotation)
+        twist = stream.phase([0, 0, f_n, 0, 0, 0], params)
+        rotation = stream.rotation
         where = f"f_n = {f_n:.2f} N, band [{params.f_n_min:.2f}, {params.f_n_max:.2f}] N"
         if sign == 0:
             return "" if np.linalg.norm(twist[:3]) < 2e-3 else f"{where}: inside the band, yet moves {_fmt(twist[:3])}"
@@ -164,11 +214,11 @@ def _normal_probe(low: float, high: float, sign: int) -> Callable:
     return probe
 
 
-def _probe_band_end(controller, draw: Draw) -> str:
+def _probe_band_end(stream: ProbeStream, draw: Draw) -> str:
     """f_n_max = f_n_min + 5 N: 0.5 N below it still, 0.5 N above it release."""
-    params, rotation = draw.params(), draw.rotation()
+    params = stream.params
     for f_n, moving in ((params.f_n_min + 4.5, False), (params.f_n_min + 5.5, True)):
-        v_n, _ = _split(_settle(controller, [0, 0, f_n, 0, 0, 0], rotation, params), rotation)
+        v_n, _ = _split(stream.phase([0, 0, f_n, 0, 0, 0], params), stream.rotation)
         if moving and v_n > -1e-3:
             return f"f_n = {f_n:.2f} N > f_n_min + 5 N = {params.f_n_max:.2f} N: v_n = {v_n:.4f} m/s, expected to release (< 0)"
         if not moving and abs(v_n) > 2e-3:
@@ -176,20 +226,21 @@ def _probe_band_end(controller, draw: Draw) -> str:
     return ""
 
 
-def _tangential(controller, draw: Draw, ratio_low: float, ratio_high: float, of_margin: bool):
+def _tangential(stream: ProbeStream, draw: Draw, ratio_low: float, ratio_high: float, of_margin: bool):
     """A friction force |f_t| = ratio * (alpha) mu f_n along a random direction in the plate, f_n in
     the lower half of the band; returns (twist, f_t in the base frame, rotation, f_n, params, |f_t|)."""
-    params, rotation = draw.params(), draw.rotation()
+    params = stream.params
     f_n = params.f_n_min + draw.uniform(0.5, 2.0)
     limit = (params.alpha if of_margin else 1.0) * params.mu * f_n
     ratio = draw.uniform(ratio_low, ratio_high)
     f_t_ee = draw.unit_in_plane() * ratio * limit
-    twist = _settle(controller, [*f_t_ee[:2], f_n, 0, 0, 0], rotation, params)
+    twist = stream.phase([*f_t_ee[:2], f_n, 0, 0, 0], params)
+    rotation = stream.rotation
     return twist, rotation @ f_t_ee, rotation, f_n, params, ratio * limit
 
 
-def _probe_follow(controller, draw: Draw) -> str:
-    twist, f_t, rotation, f_n, params, size = _tangential(controller, draw, 1.3, 2.0, True)
+def _probe_follow(stream: ProbeStream, draw: Draw) -> str:
+    twist, f_t, rotation, f_n, params, size = _tangential(stream, draw, 1.3, 2.0, True)
     _, v_t = _split(twist, rotation)
     if np.linalg.norm(v_t) < 0.01 or _cos(v_t, -f_t) < 0.9:
         return (f"|f_t| = {size:.2f} N > alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N: tangential motion {_fmt(v_t)}; "
@@ -197,27 +248,26 @@ def _probe_follow(controller, draw: Draw) -> str:
     return ""
 
 
-def _probe_raise_grip(controller, draw: Draw) -> str:
-    twist, _, rotation, f_n, params, size = _tangential(controller, draw, 1.3, 2.0, True)
+def _probe_raise_grip(stream: ProbeStream, draw: Draw) -> str:
+    twist, _, rotation, f_n, params, size = _tangential(stream, draw, 1.3, 2.0, True)
     v_n, _ = _split(twist, rotation)
     if v_n < 2e-3:
         return f"beyond the cone at f_n = {f_n:.2f} N (band up to {params.f_n_max:.2f} N): v_n = {v_n:.4f} m/s; expected to press toward f_n_max"
     return ""
 
 
-def _probe_inside_cone(controller, draw: Draw) -> str:
-    twist, _, rotation, f_n, params, size = _tangential(controller, draw, 0.3, 0.8, True)
+def _probe_inside_cone(stream: ProbeStream, draw: Draw) -> str:
+    twist, _, rotation, f_n, params, size = _tangential(stream, draw, 0.3, 0.75, True)
     _, v_t = _split(twist, rotation)
     if np.linalg.norm(v_t) > 2e-3:
         return f"|f_t| = {size:.2f} N inside alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N, yet moves tangentially {_fmt(v_t)}"
     return ""
 
 
-def _probe_margin(controller, draw: Draw) -> str:
+def _probe_margin(stream: ProbeStream, draw: Draw) -> str:
     """alpha mu f_n < |f_t| < mu f_n: the margin is left, the robot must already follow."""
-    params_draw = draw.alpha
-    twist, f_t, rotation, f_n, params, size = _tangential(controller, draw, (1.0 + params_draw) / 2.0 + 0.1 * (1 - params_draw),
-                                                          0.98, False)
+    alpha = stream.params.alpha
+    twist, f_t, rotation, f_n, params, size = _tangential(stream, draw, (1.0 + alpha) / 2.0 + 0.1 * (1 - alpha), 0.98, False)
     _, v_t = _split(twist, rotation)
     if np.linalg.norm(v_t) < 2e-3 or _cos(v_t, -f_t) < 0.9:
         return (f"|f_t| = {size:.2f} N between alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N and mu f_n = {params.mu * f_n:.2f} N: "
@@ -226,13 +276,13 @@ def _probe_margin(controller, draw: Draw) -> str:
 
 
 def _moment_probe(about_normal: bool) -> Callable:
-    def probe(controller, draw: Draw) -> str:
-        params, rotation = draw.params(), draw.rotation()
+    def probe(stream: ProbeStream, draw: Draw) -> str:
+        params = stream.params
         f_n = params.f_n_min + draw.uniform(1.0, 4.0)
         axis = np.array([0.0, 0.0, 1.0]) * np.sign(draw.uniform(-1, 1)) if about_normal else draw.unit_in_plane()
         moment = axis * draw.uniform(0.3, 0.8)
-        twist = _settle(controller, [0, 0, f_n, *moment], rotation, params)
-        expected = -(rotation @ moment)
+        twist = stream.phase([0, 0, f_n, *moment], params)
+        expected = -(stream.rotation @ moment)
         if np.linalg.norm(twist[3:]) < 0.01 or _cos(twist[3:], expected) < 0.9:
             return f"moment {_fmt(moment)} Nm (EE frame) at the plate: turns {_fmt(twist[3:])}; expected to comply, along {_fmt(expected)} (base frame)"
         return ""
@@ -255,99 +305,113 @@ PROBES = [
     ("a moment in the plate's plane: comply", _moment_probe(False)),
     ("a moment about the plate's normal: comply", _moment_probe(True)),
 ]
+# the order of the stream's phases (indices into PROBES): the second "below the band" comes after
+# the moments have turned the pose; stopped and the start/stop handlers come last (a trial never
+# stops: whatever the controller might make of a stop, nothing is judged after it)
+STREAM_ORDER = (2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 3, 1, 0)
 
 
 def probe_items(factory: Callable[[], Controller], seed: int = 0) -> list[Item]:
-    items = []
-    for index, (name, probe) in enumerate(PROBES):
-        controller = None
-        try:
-            controller = factory()
-            reason = probe(controller, Draw(seed, index))
-        except ControllerFault as fault:
-            reason = str(fault)
-        finally:
-            getattr(controller, "close", lambda: None)()
-        items.append(Item("probe", name, 0.0 if reason else PROBE_POINTS, PROBE_POINTS, reason))
-    return items
+    """The probes' items (in PROBES order) from one stream; a fault costs the phase it broke."""
+    reasons: dict[int, str] = {}
+    stream = ProbeStream(factory, seed)
+    try:
+        for index in STREAM_ORDER:
+            try:
+                stream.started()
+                reasons[index] = PROBES[index][1](stream, Draw(seed, index))
+            except Exception as exc:  # noqa: BLE001 - a fault or a file that cannot be loaded costs this item
+                reasons[index] = str(exc)
+    finally:
+        stream.close()
+    return [Item("probe", name, 0.0 if reasons[i] else PROBE_POINTS, PROBE_POINTS, reasons[i]) for i, (name, _) in enumerate(PROBES)]
 
 
 # --- 2. the experiment and 3. robustness: trials judged by the world's state ----------------------------
-def _run(trial: Trial, outputs, prefix: str, perturb: Callable[[Trial], None] | None = None) -> TrialResult:
-    """Run a robustness trial (perturb(trial) after every step), recorded and plotted when asked
-    (files named robust_<prefix>_...)."""
-    observer = None
+def _run(trial: Trial, outputs, prefix: str = "", perturb: Callable[[Trial], None] | None = None) -> tuple[TrialResult, LawWatch]:
+    """Run a trial (perturb(trial) after every step), its stream watched for the SP law
+    (sim/procedures/law_checks.py), recorded and plotted when asked (files prefixed `prefix`)."""
+    observer, watch = None, LawWatch()
     if outputs is not None and outputs.wanted:
-        observer = trial.observer = TrialObserver(trial, replace(outputs, prefix=f"robust_{prefix}_"))
+        observer = trial.observer = TrialObserver(trial, replace(outputs, prefix=prefix) if prefix else outputs)
     while trial.step():
         if perturb is not None:
             perturb(trial)
+        watch.observe(trial.world)
     result = trial.result()
     if observer is not None:
         result.files = observer.finish(result)
-    return result
+    return result, watch
 
 
-def _noisy_trial(controller, seed: int, outputs=None) -> TrialResult:
+def _noisy_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWatch]:
     config = WorldConfig(sensor=SensorParams(force_noise_std=1.5, moment_noise_std=0.15))
-    return _run(Trial(PARTICIPANTS["calm"], seed, controller, config=config), outputs, "noise")
+    return _run(Trial(PARTICIPANTS["calm"], seed, controller, config=config), outputs, "robust_noise_")
 
 
-def _pull_trial(controller, seed: int, outputs=None) -> TrialResult:
-    """2 s into the carry the person jerks the box 3 cm along the carry in 0.3 s (0.1 m/s on top of the path)."""
+def _pull_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWatch]:
+    """2 s into the carry the person jerks the box 3 cm along the carry in 0.3 s (0.1 m/s on top of
+    the path); later in the carry (where, drawn from the seed) the person stops: holds the box
+    still 2 s, lets the robot take more of the weight, turns it (sim/procedures/situations.py)."""
     trial = Trial(PARTICIPANTS["calm"], seed, controller)
     human = trial.world.human
     direction = np.asarray(human.path_spec.carry_direction, float)
     pulled = [0]
+    stop = MidCarryStop(np.random.default_rng([seed, 23]))
 
-    def pull(trial: Trial) -> None:
+    def pull_then_stop(trial: Trial) -> None:
         if human.phase == "carrying" and human.phase_time >= 2.0 and pulled[0] < 300:
             human.start = human.start + direction * 0.0001
             pulled[0] += 1
+        stop(trial)
 
-    return _run(trial, outputs, "pull", pull)
+    return _run(trial, outputs, "robust_pull_", pull_then_stop)
 
 
 ROBUSTNESS = [("three times the sensor noise (calm trial)", _noisy_trial),
-              ("a sudden 3 cm pull while carrying (calm trial)", _pull_trial)]
+              ("a sudden 3 cm pull while carrying, then a stop mid-carry: held still 2 s, more weight on the robot, "
+               "the box turned (calm trial)", _pull_trial)]
 
 
 def _trial_detail(r: TrialResult) -> str:
     return r.reason or f"carried in {r.duration:.1f} s, f_n {r.f_n_min:.1f}..{r.f_n_max:.1f} N, slip {r.slip * 1000:.1f} mm"
 
 
-def _job(job: tuple) -> Item:
-    """One item of the battery (runs in a worker process): ("probe", index, factory, seed),
+def _judged(section: str, name: str, worth: float, result: TrialResult, watch: LawWatch) -> Item:
+    """A trial's item: its points only when the box was carried AND the stream kept the SP law."""
+    findings = watch.findings()
+    detail = _trial_detail(result)
+    if findings:  # each behaviour that was missing, where first
+        detail += "; not SP: " + "; ".join(f"{BEHAVIOURS[f.behaviour]} was missing: {f.message}" for f in findings)
+    return Item(section, name, worth if result.success and not findings else 0.0, worth, detail)
+
+
+def _job(job: tuple) -> Item | list[Item]:
+    """The item(s) of one job of the battery (runs in a worker process): ("probes", factory, seed) -> the
+    probes' items,
     ("trial", index, person, attempt, trial seed, factory, outputs) or ("robustness", index, factory, seed, outputs)."""
     kind = job[0]
-    if kind == "probe":
-        _, index, factory, seed = job
-        name, probe = PROBES[index]
-        controller = None
-        try:
-            controller = factory()
-            reason = probe(controller, Draw(seed, index))
-        except Exception as exc:  # noqa: BLE001 - a fault or a file that cannot be loaded costs this item
-            reason = str(exc)
-        finally:
-            getattr(controller, "close", lambda: None)()
-        return Item("probe", name, 0.0 if reason else PROBE_POINTS, PROBE_POINTS, reason)
+    if kind == "probes":
+        _, factory, seed = job
+        return probe_items(factory, seed)
     if kind == "trial":
         _, index, person, attempt, seed, factory, outputs = job
         worth = TRIAL_POINTS if person.name in COUNTED_PARTICIPANTS else 0.0
         name = f"trial {index + 1}: {person.name} #{attempt}"
+        trial = None
         try:
-            result = run_trial(index, person, attempt, seed, controller_factory=factory, outputs=outputs)
+            trial = make_trial(index, person, attempt, seed, controller_factory=factory)
+            return _judged("experiment", name, worth, *_run(trial, outputs))
         except Exception as exc:  # noqa: BLE001
             return Item("experiment", name, 0.0, worth, f"not run: {exc}")
-        return Item("experiment", name, worth if result.success else 0.0, worth, _trial_detail(result))
+        finally:
+            getattr(getattr(trial, "controller", None), "close", lambda: None)()
     _, index, factory, seed, outputs = job
     name, run = ROBUSTNESS[index]
     controller = None
     try:
         controller = factory()
-        result = run(controller, trial_seed(seed, 100 + index), outputs)
-        return Item("robustness", name, ROBUSTNESS_POINTS if result.success else 0.0, ROBUSTNESS_POINTS, _trial_detail(result))
+        return _judged("robustness", name, ROBUSTNESS_POINTS, *run(controller, trial_seed(seed, 100 + index), outputs))
     except Exception as exc:  # noqa: BLE001
         return Item("robustness", name, 0.0, ROBUSTNESS_POINTS, f"not run: {exc}")
     finally:
@@ -360,7 +424,7 @@ def battery(factory: Callable[[], Controller], seed: int = 0, sections: tuple[st
     record and plot every trial."""
     jobs: list[tuple] = []
     if "probe" in sections:
-        jobs += [("probe", i, factory, seed) for i in range(len(PROBES))]
+        jobs += [("probes", factory, seed)]
     if "trial" in sections:
         jobs += [("trial", i, person, attempt, s, factory, outputs) for i, person, attempt, s in plan(trials, seed=seed)]
     if "robustness" in sections:
@@ -368,25 +432,32 @@ def battery(factory: Callable[[], Controller], seed: int = 0, sections: tuple[st
     return jobs
 
 
+def job_items(job: tuple) -> int:
+    """How many items a job of the battery gives."""
+    return len(PROBES) if job[0] == "probes" else 1
+
+
 def run_items(jobs: list[tuple], workers: int = 1, on_item: Callable[[Item], None] | None = None) -> list[Item]:
-    """The items of `jobs` (in their order), in `workers` processes; on_item(item) as each ends."""
+    """The items of `jobs` (in their order, job_items(job) each), in `workers` processes; on_item(item) as each ends."""
+    results: list[Item | list[Item] | None] = [None] * len(jobs)
+
+    def done(i: int, result) -> None:
+        results[i] = result
+        for item in result if isinstance(result, list) else [result]:
+            if on_item:
+                on_item(item)
+
     if workers <= 1:
-        items = []
-        for job in jobs:
-            items.append(_job(job))
-            if on_item:
-                on_item(items[-1])
-        return items
-    # the long jobs (trials) first, so that the pool ends together
-    order = sorted(range(len(jobs)), key=lambda i: jobs[i][0] == "probe")
-    with worker_pool(workers) as pool:  # its workers die with this process
-        futures = {pool.submit(_job, jobs[i]): i for i in order}
-        items: list[Item | None] = [None] * len(jobs)
-        for future in as_completed(futures):
-            items[futures[future]] = future.result()
-            if on_item:
-                on_item(items[futures[future]])
-    return items
+        for i, job in enumerate(jobs):
+            done(i, _job(job))
+    else:
+        # the long jobs (trials) first, so that the pool ends together
+        order = sorted(range(len(jobs)), key=lambda i: jobs[i][0] == "probes")
+        with worker_pool(workers) as pool:  # its workers die with this process
+            futures = {pool.submit(_job, jobs[i]): i for i in order}
+            for future in as_completed(futures):
+                done(futures[future], future.result())
+    return [item for result in results for item in (result if isinstance(result, list) else [result])]
 
 
 def grade(factory: Callable[[], Controller], name: str, seed: int = 0, jobs: int = 1,

@@ -146,8 +146,8 @@ def test_f_ext_at_throttle_0_is_every_step_in_order(ros):
         if len(stamps) >= 300:
             done.set()
 
-    topic = roslibpy.Topic(ros, "/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", throttle_rate=0,
-                           queue_length=1000)
+    # throttle_rate 0 and queue_length 0 (roslibpy's defaults): rosbridge_suite's pass-through handler
+    topic = roslibpy.Topic(ros, "/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", throttle_rate=0)
     topic.subscribe(on_message)
     assert done.wait(60)
     topic.unsubscribe()

@@ -29,8 +29,14 @@ class Stream:
         """s between messages: the lowest throttle_rate of the subscriptions (at most 1 kHz)."""
         return max(min(t for t, _ in self.options.values()) / 1000.0, 0.001)
 
+    PASS_THROUGH = 1000  # messages kept for a throttle_rate 0, queue_length 0 subscription
+
     def configure(self) -> None:
-        length = max(max(q for _, q in self.options.values()), 1)
+        """The queue's length: the longest asked for; none asked and no throttle is rosbridge_suite's
+        pass-through handler (every message sent, here bounded by PASS_THROUGH), else the newest only."""
+        length = max(q for _, q in self.options.values())
+        if length == 0:
+            length = self.PASS_THROUGH if min(t for t, _ in self.options.values()) == 0 else 1
         if length != self.queue.maxlen:
             self.queue = deque(self.queue, maxlen=length)
 

@@ -48,12 +48,9 @@ docs: $(DEV) $(VENV)/.kernels
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 # what CI checks before the tests (.ci/run): ruff, mypy (its files: pyproject's [tool.mypy]), the site without a broken link.
-# RUFF_PENDING: the rules that `ruff check --fix . && ruff format .` settles, run once over the merged tree; after
-# that run RUFF_PENDING is emptied and `ruff format --check` holds too.
-RUFF_PENDING := --extend-ignore I001,UP035,UP037,UP017,UP033,UP041,F401
 lint: $(DEV) $(VENV)/.kernels
-	$(BIN)/ruff check $(RUFF_PENDING) .
-	$(if $(strip $(RUFF_PENDING)),,$(BIN)/ruff format --check .)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 

@@ -1,5 +1,6 @@
 """The lab's access token: what a token must be and how a presented one is checked. Both front
 ends (the HTTP API, app/api/access.py, and rosbridge, app/rosbridge/) import it from here."""
+
 from __future__ import annotations
 
 import hmac

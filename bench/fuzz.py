@@ -6,6 +6,7 @@ a 422 naming a field, or a parameter reason). `make test` runs a bounded number 
 
     .venv/bin/python -m bench.fuzz [--examples 200]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -15,7 +16,6 @@ import httpx
 import schemathesis
 import schemathesis.config
 from hypothesis import HealthCheck, given, settings
-
 from schemathesis.checks import CHECKS, load_all_checks
 
 from app.cli.launch import running_server
@@ -25,11 +25,14 @@ ALL_CHECKS = CHECKS.get_all()
 # a schema-valid service call may still fail: the documented 400 service failure (e.g. a
 # least-squares wrench that overflows float64)
 CONFIG = schemathesis.config.SchemathesisConfig.from_dict(
-    {"checks": {"positive_data_acceptance": {"expected-statuses": ["2xx", "400", "401", "403", "404", "409", "429"]}}})
+    {"checks": {"positive_data_acceptance": {"expected-statuses": ["2xx", "400", "401", "403", "404", "409", "429"]}}}
+)
 
 
 def check(case, response) -> None:
-    assert response.status_code < 500, f"{case.method} {case.formatted_path}: {response.status_code} {response.text[:300]}"
+    assert response.status_code < 500, (
+        f"{case.method} {case.formatted_path}: {response.status_code} {response.text[:300]}"
+    )
     if response.status_code == 422:
         body = response.json()
         if isinstance(body.get("detail"), list):
@@ -42,14 +45,21 @@ def fuzz(base_url: str, max_examples: int, derandomize: bool = False) -> int:
     """Every operation (but the experiment action, which starts whole trials), `max_examples`
     generated cases each; returns the number of requests sent. derandomize: the same cases every
     run (the suite's short run; the long run here draws new ones each time)."""
-    schema = schemathesis.openapi.from_url(f"{base_url}/openapi.json", config=CONFIG).exclude(path_regex="run_experiment")
+    schema = schemathesis.openapi.from_url(f"{base_url}/openapi.json", config=CONFIG).exclude(
+        path_regex="run_experiment"
+    )
     calls = 0
     for result in schema.get_all_operations():
         operation = result.ok()
 
         @given(case=operation.as_strategy())
-        @settings(max_examples=max_examples, deadline=None, suppress_health_check=list(HealthCheck), database=None,
-                  derandomize=derandomize)
+        @settings(
+            max_examples=max_examples,
+            deadline=None,
+            suppress_health_check=list(HealthCheck),
+            database=None,
+            derandomize=derandomize,
+        )
         def run(case):
             nonlocal calls
             response = case.call(timeout=30)
@@ -71,8 +81,10 @@ def main() -> None:
         started = time.perf_counter()
         calls = fuzz(server.url, args.examples)
         health = httpx.get(f"{server.url}/health").json()
-    print(f"fuzz: {calls} generated requests in {time.perf_counter() - started:.0f} s: no 5xx, every refusal names "
-          f"its field; loop alive {health['loop_alive']}, step errors {health['step_errors']}")
+    print(
+        f"fuzz: {calls} generated requests in {time.perf_counter() - started:.0f} s: no 5xx, every refusal names "
+        f"its field; loop alive {health['loop_alive']}, step errors {health['step_errors']}"
+    )
 
 
 if __name__ == "__main__":

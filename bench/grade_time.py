@@ -5,6 +5,7 @@ reference SP file.
 
     .venv/bin/python -m bench.grade_time [--steps 20000] [--no-grade]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -68,8 +69,11 @@ def grade_once(flags: list[str]) -> tuple[float, float, str]:
     """(wall s, CPU s of the grade and the processes it reaped, its last line) of one grade."""
     cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
-    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet", *flags],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet", *flags],
+        capture_output=True,
+        text=True,
+    )
     wall = time.perf_counter() - started
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime + after.ru_stime - cpu_before.ru_utime - cpu_before.ru_stime
@@ -94,9 +98,15 @@ def main() -> None:
                 hog.kill()
                 hog.wait()
         cores = "cores idle" if load == "idle" else "every core busy"
-        print(f"SP step in-process ({cores}):   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us")
-        print(f"SP step sandboxed ({cores}):    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us")
-        print(f"boundary per step ({cores}):    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)")
+        print(
+            f"SP step in-process ({cores}):   median {np.median(inside) * 1e6:.0f} us, p99 {np.percentile(inside, 99) * 1e6:.0f} us"
+        )
+        print(
+            f"SP step sandboxed ({cores}):    median {np.median(across) * 1e6:.0f} us, p99 {np.percentile(across, 99) * 1e6:.0f} us"
+        )
+        print(
+            f"boundary per step ({cores}):    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)"
+        )
     idle = cpu_per_step(args.steps)
     hogs = busy_cores(os.cpu_count() or 1)
     try:
@@ -113,10 +123,14 @@ def main() -> None:
             wall, cpu, said = grade_once(flags)
             print(f"hri-lab grade reference_sp.py {' '.join(['--jobs', '2', *flags])}: {wall:.1f} s wall, {said}")
             if flags:
-                print(f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best")
+                print(
+                    f"  CPU of the grade and all its processes: {cpu:.1f} s = {cpu / 2:.1f} s wall on 2 idle cores at best"
+                )
             else:
-                print(f"  CPU without the jails' (bubblewrap's pid namespace hides them from getrusage): {cpu:.1f} s; "
-                      "--unsandboxed does the same work in plain child processes, all counted:")
+                print(
+                    f"  CPU without the jails' (bubblewrap's pid namespace hides them from getrusage): {cpu:.1f} s; "
+                    "--unsandboxed does the same work in plain child processes, all counted:"
+                )
     with open("/proc/loadavg") as handle:
         print(f"load average while measuring: {handle.read().split()[0]} (2 cores)")
 

@@ -11,6 +11,7 @@ Columns (worst over the trial, only where the situation arose; "-" = it never di
   grip   least v_n (mm/s) kept 0.1 s beyond the margin below f_n_max (> 0 = raising the grip)
   moment least cos(w, -m_c) kept 0.1 s with a moment > 0.3 Nm at the plate (1 = complying)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -19,12 +20,19 @@ import sys
 from pathlib import Path
 
 CONTROLLERS = Path(__file__).resolve().parent.parent / "tests" / "controllers"
-KINDS = {"sp": "reference_sp.py:CooperativeLifting", "template": "template_filled.py:CooperativeLifting",
-         "admittance": "mutants.py:Admittance", "admittance_band": "followers.py:AdmittanceBand",
-         "no_cone": "followers.py:NoCone", "moments_held": "mutants.py:MomentsHeld",
-         "noise_free": "probe_detectors.py:NoiseFree", "still_pose": "probe_detectors.py:StillPose",
-         "reset_pattern": "probe_detectors.py:ResetPattern", "elapsed_steps": "probe_detectors.py:ElapsedSteps",
-         "ee_frame": "mutants.py:EEFrame"}
+KINDS = {
+    "sp": "reference_sp.py:CooperativeLifting",
+    "template": "template_filled.py:CooperativeLifting",
+    "admittance": "mutants.py:Admittance",
+    "admittance_band": "followers.py:AdmittanceBand",
+    "no_cone": "followers.py:NoCone",
+    "moments_held": "mutants.py:MomentsHeld",
+    "noise_free": "probe_detectors.py:NoiseFree",
+    "still_pose": "probe_detectors.py:StillPose",
+    "reset_pattern": "probe_detectors.py:ResetPattern",
+    "elapsed_steps": "probe_detectors.py:ElapsedSteps",
+    "ee_frame": "mutants.py:EEFrame",
+}
 
 
 def factory(name: str):
@@ -54,7 +62,7 @@ def measure(job: tuple) -> tuple:
 def main() -> None:
     from sim.procedures.experiment import plan
     from sim.procedures.grading import ROBUSTNESS
-    from sim.procedures.law_checks import FOLLOW_COS, GRIP_SPEED, MOMENT_COS, BAND_MOVE, STICK_MOVE
+    from sim.procedures.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
     from sim.procedures.workers import worker_pool
 
     parser = argparse.ArgumentParser()
@@ -74,19 +82,27 @@ def main() -> None:
         return f"{'-':>7}" if value is None or math.isnan(value) else fmt.format(value * scale)
 
     print(f"seed {args.seed}")
-    print(f"{'controller':<16} {'trial':<18} {'carried':<8} {'stick mm':>8} {'band mm':>8} {'follow':>7} {'grip mm/s':>9} {'moment':>7}")
+    print(
+        f"{'controller':<16} {'trial':<18} {'carried':<8} {'stick mm':>8} {'band mm':>8} {'follow':>7} {'grip mm/s':>9} {'moment':>7}"
+    )
     worst: dict[str, dict[str, list[float]]] = {}
     for name, label, carried, reason, m in rows:
-        print(f"{name:<16} {label:<18} {'yes' if carried else 'NO':<8} {cell(m['stick'][0], 1000):>8} {cell(m['band'][0], 1000):>8} "
-              f"{cell(m['follow'][0]):>7} {cell(m['grip'][0], 1000):>9} {cell(m['moment'][0]):>7}  {reason[:50]}")
+        print(
+            f"{name:<16} {label:<18} {'yes' if carried else 'NO':<8} {cell(m['stick'][0], 1000):>8} {cell(m['band'][0], 1000):>8} "
+            f"{cell(m['follow'][0]):>7} {cell(m['grip'][0], 1000):>9} {cell(m['moment'][0]):>7}  {reason[:50]}"
+        )
         for key, (value, _) in m.items():
             if not math.isnan(value):
                 worst.setdefault(name, {}).setdefault(key, []).append(value)
     print()
     print("the worst per controller over these trials, and the threshold (a trial breaks the law beyond it):")
-    limits = {"stick": (max, STICK_MOVE * 1000, 1000, "mm, at most"), "band": (max, BAND_MOVE * 1000, 1000, "mm, at most"),
-              "follow": (min, FOLLOW_COS, 1, "cos, at least"), "grip": (min, GRIP_SPEED * 1000, 1000, "mm/s, at least"),
-              "moment": (min, MOMENT_COS, 1, "cos, at least")}
+    limits = {
+        "stick": (max, STICK_MOVE * 1000, 1000, "mm, at most"),
+        "band": (max, BAND_MOVE * 1000, 1000, "mm, at most"),
+        "follow": (min, FOLLOW_COS, 1, "cos, at least"),
+        "grip": (min, GRIP_SPEED * 1000, 1000, "mm/s, at least"),
+        "moment": (min, MOMENT_COS, 1, "cos, at least"),
+    }
     print(f"{'controller':<16} " + " ".join(f"{k:>9}" for k in limits))
     for name in names:
         cells = []

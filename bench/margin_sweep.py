@@ -18,6 +18,7 @@ The whole script is 172 trials, 568 s of CPU: about 5 min with --jobs 2 on two i
 took 17 min (1010 s) on the lab's 2-core machine shared with other jobs (load 4-15). Each sweep reproduces
 alone with the CLI, e.g. `hri-lab experiment --sweep alpha=0.3,0.4,0.5,0.65,0.8 --controller patch`.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -26,15 +27,16 @@ import platform
 import resource
 import sys
 import time
-from typing import Iterator
+from collections.abc import Iterator
 
 import numpy as np
 
-from app.lab import overrides
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import controller_factory
 from sim.procedures.experiment import SweepRow, format_sweep, make_trial, plan, run_sweep
 from sim.procedures.workers import worker_pool
+
+from app.lab import overrides
 
 DEFAULTS = LiftingParams()
 
@@ -63,16 +65,22 @@ def machine() -> str:
     except (OSError, StopIteration):
         pass
     load = " ".join(f"{x:.2f}" for x in os.getloadavg())
-    return (f"machine: {cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}, "
-            f"Python {platform.python_version()}; load average {load}")
+    return (
+        f"machine: {cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}, "
+        f"Python {platform.python_version()}; load average {load}"
+    )
 
 
-def run_sweeps(sweeps: list[tuple[str, str]], tries: int, seed: int, jobs: int) -> Iterator[tuple[str, str, list[SweepRow]]]:
+def run_sweeps(
+    sweeps: list[tuple[str, str]], tries: int, seed: int, jobs: int
+) -> Iterator[tuple[str, str, list[SweepRow]]]:
     """Each controller's points in one pool; a point shared by two sweeps (the defaults) runs once.
     Yields (controller, sweep, rows) as each controller's pool ends."""
     trials = 3 * tries
     for controller in dict.fromkeys(c for c, _ in sweeps):
-        mine = [(spec, overrides.sweep_points(overrides.parse_sweep([spec]), [])) for c, spec in sweeps if c == controller]
+        mine = [
+            (spec, overrides.sweep_points(overrides.parse_sweep([spec]), [])) for c, spec in sweeps if c == controller
+        ]
         unique: dict[str, tuple] = {}
         for _, points in mine:
             for values, setup in points:
@@ -88,7 +96,9 @@ def observe(controller: str, spec: str, seed: int) -> dict:
     """One average trial (the sweep's first average try) at `spec` (NAME=VALUE), observed step by step."""
     _, setup = overrides.sweep_points(overrides.parse_sweep([spec]), [])[0]
     index, person, attempt, trial_seed = next(item for item in plan(9, None, seed) if item[1].name == "average")
-    trial = make_trial(index, person, attempt, trial_seed, controller_factory=controller_factory(controller), setup=setup)
+    trial = make_trial(
+        index, person, attempt, trial_seed, controller_factory=controller_factory(controller), setup=setup
+    )
     dt = trial.world.config.dt
     still_path = 0.0  # m the commanded EE moved while the person was still
     switches = carry_steps = following = 0
@@ -105,9 +115,15 @@ def observe(controller: str, spec: str, seed: int) -> dict:
         was = trial.controller.slipping
     result = trial.result()
     carry_s = carry_steps * dt
-    return {"controller": controller, "spec": spec, "success": result.success, "still_mm": still_path * 1000,
-            "switches_per_s": switches / carry_s if carry_s else float("nan"),
-            "following": following / carry_steps if carry_steps else float("nan"), "slip_mm": result.slip * 1000}
+    return {
+        "controller": controller,
+        "spec": spec,
+        "success": result.success,
+        "still_mm": still_path * 1000,
+        "switches_per_s": switches / carry_s if carry_s else float("nan"),
+        "following": following / carry_steps if carry_steps else float("nan"),
+        "slip_mm": result.slip * 1000,
+    }
 
 
 def run_observed(specs: list[tuple[str, str]], seed: int, jobs: int) -> list[dict]:
@@ -119,8 +135,10 @@ def format_observed(rows: list[dict]) -> str:
     header = f"{'controller':<10} {'value':<12} {'ok':>3} {'EE moved while still mm':>24} {'switches/s carrying':>20} {'following % of carry':>21} {'slip mm':>8}"
     lines = [header, "-" * len(header)]
     for r in rows:
-        lines.append(f"{r['controller']:<10} {r['spec']:<12} {'yes' if r['success'] else 'NO':>3} {r['still_mm']:>24.2f} "
-                     f"{r['switches_per_s']:>20.1f} {r['following'] * 100:>21.0f} {r['slip_mm']:>8.1f}")
+        lines.append(
+            f"{r['controller']:<10} {r['spec']:<12} {'yes' if r['success'] else 'NO':>3} {r['still_mm']:>24.2f} "
+            f"{r['switches_per_s']:>20.1f} {r['following'] * 100:>21.0f} {r['slip_mm']:>8.1f}"
+        )
     lines.append("-" * len(header))
     return "\n".join(lines)
 
@@ -140,19 +158,30 @@ def main() -> None:
     for controller, spec, rows in run_sweeps(sweeps, args.tries, args.seed, args.jobs):
         name = spec.split("=")[0]
         print()
-        print(format_sweep(rows, f"sweep of {name}, controller {controller}, seed {args.seed}, {args.tries} tries per "
-                                 f"participant; other parameters the defaults"
-                                 f"  (hri-lab experiment --sweep {spec} --controller {controller} --trials {3 * args.tries})"),
-              flush=True)
+        print(
+            format_sweep(
+                rows,
+                f"sweep of {name}, controller {controller}, seed {args.seed}, {args.tries} tries per "
+                f"participant; other parameters the defaults"
+                f"  (hri-lab experiment --sweep {spec} --controller {controller} --trials {3 * args.tries})",
+            ),
+            flush=True,
+        )
     if not args.no_observed and (wanted is None or "alpha" in wanted):
         alphas = next(s for _, s in SWEEPS if s.startswith("alpha=")).split("=")[1].split(",")
         observed = run_observed([(c, f"alpha={a}") for c in ("sp", "patch") for a in alphas], args.seed, args.jobs)
         print("\nwhat the margin costs, one average trial per value (the sweep's first average try):")
         print(format_observed(observed))
-    cpu = sum(getattr(resource.getrusage(who), f) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
-              for f in ("ru_utime", "ru_stime"))
-    print(f"\nwall time {time.perf_counter() - started:.0f} s with --jobs {args.jobs}, CPU time {cpu:.0f} s "
-          f"(this process and its workers); load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}", flush=True)
+    cpu = sum(
+        getattr(resource.getrusage(who), f)
+        for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+        for f in ("ru_utime", "ru_stime")
+    )
+    print(
+        f"\nwall time {time.perf_counter() - started:.0f} s with --jobs {args.jobs}, CPU time {cpu:.0f} s "
+        f"(this process and its workers); load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}",
+        flush=True,
+    )
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ page (the Services tab's /divide_ints form), p50 and max, with full and light me
 
 The browser test (tests/test_browser.py) drives the page with the same functions.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -21,9 +22,16 @@ import httpx
 from app.cli.launch import free_port, running_server
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-ARGS = ["--site-per-process",  # as desktop Chromium: a cross-site frame gets its own process
-        "--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
-        "--disable-component-update", "--disable-sync", "--no-first-run"]
+ARGS = [
+    "--site-per-process",  # as desktop Chromium: a cross-site frame gets its own process
+    "--no-sandbox",
+    "--use-gl=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 DIVIDE = ".service[data-name='/divide_ints']"
 
 
@@ -36,15 +44,19 @@ def click_round_trip(page, b: int) -> float:
     expected = "Division by zero!" if b == 0 else "Division ok."
     started = time.perf_counter()
     form.locator("button[type=submit]").click()
-    page.wait_for_function("([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)",
-                           arg=[f"{DIVIDE} pre.response", expected])
+    page.wait_for_function(
+        "([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)",
+        arg=[f"{DIVIDE} pre.response", expected],
+    )
     return time.perf_counter() - started
 
 
 def round_trips(page, clicks: int, pause: float = 0.0) -> list[float]:
     """`clicks` round trips (s), alternating b = 0, 1, ... after whatever the form showed last."""
     page.locator("nav button[data-tab=services]").click()
-    shown = page.locator(f"{DIVIDE} pre.response").inner_text() if page.locator(f"{DIVIDE} pre.response").count() else ""
+    shown = (
+        page.locator(f"{DIVIDE} pre.response").inner_text() if page.locator(f"{DIVIDE} pre.response").count() else ""
+    )
     first = 1 if "zero" in shown else 0
     times = []
     for k in range(clicks):
@@ -63,8 +75,10 @@ def embed_view(page):
 
 def measure(view_mode: str, clicks: int, browser) -> dict[str, list[float]]:
     """Round trips (s) without and with the embedded view, a fresh server with `--view view_mode`."""
-    with tempfile.TemporaryDirectory() as output, \
-            running_server("--view", view_mode, "--view-port", str(free_port()), "--output-dir", output) as server:
+    with (
+        tempfile.TemporaryDirectory() as output,
+        running_server("--view", view_mode, "--view-port", str(free_port()), "--output-dir", output) as server,
+    ):
         page = browser.new_page(viewport={"width": 1500, "height": 900})
         page.set_default_timeout(120_000)
         page.goto(server.url + "/")
@@ -94,14 +108,19 @@ def main() -> None:
     from playwright.sync_api import sync_playwright
 
     assert os.path.exists(CHROMIUM), "make bench installs Debian's chromium"
-    print(f"page click -> response of /divide_ints, {args.clicks} clicks per series, Chromium with software WebGL "
-          f"(SwiftShader), {os.cpu_count()} cores, lifting running")
+    print(
+        f"page click -> response of /divide_ints, {args.clicks} clicks per series, Chromium with software WebGL "
+        f"(SwiftShader), {os.cpu_count()} cores, lifting running"
+    )
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         for mode in args.view:
             times = measure(mode, args.clicks, browser)
-            print(f"  {mode:5} meshes: without the 3D view {describe(times['without'])}; "
-                  f"embedded (own process) {describe(times['embedded'])}", flush=True)
+            print(
+                f"  {mode:5} meshes: without the 3D view {describe(times['without'])}; "
+                f"embedded (own process) {describe(times['embedded'])}",
+                flush=True,
+            )
         browser.close()
 
 

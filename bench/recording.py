@@ -7,6 +7,7 @@
 2. Bytes per second of recording: the live file / wall time; a calm trial's file / simulated time.
 3. Time to write one trial's figure (PNG + SVG) of a calm trial (~20 s, 200 Hz signals).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -35,9 +36,11 @@ def loop_cost(seconds: float, repeats: int, folder: Path) -> None:
             with_.append(httpx.get(f"{url}/health").json()["lateness_p99_ms"])
             stopped = httpx.post(f"{url}/services/stop_recording", json={}).json()
             rates.append(stopped["bytes"] / (time.monotonic() - started))
-    print(f"1 kHz loop lateness p99 ({repeats} x {seconds:g} s, lifting running): without recording "
-          f"{statistics.median(without):.3f} ms (runs {', '.join(f'{x:.2f}' for x in without)}), "
-          f"with {statistics.median(with_):.3f} ms (runs {', '.join(f'{x:.2f}' for x in with_)})")
+    print(
+        f"1 kHz loop lateness p99 ({repeats} x {seconds:g} s, lifting running): without recording "
+        f"{statistics.median(without):.3f} ms (runs {', '.join(f'{x:.2f}' for x in without)}), "
+        f"with {statistics.median(with_):.3f} ms (runs {', '.join(f'{x:.2f}' for x in with_)})"
+    )
     print(f"live recording: {statistics.median(rates) / 1024:.0f} KiB/s (topics 100 Hz, /tf + /scene 25 Hz, zstd)")
 
 
@@ -49,8 +52,10 @@ def trial_cost(folder: Path) -> None:
     item = plan(1, "calm", 0)[0]
     result = run_trial(*item, outputs=TrialOutputs(record_dir=str(folder)))
     size = Path(result.files["recording"]).stat().st_size
-    print(f"trial recording: {size / 1024:.0f} KiB for {result.duration:.1f} s simulated = "
-          f"{size / result.duration / 1024:.0f} KiB/s")
+    print(
+        f"trial recording: {size / 1024:.0f} KiB for {result.duration:.1f} s simulated = "
+        f"{size / result.duration / 1024:.0f} KiB/s"
+    )
     from sim.procedures.experiment import Trial
     from sim.recording.trial import TrialObserver
 
@@ -63,8 +68,10 @@ def trial_cost(folder: Path) -> None:
         started = time.perf_counter()
         save_trial_figure(trial.observer.trace, result, folder / f"figure{i}")
         times.append(time.perf_counter() - started)
-    print(f"one trial's figure (PNG + SVG, {len(trial.observer.trace.time)} samples): "
-          f"{statistics.median(times):.2f} s median of 3 (first {times[0]:.2f} s)")
+    print(
+        f"one trial's figure (PNG + SVG, {len(trial.observer.trace.time)} samples): "
+        f"{statistics.median(times):.2f} s median of 3 (first {times[0]:.2f} s)"
+    )
 
 
 def main() -> None:

@@ -1,6 +1,7 @@
 """bench/ros_programs.py's subscriber (run with `hri-lab run`): F_ext into a rospy callback with
 queue_size=1 for SECONDS s; prints one JSON line: how many messages the lab published over the span
 of simulation time seen (1 per ms), how many reached the program, how many the callback."""
+
 import json
 import sys
 import time

@@ -14,6 +14,7 @@
 
 Measure on a quiet machine: every figure here depends on the cores being free.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -33,8 +34,13 @@ SUBSCRIBER = Path(__file__).resolve().parent / "ros_fext_subscriber.py"
 
 
 def hri_lab_run(url: str, program: Path, *args: str) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "app.cli", "run", "--url", url, str(program), *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=ROOT)
+    return subprocess.Popen(
+        [sys.executable, "-m", "app.cli", "run", "--url", url, str(program), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=ROOT,
+    )
 
 
 def stop(proc: subprocess.Popen) -> None:
@@ -93,15 +99,19 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     with running_server("--view", "none", "--exercises") as lab:
         first, latencies = startup_and_latency(lab.url, args.calls)
-        print(f"rospy service over HTTP ({args.calls} calls, one at a time): p50 {percentile(latencies, 0.5):.2f} ms, "
-              f"p99 {percentile(latencies, 0.99):.2f} ms, mean {statistics.fmean(latencies):.2f} ms")
+        print(
+            f"rospy service over HTTP ({args.calls} calls, one at a time): p50 {percentile(latencies, 0.5):.2f} ms, "
+            f"p99 {percentile(latencies, 0.99):.2f} ms, mean {statistics.fmean(latencies):.2f} ms"
+        )
         print(f"start-up: `hri-lab run` to the first request served: {first:.2f} s")
         figures = fext(lab.url, args.seconds)
         published = figures["published"]
-        print(f"F_ext at 1 kHz to a rospy subscriber (queue_size=1), {args.seconds:g} s: {published} published, "
-              f"{figures['arrived']} reached the program, {figures['handled']} the callback: "
-              f"{100 * (1 - figures['handled'] / published):.1f} % dropped "
-              f"({100 * (1 - figures['arrived'] / published):.1f} % before the program)")
+        print(
+            f"F_ext at 1 kHz to a rospy subscriber (queue_size=1), {args.seconds:g} s: {published} published, "
+            f"{figures['arrived']} reached the program, {figures['handled']} the callback: "
+            f"{100 * (1 - figures['handled'] / published):.1f} % dropped "
+            f"({100 * (1 - figures['arrived'] / published):.1f} % before the program)"
+        )
 
 
 if __name__ == "__main__":

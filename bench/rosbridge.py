@@ -7,6 +7,7 @@
 
     .venv/bin/python -m bench.rosbridge [--calls 1000] [--seconds 5]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,7 +33,9 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=5.0)
     args = parser.parse_args()
     with running_server("--view", "none", "--exercises") as lab:
-        node = subprocess.Popen([sys.executable, str(TEMPLATE), "--port", str(lab.port)], stdout=subprocess.PIPE, text=True)
+        node = subprocess.Popen(
+            [sys.executable, str(TEMPLATE), "--port", str(lab.port)], stdout=subprocess.PIPE, text=True
+        )
         try:
             assert node.stdout.readline().startswith("node ready")
             with httpx.Client(base_url=lab.url, timeout=10.0) as http:
@@ -47,8 +50,10 @@ def main() -> None:
         finally:
             node.terminate()
             node.wait(timeout=10)
-        print(f"service call HTTP -> lab -> node -> back ({args.calls} sequential calls, add_two_ints): "
-              f"p50 {percentile(latencies, 0.5) * 1e3:.2f} ms, p99 {percentile(latencies, 0.99) * 1e3:.2f} ms")
+        print(
+            f"service call HTTP -> lab -> node -> back ({args.calls} sequential calls, add_two_ints): "
+            f"p50 {percentile(latencies, 0.5) * 1e3:.2f} ms, p99 {percentile(latencies, 0.99) * 1e3:.2f} ms"
+        )
 
         ros = roslibpy.Ros("127.0.0.1", lab.port, transport="asyncio")
         ros.run()
@@ -73,10 +78,14 @@ def main() -> None:
         ros.close()
         ros.terminate()
         ticks = round((received[-1] - received[0]) * 1000) + 1
-        print(f"F_ext to a node at 1 kHz for {args.seconds:g} s: {len(received)} of {ticks} ticks received, "
-              f"{100 * (1 - len(received) / ticks):.1f} % dropped")
-        print(f"1 kHz loop while the node streams: {health['rate_hz']:.0f} ticks/s, lateness p50 "
-              f"{health['lateness_p50_ms']:.3f} ms, p99 {health['lateness_p99_ms']:.3f} ms")
+        print(
+            f"F_ext to a node at 1 kHz for {args.seconds:g} s: {len(received)} of {ticks} ticks received, "
+            f"{100 * (1 - len(received) / ticks):.1f} % dropped"
+        )
+        print(
+            f"1 kHz loop while the node streams: {health['rate_hz']:.0f} ticks/s, lateness p50 "
+            f"{health['lateness_p50_ms']:.3f} ms, p99 {health['lateness_p99_ms']:.3f} ms"
+        )
         print(f"(median of the call latencies: {statistics.median(latencies) * 1e3:.2f} ms)")
 
 

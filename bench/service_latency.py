@@ -7,6 +7,7 @@ requests at once); wrk reports the latency percentiles.
 
     .venv/bin/python -m bench.service_latency [--rate 500] [--seconds 10] [--repeats 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,12 +38,28 @@ def to_ms(text: str) -> float:
 def run_wrk(url: str, rate: float, seconds: float, connections: int) -> dict:
     with tempfile.NamedTemporaryFile("w", suffix=".lua", delete=False) as script:
         script.write(SCRIPT % round(1000.0 * connections / rate))
-    out = subprocess.run(["wrk", "-t2", f"-c{connections}", f"-d{seconds:g}s", "-s", script.name, "--latency",
-                          f"{url}/services/add_two_ints"], capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [
+            "wrk",
+            "-t2",
+            f"-c{connections}",
+            f"-d{seconds:g}s",
+            "-s",
+            script.name,
+            "--latency",
+            f"{url}/services/add_two_ints",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     percentiles = dict(re.findall(r"^\s+(\d+)%\s+(\S+)$", out, re.M))
-    return {"p50": to_ms(percentiles["50"]), "p99": to_ms(percentiles["99"]),
-            "rate": float(re.search(r"Requests/sec:\s+([\d.]+)", out).group(1)),
-            "errors": "Non-2xx" in out or "Socket errors" in out}
+    return {
+        "p50": to_ms(percentiles["50"]),
+        "p99": to_ms(percentiles["99"]),
+        "rate": float(re.search(r"Requests/sec:\s+([\d.]+)", out).group(1)),
+        "errors": "Non-2xx" in out or "Socket errors" in out,
+    }
 
 
 def main() -> None:
@@ -57,14 +74,20 @@ def main() -> None:
     with running_server("--view", "none") as server:
         runs = [run_wrk(server.url, args.rate, args.seconds, args.connections) for _ in range(args.repeats)]
         health = httpx.get(f"{server.url}/health").json()
-    print(f"service latency, /add_two_ints over loopback, offered {args.rate:g} req/s ({args.repeats} x {args.seconds:g} s):")
+    print(
+        f"service latency, /add_two_ints over loopback, offered {args.rate:g} req/s ({args.repeats} x {args.seconds:g} s):"
+    )
     for key in ("p50", "p99"):
         values = [r[key] for r in runs]
-        print(f"  {key} median {statistics.median(values):.2f} ms (runs {', '.join(f'{v:.2f}' for v in values)})"
-              + ("  target < 10 ms" if key == "p99" else ""))
+        print(
+            f"  {key} median {statistics.median(values):.2f} ms (runs {', '.join(f'{v:.2f}' for v in values)})"
+            + ("  target < 10 ms" if key == "p99" else "")
+        )
     print(f"  achieved {statistics.median(r['rate'] for r in runs):.0f} req/s")
-    print(f"  errors: {any(r['errors'] for r in runs)}; the 1 kHz loop meanwhile: {health['rate_hz']:.0f} ticks/s, "
-          f"lateness p99 {health['lateness_p99_ms']:.2f} ms")
+    print(
+        f"  errors: {any(r['errors'] for r in runs)}; the 1 kHz loop meanwhile: {health['rate_hz']:.0f} ticks/s, "
+        f"lateness p99 {health['lateness_p99_ms']:.2f} ms"
+    )
 
 
 if __name__ == "__main__":

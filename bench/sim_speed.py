@@ -5,6 +5,7 @@ or a node's command takes: compiled sense, Python control, compiled rest; docs/s
 
     .venv/bin/python -m bench.sim_speed [--repeats 5] [--steps 5000] [--no-experiment]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -15,8 +16,8 @@ import statistics
 import time
 
 from sim.controllers.sp import SPController
-from sim.procedures.experiment import run_experiment
 from sim.person.participants import PARTICIPANTS
+from sim.procedures.experiment import run_experiment
 from sim.world import World
 
 
@@ -55,8 +56,10 @@ def main() -> None:
     world = carrying_world()
     per_step = [time_steps(world, args.steps) for _ in range(args.repeats)]
     median = statistics.median(per_step)
-    print(f"full step: median {median * 1e6:.1f} us  (min {min(per_step) * 1e6:.1f}, max {max(per_step) * 1e6:.1f}, "
-          f"{args.repeats} x {args.steps} steps)")
+    print(
+        f"full step: median {median * 1e6:.1f} us  (min {min(per_step) * 1e6:.1f}, max {max(per_step) * 1e6:.1f}, "
+        f"{args.repeats} x {args.steps} steps)"
+    )
     print(f"real-time factor at 1 kHz: {1e-3 / median:.1f}x  (target >= 20x, <= 50 us/step)")
     world.set_controller(SPInPython())
     split = statistics.median(time_steps(world, args.steps) for _ in range(args.repeats))
@@ -79,8 +82,10 @@ def main() -> None:
             results = run_experiment(9, seed=0, jobs=jobs)
             walls[jobs] = time.perf_counter() - start
             simulated = sum(r.duration for r in results)
-            print(f"nine-trial experiment, {jobs} process(es): wall {walls[jobs]:.1f} s for {simulated:.1f} s simulated "
-                  f"({simulated / walls[jobs]:.1f}x real time), {sum(r.success for r in results)}/9 successes (target < 30 s)")
+            print(
+                f"nine-trial experiment, {jobs} process(es): wall {walls[jobs]:.1f} s for {simulated:.1f} s simulated "
+                f"({simulated / walls[jobs]:.1f}x real time), {sum(r.success for r in results)}/9 successes (target < 30 s)"
+            )
         print(f"parallel speedup with 2 processes: {walls[1] / walls[2]:.2f}x")
 
 

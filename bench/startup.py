@@ -4,6 +4,7 @@ they share since the fork counted once).
 
     .venv/bin/python -m bench.startup [--repeats 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -48,9 +49,11 @@ def main() -> None:
             sim_rss.append(sum(rss_mb(p) for p in pids[1:]))
             total_pss.append(sum(pss_mb(p) for p in pids))
             server.stop()
-        print(f"--view {view}: ready after median {statistics.median(ready):.2f} s (runs {', '.join(f'{x:.2f}' for x in ready)}; "
-              f"target < 3 s); memory median: server RSS {statistics.median(server_rss):.0f} MB, simulation process RSS "
-              f"{statistics.median(sim_rss):.0f} MB, both together (PSS) {statistics.median(total_pss):.0f} MB (target < 400 MB)")
+        print(
+            f"--view {view}: ready after median {statistics.median(ready):.2f} s (runs {', '.join(f'{x:.2f}' for x in ready)}; "
+            f"target < 3 s); memory median: server RSS {statistics.median(server_rss):.0f} MB, simulation process RSS "
+            f"{statistics.median(sim_rss):.0f} MB, both together (PSS) {statistics.median(total_pss):.0f} MB (target < 400 MB)"
+        )
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@ plot) and whether the 1 kHz loop keeps its rate while one viewer (headless chrom
 
     .venv/bin/python -m bench.view_cost [--seconds 10] [--light]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -10,12 +11,13 @@ import shutil
 import statistics
 import time
 
-from app.ros.actions import ActionServer
-from app.lab.lab import Lab
-from app.lab.actions import ACTIONS
-from app.lab.services import SERVICES
-from app.view.view3d import LabView
 from sim.world import World
+
+from app.lab.actions import ACTIONS
+from app.lab.lab import Lab
+from app.lab.services import SERVICES
+from app.ros.actions import ActionServer
+from app.view.view3d import LabView
 from bench import percentile
 
 
@@ -33,9 +35,15 @@ def main() -> None:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=shutil.which("chromium") or "/usr/bin/chromium",
-                                    args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
-                                          "--disable-background-networking"])
+        browser = p.chromium.launch(
+            executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+            args=[
+                "--no-sandbox",
+                "--use-gl=swiftshader",
+                "--enable-unsafe-swiftshader",
+                "--disable-background-networking",
+            ],
+        )
         page = browser.new_page()
         page.goto(view.url)
         time.sleep(3.0)  # the viewer loads the meshes
@@ -49,10 +57,14 @@ def main() -> None:
     view.stop()
     lab.stop()
     mode = "light" if args.light else "full"
-    print(f"3D update ({mode} meshes), server side: median {statistics.median(frames) * 1e3:.2f} ms, "
-          f"p99 {percentile(frames, 0.99) * 1e3:.2f} ms per frame, {len(frames) / args.seconds:.1f} frames/s")
-    print(f"1 kHz loop with one viewer connected: {rate:.0f} ticks/s, lateness p50 {stats.lateness_p50 * 1e3:.3f} ms, "
-          f"p99 {stats.lateness_p99 * 1e3:.3f} ms, overruns {stats.overruns}")
+    print(
+        f"3D update ({mode} meshes), server side: median {statistics.median(frames) * 1e3:.2f} ms, "
+        f"p99 {percentile(frames, 0.99) * 1e3:.2f} ms per frame, {len(frames) / args.seconds:.1f} frames/s"
+    )
+    print(
+        f"1 kHz loop with one viewer connected: {rate:.0f} ticks/s, lateness p50 {stats.lateness_p50 * 1e3:.3f} ms, "
+        f"p99 {stats.lateness_p99 * 1e3:.3f} ms, overruns {stats.overruns}"
+    )
 
 
 if __name__ == "__main__":

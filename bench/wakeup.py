@@ -8,6 +8,7 @@ pipe: one byte each way (what sim/controllers/sandbox/wire.py uses); eventfd: on
 way; futex: a word in shared memory, FUTEX_WAIT/WAKE through ctypes; yield: spinning on a word in
 shared memory with sched_yield (no blocking at all: it takes the CPU whenever the other side runs).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -26,14 +27,18 @@ SYS_FUTEX, FUTEX_WAIT, FUTEX_WAKE = 202, 0, 1  # x86-64
 
 def _pipe():
     to_child, to_parent = os.pipe(), os.pipe()
-    return (lambda: (os.write(to_child[1], b"\1"), os.read(to_parent[0], 64)),
-            lambda: (os.read(to_child[0], 64), os.write(to_parent[1], b"\1")))
+    return (
+        lambda: (os.write(to_child[1], b"\1"), os.read(to_parent[0], 64)),
+        lambda: (os.read(to_child[0], 64), os.write(to_parent[1], b"\1")),
+    )
 
 
 def _eventfd():
     to_child, to_parent = os.eventfd(0), os.eventfd(0)
-    return (lambda: (os.eventfd_write(to_child, 1), os.eventfd_read(to_parent)),
-            lambda: (os.eventfd_read(to_child), os.eventfd_write(to_parent, 1)))
+    return (
+        lambda: (os.eventfd_write(to_child, 1), os.eventfd_read(to_parent)),
+        lambda: (os.eventfd_read(to_child), os.eventfd_write(to_parent, 1)),
+    )
 
 
 def _words():
@@ -128,7 +133,9 @@ def main() -> None:
                     if load == "busy" and name == "yield" and where == "two CPUs":
                         continue  # each side spins against a busy loop: seconds per round
                     wall, cpu = round_trip(make, args.rounds if load == "idle" else args.rounds // 10, pair)
-                    print(f"{load:4} {where:8} {name:8} round trip median {wall * 1e6:6.1f} us, CPU {cpu * 1e6:6.1f} us")
+                    print(
+                        f"{load:4} {where:8} {name:8} round trip median {wall * 1e6:6.1f} us, CPU {cpu * 1e6:6.1f} us"
+                    )
         finally:
             for hog in hogs:
                 hog.kill()

@@ -2,6 +2,7 @@
 
 Start the lab first (`make run`), then: python examples/01_call_a_service.py
 """
+
 import os
 
 import httpx

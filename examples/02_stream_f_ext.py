@@ -3,6 +3,7 @@ as `ros2 topic echo` does, while the robot presses the box.
 
 Start the lab first (`make run`), then: python examples/02_stream_f_ext.py
 """
+
 import json
 import os
 

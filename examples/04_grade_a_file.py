@@ -4,6 +4,7 @@ own process under bubblewrap), the battery feeds it wrenches drawn from the seed
     python examples/04_grade_a_file.py                  # the template's probes (seconds)
     python examples/04_grade_a_file.py my_controller.py --full   # probes, the nine trials, robustness
 """
+
 import json
 import sys
 

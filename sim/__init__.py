@@ -2,6 +2,7 @@
 
 numpy, numba and pinocchio; never imports the server (app/), fastapi or viser.
 """
+
 from sim.kernel_cache import drop_stale_caches
 
 drop_stale_caches()  # before any kernel loads its cache (sim/kernel_cache.py)

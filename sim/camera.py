@@ -1,4 +1,5 @@
 """The lab's fixed virtual camera at the person's side, looking at the workspace (pinhole, 640 x 480)."""
+
 from __future__ import annotations
 
 import numpy as np

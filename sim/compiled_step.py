@@ -17,19 +17,20 @@ them); the state is the components' arrays (sim/state.py), changed in place. Wit
 student's plug-in, a node's external command) or a joint motion, World.step runs `world_sense`,
 the controller in Python, the robot, then `world_rest`: compiled sense, Python control, compiled rest.
 """
+
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
 from sim.controllers.compiled_law import lifting_law_step
+from sim.person import human as h
 from sim.person.human import hand_wrench, human_step
 from sim.physics.box import box_step
 from sim.physics.contact import patch_step
 from sim.physics.sensor import measure_into, wrench_at_ee_into
 from sim.procedures.monitor import monitor_update
 from sim.robot.cartesian_velocity import ERROR, TRANSFORM, TWIST_BASE, arm_command_twist
-from sim.person import human as h
 
 
 @njit(cache=True)
@@ -39,76 +40,287 @@ def world_sense(sensor_state, noise, scales, dt, wrench_ee_true, wrench_ee):
 
 
 @njit(cache=True)
-def _physics(dt, plate_offset, arm, human, human_constants, box_position, box_rotation, box_velocity, box_omega,
-             box_half, box_mass, box_inertia, box_inertia_inv, gravity, box_steps, plate_points, plate_bristles,
-             plate_constants, palm_points, palm_bristles, palm_constants, plate_out, palm_out, wrench_ee_true):
+def _physics(
+    dt,
+    plate_offset,
+    arm,
+    human,
+    human_constants,
+    box_position,
+    box_rotation,
+    box_velocity,
+    box_omega,
+    box_half,
+    box_mass,
+    box_inertia,
+    box_inertia_inv,
+    gravity,
+    box_steps,
+    plate_points,
+    plate_bristles,
+    plate_constants,
+    palm_points,
+    palm_bristles,
+    palm_constants,
+    plate_out,
+    palm_out,
+    wrench_ee_true,
+):
     """5. physics for dt: plate and palm contacts, the hand's wrench, the box; the true F_ext."""
-    transform = arm[TRANSFORM:TRANSFORM + 16].reshape((4, 4))
+    transform = arm[TRANSFORM : TRANSFORM + 16].reshape((4, 4))
     rotation = transform[:3, :3].copy()
     arm_plate = rotation[:, 2] * plate_offset
     position_plate = transform[:3, 3] + arm_plate
-    twist = arm[TWIST_BASE:TWIST_BASE + 6]
+    twist = arm[TWIST_BASE : TWIST_BASE + 6]
     omega = twist[3:].copy()
     velocity_plate = twist[:3] + np.cross(omega, arm_plate)
-    patch_step(plate_points, plate_bristles, plate_constants, rotation, position_plate, velocity_plate, omega,
-               box_position, box_rotation, box_velocity, box_omega, box_half, dt, plate_out)
-    palm_rotation = human[h.ROTATION:h.ROTATION + 9].reshape((3, 3))
-    patch_step(palm_points, palm_bristles, palm_constants, palm_rotation, human[h.POSITION:h.POSITION + 3],
-               human[h.VELOCITY:h.VELOCITY + 3], human[h.ANGULAR_VELOCITY:h.ANGULAR_VELOCITY + 3],
-               box_position, box_rotation, box_velocity, box_omega, box_half, dt, palm_out)
+    patch_step(
+        plate_points,
+        plate_bristles,
+        plate_constants,
+        rotation,
+        position_plate,
+        velocity_plate,
+        omega,
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        box_half,
+        dt,
+        plate_out,
+    )
+    palm_rotation = human[h.ROTATION : h.ROTATION + 9].reshape((3, 3))
+    patch_step(
+        palm_points,
+        palm_bristles,
+        palm_constants,
+        palm_rotation,
+        human[h.POSITION : h.POSITION + 3],
+        human[h.VELOCITY : h.VELOCITY + 3],
+        human[h.ANGULAR_VELOCITY : h.ANGULAR_VELOCITY + 3],
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        box_half,
+        dt,
+        palm_out,
+    )
     grasp_force, grasp_moment = np.empty(3), np.empty(3)
-    hand_wrench(human, human_constants, box_position, box_rotation, box_velocity, box_omega, palm_out[9],
-                grasp_force, grasp_moment)
+    hand_wrench(
+        human,
+        human_constants,
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        palm_out[9],
+        grasp_force,
+        grasp_moment,
+    )
     force = plate_out[0:3] + palm_out[0:3] + grasp_force
     torque = plate_out[3:6] + palm_out[3:6] + grasp_moment
-    box_steps = box_step(box_position, box_rotation, box_velocity, box_omega, force, torque, box_mass, box_inertia,
-                         box_inertia_inv, gravity, dt, box_steps)
+    box_steps = box_step(
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        force,
+        torque,
+        box_mass,
+        box_inertia,
+        box_inertia_inv,
+        gravity,
+        dt,
+        box_steps,
+    )
     wrench_at_ee_into(plate_out[0:3], plate_out[6:9], position_plate, transform, wrench_ee_true)
     return box_steps
 
 
 @njit(cache=True)
-def world_rest(dt, substeps, plate_offset, band_on, band_low, band_high, arm, human, human_constants,
-               box_position, box_rotation, box_velocity, box_omega, box_half, box_mass, box_inertia, box_inertia_inv,
-               gravity, box_steps, plate_points, plate_bristles, plate_constants, palm_points, palm_bristles,
-               palm_constants, plate_out, palm_out, wrench_ee_true, monitor, rules, time_after, mu, twist_command):
+def world_rest(
+    dt,
+    substeps,
+    plate_offset,
+    band_on,
+    band_low,
+    band_high,
+    arm,
+    human,
+    human_constants,
+    box_position,
+    box_rotation,
+    box_velocity,
+    box_omega,
+    box_half,
+    box_mass,
+    box_inertia,
+    box_inertia_inv,
+    gravity,
+    box_steps,
+    plate_points,
+    plate_bristles,
+    plate_constants,
+    palm_points,
+    palm_bristles,
+    palm_constants,
+    plate_out,
+    palm_out,
+    wrench_ee_true,
+    monitor,
+    rules,
+    time_after,
+    mu,
+    twist_command,
+):
     """4. human, 5. physics (substeps), 6. the trial's rule; returns (box steps, the rule's event)."""
     t = palm_out[10:13]
     palm_load = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
-    human_step(human, human_constants, dt, palm_out[9], palm_load, plate_out[9], band_on, band_low, band_high,
-               box_rotation)
+    human_step(
+        human, human_constants, dt, palm_out[9], palm_load, plate_out[9], band_on, band_low, band_high, box_rotation
+    )
     sub_dt = dt / substeps
     for _ in range(substeps):
-        box_steps = _physics(sub_dt, plate_offset, arm, human, human_constants, box_position, box_rotation,
-                             box_velocity, box_omega, box_half, box_mass, box_inertia, box_inertia_inv, gravity,
-                             box_steps, plate_points, plate_bristles, plate_constants, palm_points, palm_bristles,
-                             palm_constants, plate_out, palm_out, wrench_ee_true)
-    event = monitor_update(monitor, rules, time_after, dt, human[h.PHASE], twist_command, human[h.GRASP_WEIGHT],
-                           arm[ERROR] != 0.0, box_position, box_rotation, human[h.POSITION:h.POSITION + 3],
-                           plate_out, palm_out, mu)
+        box_steps = _physics(
+            sub_dt,
+            plate_offset,
+            arm,
+            human,
+            human_constants,
+            box_position,
+            box_rotation,
+            box_velocity,
+            box_omega,
+            box_half,
+            box_mass,
+            box_inertia,
+            box_inertia_inv,
+            gravity,
+            box_steps,
+            plate_points,
+            plate_bristles,
+            plate_constants,
+            palm_points,
+            palm_bristles,
+            palm_constants,
+            plate_out,
+            palm_out,
+            wrench_ee_true,
+        )
+    event = monitor_update(
+        monitor,
+        rules,
+        time_after,
+        dt,
+        human[h.PHASE],
+        twist_command,
+        human[h.GRASP_WEIGHT],
+        arm[ERROR] != 0.0,
+        box_position,
+        box_rotation,
+        human[h.POSITION : h.POSITION + 3],
+        plate_out,
+        palm_out,
+        mu,
+    )
     return box_steps, event
 
 
 @njit(cache=True)
-def world_step_builtin(sensor_state, noise, scales, wrench_ee, law, law_state, lifting, law_constants,
-                       arm_constants, rotations, translations, axes, flange_rotation, flange_translation,
-                       dt, substeps, plate_offset, band_on, band_low, band_high, arm, human, human_constants,
-                       box_position, box_rotation, box_velocity, box_omega, box_half, box_mass, box_inertia,
-                       box_inertia_inv, gravity, box_steps, plate_points, plate_bristles, plate_constants, palm_points,
-                       palm_bristles, palm_constants, plate_out, palm_out, wrench_ee_true, monitor, rules, time_after,
-                       mu, twist_command):
+def world_step_builtin(
+    sensor_state,
+    noise,
+    scales,
+    wrench_ee,
+    law,
+    law_state,
+    lifting,
+    law_constants,
+    arm_constants,
+    rotations,
+    translations,
+    axes,
+    flange_rotation,
+    flange_translation,
+    dt,
+    substeps,
+    plate_offset,
+    band_on,
+    band_low,
+    band_high,
+    arm,
+    human,
+    human_constants,
+    box_position,
+    box_rotation,
+    box_velocity,
+    box_omega,
+    box_half,
+    box_mass,
+    box_inertia,
+    box_inertia_inv,
+    gravity,
+    box_steps,
+    plate_points,
+    plate_bristles,
+    plate_constants,
+    palm_points,
+    palm_bristles,
+    palm_constants,
+    plate_out,
+    palm_out,
+    wrench_ee_true,
+    monitor,
+    rules,
+    time_after,
+    mu,
+    twist_command,
+):
     """A whole step with a built-in controller: sense, control, robot, then world_rest.
     Returns (reflex kind, joint or axis, value, box steps, the trial rule's event)."""
     measure_into(wrench_ee_true, noise, scales, dt, sensor_state, wrench_ee)
-    rotation = arm[TRANSFORM:TRANSFORM + 16].reshape((4, 4))[:3, :3].copy()
+    rotation = arm[TRANSFORM : TRANSFORM + 16].reshape((4, 4))[:3, :3].copy()
     lifting_law_step(law, law_state, lifting, law_constants, wrench_ee.copy(), rotation, dt, twist_command)
-    kind, j, value = arm_command_twist(arm, twist_command, dt, arm_constants, rotations, translations, axes,
-                                       flange_rotation, flange_translation)
-    box_steps, event = world_rest(dt, substeps, plate_offset, band_on, band_low, band_high, arm, human,
-                                  human_constants, box_position, box_rotation, box_velocity, box_omega, box_half,
-                                  box_mass, box_inertia, box_inertia_inv, gravity, box_steps, plate_points,
-                                  plate_bristles, plate_constants, palm_points, palm_bristles, palm_constants,
-                                  plate_out, palm_out, wrench_ee_true, monitor, rules, time_after, mu, twist_command)
+    kind, j, value = arm_command_twist(
+        arm, twist_command, dt, arm_constants, rotations, translations, axes, flange_rotation, flange_translation
+    )
+    box_steps, event = world_rest(
+        dt,
+        substeps,
+        plate_offset,
+        band_on,
+        band_low,
+        band_high,
+        arm,
+        human,
+        human_constants,
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        box_half,
+        box_mass,
+        box_inertia,
+        box_inertia_inv,
+        gravity,
+        box_steps,
+        plate_points,
+        plate_bristles,
+        plate_constants,
+        palm_points,
+        palm_bristles,
+        palm_constants,
+        plate_out,
+        palm_out,
+        wrench_ee_true,
+        monitor,
+        rules,
+        time_after,
+        mu,
+        twist_command,
+    )
     return kind, j, value, box_steps, event
 
 

@@ -8,6 +8,7 @@ caches were built with, every kernel cache under sim/ is dropped (they compile a
 their first call). `make .venv/.kernels` compiles them all at set-up (`warm_up` in
 sim/compiled_step.py), again whenever a file of sim/ changed.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -15,6 +16,8 @@ import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
+
+
 def sources_hash(root: Path = ROOT) -> str:
     """sha256 of every .py file under `root` (names and contents)."""
     digest = hashlib.sha256()

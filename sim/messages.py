@@ -1,8 +1,9 @@
 """The lab's topics as ROS messages of a world Snapshot: one declaration per topic (name, type,
 builder(snapshot) -> dict shaped like the ROS message it mirrors). The live server serves them
 (app/lab/topics.py, app/api/topics.py) and recordings store them (sim/recording)."""
+
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -37,11 +38,20 @@ def wrench_stamped(s: Snapshot) -> dict:
 
 def wrench_stamped_at(time: float, wrench_ee) -> dict:
     """F_ext at `time` (s): franka_ros's K_F_ext_hat_K, in the EE frame panda_K."""
-    return {"header": header_at(time, "panda_K"), "wrench": {"force": vector3(wrench_ee[:3]), "torque": vector3(wrench_ee[3:])}}
+    return {
+        "header": header_at(time, "panda_K"),
+        "wrench": {"force": vector3(wrench_ee[:3]), "torque": vector3(wrench_ee[3:])},
+    }
 
 
 def joint_state(s: Snapshot) -> dict:
-    return {"header": header(s, ""), "name": list(ARM_JOINTS), "position": s.q.tolist(), "velocity": s.qdot.tolist(), "effort": []}
+    return {
+        "header": header(s, ""),
+        "name": list(ARM_JOINTS),
+        "position": s.q.tolist(),
+        "velocity": s.qdot.tolist(),
+        "effort": [],
+    }
 
 
 def twist(s: Snapshot) -> dict:
@@ -88,9 +98,17 @@ def trial_outcome(s: Snapshot) -> dict:
     """The scripted participant's trial (sim/procedures/monitor.py): state none, running,
     succeeded, failed or abandoned; the figures of the experiment's table (N, m, s)."""
     t = s.trial
-    return {"header": header(s, ""), "state": t.state, "participant": t.participant, "duration": t.duration,
-            "f_n_min": t.f_n_min, "f_n_max": t.f_n_max, "max_friction_ratio": t.max_friction_ratio, "slip": t.slip,
-            "reason": t.reason}
+    return {
+        "header": header(s, ""),
+        "state": t.state,
+        "participant": t.participant,
+        "duration": t.duration,
+        "f_n_min": t.f_n_min,
+        "f_n_max": t.f_n_max,
+        "max_friction_ratio": t.max_friction_ratio,
+        "slip": t.slip,
+        "reason": t.reason,
+    }
 
 
 @dataclass(frozen=True)

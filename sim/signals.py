@@ -1,4 +1,5 @@
 """Signal pieces shared by the sensor, the person, the robot's motions and the controllers (SI units)."""
+
 from __future__ import annotations
 
 import math

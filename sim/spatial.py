@@ -4,12 +4,12 @@ them), so this module never imports numba.
 
 pinocchio is imported where it is used, not here: the controllers' side (sim/controllers/, which a
 sandboxed child imports for every graded item) uses rotate_twist and must not pay pinocchio's start-up."""
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
-
 
 
 def rotate_twist(rotation_a_to_b: np.ndarray, twist_a: np.ndarray) -> np.ndarray:
@@ -76,7 +76,6 @@ def orthonormalize(rotation: np.ndarray) -> np.ndarray:
         u[:, -1] *= -1
         r = u @ vt
     return r
-
 
 
 def norm3(v: np.ndarray) -> float:

@@ -11,6 +11,7 @@ The owner keeps the array in `self.state` (allocated with `allocate(cls)`; a cla
 means something else names its array's attribute in `state_attribute`), so the layout is written
 once, in the class, and the compiled kernels index it with the same constants.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,10 +34,10 @@ class Field:
     def __get__(self, obj, owner=None):
         if obj is None:
             return self
-        return _array(obj)[self.start:self.stop].reshape(self.shape)
+        return _array(obj)[self.start : self.stop].reshape(self.shape)
 
     def __set__(self, obj, value) -> None:
-        _array(obj)[self.start:self.stop] = np.asarray(value, dtype=float).reshape(-1)
+        _array(obj)[self.start : self.stop] = np.asarray(value, dtype=float).reshape(-1)
 
 
 class Scalar:

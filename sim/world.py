@@ -8,6 +8,7 @@ One `step()` is one control period dt (default 1 ms):
   5. physics: plate and palm contacts -> forces on the box -> box integration (substeps)
 The robot is kinematic: contact forces do not push it; it follows only the controller's command.
 """
+
 from __future__ import annotations
 
 import traceback
@@ -16,23 +17,21 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from sim import compiled_step
-from sim.physics.box import GRAVITY, Box, BoxParams
-from sim.robot.cartesian_velocity import OK, CartesianVelocityInterface, Reflex
-from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry, result_of
 from sim.controllers.external import COMMAND_PERIOD
-from sim.controllers.interface import Controller, LiftingParams, lifting_vector
-from sim.controllers.interface import ControllerFault
+from sim.controllers.interface import Controller, ControllerFault, LiftingParams, lifting_vector
 from sim.controllers.lifting_law import LiftingLawController
+from sim.controllers.sp import SPController
 from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
 from sim.person.participants import PARTICIPANTS, Participant
+from sim.physics.box import GRAVITY, Box, BoxParams
+from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry, result_of
+from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
+from sim.procedures.monitor import NONE, TrialMonitor, TrialOutcome
+from sim.robot.cartesian_velocity import OK, CartesianVelocityInterface, Reflex
 from sim.robot.joint_trajectory import BrakeThenMove, JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel
 from sim.robot.plate import Plate
-from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
-from sim.controllers.sp import SPController
-from sim.procedures.monitor import NONE, TrialMonitor, TrialOutcome
 from sim.robot.teleop import Jog
-
 
 _PATCHABLE_HUMAN = {"step", "hand_wrench"}  # VirtualHuman's methods the compiled rest runs as kernels
 
@@ -254,7 +253,9 @@ class World:
     def commanded(self) -> bool:
         """Somebody commands the robot: lifting runs, a motion or teleop is under way, or the last
         command was not zero (a real-time server keeps 1 ms granularity then: app/runtime/loop.py)."""
-        return self.params.running or self.motion is not None or self.jog is not None or bool(np.any(self.twist_command))
+        return (
+            self.params.running or self.motion is not None or self.jog is not None or bool(np.any(self.twist_command))
+        )
 
     # --- stepping ---------------------------------------------------------------------------
     def step(self) -> None:
@@ -269,22 +270,39 @@ class World:
         law = controller.law() if isinstance(controller, LiftingLawController) else None
         jogging = self.jog is not None and not params.running
         rest_compiled = self._components_plain()
-        if isinstance(controller, LiftingLawController) and law is not None and self.motion is None and not jogging \
-                and rest_compiled:
+        if (
+            isinstance(controller, LiftingLawController)
+            and law is not None
+            and self.motion is None
+            and not jogging
+            and rest_compiled
+        ):
             self.jog = None
             arm, chain, sensor = self.arm, self.arm.chain, self.sensor
             kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
-                sensor.state, sensor.next_noise(), sensor.scales(), self.wrench_ee, law, controller.state,
-                self._lifting_vector(), controller.constants(),
-                self._arm_constants, chain.rotations, chain.translations, chain.axes, chain.flange_rotation,
-                chain.flange_translation, *self._rest_arguments(dt),
+                sensor.state,
+                sensor.next_noise(),
+                sensor.scales(),
+                self.wrench_ee,
+                law,
+                controller.state,
+                self._lifting_vector(),
+                controller.constants(),
+                self._arm_constants,
+                chain.rotations,
+                chain.translations,
+                chain.axes,
+                chain.flange_rotation,
+                chain.flange_translation,
+                *self._rest_arguments(dt),
             )
             if kind != OK:
                 arm.stop_with_error(arm.reflex_reason(kind, j, value))
         else:
             sensor = self.sensor
-            compiled_step.world_sense(sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true,
-                                      self.wrench_ee)
+            compiled_step.world_sense(
+                sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true, self.wrench_ee
+            )
             self._control_and_move(dt)
             if rest_compiled:
                 self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
@@ -302,17 +320,24 @@ class World:
         rest runs their kernels); a replaced or patched one (a subclass, a method set on the
         instance, e.g. a fault injected by a test) runs through its Python methods."""
         human, box = self.human, self.box
-        return (type(human) is VirtualHuman and not _PATCHABLE_HUMAN & vars(human).keys()
-                and type(box) is Box and "step" not in vars(box)
-                and type(self.plate_contact) is PatchContact and "step_into" not in vars(self.plate_contact)
-                and type(self.palm_contact) is PatchContact and "step_into" not in vars(self.palm_contact))
+        return (
+            type(human) is VirtualHuman
+            and not _PATCHABLE_HUMAN & vars(human).keys()
+            and type(box) is Box
+            and "step" not in vars(box)
+            and type(self.plate_contact) is PatchContact
+            and "step_into" not in vars(self.plate_contact)
+            and type(self.palm_contact) is PatchContact
+            and "step_into" not in vars(self.palm_contact)
+        )
 
     def _rest_in_python(self, dt: float) -> None:
         """4. human and 5. physics through the components' Python methods (the same kernels, one call each)."""
         params, palm = self.params, self.palm_out
         band = (params.f_n_min, params.f_n_max) if params.running else None
-        self.human.step(dt, float(palm[9]), float(np.linalg.norm(palm[10:13])), float(self.plate_out[9]), band,
-                        self.box.rotation)
+        self.human.step(
+            dt, float(palm[9]), float(np.linalg.norm(palm[10:13])), float(self.plate_out[9]), band, self.box.rotation
+        )
         sub_dt = dt / self.substeps
         for _ in range(self.substeps):
             self._physics(sub_dt)
@@ -326,10 +351,13 @@ class World:
         twist = arm.twist_base
         velocity_plate = twist[:3] + np.cross(twist[3:], arm_plate)
         box = self.box.pose()
-        self.plate_contact.step_into(rotation, position_plate, velocity_plate, twist[3:].copy(), box, dt, self.plate_out)
+        self.plate_contact.step_into(
+            rotation, position_plate, velocity_plate, twist[3:].copy(), box, dt, self.plate_out
+        )
         human = self.human
-        self.palm_contact.step_into(human.rotation, human.position, human.velocity, human.angular_velocity, box, dt,
-                                    self.palm_out)
+        self.palm_contact.step_into(
+            human.rotation, human.position, human.velocity, human.angular_velocity, box, dt, self.palm_out
+        )
         plate, palm = self.plate_out, self.palm_out
         grasp_force, grasp_moment = human.hand_wrench(box, float(palm[9]))
         self.box.step(plate[0:3] + palm[0:3] + grasp_force, plate[3:6] + palm[3:6] + grasp_moment, dt)
@@ -346,14 +374,39 @@ class World:
         """world_rest's arguments: human, physics and the trial's rule after this step."""
         params, box, human, plate, palm = self.params, self.box, self.human, self.plate_contact, self.palm_contact
         return (
-            float(dt), int(self.substeps), float(self.config.plate.offset), bool(params.running),
-            float(params.f_n_min), float(params.f_n_max),
-            self.arm.state, human.state, human.constants,
-            box.position, box.rotation, box.velocity, box.angular_velocity, box.half_size, float(box.params.mass),
-            box._inertia, box._inertia_inv, GRAVITY, box._steps,
-            plate.points_patch, plate.bristles, plate.constants, palm.points_patch, palm.bristles, palm.constants,
-            self.plate_out, self.palm_out, self.wrench_ee_true, self.trial.state_array, self.trial.rules_vector,
-            self.time + dt, float(params.mu), self.twist_command,
+            float(dt),
+            int(self.substeps),
+            float(self.config.plate.offset),
+            bool(params.running),
+            float(params.f_n_min),
+            float(params.f_n_max),
+            self.arm.state,
+            human.state,
+            human.constants,
+            box.position,
+            box.rotation,
+            box.velocity,
+            box.angular_velocity,
+            box.half_size,
+            float(box.params.mass),
+            box._inertia,
+            box._inertia_inv,
+            GRAVITY,
+            box._steps,
+            plate.points_patch,
+            plate.bristles,
+            plate.constants,
+            palm.points_patch,
+            palm.bristles,
+            palm.constants,
+            self.plate_out,
+            self.palm_out,
+            self.wrench_ee_true,
+            self.trial.state_array,
+            self.trial.rules_vector,
+            self.time + dt,
+            float(params.mu),
+            self.twist_command,
         )
 
     def _control_and_move(self, dt: float) -> None:

@@ -2,10 +2,10 @@ import ctypes
 import os
 import signal
 import time
+from multiprocessing import resource_tracker
 from pathlib import Path
 
 import pytest
-from multiprocessing import resource_tracker
 
 PR_SET_CHILD_SUBREAPER = 36
 
@@ -54,18 +54,47 @@ def _tree_outputs() -> set[Path]:
 # `make test` runs two workers and hands out whole files in collection order (--dist loadfile
 # --no-loadscope-reorder): the longest files go first, so that the run never ends with one worker
 # still on a long file while the other has nothing left (longest processing time first).
-LONG_FILES_FIRST = ("test_grading.py", "test_ros_programs.py", "test_law_checks.py", "test_browser.py", "test_tilt.py", "test_cli_server.py",
-                    "test_world.py", "test_lifting_node.py", "test_ros_lifting_node.py", "test_api_actions.py", "test_replay.py", "test_recording_live.py")
+LONG_FILES_FIRST = (
+    "test_grading.py",
+    "test_ros_programs.py",
+    "test_law_checks.py",
+    "test_browser.py",
+    "test_tilt.py",
+    "test_cli_server.py",
+    "test_world.py",
+    "test_lifting_node.py",
+    "test_ros_lifting_node.py",
+    "test_api_actions.py",
+    "test_replay.py",
+    "test_recording_live.py",
+)
 
 
 # Markers by file (`make test-fast` runs neither): `browser`, the files that drive Chromium; `e2e`, the
 # files that run other programs: real servers, nodes, students' programs, sandboxed controllers, the CLI.
 BROWSER_FILES = {"test_browser.py", "test_browser_cross_site.py", "test_replay.py"}
-E2E_FILES = {"test_cli_server.py", "test_examples.py", "test_experiment_params.py", "test_fuzz.py",
-             "test_grade_services.py", "test_grading.py", "test_hardening.py", "test_lifting_node.py", "test_limits.py",
-             "test_recording.py", "test_ros_lifting_node.py", "test_ros_programs.py", "test_law_checks.py", "test_rosbridge_ros_system.py",
-             "test_rosbridge_roslibpy.py", "test_runtime.py", "test_sandbox.py", "test_workers.py", "test_cli_files.py",
-             "test_exercise_services.py"}
+E2E_FILES = {
+    "test_cli_server.py",
+    "test_examples.py",
+    "test_experiment_params.py",
+    "test_fuzz.py",
+    "test_grade_services.py",
+    "test_grading.py",
+    "test_hardening.py",
+    "test_lifting_node.py",
+    "test_limits.py",
+    "test_recording.py",
+    "test_ros_lifting_node.py",
+    "test_ros_programs.py",
+    "test_law_checks.py",
+    "test_rosbridge_ros_system.py",
+    "test_rosbridge_roslibpy.py",
+    "test_runtime.py",
+    "test_sandbox.py",
+    "test_workers.py",
+    "test_cli_files.py",
+    "test_exercise_services.py",
+}
 
 
 def pytest_collection_modifyitems(items) -> None:

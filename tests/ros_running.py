@@ -1,5 +1,6 @@
 """Students' ROS programs (tests/ros_programs/) started with `hri-lab run` / `hri-lab launch` as a
 student starts them, their output read line by line, stopped with Ctrl+C (SIGINT)."""
+
 from __future__ import annotations
 
 import os
@@ -15,14 +16,21 @@ PROGRAMS = Path(__file__).parent / "ros_programs"
 
 
 class Program:
-    def __init__(self, url: str | None, command: str, *args: str, env: dict | None = None,
-                 terminal: bool = False) -> None:
+    def __init__(
+        self, url: str | None, command: str, *args: str, env: dict | None = None, terminal: bool = False
+    ) -> None:
         full_env = {k: v for k, v in os.environ.items() if k != "HRI_LAB_URL"}
         full_env.update(env or {})
         url_args = ["--url", url] if url else []
-        self.proc = subprocess.Popen([sys.executable, "-m", "app.cli", command, *url_args, *args],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=full_env,
-                                     cwd=Path(__file__).parent.parent, start_new_session=terminal)
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "app.cli", command, *url_args, *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            env=full_env,
+            cwd=Path(__file__).parent.parent,
+            start_new_session=terminal,
+        )
         self.terminal = terminal  # in a process group of its own, as a terminal's foreground job
         self.lines: list[str] = []
         self._new: queue.Queue = queue.Queue()

@@ -1,4 +1,5 @@
 """Actions over HTTP (goal / feedback / result / cancel, actionlib states), teleop and /robot."""
+
 import time
 
 import numpy as np
@@ -7,6 +8,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Setup, format_comparison, run_comparison
 from sim.robot.panda import SIDE_Q
+
 from tests.waiting import wait_for, wait_sim
 
 
@@ -20,9 +22,16 @@ def wait_terminal(client, action, goal_id, timeout=30.0):
 
 
 def test_action_list_and_definitions(client):
-    assert {a["name"] for a in client.get("/actions").json()} == {"/count", "/move_to_start", "/run_experiment",
-                                                                        "/compare_controllers"}
-    assert client.get("/actions/count").json()["definition"] == "int32 count\n---\nint32 final_count\n---\nint32 current_number"
+    assert {a["name"] for a in client.get("/actions").json()} == {
+        "/count",
+        "/move_to_start",
+        "/run_experiment",
+        "/compare_controllers",
+    }
+    assert (
+        client.get("/actions/count").json()["definition"]
+        == "int32 count\n---\nint32 final_count\n---\nint32 current_number"
+    )
     assert client.get("/actions/nope").status_code == 404
 
 
@@ -76,8 +85,11 @@ def test_feedback_stream(client):
             messages.append(msg)
             if "status" in msg:
                 break
-    assert messages == [{"feedback": {"current_number": 1}}, {"feedback": {"current_number": 2}},
-                        {"status": "succeeded", "result": {"final_count": 2}, "message": "done"}]
+    assert messages == [
+        {"feedback": {"current_number": 1}},
+        {"feedback": {"current_number": 2}},
+        {"status": "succeeded", "result": {"final_count": 2}, "message": "done"},
+    ]
 
 
 def test_move_to_start_from_a_jogged_pose(client, lab):
@@ -115,7 +127,9 @@ def test_move_to_start_is_refused_up_front_while_lifting_or_in_error(client, lab
 
     lab.call(_too_fast)
     response = client.post("/actions/move_to_start/goals")
-    assert response.status_code == 409 and response.json()["message"].startswith("the robot is in error (cartesian velocity limit")
+    assert response.status_code == 409 and response.json()["message"].startswith(
+        "the robot is in error (cartesian velocity limit"
+    )
     assert "call /error_recovery first" in response.json()["message"]
     client.post("/services/error_recovery")
 
@@ -130,7 +144,9 @@ def test_a_goal_failure_aborts_with_its_message_only(client):
     def bug(lab, goal, handle):
         raise KeyError("x")
 
-    server = ActionServer([Action("/fail", "t/Fail", Empty, Empty, Empty, fail), Action("/bug", "t/Bug", Empty, Empty, Empty, bug)], None)
+    server = ActionServer(
+        [Action("/fail", "t/Fail", Empty, Empty, Empty, fail), Action("/bug", "t/Bug", Empty, Empty, Empty, bug)], None
+    )
     failed, buggy = server.send_goal(server.get("fail"), Empty()), server.send_goal(server.get("bug"), Empty())
     failed.wait_for_update(0, 5.0)
     buggy.wait_for_update(0, 5.0)
@@ -151,7 +167,8 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     assert view["result"]["trials"] == 1 and "hasty" in view["result"]["table"]
     defaults = LiftingParams()
     assert view["result"]["table"].splitlines()[0] == (
-        f"parameters: alpha = 0.9 (default {defaults.alpha:g}), k_t = 0.2 (default {defaults.k_t:g})")
+        f"parameters: alpha = 0.9 (default {defaults.alpha:g}), k_t = 0.2 (default {defaults.k_t:g})"
+    )
     assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
     assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
     assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
@@ -167,7 +184,9 @@ def test_compare_controllers_action_runs_the_same_trials_with_each_controller(cl
     result = view["result"]
     assert result["controllers"] == ["sp", "patch"] and result["trials"] == [1, 1]
     assert [(f["controller"], f["participant"], f["trial"], f["of"]) for f in view["feedback"]] == [
-        ("sp", "hasty", 1, 2), ("patch", "hasty", 2, 2)]
+        ("sp", "hasty", 1, 2),
+        ("patch", "hasty", 2, 2),
+    ]
     direct = run_comparison(["sp", "patch"], 1, ["hasty"], seed=3, setup=Setup(params=LiftingParams(alpha=0.8)))
     assert result["successes"] == [int(direct[name]["hasty"][0].success) for name in ("sp", "patch")]
     assert [f["duration"] for f in view["feedback"]] == [direct[name]["hasty"][0].duration for name in ("sp", "patch")]
@@ -175,17 +194,22 @@ def test_compare_controllers_action_runs_the_same_trials_with_each_controller(cl
 
 
 def test_compare_controllers_refusals(client):
-    for goal, field in (({"controllers": "sp,pid"}, "controllers"), ({"trials": 0}, "trials"),
-                        ({"participants": "calm,sleepy"}, "participants")):
+    for goal, field in (
+        ({"controllers": "sp,pid"}, "controllers"),
+        ({"trials": 0}, "trials"),
+        ({"participants": "calm,sleepy"}, "participants"),
+    ):
         refused = client.post("/actions/compare_controllers/goals", json=goal)
         assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == field
 
 
 def test_experiment_goals_refuse_a_bad_set_with_the_parameter_servers_message(client):
     for action in ("run_experiment", "compare_controllers"):
-        for text, message in (("alpha=3", "Parameter {alpha} doesn't comply with floating point range."),
-                              ("k_t=fast", "Wrong parameter type, parameter {k_t} is of type {double}"),
-                              ("f_n_min=5", "parameter 'f_n_min' does not apply to a headless experiment")):
+        for text, message in (
+            ("alpha=3", "Parameter {alpha} doesn't comply with floating point range."),
+            ("k_t=fast", "Wrong parameter type, parameter {k_t} is of type {double}"),
+            ("f_n_min=5", "parameter 'f_n_min' does not apply to a headless experiment"),
+        ):
             refused = client.post(f"/actions/{action}/goals", json={"set": text})
             assert refused.status_code == 409, refused.text
             assert refused.json()["status"] == "rejected" and message in refused.json()["message"]

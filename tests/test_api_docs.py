@@ -1,4 +1,5 @@
 """/docs and /redoc work without internet, and what they pre-fill is accepted."""
+
 import re
 
 import pytest

@@ -1,5 +1,4 @@
 """Parameters over HTTP: ROS 2 refusal messages, describe, dump/load round trip, live effect."""
-from tests.waiting import wait_sim
 
 from operator import attrgetter
 
@@ -7,7 +6,7 @@ import pytest
 import yaml
 
 from app.lab import commands as cmd
-
+from tests.waiting import wait_sim
 
 YAML = {"content-type": "application/yaml"}
 
@@ -18,8 +17,15 @@ def put(client, node, name, value):
 
 def test_list_get_describe(client):
     listed = {(p["node"], p["name"]): p for p in client.get("/params").json()}
-    for key in [("cooperative_lifting", "f_n_min"), ("cooperative_lifting", "mu"), ("keytwist", "linear_speed"),
-                ("sim", "rate_hz"), ("sim", "box_mass"), ("human", "squeeze_force"), ("human", "profile")]:
+    for key in [
+        ("cooperative_lifting", "f_n_min"),
+        ("cooperative_lifting", "mu"),
+        ("keytwist", "linear_speed"),
+        ("sim", "rate_hz"),
+        ("sim", "box_mass"),
+        ("human", "squeeze_force"),
+        ("human", "profile"),
+    ]:
         assert key in listed
     assert client.get("/params/keytwist/linear_speed").json()["value"] == 0.1
     d = client.get("/params/cooperative_lifting/f_n_min/describe").json()
@@ -30,10 +36,20 @@ def test_list_get_describe(client):
 @pytest.mark.parametrize(
     "node, name, value, status, reason",
     [
-        ("cooperative_lifting", "mu", "high", 422,
-         "Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed."),
-        ("cooperative_lifting", "mu", True, 422,
-         "Wrong parameter type, parameter {mu} is of type {double}, setting it to {bool} is not allowed."),
+        (
+            "cooperative_lifting",
+            "mu",
+            "high",
+            422,
+            "Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed.",
+        ),
+        (
+            "cooperative_lifting",
+            "mu",
+            True,
+            422,
+            "Wrong parameter type, parameter {mu} is of type {double}, setting it to {bool} is not allowed.",
+        ),
         ("sim", "rate_hz", 1.5, 422, "parameter 'rate_hz' cannot be set because it is read-only"),
         ("cooperative_lifting", "f_n_min", 61.0, 422, "Parameter {f_n_min} doesn't comply with floating point range."),
         ("cooperative_lifting", "f_n_min", -0.1, 422, "Parameter {f_n_min} doesn't comply with floating point range."),
@@ -50,7 +66,9 @@ def test_refusals_keep_the_value(client, node, name, value, status, reason):
 
 
 def test_non_finite_double_is_refused(client):
-    response = client.put("/params/cooperative_lifting/mu", content=b'{"value": NaN}', headers={"content-type": "application/json"})
+    response = client.put(
+        "/params/cooperative_lifting/mu", content=b'{"value": NaN}', headers={"content-type": "application/json"}
+    )
     assert response.status_code == 422
     assert response.json()["reason"] == "Parameter {mu} doesn't comply with floating point range."
 
@@ -90,8 +108,10 @@ def test_a_changed_gain_changes_the_controller(client, lab):
 def test_controller_parameter_swaps_the_controller(client, lab):
     assert put(client, "cooperative_lifting", "controller", "patch").json()["successful"] is True
     assert lab.call(cmd.controller_name) == "PatchController"
-    assert put(client, "cooperative_lifting", "controller", "pid").json()["reason"] == \
-        "Parameter {controller} must be one of sp, patch."
+    assert (
+        put(client, "cooperative_lifting", "controller", "pid").json()["reason"]
+        == "Parameter {controller} must be one of sp, patch."
+    )
     assert put(client, "cooperative_lifting", "controller", "sp").json()["successful"] is True
     assert lab.call(cmd.controller_name) == "SPController"
 

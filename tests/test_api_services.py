@@ -1,13 +1,14 @@
 """The lab's services over HTTP against the real app and its live loop."""
+
 import math
 
 import numpy as np
 import pytest
 
-from tests.waiting import wait_for, wait_sim
+from sim.robot import planar_arm
 
 from app.lab import commands as cmd
-from sim.robot import planar_arm
+from tests.waiting import wait_for, wait_sim
 
 EXPECTED = {
     "/start_cooperative_lifting": "hri_lab/StartCooperativeLifting",
@@ -42,10 +43,14 @@ def test_service_list_and_types(client):
 
 def test_service_definitions(client):
     start = client.get("/services/start_cooperative_lifting").json()
-    assert start["srv"] == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message"
+    assert (
+        start["srv"] == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message"
+    )
     assert client.get("/services/error_recovery").json()["srv"] == "---\nbool success\nstring message"
     assert client.get("/services/echo").json()["srv"] == "string in\n---\nstring out"
-    assert client.get("/services/planar_torques").json()["srv"] == "float64[] q\nfloat64[] force\n---\nfloat64[] torques"
+    assert (
+        client.get("/services/planar_torques").json()["srv"] == "float64[] q\nfloat64[] force\n---\nfloat64[] torques"
+    )
     assert client.get("/services/nope").status_code == 404
     # each service is a typed route in the OpenAPI schema
     paths = client.get("/openapi.json").json()["paths"]
@@ -61,7 +66,9 @@ def test_start_moves_the_robot_to_the_box_and_stop_zeroes_the_command(client, la
     assert (state["started"], state["f_n_min"], state["f_n_max"]) == (True, 10.0, 15.0)
     assert lab.call(cmd.lifting_state)[1::2] == (10.0, 15.0)
     # the robot approaches: F_ext f_z rises within a few hundred ms of real time
-    fz = wait_for(lambda: (f := client.get("/topics/franka_state_controller/F_ext").json()["wrench"]["force"]["z"]) > 5 and f)
+    fz = wait_for(
+        lambda: (f := client.get("/topics/franka_state_controller/F_ext").json()["wrench"]["force"]["z"]) > 5 and f
+    )
     assert fz > 5
     command = client.get("/topics/cartesian_velocity_controller/command").json()
     assert command["linear"]["y"] >= 0.0  # pressing along the plate normal (base +y)
@@ -76,14 +83,20 @@ def test_start_moves_the_robot_to_the_box_and_stop_zeroes_the_command(client, la
     assert client.get("/topics/lifting_state").json()["started"] is False
 
 
-@pytest.mark.parametrize("body", [{"force": -1.0}, {"force": 61.0}, {"force": "10"}, {"force": "NaN"}, {"force": None}, {}])
+@pytest.mark.parametrize(
+    "body", [{"force": -1.0}, {"force": 61.0}, {"force": "10"}, {"force": "NaN"}, {"force": None}, {}]
+)
 def test_start_refusals(client, body):
     refused(client.post("/services/start_cooperative_lifting", json=body), "force")
 
 
-@pytest.mark.parametrize("raw", [b'{"force": NaN}', b'{"force": Infinity}', b'{"force": 1e999}', b'{"force": -Infinity}'])
+@pytest.mark.parametrize(
+    "raw", [b'{"force": NaN}', b'{"force": Infinity}', b'{"force": 1e999}', b'{"force": -Infinity}']
+)
 def test_start_refuses_non_finite_numbers(client, raw):
-    response = client.post("/services/start_cooperative_lifting", content=raw, headers={"content-type": "application/json"})
+    response = client.post(
+        "/services/start_cooperative_lifting", content=raw, headers={"content-type": "application/json"}
+    )
     refused(response, "force")
 
 
@@ -119,18 +132,27 @@ def test_compute_wrench_round_trip(client, lab):
 
 
 def test_planar_torques(client):
-    body = client.post("/services/planar_torques", json={"q": [math.pi / 2, -math.pi / 2, math.pi / 2], "force": [1.0, 0.0]}).json()
+    body = client.post(
+        "/services/planar_torques", json={"q": [math.pi / 2, -math.pi / 2, math.pi / 2], "force": [1.0, 0.0]}
+    ).json()
     assert body["torques"] == pytest.approx([-2.0, -1.0, -1.0])
-    assert client.post("/services/planar_torques", json={"q": [0, 0, 0], "force": [0, 1, 0.5]}).json()["torques"] == pytest.approx(
-        planar_arm.torques([0, 0, 0], [0, 1, 0.5]))
+    assert client.post("/services/planar_torques", json={"q": [0, 0, 0], "force": [0, 1, 0.5]}).json()[
+        "torques"
+    ] == pytest.approx(planar_arm.torques([0, 0, 0], [0, 1, 0.5]))
     refused(client.post("/services/planar_torques", json={"q": [0, 0], "force": [1, 0]}), "q")
     refused(client.post("/services/planar_torques", json={"q": [0, 0, 0], "force": [1]}), "force")
 
 
 def test_integer_services(client):
     assert client.post("/services/add_two_ints", json={"a": 2, "b": 3}).json() == {"sum": 5}
-    assert client.post("/services/divide_ints", json={"a": 7, "b": 2}).json() == {"result": 3.5, "message": "Division ok."}
-    assert client.post("/services/divide_ints", json={"a": 7, "b": 0}).json() == {"result": 0.0, "message": "Division by zero!"}
+    assert client.post("/services/divide_ints", json={"a": 7, "b": 2}).json() == {
+        "result": 3.5,
+        "message": "Division ok.",
+    }
+    assert client.post("/services/divide_ints", json={"a": 7, "b": 0}).json() == {
+        "result": 0.0,
+        "message": "Division by zero!",
+    }
     assert client.post("/services/multiply_three", json={"a": 2, "b": 3, "c": -4}).json() == {"product": -24}
     # int64 is int64: an input beyond it is refused, a result beyond it is a clear failure
     refused(client.post("/services/add_two_ints", json={"a": 2**63, "b": 0}), "a")
@@ -190,25 +212,53 @@ def test_error_recovery_and_reset(client, lab):
 
 def test_a_thousand_bad_requests_never_give_a_5xx(client, lab):
     rng = np.random.default_rng(0)
-    junk = [None, True, -1, 2**64, -(2**70), 1.5, 1e308, "", "x" * 100, "NaN", [], [1, "a"], {}, {"a": 1},
-            [float(v) for v in range(6)], [1e308] * 7]
+    junk = [
+        None,
+        True,
+        -1,
+        2**64,
+        -(2**70),
+        1.5,
+        1e308,
+        "",
+        "x" * 100,
+        "NaN",
+        [],
+        [1, "a"],
+        {},
+        {"a": 1},
+        [float(v) for v in range(6)],
+        [1e308] * 7,
+    ]
     names = list(EXPECTED)
     for _ in range(1000):
         name = names[rng.integers(len(names))]
-        body = {str(rng.choice(["a", "b", "c", "force", "torques", "q", "in", "get", "username", "magic_number", "zz"])):
-                junk[rng.integers(len(junk))] for _ in range(rng.integers(0, 4))}
+        body = {
+            str(
+                rng.choice(["a", "b", "c", "force", "torques", "q", "in", "get", "username", "magic_number", "zz"])
+            ): junk[rng.integers(len(junk))]
+            for _ in range(rng.integers(0, 4))
+        }
         value = junk[rng.integers(len(junk))]
         kind = rng.random()
         if kind < 0.1:
-            response = client.post(f"/services{name}", content=bytes(rng.integers(0, 256, 20).tolist()),
-                                   headers={"content-type": "application/json"})
+            response = client.post(
+                f"/services{name}",
+                content=bytes(rng.integers(0, 256, 20).tolist()),
+                headers={"content-type": "application/json"},
+            )
         elif kind < 0.2:  # parameters: any node/name, any value
-            node, param = rng.choice(["cooperative_lifting", "sim", "human", "keytwist", "nope"]), rng.choice(
-                ["f_n_min", "mu", "rate_hz", "profile", "box_mass", "linear_speed", "nope"])
+            node, param = (
+                rng.choice(["cooperative_lifting", "sim", "human", "keytwist", "nope"]),
+                rng.choice(["f_n_min", "mu", "rate_hz", "profile", "box_mass", "linear_speed", "nope"]),
+            )
             response = client.put(f"/params/{node}/{param}", json={"value": value})
         elif kind < 0.25:
-            response = client.post("/params/load", content=bytes(rng.integers(0, 256, 30).tolist()),
-                                   headers={"content-type": "application/yaml"})
+            response = client.post(
+                "/params/load",
+                content=bytes(rng.integers(0, 256, 30).tolist()),
+                headers={"content-type": "application/yaml"},
+            )
         elif kind < 0.3:  # action goals with junk (a goal that passes is cancelled at once)
             response = client.post("/actions/count/goals", json=body)
             if response.status_code == 202:
@@ -277,7 +327,9 @@ def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
 def test_start_selects_the_controller(client, lab):
     """The start service's `controller` selects sp or patch before starting; '' keeps the current one."""
     client.post("/services/stop_cooperative_lifting")
-    assert client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "patch"}).status_code == 200
+    assert (
+        client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "patch"}).status_code == 200
+    )
     assert lab.call(cmd.controller_name) == "PatchController" and lab.call(cmd.lifting_state)[:2] == (True, 10.0)
     assert client.get("/params/cooperative_lifting/controller").json()["value"] == "patch"
     client.post("/services/stop_cooperative_lifting")

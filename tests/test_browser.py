@@ -1,5 +1,6 @@
 """The dashboard in a real browser (Debian's chromium driven by playwright), as a student uses it,
 on a machine without internet (every asset comes from the server)."""
+
 import os
 import time
 from pathlib import Path
@@ -7,8 +8,9 @@ from pathlib import Path
 import httpx
 import pytest
 
-from app.cli.launch import free_port, running_server
 from sim.controllers.interface import LiftingParams
+
+from app.cli.launch import free_port, running_server
 from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, round_trips
 
 SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"
@@ -53,7 +55,11 @@ def text_of(page, selector):
 
 
 def wait_text(page, selector, needle, timeout=90_000):
-    page.wait_for_function("([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)", arg=[selector, needle], timeout=timeout)
+    page.wait_for_function(
+        "([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)",
+        arg=[selector, needle],
+        timeout=timeout,
+    )
 
 
 def test_docs_and_redoc_render_offline(server, browser):
@@ -68,9 +74,13 @@ def test_docs_and_redoc_render_offline(server, browser):
     body = page.locator("#operations-services-call_add_two_ints textarea.body-param__text").input_value()
     assert '"a": 0' in body and "922337" not in body  # the example, not a rounded int64 bound
     page.get_by_role("button", name="Execute").click()
-    page.locator("#operations-services-call_add_two_ints .live-responses-table .response-col_status", has_text="200").wait_for()
+    page.locator(
+        "#operations-services-call_add_two_ints .live-responses-table .response-col_status", has_text="200"
+    ).wait_for()
     page.goto(server + "/redoc")
-    page.locator("h2", has_text="call /add_two_ints (hri_lab/AddTwoInts)").first.wait_for()  # ReDoc rendered the operation
+    page.locator(
+        "h2", has_text="call /add_two_ints (hri_lab/AddTwoInts)"
+    ).first.wait_for()  # ReDoc rendered the operation
     page.close()
     assert not external, external
 
@@ -79,7 +89,10 @@ def test_the_page_as_a_student_uses_it(server, page):
     # the services, generated from the API: .srv text, description, the form's hints
     start = page.locator(".service[data-name='/start_cooperative_lifting']")
     start.wait_for()
-    assert "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message" in start.locator("pre.srv").inner_text()
+    assert (
+        "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message"
+        in start.locator("pre.srv").inner_text()
+    )
     assert "f_n_max = force + f_n_band" in start.locator(".description").inner_text()
     torques = page.locator(".service[data-name='/compute_torques']")
     assert torques.locator("input[name=force]").get_attribute("placeholder") == "6 numbers, comma-separated"
@@ -98,8 +111,11 @@ def test_the_page_as_a_student_uses_it(server, page):
     assert "friction coefficient the controller assumes [0.05, 2]" in mu.locator(".description").inner_text()
     mu.locator("input").fill("abc")
     mu.locator("button").click()
-    wait_text(page, ".param[data-name='cooperative_lifting/mu'] .refused",
-              "Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed.")
+    wait_text(
+        page,
+        ".param[data-name='cooperative_lifting/mu'] .refused",
+        "Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, setting it to {string} is not allowed.",
+    )
 
     # topics formatted with units; raw JSON on request
     page.locator("nav button[data-tab=topics]").click()
@@ -134,7 +150,11 @@ def test_the_page_as_a_student_uses_it(server, page):
     page.locator("nav button[data-tab=actions]").click()
     move = page.locator(".action[data-name='/move_to_start']")
     move.locator("button[type=submit]").click()
-    wait_text(page, ".action[data-name='/move_to_start'] .refusal", "409 rejected: cooperative lifting is running: call /stop_cooperative_lifting first")
+    wait_text(
+        page,
+        ".action[data-name='/move_to_start'] .refusal",
+        "409 rejected: cooperative lifting is running: call /stop_cooperative_lifting first",
+    )
     assert move.locator(".goal").count() == 0
 
     # a scripted participant (hasty at the wider margin alpha 0.8: the short failing trial) and its result
@@ -143,7 +163,9 @@ def test_the_page_as_a_student_uses_it(server, page):
     page.locator("#ctl-force").fill("10")
     page.locator("#ctl-participant-run").click()
     wait_text(page, "#trial-result", "(hasty)")  # running, or already over when the page looked (a loaded machine)
-    page.wait_for_function("['succeeded', 'failed'].includes(document.querySelector('#trial-result').dataset.state)", timeout=60_000)
+    page.wait_for_function(
+        "['succeeded', 'failed'].includes(document.querySelector('#trial-result').dataset.state)", timeout=60_000
+    )
     result = text_of(page, "#trial-result")
     assert "(hasty)" in result and "slip" in result and "time" in result and "f_n" in result
     assert result.startswith("SUCCESS") or "dropped" in result, result
@@ -162,9 +184,14 @@ def test_the_page_as_a_student_uses_it(server, page):
     summary = text_of(page, result)
     assert "/compare_controllers succeeded: sp 0/1" in summary and "hasty" in summary
     assert compare.locator(".goal progress").get_attribute("value") == "1"
-    page.wait_for_function("(s) => { const images = [...document.querySelectorAll(s + ' .figures img')];"
-                           " return images.length > 0 && images.every((i) => i.complete); }", arg=result)
-    loaded = page.evaluate("(s) => [...document.querySelectorAll(s + ' .figures img')].map((i) => [i.alt, i.naturalWidth])", result)
+    page.wait_for_function(
+        "(s) => { const images = [...document.querySelectorAll(s + ' .figures img')];"
+        " return images.length > 0 && images.every((i) => i.complete); }",
+        arg=result,
+    )
+    loaded = page.evaluate(
+        "(s) => [...document.querySelectorAll(s + ' .figures img')].map((i) => [i.alt, i.naturalWidth])", result
+    )
     assert len(loaded) == 2 and loaded[0][0] == "summary" and loaded[1][0].endswith("hasty_1"), loaded  # trials + 1
     assert all(width > 0 for _, width in loaded), loaded  # loaded images, not broken links
     with page.context.expect_page() as opened:  # a click opens the figure full size (its SVG) in a tab
@@ -188,17 +215,23 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, page):
     assert page.locator("#view").get_attribute("src").startswith("http://localhost:")
     assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
     embedded = round_trips(page, 3)
-    print(f"\npage click -> response: {describe(without)} without the 3D view, "
-          f"{describe(embedded)} with it embedded ({VIEW} meshes, software WebGL)")
+    print(
+        f"\npage click -> response: {describe(without)} without the 3D view, "
+        f"{describe(embedded)} with it embedded ({VIEW} meshes, software WebGL)"
+    )
     (SCREENSHOTS).mkdir(parents=True, exist_ok=True)
     (SCREENSHOTS / "responsiveness.txt").write_text(f"without {max(without):.3f} s, embedded {max(embedded):.3f} s\n")
 
     # lifting started from the 3D view's control shows on the page's status
-    view.get_by_role("button", name="Start lifting").dispatch_event("click")  # the status above it changes height at 30 Hz
+    view.get_by_role("button", name="Start lifting").dispatch_event(
+        "click"
+    )  # the status above it changes height at 30 Hz
     wait_text(page, "#st-lifting", "ON, band [10, 15] N")
     time.sleep(2)  # the robot presses the box
     # viser's "software WebGL" notice (only there) closed, if still shown: the screenshot shows the scene
-    view.locator("body").evaluate("() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())")
+    view.locator("body").evaluate(
+        "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())"
+    )
     page.evaluate("document.querySelector('#ros').scrollTop = 0")
     page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
     assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000
@@ -213,7 +246,9 @@ def test_console_shows_rosout_filtered_by_node_and_level(page, server):
     page.locator("#console-level").select_option("INFO")  # the service's DEBUG lines are filtered out
     assert "/add_two_ints answered" not in text_of(page, "#console-lines")
     page.locator("#console-level").select_option("DEBUG")
-    page.wait_for_function("() => [...document.querySelectorAll('#console-node option')].some(o => o.value === 'service')")
+    page.wait_for_function(
+        "() => [...document.querySelectorAll('#console-node option')].some(o => o.value === 'service')"
+    )
     page.locator("#console-node").select_option("service")
     rows = page.locator("#console-lines tbody tr")
     assert rows.count() > 0
@@ -234,7 +269,9 @@ def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
         counting.locator("button[type=submit]").click()
         wait_text(page, ".action[data-name='/counting'] .goal", "succeeded")
         assert "current=2" in text_of(page, ".action[data-name='/counting'] .goal")
-        assert '"final": 2' in text_of(page, ".action[data-name='/counting'] .goal") or "final: 2" in text_of(page, ".action[data-name='/counting'] .goal")
+        assert '"final": 2' in text_of(page, ".action[data-name='/counting'] .goal") or "final: 2" in text_of(
+            page, ".action[data-name='/counting'] .goal"
+        )
     finally:
         node.close()
     counting.wait_for(state="detached")

@@ -1,6 +1,7 @@
 """A hostile page on another local origin, in Chromium, tries to drive the lab (fetch, a form
 POST, a WebSocket) while the student has the lab open: every attempt is refused and nothing
 changes; the lab's own page keeps working."""
+
 import http.server
 import threading
 
@@ -67,7 +68,9 @@ def test_a_page_on_another_origin_cannot_drive_the_lab(lab, evil_site):
     from playwright.sync_api import sync_playwright
 
     httpx.post(f"{lab}/services/stop_cooperative_lifting")
-    before = {name: httpx.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in ("linear_speed", "angular_speed")}
+    before = {
+        name: httpx.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in ("linear_speed", "angular_speed")
+    }
     health = httpx.get(f"{lab}/health").json()
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
@@ -84,7 +87,9 @@ def test_a_page_on_another_origin_cannot_drive_the_lab(lab, evil_site):
             assert after == before
             assert httpx.get(f"{lab}/topics/lifting_state").json()["started"] is False
             now = httpx.get(f"{lab}/health").json()  # not reset: sim time ran on with the ticks (1 ms each)
-            assert now["sim_time"] - health["sim_time"] == pytest.approx((now["ticks"] - health["ticks"]) * 1e-3, abs=0.05)
+            assert now["sim_time"] - health["sim_time"] == pytest.approx(
+                (now["ticks"] - health["ticks"]) * 1e-3, abs=0.05
+            )
             # the lab's own page: the same requests from its origin go through
             page.goto(lab + "/")
             status = page.evaluate("""async () => {

@@ -1,4 +1,5 @@
 """`hri-lab serve` as a user starts it, and the ros2-like CLI against it (real processes, loopback)."""
+
 import os
 import socket
 import subprocess
@@ -46,7 +47,10 @@ def test_service_cli(server):
     assert "response:\nhri_lab.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
     bad = cli(url, "service", "call", "/add_two_ints", "{a: 1, b: x}")
     assert bad.returncode == 1 and "b: Input should be a valid integer" in bad.stderr
-    assert cli(url, "service", "show", "/start_cooperative_lifting").stdout == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message\n"
+    assert (
+        cli(url, "service", "show", "/start_cooperative_lifting").stdout
+        == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message\n"
+    )
 
 
 def test_param_cli(server, tmp_path):
@@ -54,8 +58,10 @@ def test_param_cli(server, tmp_path):
     assert "Double value is: 0.5" in cli(url, "param", "get", "/cooperative_lifting", "mu").stdout
     out = cli(url, "param", "set", "/cooperative_lifting", "mu", "abc")
     assert out.returncode == 1
-    assert out.stdout.strip() == ("Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, "
-                                  "setting it to {string} is not allowed.")
+    assert out.stdout.strip() == (
+        "Setting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, "
+        "setting it to {string} is not allowed."
+    )
     assert cli(url, "param", "set", "/cooperative_lifting", "mu", "0.6").stdout.strip() == "Set parameter successful"
     described = cli(url, "param", "describe", "/sim", "rate_hz").stdout
     assert "Type: integer" in described and "Read only: true" in described
@@ -65,7 +71,9 @@ def test_param_cli(server, tmp_path):
     path.write_text("cooperative_lifting:\n  ros__parameters:\n    mu: 0.5\n    f_n_min: 99.0\n")
     loaded = cli(url, "param", "load", str(path))
     assert "Set parameter mu successful" in loaded.stdout
-    assert "Set parameter f_n_min failed: Parameter {f_n_min} doesn't comply with floating point range." in loaded.stdout
+    assert (
+        "Set parameter f_n_min failed: Parameter {f_n_min} doesn't comply with floating point range." in loaded.stdout
+    )
     assert "/cooperative_lifting:\n  f_n_min" in cli(url, "param", "list").stdout
 
 
@@ -81,9 +89,11 @@ def test_topic_cli(server):
 def test_the_client_commands_do_not_load_the_simulation():
     """`hri-lab service|param|topic|action` import neither numba nor pinocchio (nor the app's
     server): a command's module is imported when that command runs (app/cli/main.py)."""
-    probe = ("import sys; from app.cli.main import build_parser, main; build_parser(); "
-             "code = main(['service', 'list', '--url', 'http://127.0.0.1:1']); "
-             "print(code, sorted(m for m in ('numba', 'pinocchio', 'fastapi', 'sim.world') if m in sys.modules))")
+    probe = (
+        "import sys; from app.cli.main import build_parser, main; build_parser(); "
+        "code = main(['service', 'list', '--url', 'http://127.0.0.1:1']); "
+        "print(code, sorted(m for m in ('numba', 'pinocchio', 'fastapi', 'sim.world') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "1 []", out.stdout + out.stderr  # exit 1: no server there
 
@@ -96,8 +106,12 @@ def test_cli_without_server_is_a_clear_error():
 def test_bad_params_file_refuses_to_start(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text("cooperative_lifting:\n  ros__parameters:\n    mu: fast\n")
-    out = subprocess.run([sys.executable, "-m", "app.cli", "serve", "--port", "0", "--view", "none", "--params", str(path)],
-                         capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        [sys.executable, "-m", "app.cli", "serve", "--port", "0", "--view", "none", "--params", str(path)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert out.returncode == 2 and "Wrong parameter type, parameter {mu}" in out.stderr
 
 

@@ -2,6 +2,7 @@
 record (SPController, PatchController): the same commands and slipping flags, step after step, at
 random wrenches (in and out of contact, inside and beyond the cone, with moments), poses and
 parameters, from the same state."""
+
 import numpy as np
 import pytest
 
@@ -14,11 +15,22 @@ from sim.spatial import rotation_exp
 
 def random_params(rng) -> LiftingParams:
     return LiftingParams(
-        running=bool(rng.random() < 0.85), f_n_min=rng.uniform(0.0, 15.0), f_n_band=rng.uniform(1.0, 8.0),
-        mu=rng.uniform(0.2, 1.0), alpha=rng.uniform(0.2, 0.95), k_n=rng.uniform(0.001, 0.02), k_t=rng.uniform(0.01, 0.3),
-        k_w=rng.uniform(0.2, 3.0), moment_deadband=rng.uniform(0.0, 0.3), f_contact=rng.uniform(0.2, 2.0),
-        v_max=rng.uniform(0.05, 0.6), w_max=rng.uniform(0.2, 1.5), a_max=rng.uniform(0.2, 3.0),
-        dw_max=rng.uniform(0.5, 4.0), filter_hz=float(rng.choice([0.0, 5.0, 10.0, 30.0])), plate_offset=rng.uniform(0.0, 0.05),
+        running=bool(rng.random() < 0.85),
+        f_n_min=rng.uniform(0.0, 15.0),
+        f_n_band=rng.uniform(1.0, 8.0),
+        mu=rng.uniform(0.2, 1.0),
+        alpha=rng.uniform(0.2, 0.95),
+        k_n=rng.uniform(0.001, 0.02),
+        k_t=rng.uniform(0.01, 0.3),
+        k_w=rng.uniform(0.2, 3.0),
+        moment_deadband=rng.uniform(0.0, 0.3),
+        f_contact=rng.uniform(0.2, 2.0),
+        v_max=rng.uniform(0.05, 0.6),
+        w_max=rng.uniform(0.2, 1.5),
+        a_max=rng.uniform(0.2, 3.0),
+        dw_max=rng.uniform(0.5, 4.0),
+        filter_hz=float(rng.choice([0.0, 5.0, 10.0, 30.0])),
+        plate_offset=rng.uniform(0.0, 0.05),
     )
 
 
@@ -36,8 +48,16 @@ def test_the_compiled_law_commands_what_the_python_class_commands(make):
             wrench = base + rng.normal(size=6) * [2, 2, 2, 0.2, 0.2, 0.2]
             expected = python.step(wrench.copy(), transform.copy(), params, 1e-3)
             out = np.empty(6)
-            lifting_law_step(compiled.law(), compiled.state, lifting_vector(params), compiled.constants(), wrench,
-                             rotation.copy(), 1e-3, out)
+            lifting_law_step(
+                compiled.law(),
+                compiled.state,
+                lifting_vector(params),
+                compiled.constants(),
+                wrench,
+                rotation.copy(),
+                1e-3,
+                out,
+            )
             np.testing.assert_allclose(out, expected, rtol=0, atol=1e-12)
             assert compiled.slipping == python.slipping
             np.testing.assert_allclose(compiled.state, python.state, rtol=0, atol=1e-12)

@@ -1,6 +1,7 @@
 """The compiled step's three compositions step the same world the same way: one compiled call (a
 built-in controller), compiled sense + the controller in Python + compiled rest (a subclass of SP
 with its own twist_ee), and the rest through the components' Python methods (a patched human)."""
+
 import numpy as np
 
 from sim.controllers.sp import SPController
@@ -23,8 +24,18 @@ def trial_world(controller=None, patch_human=False) -> World:
 
 
 def state(world: World) -> np.ndarray:
-    return np.concatenate((world.arm.q, world.box.position, world.box.rotation.ravel(), world.human.position,
-                           world.wrench_ee, world.twist_command, world.plate_out, world.palm_out))
+    return np.concatenate(
+        (
+            world.arm.q,
+            world.box.position,
+            world.box.rotation.ravel(),
+            world.human.position,
+            world.wrench_ee,
+            world.twist_command,
+            world.plate_out,
+            world.palm_out,
+        )
+    )
 
 
 def test_the_three_compositions_step_alike():

@@ -1,4 +1,5 @@
 """Spring contact model: hand-computed forces, squeeze and slip of the box, NaN-free motion."""
+
 import numpy as np
 import pytest
 
@@ -128,8 +129,19 @@ def test_no_nan_in_1e5_steps_of_random_motion():
         b = palm.step(r_palm, palm_pos, v_palm, w_palm, pose, dt)
         box.step(a.force_box + b.force_box, a.torque_box + b.torque_box, dt)
         if i % 1000 == 0:
-            state = np.concatenate((box.position, box.velocity, box.angular_velocity, box.rotation.ravel(),
-                                    a.force_box, a.torque_box, b.force_box, b.torque_box, plate.bristles.ravel()))
+            state = np.concatenate(
+                (
+                    box.position,
+                    box.velocity,
+                    box.angular_velocity,
+                    box.rotation.ravel(),
+                    a.force_box,
+                    a.torque_box,
+                    b.force_box,
+                    b.torque_box,
+                    plate.bristles.ravel(),
+                )
+            )
             assert np.all(np.isfinite(state)), f"non-finite state at step {i}"
     assert np.all(np.isfinite(box.position)) and np.all(np.isfinite(box.rotation))
     assert np.linalg.det(box.rotation) == pytest.approx(1.0, abs=1e-6)

@@ -1,5 +1,6 @@
 """A controller switch while lifting (sp -> patch, patch -> sp) is bumpless: the new controller
 starts from the running command, so the command never jumps and no reflex trips."""
+
 import numpy as np
 import pytest
 

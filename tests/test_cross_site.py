@@ -1,5 +1,6 @@
 """Cross-site requests are refused (app/api/security.py): Host, Origin/Referer, content types,
 WebSocket upgrades (API and 3D view); the lab's own page, the CLI and curl-like clients work."""
+
 import httpx
 import pytest
 import viser
@@ -39,7 +40,9 @@ def test_a_foreign_origin_cannot_change_anything(client):
     assert client.post("/services/reset_simulation", headers={"origin": "null"}).status_code == 403
     assert speed(client) == before
     # the lab's own page (same origin), and clients that send no Origin, go through
-    assert client.post("/services/add_two_ints", json={"a": 1, "b": 2}, headers={"origin": "http://testserver"}).json() == {"sum": 3}
+    assert client.post(
+        "/services/add_two_ints", json={"a": 1, "b": 2}, headers={"origin": "http://testserver"}
+    ).json() == {"sum": 3}
     assert client.post("/services/stop_cooperative_lifting").status_code == 200
 
 

@@ -1,4 +1,5 @@
 """The numbered scripts of examples/ run as a user runs them (against a real server where they need one)."""
+
 import os
 import subprocess
 import sys

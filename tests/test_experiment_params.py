@@ -1,5 +1,6 @@
 """Parameters for headless experiments: --set / --params / --sweep and the goals' `set` field reuse
 the parameter server's declarations, validation and messages, and reach the trials."""
+
 import json
 import os
 import signal
@@ -9,8 +10,6 @@ from dataclasses import replace
 
 import pytest
 
-from tests.waiting import process_gone, wait_for
-
 from sim.person.human import PickAndPlace
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Setup, make_trial, plan, run_experiment, run_sweep
@@ -19,6 +18,7 @@ from sim.world import WorldConfig
 from app.lab import overrides
 from app.lab.params import LAB_PARAMETERS
 from app.ros.params import ParameterRefused, ParameterServer
+from tests.waiting import process_gone, wait_for
 
 
 def test_declared_defaults_are_the_sim_dataclasses_values():
@@ -27,7 +27,9 @@ def test_declared_defaults_are_the_sim_dataclasses_values():
     for param in LAB_PARAMETERS:
         if param.offline is not None:
             setup = param.offline(Setup(), param.default)
-            assert (setup.params, setup.config, setup.participant(calm)) == (Setup().params, Setup().config, calm), param.name
+            assert (setup.params, setup.config, setup.participant(calm)) == (Setup().params, Setup().config, calm), (
+                param.name
+            )
 
 
 def test_overrides_reach_the_trial_world_controller_and_person():
@@ -43,10 +45,16 @@ def test_overrides_reach_the_trial_world_controller_and_person():
     assert world.human.participant.name == "average" and world.human.participant.peak_speed != 0.08
 
 
-@pytest.mark.parametrize("assignment, node", [
-    ("alpha=1.5", "cooperative_lifting"), ("alpha=fast", "cooperative_lifting"), ("k_t=-0.1", "cooperative_lifting"),
-    ("box_mass=.nan", "sim"), ("speed=true", "human"),
-])
+@pytest.mark.parametrize(
+    "assignment, node",
+    [
+        ("alpha=1.5", "cooperative_lifting"),
+        ("alpha=fast", "cooperative_lifting"),
+        ("k_t=-0.1", "cooperative_lifting"),
+        ("box_mass=.nan", "sim"),
+        ("speed=true", "human"),
+    ],
+)
 def test_a_bad_override_gets_the_parameter_servers_message(assignment, node):
     name, value = assignment.split("=")
     with pytest.raises(ParameterRefused) as server:
@@ -73,7 +81,12 @@ sim:
 """
     found, ignored = overrides.parse_file(dump)
     assert [(p.name, v) for p, v in found] == [("alpha", 0.6), ("k_t", 0.1), ("box_mass", 1.5)]
-    assert ignored == ["/cooperative_lifting/f_n_min", "/cooperative_lifting/controller", "/keytwist/linear_speed", "/sim/rate_hz"]
+    assert ignored == [
+        "/cooperative_lifting/f_n_min",
+        "/cooperative_lifting/controller",
+        "/keytwist/linear_speed",
+        "/sim/rate_hz",
+    ]
     assert overrides.describe(found) == "parameters: alpha = 0.6 (default 0.5), box_mass = 1.5 (default 1)"
     with pytest.raises(ParameterRefused, match=r"Parameter \{alpha\} doesn't comply with floating point range"):
         overrides.parse_file("cooperative_lifting: {ros__parameters: {alpha: 3.0}}")
@@ -89,7 +102,9 @@ def test_sweep_rows_equal_single_runs():
         assert [r.as_dict() for r in row.results] == [r.as_dict() for r in single]
     assert rows[0].results[0].as_dict() != rows[1].results[0].as_dict()
     # a grid: every combination, on top of the --set values
-    grid = overrides.sweep_points(overrides.parse_sweep(["alpha=0.5,0.8", "k_t=0.1,0.2"]), overrides.parse_set("k_n=0.01"))
+    grid = overrides.sweep_points(
+        overrides.parse_sweep(["alpha=0.5,0.8", "k_t=0.1,0.2"]), overrides.parse_set("k_n=0.01")
+    )
     assert [values for values, _ in grid] == [{"alpha": a, "k_t": k} for a in (0.5, 0.8) for k in (0.1, 0.2)]
     assert all(setup.params.k_n == 0.01 and setup.params.alpha == values["alpha"] for values, setup in grid)
     with pytest.raises(ParameterRefused, match="one parameter, or two"):
@@ -100,8 +115,25 @@ def test_cli_sweep_reproduces_the_hasty_finding():
     """`hri-lab experiment --sweep alpha=0.5,0.8`: the override reaches the controller (as measured,
     docs/experiment.md: at 0.8 the hasty participant drops the box, at 0.5 the robot follows
     early enough), one table, and its --json for a figure."""
-    cmd = [sys.executable, "-m", "app.cli", "experiment", "--sweep", "alpha=0.5,0.8", "--trials", "1",
-           "--participant", "hasty", "--seed", "3", "--jobs", "2", "--quiet", "--set", "k_t=0.1"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "app.cli",
+        "experiment",
+        "--sweep",
+        "alpha=0.5,0.8",
+        "--trials",
+        "1",
+        "--participant",
+        "hasty",
+        "--seed",
+        "3",
+        "--jobs",
+        "2",
+        "--quiet",
+        "--set",
+        "k_t=0.1",
+    ]
     data = json.loads(subprocess.run(cmd + ["--json"], capture_output=True, text=True, check=True, timeout=300).stdout)
     assert data["parameters"] == ["alpha"] and data["set"] == {}
     (low, high) = data["points"]
@@ -116,17 +148,42 @@ def test_cli_table_header_states_the_changed_parameters(tmp_path):
     params = tmp_path / "p.yaml"
     params.write_text("cooperative_lifting:\n  ros__parameters: {alpha: 0.9, k_t: 0.1}\n")
     table = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--quiet",
-         "--params", str(params), "--set", "k_t=0.2", "--set", "speed=0.16"],
-        capture_output=True, text=True, check=True, timeout=300).stdout
-    assert table.splitlines()[0] == ("controller sp, seed 3; parameters: alpha = 0.9 (default 0.5), k_t = 0.2 (default 0.1), "
-                                     "speed = 0.16 (default 0.08)")
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "experiment",
+            "--trials",
+            "1",
+            "--participant",
+            "hasty",
+            "--seed",
+            "3",
+            "--quiet",
+            "--params",
+            str(params),
+            "--set",
+            "k_t=0.2",
+            "--set",
+            "speed=0.16",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    ).stdout
+    assert table.splitlines()[0] == (
+        "controller sp, seed 3; parameters: alpha = 0.9 (default 0.5), k_t = 0.2 (default 0.1), "
+        "speed = 0.16 (default 0.08)"
+    )
 
 
 def test_worker_pools_die_with_their_parent(tmp_path):
     """A killed CLI/server leaves no trial worker behind (PR_SET_PDEATHSIG)."""
-    script = ("import os, time\nfrom sim.procedures.workers import worker_pool\n"
-              "pool = worker_pool(1)\nprint(pool.submit(os.getpid).result(), flush=True)\ntime.sleep(60)\n")
+    script = (
+        "import os, time\nfrom sim.procedures.workers import worker_pool\n"
+        "pool = worker_pool(1)\nprint(pool.submit(os.getpid).result(), flush=True)\ntime.sleep(60)\n"
+    )
     parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     worker = int(parent.stdout.readline())
     os.kill(worker, 0)  # alive

@@ -1,10 +1,12 @@
 """The external-command controller (a node's Twist): franka's command watchdog in simulation time,
 limit_rate smoothing, and the robot's reflexes still in force."""
+
 import numpy as np
 
-from app.lab import commands as cmd
 from sim.controllers.external import ExternalCommand
 from sim.world import World
+
+from app.lab import commands as cmd
 
 
 def test_a_command_selects_the_external_controller_and_is_followed_smoothly():
@@ -28,7 +30,9 @@ def test_a_command_not_renewed_within_the_period_stops_the_robot():
         world.step()
     assert world.error is None
     world.step()  # 101 ms
-    assert world.error.startswith("communication constraints violation: no command on /cartesian_velocity_controller/command")
+    assert world.error.startswith(
+        "communication constraints violation: no command on /cartesian_velocity_controller/command"
+    )
     world.recover()  # error recovery: waits for a new first command
     world.run(0.5)
     assert world.error is None

@@ -1,5 +1,6 @@
 """Schemathesis against the app's own OpenAPI schema, on a live server, with a bounded number of
 cases per operation (the longer run: `python -m bench.fuzz`)."""
+
 import pytest
 
 from app.cli.launch import running_server

@@ -1,6 +1,7 @@
 """`hri-lab grade-services`: a lab started with --exercises, the student's node from the services
 template (tests/nodes/services_solution.py, right and with mistakes), graded over HTTP with the
 controller grader's report formats. (The lab's own answers, the reference: tests/grading.)"""
+
 import json
 import os
 import subprocess
@@ -23,8 +24,13 @@ def lab():
 
 def grade(lab, *args, seed="5"):
     env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_GRADE_SEED")}
-    return subprocess.run([sys.executable, "-m", "app.cli", "grade-services", "--url", lab.url, "--seed", seed, *args],
-                          capture_output=True, text=True, timeout=120, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade-services", "--url", lab.url, "--seed", seed, *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+    )
 
 
 def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path):
@@ -73,6 +79,10 @@ def test_no_node_every_exercise_is_not_provided(lab):
 
 
 def test_a_lab_that_cannot_be_reached_is_said_so():
-    result = subprocess.run([sys.executable, "-m", "app.cli", "grade-services", "--url", "http://127.0.0.1:9"],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade-services", "--url", "http://127.0.0.1:9"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 2 and "cannot reach the lab at http://127.0.0.1:9" in result.stderr

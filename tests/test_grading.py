@@ -1,5 +1,6 @@
 """The grader: the reference passes with full marks; each mutant loses exactly what tests its
 mistake (or fails); the battery is drawn from the seed; reports in every format."""
+
 import json
 import subprocess
 import sys
@@ -21,8 +22,12 @@ import template_filled  # noqa: E402
 CONTROLLERS = Path(__file__).parent / "controllers"
 REFERENCE = str(CONTROLLERS / "reference_sp.py")
 ALL_PROBES = {name for name, _ in PROBES}
-CONE = {"beyond the cone: follow against f_t", "beyond the cone: raise the grip toward f_n_max",
-        "inside the cone margin: no tangential motion", "between the margin alpha mu f_n and the cone mu f_n: follow"}
+CONE = {
+    "beyond the cone: follow against f_t",
+    "beyond the cone: raise the grip toward f_n_max",
+    "inside the cone margin: no tangential motion",
+    "between the margin alpha mu f_n and the cone mu f_n: follow",
+}
 MOMENTS = {"a moment in the plate's plane: comply", "a moment about the plate's normal: comply"}
 
 
@@ -33,8 +38,25 @@ def failed(factory, seed: int = 0) -> dict[str, str]:
 def test_reference_sp_plugin_gets_full_marks(tmp_path):
     """The one full battery: sandboxed, every format, exit 0 only with the report written."""
     out = tmp_path / "reports"
-    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", REFERENCE, "--out", str(out), "--format", "gradescope",
-                          "--jobs", "2", "--quiet"], capture_output=True, text=True, timeout=900)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "grade",
+            REFERENCE,
+            "--out",
+            str(out),
+            "--format",
+            "gradescope",
+            "--jobs",
+            "2",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
@@ -53,14 +75,23 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 
 
-@pytest.mark.parametrize("cls, lost", [
-    (mutants.EEFrame, {"below the band: press along +n", "below the band at another pose: +n in the base frame"}),
-    (mutants.TangentialFlipped, {"beyond the cone: follow against f_t", "between the margin alpha mu f_n and the cone mu f_n: follow"}),
-    (mutants.NoGripRaise, {"beyond the cone: raise the grip toward f_n_max"}),
-    (mutants.BandTooWide, {"start and stop set the band [force, force + 5] and running", "the band's upper end is f_n_min + 5 N"}),
-    (mutants.StartStopNoBand, {"start and stop set the band [force, force + 5] and running"}),
-    (mutants.MomentsHeld, MOMENTS),
-])
+@pytest.mark.parametrize(
+    "cls, lost",
+    [
+        (mutants.EEFrame, {"below the band: press along +n", "below the band at another pose: +n in the base frame"}),
+        (
+            mutants.TangentialFlipped,
+            {"beyond the cone: follow against f_t", "between the margin alpha mu f_n and the cone mu f_n: follow"},
+        ),
+        (mutants.NoGripRaise, {"beyond the cone: raise the grip toward f_n_max"}),
+        (
+            mutants.BandTooWide,
+            {"start and stop set the band [force, force + 5] and running", "the band's upper end is f_n_min + 5 N"},
+        ),
+        (mutants.StartStopNoBand, {"start and stop set the band [force, force + 5] and running"}),
+        (mutants.MomentsHeld, MOMENTS),
+    ],
+)
 def test_each_mutant_loses_the_probes_of_its_mistake(cls, lost):
     lost_now = failed(cls)
     if cls is mutants.EEFrame:  # every probe that moves is in the wrong frame: it falls below the mark
@@ -71,8 +102,12 @@ def test_each_mutant_loses_the_probes_of_its_mistake(cls, lost):
     elif cls is mutants.StartStopNoBand:
         # the probe stream starts lifting with the controller's own start(), as a trial does: its band
         # stays [0, 5] N, and a friction probe drawn at f_n below contact (1 N) sees no follow
-        assert lost <= set(lost_now) <= lost | {"beyond the cone: follow against f_t",
-                                                "between the margin alpha mu f_n and the cone mu f_n: follow"}
+        assert (
+            lost
+            <= set(lost_now)
+            <= lost
+            | {"beyond the cone: follow against f_t", "between the margin alpha mu f_n and the cone mu f_n: follow"}
+        )
     else:
         assert set(lost_now) == lost, lost_now
 
@@ -83,14 +118,16 @@ def test_admittance_follower_and_do_nothing_controllers_fail():
         report.items = probe_items(cls)
         lost = {i.name for i in report.items if i.points == 0}
         assert report.score_of("probe") < PROBE_PASS_MARK and not report.passed, lost
-    assert {"inside the cone margin: no tangential motion", "inside the band: hold still"} | MOMENTS \
-        <= {i.name for i in probe_items(mutants.Admittance) if i.points == 0}
+    assert {"inside the cone margin: no tangential motion", "inside the band: hold still"} | MOMENTS <= {
+        i.name for i in probe_items(mutants.Admittance) if i.points == 0
+    }
 
 
 def test_the_untouched_template_fails(tmp_path):
     template = tmp_path / "cooperative_lifting.py"
-    template.write_text(subprocess.run([sys.executable, "-m", "app.cli", "template"], capture_output=True, text=True,
-                                       check=True).stdout)
+    template.write_text(
+        subprocess.run([sys.executable, "-m", "app.cli", "template"], capture_output=True, text=True, check=True).stdout
+    )
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("template_as_written", template)
@@ -99,7 +136,10 @@ def test_the_untouched_template_fails(tmp_path):
     items = probe_items(module.CooperativeLifting)  # in-process here (the sandbox has tests of its own)
     assert not any("error" in i.detail for i in items)  # it runs: the robot just does not move
     assert {i.name for i in items if i.points == i.max_points} <= {
-        "stopped: zero twist", "inside the band: hold still", "inside the cone margin: no tangential motion"}
+        "stopped: zero twist",
+        "inside the band: hold still",
+        "inside the cone margin: no tangential motion",
+    }
 
 
 def test_the_flipped_tangential_sign_loses_the_box():
@@ -115,7 +155,9 @@ def test_the_flipped_tangential_sign_loses_the_box():
 
 
 def test_probe_values_come_from_the_seed():
-    assert [Draw(7, i).unit_in_plane().tolist() for i in range(3)] == [Draw(7, i).unit_in_plane().tolist() for i in range(3)]
+    assert [Draw(7, i).unit_in_plane().tolist() for i in range(3)] == [
+        Draw(7, i).unit_in_plane().tolist() for i in range(3)
+    ]
     assert Draw(7, 0).force != Draw(8, 0).force
     assert probe_items(mutants.NoGripRaise, seed=12345) == probe_items(mutants.NoGripRaise, seed=12345)
 
@@ -127,7 +169,10 @@ def test_not_counted_items_and_the_summary():
     broken = new_report("b.py", 0)
     broken.error = "importing b.py failed: SyntaxError"
     assert summary_csv([report, broken]).splitlines() == [
-        "subject,points,max_points,score,passed,error", "a.py,5,5,100.0,yes,", "b.py,0,0,0.0,no,importing b.py failed: SyntaxError"]
+        "subject,points,max_points,score,passed,error",
+        "a.py,5,5,100.0,yes,",
+        "b.py,0,0,0.0,no,importing b.py failed: SyntaxError",
+    ]
 
 
 def test_plugin_loading_errors(tmp_path):
@@ -147,8 +192,12 @@ def test_a_batch_reports_every_file_even_those_that_cannot_load(tmp_path):
     (folder / "exits.py").write_text((CONTROLLERS / "exits_at_import.py").read_text())
     (folder / "syntax.py").write_text("class CooperativeLifting(:\n")
     out = tmp_path / "reports"
-    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", str(folder), "--out", str(out), "--quiet"],
-                         capture_output=True, text=True, timeout=300)
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade", str(folder), "--out", str(out), "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert run.returncode == 1, run.stderr
     assert "failed: SystemExit: 0" in (out / "exits.txt").read_text()
     assert "SyntaxError" in json.loads((out / "syntax.json").read_text())["error"]
@@ -164,7 +213,9 @@ def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
 
     with running_server("--view", "none", "--controller", f"{CONTROLLERS / 'broken.py'}:Raising") as server:
         url = server.url
-        assert httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, timeout=30).status_code == 200
+        assert (
+            httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, timeout=30).status_code == 200
+        )
         deadline = time.monotonic() + 30
         while not (error := httpx.get(f"{url}/topics/lifting_state").json()["error"]) and time.monotonic() < deadline:
             time.sleep(0.1)
@@ -186,4 +237,5 @@ def test_the_template_filled_in_as_its_hints_say_passes():
     assert filled.success and reference.success
     assert filled.steps == reference.steps
     assert (filled.duration, filled.f_n_min, filled.f_n_max, filled.slip) == pytest.approx(
-        (reference.duration, reference.f_n_min, reference.f_n_max, reference.slip), rel=1e-6)
+        (reference.duration, reference.f_n_min, reference.f_n_max, reference.slip), rel=1e-6
+    )

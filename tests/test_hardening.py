@@ -1,4 +1,5 @@
 """Faults, concurrency and access: the server holds."""
+
 import os
 import random
 import signal
@@ -9,9 +10,9 @@ import threading
 import httpx
 import pytest
 
-from app.lab import commands as cmd
 from app.api.access import is_loopback
 from app.cli.launch import running_server
+from app.lab import commands as cmd
 from tests.waiting import wait_for
 
 
@@ -60,6 +61,7 @@ def test_concurrent_start_stop_and_parameter_writes_never_mix_the_state(client, 
 
 def _kill_the_loop_thread(world) -> None:
     """The next step raises SystemExit (which no `except Exception` catches), once."""
+
     def step() -> None:
         del world.step
         raise SystemExit("killed by a test")
@@ -101,9 +103,13 @@ def test_loopback_detection():
 
 
 def test_binding_another_address_needs_a_token():
-    run = subprocess.run([sys.executable, "-m", "app.cli", "serve", "--host", "0.0.0.0", "--port", "0",
-                          "--view", "none"], capture_output=True, text=True, timeout=60,
-                         env={k: v for k, v in __import__("os").environ.items() if k != "HRI_LAB_TOKEN"})
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "serve", "--host", "0.0.0.0", "--port", "0", "--view", "none"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={k: v for k, v in __import__("os").environ.items() if k != "HRI_LAB_TOKEN"},
+    )
     assert run.returncode == 2 and "needs a token" in run.stderr
 
 
@@ -123,11 +129,22 @@ def test_a_change_without_the_token_is_refused(guarded_server):
     assert httpx.get(f"{url}/topics/lifting_state").json()["started"] is False  # nothing changed
     # reading stays open; with the token, changes go through
     assert httpx.get(f"{url}/services").status_code == 200
-    ok = httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, headers={"Authorization": "Bearer s3cret-s3cret-s3cret"})
+    ok = httpx.post(
+        f"{url}/services/start_cooperative_lifting",
+        json={"force": 10},
+        headers={"Authorization": "Bearer s3cret-s3cret-s3cret"},
+    )
     assert ok.status_code == 200
-    assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"X-HRI-Lab-Token": "s3cret-s3cret-s3cret"}).json() == {"sum": 3}
+    assert httpx.post(
+        f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"X-HRI-Lab-Token": "s3cret-s3cret-s3cret"}
+    ).json() == {"sum": 3}
     # the CLI sends $HRI_LAB_TOKEN
     env = dict(__import__("os").environ, HRI_LAB_URL=url, HRI_LAB_TOKEN="s3cret-s3cret-s3cret")
-    out = subprocess.run([sys.executable, "-m", "app.cli", "param", "set", "/keytwist", "linear_speed", "0.2"],
-                         capture_output=True, text=True, env=env, timeout=60)
+    out = subprocess.run(
+        [sys.executable, "-m", "app.cli", "param", "set", "/keytwist", "linear_speed", "0.2"],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
     assert out.stdout.strip() == "Set parameter successful"

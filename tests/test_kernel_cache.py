@@ -1,4 +1,5 @@
 """The kernels' on-disk cache follows their sources (sim/kernel_cache.py)."""
+
 from pathlib import Path
 
 from sim.kernel_cache import drop_stale_caches

@@ -1,4 +1,5 @@
 """Panda J^T F (Exercise 8), its least-squares inverse (Exercise 2), the planar arm (Exercise 1)."""
+
 import numpy as np
 import pytest
 

@@ -1,6 +1,7 @@
 """The SP law judged inside the trials (sim/procedures/law_checks.py), the probes as one stream a
 file cannot tell from a trial, and the battery that tells SP from followers and probe-detecting
 files (docs/grading-battery.md: what each loses)."""
+
 import sys
 from pathlib import Path
 from types import SimpleNamespace
@@ -9,11 +10,18 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams, start_lifting
-from sim.procedures.grading import (PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, probe_items, run_items,
-                                    start_transform)
+from sim.controllers.sp import SPController
+from sim.procedures.grading import (
+    PROBE_PASS_MARK,
+    ROBUSTNESS,
+    battery,
+    new_report,
+    probe_items,
+    run_items,
+    start_transform,
+)
 from sim.procedures.law_checks import LawWatch
 from sim.procedures.situations import MidCarryStop
-from sim.controllers.sp import SPController
 
 sys.path.insert(0, str(Path(__file__).parent / "controllers"))
 import followers  # noqa: E402
@@ -24,8 +32,11 @@ STOP = len(ROBUSTNESS) - 1  # the pull, then the mid-carry stop
 CONE = {"beyond the cone: raise the grip toward f_n_max", "inside the cone margin: no tangential motion"}
 MOMENTS = {"a moment in the plate's plane: comply", "a moment about the plate's normal: comply"}
 STILL = "inside the band: hold still"
-NORMAL = {"below the band: press along +n", "below the band at another pose: +n in the base frame",
-          "above the band: release along -n"}
+NORMAL = {
+    "below the band: press along +n",
+    "below the band at another pose: +n in the base frame",
+    "above the band: release along -n",
+}
 # what the followers lose in the probes (docs/grading-battery.md, the outcomes table)
 FOLLOWER_PROBES = {STILL} | CONE | MOMENTS
 
@@ -40,11 +51,16 @@ def stream(steps, f_n=12.0, f_t=(0.0, 0.0, 0.0), m_c=(0.0, 0.0, 0.0), v=(0.0, 0.
     transform[:3, :3] = [[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]]  # z_ee = +y_b
     watch = LawWatch(capacity=16)  # grows as it is fed
     for k in range(steps):
-        world = SimpleNamespace(time=(k + 1) * 1e-3, params=params, twist_command=np.array([*v, *w]),
-                                arm=SimpleNamespace(transform_ee_to_base=transform),
-                                human=SimpleNamespace(holding_by_contact=True),
-                                plate_state=SimpleNamespace(normal_force=f_n, tangential_force=np.array(f_t, float),
-                                                            moment_patch=np.array(m_c, float)))
+        world = SimpleNamespace(
+            time=(k + 1) * 1e-3,
+            params=params,
+            twist_command=np.array([*v, *w]),
+            arm=SimpleNamespace(transform_ee_to_base=transform),
+            human=SimpleNamespace(holding_by_contact=True),
+            plate_state=SimpleNamespace(
+                normal_force=f_n, tangential_force=np.array(f_t, float), moment_patch=np.array(m_c, float)
+            ),
+        )
         watch.observe(world)
     return watch
 
@@ -67,7 +83,10 @@ def test_inside_the_margin_a_moving_plate_is_named_with_the_time_and_the_distanc
     moves 10 mm/s along -z_b: in the 0.5 s window 5.0 mm > 2 mm."""
     found = stream(1000, f_t=(0, 0, 2.0), v=(0, 0, -0.01)).findings()
     assert [f.behaviour for f in found] == ["stick"]
-    assert "the friction was 0.33 of mu f_n, inside your margin alpha = 0.5, yet the plate moved 5.0 mm along it" in found[0].message
+    assert (
+        "the friction was 0.33 of mu f_n, inside your margin alpha = 0.5, yet the plate moved 5.0 mm along it"
+        in found[0].message
+    )
     assert found[0].message.startswith(f"at {found[0].time:.1f} s") and found[0].time == pytest.approx(0.2, abs=0.01)
     # 3 mm/s is 1.5 mm in 0.5 s: within the threshold
     assert stream(1000, f_t=(0, 0, 2.0), v=(0, 0.0, -0.003)).findings() == []
@@ -137,14 +156,17 @@ def test_the_probe_stream_has_nothing_constant_still_or_fixed_to_key_on():
     assert not np.allclose(other[0][0], log[0][0])
 
 
-@pytest.mark.parametrize("cls, lost", [
-    (followers.AdmittanceBand, FOLLOWER_PROBES),
-    (followers.NoCone, {STILL} | CONE),
-    (probe_detectors.NoiseFree, FOLLOWER_PROBES),
-    (probe_detectors.StillPose, FOLLOWER_PROBES),
-    (probe_detectors.ResetPattern, FOLLOWER_PROBES),
-    (probe_detectors.ElapsedSteps, CONE | MOMENTS),  # SP for its first 2 s: the band's first probes
-])
+@pytest.mark.parametrize(
+    "cls, lost",
+    [
+        (followers.AdmittanceBand, FOLLOWER_PROBES),
+        (followers.NoCone, {STILL} | CONE),
+        (probe_detectors.NoiseFree, FOLLOWER_PROBES),
+        (probe_detectors.StillPose, FOLLOWER_PROBES),
+        (probe_detectors.ResetPattern, FOLLOWER_PROBES),
+        (probe_detectors.ElapsedSteps, CONE | MOMENTS),  # SP for its first 2 s: the band's first probes
+    ],
+)
 def test_followers_and_probe_detectors_lose_the_sp_probes(cls, lost):
     """Through the stream a probe-detecting file is the follower it is in the trials: each loses
     the probes of the cone, the band and the moments, below the probes' pass mark."""
@@ -164,8 +186,12 @@ def test_followers_and_probe_detectors_lose_the_sp_probes(cls, lost):
 @pytest.fixture(scope="module")
 def stop_items():
     """The pull-then-stop trial, one per controller (in two processes)."""
-    kinds = {"sp": SPController, "admittance_band": followers.AdmittanceBand, "no_cone": followers.NoCone,
-             "moments_held": mutants.MomentsHeld}
+    kinds = {
+        "sp": SPController,
+        "admittance_band": followers.AdmittanceBand,
+        "no_cone": followers.NoCone,
+        "moments_held": mutants.MomentsHeld,
+    }
     jobs = [("robustness", STOP, make, 0, None) for make in kinds.values()]
     return dict(zip(kinds, run_items(jobs, workers=2)))
 
@@ -181,7 +207,10 @@ def test_in_the_stop_situation_sp_keeps_the_law_and_followers_creep(stop_items):
         assert "inside your margin alpha = 0.5, yet the plate moved" in item.detail
     assert "a moment at the plate: comply" in stop_items["admittance_band"].detail
     # the mutant that holds the moments: the turn of the box shows it
-    assert stop_items["moments_held"].points == 0 and "a moment at the plate: comply was missing" in stop_items["moments_held"].detail
+    assert (
+        stop_items["moments_held"].points == 0
+        and "a moment at the plate: comply was missing" in stop_items["moments_held"].detail
+    )
 
 
 @pytest.fixture(scope="module")

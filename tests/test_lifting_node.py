@@ -3,6 +3,7 @@ carries the calm participant's box, driving the robot only through rosbridge (F_
 commands out). Real time: ~20 s. The command period is raised to 5 s here: the test machine is
 shared, and a starved node is not what this test is about (tests/test_external_command.py and
 test_rosbridge_roslibpy.py test the 100 ms watchdog)."""
+
 import subprocess
 import sys
 import time
@@ -25,17 +26,25 @@ def palm_in_box(url):
     """The palm's position in the box frame (m): how far the box slid in the person's hand."""
     box = httpx.get(f"{url}/topics/object_pose").json()["pose"]
     x, y, z, w = (box["orientation"][k] for k in "xyzw")
-    rotation = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    rotation = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     return rotation.T @ (position(url, "human_hand_pose") - np.array([box["position"][k] for k in "xyz"]))
 
 
 def test_the_lifting_node_carries_the_box():
     with running_server("--view", "none") as lab:
         assert httpx.put(f"{lab.url}/params/sim/command_period", json={"value": 5.0}).json()["successful"]
-        node = subprocess.Popen([sys.executable, str(NODE), "--port", str(lab.port)],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        node = subprocess.Popen(
+            [sys.executable, str(NODE), "--port", str(lab.port)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
         try:
             assert node.stdout.readline().startswith("node ready")
             started = httpx.post(f"{lab.url}/services/start_cooperative_lifting", json={"force": 10}, timeout=10).json()

@@ -1,5 +1,6 @@
 """Limits and timeouts: no input crashes or stalls the server (body size, YAML, echoes, stream
 rates, long-polls, half-sent requests, shutdown, tokens)."""
+
 import json
 import signal
 import socket
@@ -38,12 +39,20 @@ def test_a_body_beyond_the_limit_is_a_413(client):
 
 def test_refusals_echo_little_and_never_fail_on_what_they_echo(client):
     # a lone UTF-16 surrogate (JSON can carry it, UTF-8 cannot): a clean 422 naming the field
-    for path, body in (("/services/echo", b'{"in": "\\ud800"}'), ("/services/login", b'{"username": "\\udfff", "magic_number": 1}'),
-                       ("/services/add_two_ints", b'{"a": "\\ud800", "b": 1}')):
+    for path, body in (
+        ("/services/echo", b'{"in": "\\ud800"}'),
+        ("/services/login", b'{"username": "\\udfff", "magic_number": 1}'),
+        ("/services/add_two_ints", b'{"a": "\\ud800", "b": 1}'),
+    ):
         r = client.post(path, content=body, headers={"content-type": "application/json"})
         assert r.status_code == 422, (path, r.text)
-        assert r.json()["detail"][0]["loc"][:2] == ["body", json.loads(body).popitem()[0] if path.endswith("echo") else r.json()["detail"][0]["loc"][1]]
-    r = client.put("/params/human/profile", content=b'{"value": "\\ud800"}', headers={"content-type": "application/json"})
+        assert r.json()["detail"][0]["loc"][:2] == [
+            "body",
+            json.loads(body).popitem()[0] if path.endswith("echo") else r.json()["detail"][0]["loc"][1],
+        ]
+    r = client.put(
+        "/params/human/profile", content=b'{"value": "\\ud800"}', headers={"content-type": "application/json"}
+    )
     assert r.status_code in (422, 200) and r.status_code < 500
     # a huge input is echoed cut short
     r = client.post("/services/add_two_ints", json={"a": "x" * 500_000, "b": list(range(10_000))})
@@ -130,10 +139,15 @@ def test_long_polls_hold_no_thread(server):
     try:
         poll = f"{url}/actions/count/goals/{goal}"
         # one client, 60 connections (60 clients of their own would cost a loaded machine seconds of CPU)
-        with ThreadPoolExecutor(60) as pool, httpx.Client(limits=httpx.Limits(max_connections=64), timeout=90) as polling:
+        with (
+            ThreadPoolExecutor(60) as pool,
+            httpx.Client(limits=httpx.Limits(max_connections=64), timeout=90) as polling,
+        ):
             polls = [pool.submit(polling.get, poll, params={"after": 1000, "wait": 30}) for _ in range(60)]
             time.sleep(1.0)  # let them arrive (none returns before the goal ends or 30 s pass)
-            assert httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers=AUTH, timeout=30).json() == {"sum": 3}
+            assert httpx.post(
+                f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers=AUTH, timeout=30
+            ).json() == {"sum": 3}
             ended = [p.result().json() for p in polls if p.done()]
             assert not ended, ended[:1]
             httpx.post(f"{poll}/cancel", headers=AUTH)  # ends the goal: every long-poll answers
@@ -153,7 +167,9 @@ def test_a_non_ascii_token_is_a_401_and_shutdown_is_bounded(server):
     ws.recv()
     goal = httpx.post(f"{server.url}/actions/count/goals", json={"count": 60}, headers=AUTH).json()["goal_id"]
     with ThreadPoolExecutor(1) as pool:
-        poll = pool.submit(httpx.get, f"{server.url}/actions/count/goals/{goal}", params={"after": 1000, "wait": 30}, timeout=60)
+        poll = pool.submit(
+            httpx.get, f"{server.url}/actions/count/goals/{goal}", params={"after": 1000, "wait": 30}, timeout=60
+        )
         time.sleep(0.5)
         server.proc.send_signal(signal.SIGTERM)
         server.proc.wait(timeout=20)  # SHUTDOWN_S = 3 s, then the simulation stops
@@ -189,7 +205,11 @@ def test_half_sent_requests_are_closed():
     try:
         while not server.started:
             time.sleep(0.02)
-        partial = [b"", b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n", b"POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\nabc"]
+        partial = [
+            b"",
+            b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n",
+            b"POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\nabc",
+        ]
         sockets = []
         for data in partial * 2:
             c = socket.create_connection(("127.0.0.1", port))

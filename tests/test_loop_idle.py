@@ -1,13 +1,15 @@
 """An idle lab sleeps (app/runtime/loop.py): with nobody commanding the robot the real-time loop
 steps in batches; the steps are the same ones (the same world at the same tick as stepping it
 directly), and a command brings 1 ms granularity back until the robot is left alone again."""
+
 import threading
 
 import numpy as np
 
+from sim.world import World
+
 from app.lab import commands as cmd
 from app.runtime.loop import SimulationLoop
-from sim.world import World
 from tests.waiting import wait_for
 
 

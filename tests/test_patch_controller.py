@@ -1,14 +1,15 @@
 """The patch controller's contact reasoning, against hand-computed cases, and its moment law."""
+
 import numpy as np
 import pytest
 
-from sim.physics.box import Box, BoxParams
-from sim.physics.contact import ContactParams, PatchContact, PatchGeometry
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.controllers.patch import PatchController, kern_ratio, patch_grip
-from sim.robot.plate import Plate
-from sim.physics.sensor import wrench_at_ee
 from sim.controllers.sp import SPController
+from sim.physics.box import Box, BoxParams
+from sim.physics.contact import ContactParams, PatchContact, PatchGeometry
+from sim.physics.sensor import wrench_at_ee
+from sim.robot.plate import Plate
 
 D = 0.02  # plate offset (m)
 R_EQ = PatchGeometry(0.10, 0.10).mean_radius
@@ -115,7 +116,9 @@ def test_patch_follows_the_person_like_sp_beyond_the_limit_surface():
     assert v[0] == pytest.approx(-0.1 * (6 - 3.0))
     assert v[2] > 0  # and the grip is raised
     # without torsion the limit-surface law is exactly SP's cone law
-    assert PatchController().twist_ee(wrench, params())[:3] == pytest.approx(SPController().twist_ee(wrench, params())[:3])
+    assert PatchController().twist_ee(wrench, params())[:3] == pytest.approx(
+        SPController().twist_ee(wrench, params())[:3]
+    )
 
 
 def test_torsion_beyond_the_limit_surface_turns_about_the_normal_and_raises_the_grip():

@@ -1,5 +1,6 @@
 """Recordings (MCAP) and figures of trials: read back with the mcap reader, checked against the
 simulation that made them."""
+
 import signal
 import subprocess
 import sys
@@ -54,12 +55,16 @@ def test_recorded_trial_has_the_channels_schemas_and_counts(recorded):
     result, _, _ = recorded
     with open(result.files["recording"], "rb") as f:
         summary = make_reader(f).get_summary()
-    channels = {c.topic: (summary.schemas[c.schema_id].name, c.message_encoding, summary.schemas[c.schema_id].encoding)
-                for c in summary.channels.values()}
+    channels = {
+        c.topic: (summary.schemas[c.schema_id].name, c.message_encoding, summary.schemas[c.schema_id].encoding)
+        for c in summary.channels.values()
+    }
     counts = {summary.channels[cid].topic: n for cid, n in summary.statistics.channel_message_counts.items()}
-    assert channels == {**{t: (kind, "json", "jsonschema") for t, kind in LAB_TOPICS.items()},
-                        "/tf": ("foxglove.FrameTransform", "json", "jsonschema"),
-                        "/scene": ("foxglove.SceneUpdate", "json", "jsonschema")}
+    assert channels == {
+        **{t: (kind, "json", "jsonschema") for t, kind in LAB_TOPICS.items()},
+        "/tf": ("foxglove.FrameTransform", "json", "jsonschema"),
+        "/scene": ("foxglove.SceneUpdate", "json", "jsonschema"),
+    }
     # decimation: the topics every 10 ms, /tf and /scene every 40 ms of the trial's steps (from t = 1 ms)
     steps = result.steps
     topics_n, scene_n = (steps - 1) // 10 + 1, (steps - 1) // 40 + 1
@@ -125,8 +130,12 @@ def test_summary_figure_counts_successes_per_participant_and_controller():
     def r(person, ok):
         return TrialResult(0, person, 1, 0, ok, 1.0, 0, 0, 0, 0, "")
 
-    fig = summary_figure({"sp": [r("calm", True), r("calm", True), r("hasty", False)],
-                          "patch": [r("calm", True), r("calm", False), r("hasty", True)]})
+    fig = summary_figure(
+        {
+            "sp": [r("calm", True), r("calm", True), r("hasty", False)],
+            "patch": [r("calm", True), r("calm", False), r("hasty", True)],
+        }
+    )
     ax = fig.axes[0]
     heights = [p.get_height() for p in ax.patches]
     assert heights == [2, 0, 1, 1]  # sp: calm 2, hasty 0; patch: calm 1, hasty 1
@@ -178,8 +187,31 @@ def test_a_recording_cut_short_is_readable(tmp_path):
 def test_experiment_cli_records_and_plots_every_trial(tmp_path):
     from app.cli.main import main
 
-    assert main(["experiment", "--trials", "1", "--participant", "hasty", "--set", "alpha=0.8", "--jobs", "1", "--quiet",
-                 "--record", str(tmp_path / "rec"), "--plots", str(tmp_path / "fig")]) == 0
+    assert (
+        main(
+            [
+                "experiment",
+                "--trials",
+                "1",
+                "--participant",
+                "hasty",
+                "--set",
+                "alpha=0.8",
+                "--jobs",
+                "1",
+                "--quiet",
+                "--record",
+                str(tmp_path / "rec"),
+                "--plots",
+                str(tmp_path / "fig"),
+            ]
+        )
+        == 0
+    )
     assert sorted(p.name for p in (tmp_path / "rec").iterdir()) == ["trial01_hasty_1.mcap"]
     assert sorted(p.name for p in (tmp_path / "fig").iterdir()) == [
-        "summary.png", "summary.svg", "trial01_hasty_1.png", "trial01_hasty_1.svg"]
+        "summary.png",
+        "summary.svg",
+        "trial01_hasty_1.png",
+        "trial01_hasty_1.svg",
+    ]

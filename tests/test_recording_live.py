@@ -1,5 +1,6 @@
 """Recording the live lab: the service pair, its refusals, the download, and a file finished on
 the server's shutdown."""
+
 import io
 import time
 
@@ -7,9 +8,10 @@ import pytest
 from fastapi.testclient import TestClient
 from mcap.reader import make_reader
 
+from sim.recording import reader
+
 from app.api.app import create_app
 from app.lab.lab import Lab
-from sim.recording import reader
 
 
 def wait_sim(client, seconds: float) -> None:
@@ -28,8 +30,9 @@ def test_start_and_stop_recording_the_live_lab(client, lab, tmp_path):
     assert again.status_code == 400 and "already recording" in again.json()["detail"]
     assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
     wait_sim(client, 0.5)
-    assert client.get("/recordings").json() == [{"name": "live.mcap", "bytes": pytest.approx(0, abs=10**7),
-                                                 "recording": True}]
+    assert client.get("/recordings").json() == [
+        {"name": "live.mcap", "bytes": pytest.approx(0, abs=10**7), "recording": True}
+    ]
     stopped = client.post("/services/stop_recording", json={}).json()
     assert stopped["success"] and stopped["messages"] > 0
     download = client.get("/recordings/live.mcap")
@@ -37,8 +40,10 @@ def test_start_and_stop_recording_the_live_lab(client, lab, tmp_path):
     summary = make_reader(io.BytesIO(download.content)).get_summary()  # finished: indexed, with a summary
     counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
     assert counts["/tf"] == 11 * counts["/scene"] and counts["/joint_states"] > 1
-    stamps = [m.data["header"]["stamp"]["sec"] + m.data["header"]["stamp"]["nanosec"] * 1e-9
-              for m in reader.messages(tmp_path / "live.mcap", ["/joint_states"])]
+    stamps = [
+        m.data["header"]["stamp"]["sec"] + m.data["header"]["stamp"]["nanosec"] * 1e-9
+        for m in reader.messages(tmp_path / "live.mcap", ["/joint_states"])
+    ]
     steps = [b - a for a, b in zip(stamps, stamps[1:])]
     assert min(steps) >= 0.01 - 1e-6  # decimated to 100 Hz of simulated time
     assert stamps[-1] - stamps[0] >= 0.4  # over the 0.5 s recorded (a loaded machine may skip samples, not the span)
@@ -47,8 +52,15 @@ def test_start_and_stop_recording_the_live_lab(client, lab, tmp_path):
     assert not_recording.status_code == 400 and "not recording" in not_recording.json()["detail"]
 
 
-@pytest.mark.parametrize("body, field", [({"name": "../escape"}, "name"), ({"name": ".hidden"}, "name"),
-                                         ({"max_mb": 0}, "max_mb"), ({"max_mb": "NaN"}, "max_mb")])
+@pytest.mark.parametrize(
+    "body, field",
+    [
+        ({"name": "../escape"}, "name"),
+        ({"name": ".hidden"}, "name"),
+        ({"max_mb": 0}, "max_mb"),
+        ({"max_mb": "NaN"}, "max_mb"),
+    ],
+)
 def test_bad_recording_requests_name_the_field(client, body, field):
     response = client.post("/services/start_recording", json=body)
     assert response.status_code == 422 and response.json()["detail"][0]["loc"][-1] == field
@@ -74,8 +86,9 @@ def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
     from tests.test_api_actions import wait_terminal
 
     lab.figures_dir = tmp_path
-    goal = client.post("/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "plots": True,
-                                                                 "set": "alpha=0.8"})  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
+    goal = client.post(
+        "/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "plots": True, "set": "alpha=0.8"}
+    )  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
     view = wait_terminal(client, "run_experiment", goal.json()["goal_id"], timeout=120)
     assert view["status"] == "succeeded"
     figures = view["result"]["figures"]

@@ -1,5 +1,6 @@
 """`hri-lab play`: a recorded trial in the replay view (slider in a real browser) and its topics
 over the replay's API."""
+
 import os
 import time
 
@@ -10,21 +11,24 @@ from fastapi.testclient import TestClient
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
-from app.cli.launch import free_port
-from app.view.replay import ReplayView, replay_app
-from bench.page_responsiveness import ARGS, CHROMIUM
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import Setup, plan, run_trial
 from sim.recording.playback import Playback
 from sim.recording.trial import TrialOutputs
 
+from app.cli.launch import free_port
+from app.view.replay import ReplayView, replay_app
+from bench.page_responsiveness import ARGS, CHROMIUM
 
 
 @pytest.fixture(scope="module")
 def view(tmp_path_factory):
     folder = tmp_path_factory.mktemp("replay")
-    result = run_trial(*plan(1, "hasty", 0)[0], outputs=TrialOutputs(record_dir=str(folder)),
-                       setup=Setup(params=LiftingParams(alpha=0.8)))  # ~3 s: lifted, dropped at the wider margin
+    result = run_trial(
+        *plan(1, "hasty", 0)[0],
+        outputs=TrialOutputs(record_dir=str(folder)),
+        setup=Setup(params=LiftingParams(alpha=0.8)),
+    )  # ~3 s: lifted, dropped at the wider margin
     view = ReplayView(Playback(result.files["recording"]), port=free_port(), light=True)
     view.start()
     yield view
@@ -64,8 +68,9 @@ def test_the_slider_moves_the_robot_in_the_browser(view):
         thumb.wait_for()
         thumb.focus()
         page.keyboard.press("End")  # scrub to the end, as a person drags the slider there
-        page.wait_for_function("document.querySelector('[role=slider]').getAttribute('aria-valuenow') "
-                               f"=== '{view.slider.max:g}'")
+        page.wait_for_function(
+            f"document.querySelector('[role=slider]').getAttribute('aria-valuenow') === '{view.slider.max:g}'"
+        )
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline and view.time < view.slider.max:
             time.sleep(0.1)
@@ -93,5 +98,7 @@ def test_the_replay_view_refuses_a_foreign_origin(view):
     """Started like the live view (app/view/view3d.py guarded_websocket_server): another site's
     page cannot open its WebSocket (and drive the playback)."""
     with pytest.raises(InvalidStatus) as refused:
-        connect(view.url.replace("http", "ws"), origin="http://evil.example", subprotocols=[f"viser-v{viser.__version__}"])
+        connect(
+            view.url.replace("http", "ws"), origin="http://evil.example", subprotocols=[f"viser-v{viser.__version__}"]
+        )
     assert refused.value.response.status_code == 403

@@ -1,5 +1,6 @@
 """Interfaces from text (app/rosclient/interfaces.py): the classes genpy and rosidl make of .msg,
 .srv and .action files, the import finder, and the errors of bad definitions."""
+
 import pytest
 
 from app.rosclient.interfaces import DefinitionError, Interfaces, lab_definitions
@@ -20,7 +21,7 @@ def test_a_workspace_service_has_rclpy_and_rospy_classes_with_ros_defaults(inter
     assert multiply.Request(b=5).to_json() == {"a": 0, "b": 5, "c": 0}  # keyword, the rest default
     assert multiply.Response.from_json({"product": 6}).product == 6
     divide = interfaces.get("cpp_package", "srv", "DivideInts")
-    assert divide.Response() .result == 0.0 and divide.Response().message == ""
+    assert divide.Response().result == 0.0 and divide.Response().message == ""
 
 
 def test_a_wrong_field_or_type_is_an_error_naming_it(interfaces):
@@ -38,8 +39,12 @@ def test_a_wrong_field_or_type_is_an_error_naming_it(interfaces):
 
 def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
     wrench = interfaces.message("geometry_msgs/WrenchStamped")
-    msg = wrench.from_json({"header": {"stamp": {"sec": 3, "nanosec": 500000000}, "frame_id": "panda_K"},
-                            "wrench": {"force": {"x": 1, "y": 2.5, "z": -3}, "torque": {"x": 0, "y": 0, "z": 0}}})
+    msg = wrench.from_json(
+        {
+            "header": {"stamp": {"sec": 3, "nanosec": 500000000}, "frame_id": "panda_K"},
+            "wrench": {"force": {"x": 1, "y": 2.5, "z": -3}, "torque": {"x": 0, "y": 0, "z": 0}},
+        }
+    )
     assert msg.wrench.force.x == 1.0 and isinstance(msg.wrench.force.x, float)
     assert msg.header.stamp.to_sec() == 3.5 and msg.header.stamp.secs == 3  # rospy's names too
     assert interfaces.message("geometry_msgs/Quaternion")().w == 1.0  # a default in the definition
@@ -68,12 +73,15 @@ def test_the_lab_interfaces_are_its_own_declarations(interfaces):
     assert "count" in interfaces.get("hri_lab", "action", "Count").Goal().to_json()
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("int64 a\nint64\n", "line 2: expected 'TYPE NAME'"),
-    ("int64 a\nfoo bar\n", "line 2: unknown type 'foo'|cannot be read"),
-    ("int64 a\nint64 a\n", "line 2: field 'a' is defined twice"),
-    ("int32 X=abc\n", "line 1: expected a int32 value"),
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("int64 a\nint64\n", "line 2: expected 'TYPE NAME'"),
+        ("int64 a\nfoo bar\n", "line 2: unknown type 'foo'|cannot be read"),
+        ("int64 a\nint64 a\n", "line 2: field 'a' is defined twice"),
+        ("int32 X=abc\n", "line 1: expected a int32 value"),
+    ],
+)
 def test_a_malformed_definition_is_an_import_error_naming_file_and_line(tmp_path, text, expected):
     (tmp_path / "my_pkg" / "msg").mkdir(parents=True)
     (tmp_path / "my_pkg" / "msg" / "Bad.msg").write_text(text)
@@ -137,6 +145,7 @@ def test_cv_bridge_converts_images_as_cv_bridge_does():
     finally:
         sys.path.remove(str(boot.SITE))
         sys.meta_path.remove(finder)
-        for name in [m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs",
-                                                                    "builtin_interfaces")]:
+        for name in [
+            m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs", "builtin_interfaces")
+        ]:
             del sys.modules[name]

@@ -2,6 +2,7 @@
 (tests/ros_programs/lifting_node_rospy.py) carries the calm participant's box, driving the robot
 only through rosbridge (F_ext in, Twist commands out). As tests/test_lifting_node.py (the roslibpy
 node), the command period is raised to 5 s: the test machine is shared."""
+
 import time
 
 import httpx

@@ -2,6 +2,7 @@
 real lab (`serve --exercises`): their services answer HTTP and other programs, their clients call
 the lab's services and each other's, topics reach each other, rclpy parameters are served with
 the standard rcl_interfaces services, Ctrl+C ends spin, and bad programs get ROS's errors."""
+
 import subprocess
 import sys
 
@@ -39,8 +40,13 @@ def test_add_two_ints_server_and_client(lab, api):
         assert call(lab, "add_two_ints", {"a": -5, "b": 2}).json() == {"sum": -3}  # HTTP, answered by the program
         line = server.wait_for_line("-5" if api == "rospy" else "a: -5 b: 2")  # its log line: the program served it
         node = "add_two_ints_server" if api == "rospy" else "minimal_service"
-        logged = wait_for(lambda: [entry for entry in httpx.get(f"{lab.url}/log").json()
-                                   if "-5" in entry["msg"] and entry["node"].strip("/") == node])
+        logged = wait_for(
+            lambda: [
+                entry
+                for entry in httpx.get(f"{lab.url}/log").json()
+                if "-5" in entry["msg"] and entry["node"].strip("/") == node
+            ]
+        )
         assert logged[0]["msg"].splitlines()[-1] in line  # the same line on /rosout, under the node's name
     finally:
         assert server.interrupt() == 0, server.output  # Ctrl+C ends spin(), the program ends normally
@@ -126,14 +132,19 @@ def test_rclpy_parameters_are_served_with_rclcpp_refusals(lab):
 
         assert set_parameter("linear_speed", 3, 1.5) == {"successful": True, "reason": ""}
         node.wait_for_line("key w: linear.x=1.5")  # the next get_parameter sees it
-        assert set_parameter("linear_speed", 3, 9.0) == {"successful": False,
-                                                          "reason": "linear_speed above 5 m/s is unsafe"}
+        assert set_parameter("linear_speed", 3, 9.0) == {
+            "successful": False,
+            "reason": "linear_speed above 5 m/s is unsafe",
+        }
         assert set_parameter("linear_speed", 4, "fast")["reason"] == (
-            "Wrong parameter type, parameter {linear_speed} is of type {double}, setting it to {string} is not allowed.")
+            "Wrong parameter type, parameter {linear_speed} is of type {double}, setting it to {string} is not allowed."
+        )
         assert set_parameter("angular_speed", 3, 2.5)["reason"] == (
-            "Parameter {angular_speed} doesn't comply with floating point range.")
+            "Parameter {angular_speed} doesn't comply with floating point range."
+        )
         assert set_parameter("top_speed", 3, 1.0)["reason"] == (
-            "parameter 'top_speed' cannot be set because it was not declared")
+            "parameter 'top_speed' cannot be set because it was not declared"
+        )
         listed = call(lab, "keytwist_param/list_parameters", {"prefixes": [], "depth": 0}).json()
         assert listed["result"]["names"] == ["angular_speed", "linear_speed"]
         values = call(lab, "keytwist_param/get_parameters", {"names": ["linear_speed"]}).json()["values"]
@@ -194,20 +205,35 @@ def test_launch_reports_a_crashing_node_by_name_with_its_exit_status(lab):
 
 
 def test_grade_services_grades_rospy_and_rclpy_programs(lab):
-    programs = [run(lab.url, name) for name in ("lifting_services_rospy.py", "add_two_ints_server_rclpy.py",
-                                                "multiply_divide_server_rclpy.py", "echo_server_rclpy.py",
-                                                "login_server_rospy.py")]
+    programs = [
+        run(lab.url, name)
+        for name in (
+            "lifting_services_rospy.py",
+            "add_two_ints_server_rclpy.py",
+            "multiply_divide_server_rclpy.py",
+            "echo_server_rclpy.py",
+            "login_server_rospy.py",
+        )
+    ]
     try:
-        for program, ready in zip(programs, ("lifting services ready", "Ready to add", "calculator ready",
-                                             "echo ready", "login server ready")):
+        for program, ready in zip(
+            programs, ("lifting services ready", "Ready to add", "calculator ready", "echo ready", "login server ready")
+        ):
             program.wait_for_line(ready)
         report = grade_services(lab.url, seed=5)
     finally:
         for program in programs:
             program.interrupt()
     points = {item.name.split(":")[0]: (item.points, item.max_points, item.detail) for item in report.items}
-    for service in ("/start_cooperative_lifting", "/stop_cooperative_lifting", "/add_two_ints", "/echo", "/login",
-                    "/divide_ints", "/multiply_three"):
+    for service in (
+        "/start_cooperative_lifting",
+        "/stop_cooperative_lifting",
+        "/add_two_ints",
+        "/echo",
+        "/login",
+        "/divide_ints",
+        "/multiply_three",
+    ):
         assert points[service][0] == points[service][1] > 0, points[service]  # start: its message states only the force
     assert points["/planar_torques"][0] == 0  # not provided by any program
 
@@ -227,8 +253,12 @@ def test_every_lab_topic_is_a_message_of_its_declared_type(lab):
 def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
     services, lifting = tmp_path / f"services_{api}.py", tmp_path / f"lifting_{api}.py"
     for path, kind in ((services, "services"), (lifting, "node")):
-        printed = subprocess.run([sys.executable, "-m", "app.cli", "template", kind, *(["--api", api] if api != "rospy"
-                                  else [])], capture_output=True, text=True, timeout=60)
+        printed = subprocess.run(
+            [sys.executable, "-m", "app.cli", "template", kind, *(["--api", api] if api != "rospy" else [])],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
         path.write_text(printed.stdout)
         assert f"import {api}" in printed.stdout
     programs = []
@@ -272,8 +302,12 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, 
         goal = httpx.post(f"{lab.url}/actions/counting/goals", json={"count": 2}, timeout=30)
         assert goal.status_code in (200, 201, 202), goal.text  # an HTTP goal, served by the program
         goal_id = goal.json()["goal_id"]
-        done = wait_for(lambda: (lambda v: v if v["status"] == "succeeded" else None)(
-            httpx.get(f"{lab.url}/actions/counting/goals/{goal_id}").json()), timeout=60)
+        done = wait_for(
+            lambda: (lambda v: v if v["status"] == "succeeded" else None)(
+                httpx.get(f"{lab.url}/actions/counting/goals/{goal_id}").json()
+            ),
+            timeout=60,
+        )
         assert done["result"] == {"reached": 2} and len(done["feedback"]) == 2
     finally:
         server.interrupt()
@@ -282,13 +316,17 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, 
 def test_a_failed_call_is_a_service_exception_or_the_futures_exception(lab):
     rospy_client = run(lab.url, "failed_call_rospy.py")
     assert rospy_client.wait() == 0, rospy_client.output
-    assert "Service call failed: service [/divide_ints] failed: service /divide_ints is not provided yet" \
+    assert (
+        "Service call failed: service [/divide_ints] failed: service /divide_ints is not provided yet"
         in rospy_client.output
+    )
     rclpy_client = run(lab.url, "failed_call_rclpy.py")
     assert rclpy_client.wait() == 0, rclpy_client.output
     assert "done before spin: False" in rclpy_client.output  # callbacks run inside spin, as in rclpy
-    assert "done: True, exception: service /divide_ints failed: service /divide_ints is not provided yet" \
+    assert (
+        "done: True, exception: service /divide_ints failed: service /divide_ints is not provided yet"
         in rclpy_client.output
+    )
 
 
 def test_rospy_reads_and_writes_the_parameter_server(lab):
@@ -306,16 +344,20 @@ def test_hri_lab_param_set_reaches_the_running_program(lab):
     node = run(lab.url, "keys_to_twist_rclpy.py", "w")
 
     def cli(*args):
-        return subprocess.run([sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True,
-                              text=True, timeout=60)
+        return subprocess.run(
+            [sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True, text=True, timeout=60
+        )
 
     try:
         node.wait_for_line("key w: linear.x=0.1 ")
-        listed = wait_for(lambda: (lambda out: out if "linear_speed" in out else None)(
-            cli("param", "list", "/keytwist_param").stdout))
+        listed = wait_for(
+            lambda: (lambda out: out if "linear_speed" in out else None)(cli("param", "list", "/keytwist_param").stdout)
+        )
         assert "angular_speed" in listed  # the program's declared parameters, in the lab's registry
-        assert any(p["node"].strip("/") == "keytwist_param" and p["name"] == "linear_speed"
-                   for p in httpx.get(f"{lab.url}/params").json())
+        assert any(
+            p["node"].strip("/") == "keytwist_param" and p["name"] == "linear_speed"
+            for p in httpx.get(f"{lab.url}/params").json()
+        )
         changed = cli("param", "set", "/keytwist_param", "linear_speed", "3.5")
         assert changed.returncode == 0, changed.stdout + changed.stderr
         node.wait_for_line("key w: linear.x=3.5 ")  # the published twist follows

@@ -1,6 +1,7 @@
 """The rosbridge endpoint against bad frames and without the token (the real app, in-process
 WebSocket): a status message naming the op and field, or a closed socket; never a stuck server
 or a stopped simulation."""
+
 import json
 
 import pytest
@@ -32,32 +33,51 @@ def call(ws, service, args, id_="c"):
             return message
 
 
-@pytest.mark.parametrize("frame, says", [
-    ("{not json", "not a JSON message"),
-    ("[1, 2]", "JSON object with an 'op' field"),
-    ({"op": 7}, "field 'op' must be a string"),
-    ({"op": "explode"}, "unknown op 'explode'"),
-    ({"op": "subscribe"}, "subscribe: field 'topic' is required"),
-    ({"op": "subscribe", "topic": 5}, "subscribe: field 'topic' must be a string"),
-    ({"op": "subscribe", "topic": "/joint_states", "throttle_rate": "fast"}, "field 'throttle_rate' must be an integer"),
-    ({"op": "subscribe", "topic": "/joint_states", "type": "std_msgs/String"}, "is of type sensor_msgs/JointState"),
-    ({"op": "subscribe", "topic": "/nowhere"}, "topic /nowhere does not exist"),
-    ({"op": "publish", "topic": "/joint_states", "msg": {}}, "published by the lab"),
-    ({"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": "1"}}},
-     "'msg.linear.x' must be a finite number"),
-    ('{"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": NaN}}}',
-     "'msg.linear.x' must be a finite number"),
-    ({"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {}, "speed": 1}},
-     "has no field 'speed'"),
-    ({"op": "publish", "topic": "/chatter", "msg": {"data": "hi"}}, "advertise /chatter first"),
-    ({"op": "advertise_service", "service": "/x"}, "advertise_service: field 'type' is required"),
-    ({"op": "call_service", "service": "/add_two_ints", "args": 3}, "field 'args' must be an object"),
-    ({"op": "send_action_goal", "action": "/nope", "action_type": "x/Y"}, "action /nope does not exist"),
-    ({"op": "cancel_action_goal", "id": "g1", "action": "/count"}, "no goal with id \"g1\""),
-    ({"op": "fragment", "id": "f", "data": "{", "num": 0, "total": 2}, "not supported"),
-    ({"op": "subscribe", "topic": "/a", "type": "x/Y", "deep": json.loads("[" * (MAX_DEPTH + 5) + "]" * (MAX_DEPTH + 5))},
-     f"nested deeper than {MAX_DEPTH}"),
-])
+@pytest.mark.parametrize(
+    "frame, says",
+    [
+        ("{not json", "not a JSON message"),
+        ("[1, 2]", "JSON object with an 'op' field"),
+        ({"op": 7}, "field 'op' must be a string"),
+        ({"op": "explode"}, "unknown op 'explode'"),
+        ({"op": "subscribe"}, "subscribe: field 'topic' is required"),
+        ({"op": "subscribe", "topic": 5}, "subscribe: field 'topic' must be a string"),
+        (
+            {"op": "subscribe", "topic": "/joint_states", "throttle_rate": "fast"},
+            "field 'throttle_rate' must be an integer",
+        ),
+        ({"op": "subscribe", "topic": "/joint_states", "type": "std_msgs/String"}, "is of type sensor_msgs/JointState"),
+        ({"op": "subscribe", "topic": "/nowhere"}, "topic /nowhere does not exist"),
+        ({"op": "publish", "topic": "/joint_states", "msg": {}}, "published by the lab"),
+        (
+            {"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": "1"}}},
+            "'msg.linear.x' must be a finite number",
+        ),
+        (
+            '{"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {"x": NaN}}}',
+            "'msg.linear.x' must be a finite number",
+        ),
+        (
+            {"op": "publish", "topic": "/cartesian_velocity_controller/command", "msg": {"linear": {}, "speed": 1}},
+            "has no field 'speed'",
+        ),
+        ({"op": "publish", "topic": "/chatter", "msg": {"data": "hi"}}, "advertise /chatter first"),
+        ({"op": "advertise_service", "service": "/x"}, "advertise_service: field 'type' is required"),
+        ({"op": "call_service", "service": "/add_two_ints", "args": 3}, "field 'args' must be an object"),
+        ({"op": "send_action_goal", "action": "/nope", "action_type": "x/Y"}, "action /nope does not exist"),
+        ({"op": "cancel_action_goal", "id": "g1", "action": "/count"}, 'no goal with id "g1"'),
+        ({"op": "fragment", "id": "f", "data": "{", "num": 0, "total": 2}, "not supported"),
+        (
+            {
+                "op": "subscribe",
+                "topic": "/a",
+                "type": "x/Y",
+                "deep": json.loads("[" * (MAX_DEPTH + 5) + "]" * (MAX_DEPTH + 5)),
+            },
+            f"nested deeper than {MAX_DEPTH}",
+        ),
+    ],
+)
 def test_a_bad_frame_gets_a_status_message_naming_the_field(client, frame, says):
     with client.websocket_connect("/") as ws:
         reply = exchange(ws, frame)
@@ -73,7 +93,10 @@ def test_wrong_request_fields_fail_the_call_naming_them(client):
     with client.websocket_connect("/") as ws:
         response = call(ws, "/add_two_ints", {"a": 1, "b": "2"})
         assert response["result"] is False and "b: Input should be a valid integer" in response["values"]
-        assert call(ws, "/divide_ints", [7, 2])["values"] == {"result": 3.5, "message": "Division ok."}  # positional args
+        assert call(ws, "/divide_ints", [7, 2])["values"] == {
+            "result": 3.5,
+            "message": "Division ok.",
+        }  # positional args
         assert call(ws, "/no_such", {})["values"] == "service /no_such does not exist"
 
 
@@ -96,8 +119,13 @@ def test_a_publish_flood_is_relayed_without_stalling(client):
         talker.send_json({"op": "advertise", "topic": "/chatter", "type": "std_msgs/String"})
         for i in range(2000):
             talker.send_text(json.dumps({"op": "publish", "topic": "/chatter", "msg": {"data": str(i)}}))
-        talker.send_json({"op": "publish", "topic": "/cartesian_velocity_controller/command",
-                          "msg": {"linear": {"x": 0, "y": 0, "z": 0}, "angular": {"x": 0, "y": 0, "z": 0}}})
+        talker.send_json(
+            {
+                "op": "publish",
+                "topic": "/cartesian_velocity_controller/command",
+                "msg": {"linear": {"x": 0, "y": 0, "z": 0}, "angular": {"x": 0, "y": 0, "z": 0}},
+            }
+        )
         assert call(talker, "/add_two_ints", {"a": 2, "b": 40})["values"] == {"sum": 42}
         received = []
         while "1999" not in received:  # the newest of the burst always arrives, each message at most once
@@ -132,14 +160,25 @@ def test_a_throttled_node_topic_still_sends_the_newest_message(client):
 def test_with_a_token_changes_need_it_reading_does_not():
     with TestClient(create_app(token="s3cret-0123456789abcdef")) as c:
         with c.websocket_connect("/") as ws:
-            refused = exchange(ws, {"op": "call_service", "id": 1, "service": "/add_two_ints", "args": {"a": 1, "b": 2}})
+            refused = exchange(
+                ws, {"op": "call_service", "id": 1, "service": "/add_two_ints", "args": {"a": 1, "b": 2}}
+            )
             assert refused["op"] == "status" and "needs a token" in refused["msg"] and refused["id"] == 1
             refused = exchange(ws, {"op": "advertise_service", "service": "/mine", "type": "std_srvs/Trigger"})
             assert "needs a token" in refused["msg"]
             names = call(ws, "/rosapi/get_param_names", {})["values"]["names"]  # reading stays open
             assert "/cooperative_lifting:mu" in names
-            assert "needs a token" in exchange(ws, {"op": "call_service", "service": "/rosapi/set_param",
-                                                    "args": {"name": "/cooperative_lifting:mu", "value": "0.6"}})["msg"]
+            assert (
+                "needs a token"
+                in exchange(
+                    ws,
+                    {
+                        "op": "call_service",
+                        "service": "/rosapi/set_param",
+                        "args": {"name": "/cooperative_lifting:mu", "value": "0.6"},
+                    },
+                )["msg"]
+            )
             assert exchange(ws, {"op": "auth", "mac": "wrong"})["msg"] == "auth: wrong token"
             ws.send_json({"op": "auth", "mac": "s3cret-0123456789abcdef"})
             assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}

@@ -2,6 +2,7 @@
 rosbridge frames against a real `hri-lab serve`: ROS 1's parameter server beside the declared
 ROS 2 parameters, /rosout, /tf and /tf_static, service_response with `result: false`, actions
 provided by clients, remote nodes' parameters."""
+
 import json
 import threading
 
@@ -112,16 +113,28 @@ def test_rosout_listed_and_carries_nodes_lines_in_both_types(ros, lab):
         talker = roslibpy.Topic(other, "/rosout", "rosgraph_msgs/Log")
         talker.advertise()
         wait_for(lambda: "/rosout" in ros.get_node_details(other_name(ros, other))["publishing"])
-        talker.publish(roslibpy.Message({"header": {"stamp": {"secs": 5, "nsecs": 0}}, "level": 4, "name": "/talker",
-                                         "msg": "careful", "file": "talker.py", "function": "main", "line": 7}))
+        talker.publish(
+            roslibpy.Message(
+                {
+                    "header": {"stamp": {"secs": 5, "nsecs": 0}},
+                    "level": 4,
+                    "name": "/talker",
+                    "msg": "careful",
+                    "file": "talker.py",
+                    "function": "main",
+                    "line": 7,
+                }
+            )
+        )
         line = ros2_inbox.wait(lambda m: m["name"] == "/talker")
         assert (line["level"], line["msg"], line["stamp"], line["line"]) == (30, "careful", {"sec": 5, "nanosec": 0}, 7)
         line1 = ros1_inbox.wait(lambda m: m["name"] == "/talker")
         assert (line1["level"], line1["header"]["stamp"]["secs"]) == (4, 5)
         # the lab's own lines: a service call answered, the lifting started
         assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}).json()["sum"] == 3
-        ros2_inbox.wait(lambda m: m["name"] == "service" and "/add_two_ints answered by the lab" in m["msg"]
-                        and m["level"] == 10)
+        ros2_inbox.wait(
+            lambda m: m["name"] == "service" and "/add_two_ints answered by the lab" in m["msg"] and m["level"] == 10
+        )
         # the console's filters (GET /log)
         warned = httpx.get(f"{lab.url}/log", params={"node": "/talker", "level": "WARN"}).json()
         assert [x["msg"] for x in warned] == ["careful"]
@@ -152,9 +165,14 @@ def test_topic_echo_rosout_cli(lab):
     import subprocess
     import sys
 
-    echo = subprocess.Popen([sys.executable, "-m", "app.cli", "topic", "echo", "/rosout", "--count", "1", "--url", lab.url],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    echo = subprocess.Popen(
+        [sys.executable, "-m", "app.cli", "topic", "echo", "/rosout", "--count", "1", "--url", lab.url],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
+
         def printed():  # log lines until the echo, once connected, has printed one
             httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 2})
             return echo.poll() is not None
@@ -190,13 +208,17 @@ def test_tf_client_reads_frames_through_republish_tfs(ros, lab):
     client.subscribe(frame_id="/world", callback=keep("world"))
     client.subscribe(frame_id="panda_link8", callback=keep("panda_link8"))
     assert all(event.wait(30) for event in done.values())
-    assert got["world"] == {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}
+    assert got["world"] == {
+        "translation": {"x": 0.0, "y": 0.0, "z": 0.0},
+        "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+    }
     o_t_ee = httpx.get(f"{lab.url}/topics/franka_state_controller/franka_states").json()["O_T_EE"]  # column-major 4x4
     flange = got["panda_link8"]["translation"]
     assert [flange["x"], flange["y"], flange["z"]] == pytest.approx(o_t_ee[12:15], abs=1e-6)  # the robot is still
     with pytest.raises(roslibpy.core.ServiceException, match="frame 'nowhere' does not exist"):
         roslibpy.Service(ros, "/republish_tfs", "tf2_web_republisher/RepublishTFs").call(
-            roslibpy.ServiceRequest({"source_frames": ["nowhere"], "target_frame": "world", "rate": 10.0}), timeout=30)
+            roslibpy.ServiceRequest({"source_frames": ["nowhere"], "target_frame": "world", "rate": 10.0}), timeout=30
+        )
 
 
 def test_tf_and_tf_static_topics(ros, lab):
@@ -207,8 +229,12 @@ def test_tf_and_tf_static_topics(ros, lab):
     assert ("world", "panda_link0") in edges and ("panda_hand", "panda_leftfinger") in edges
     tf_message = moving.wait(lambda m: True)
     children = {t["child_frame_id"]: t["header"]["frame_id"] for t in tf_message["transforms"]}
-    assert children == {**{f"panda_link{i}": f"panda_link{i - 1}" for i in range(1, 8)}, "box": "panda_link0",
-                        "palm": "panda_link0"}
+    assert children == {
+        **{f"panda_link{i}": f"panda_link{i - 1}" for i in range(1, 8)},
+        "box": "panda_link0",
+        "palm": "panda_link0",
+    }
+
     def stamp(m):
         return m["transforms"][0]["header"]["stamp"]["sec"] + m["transforms"][0]["header"]["stamp"]["nanosec"] * 1e-9
 
@@ -225,6 +251,7 @@ def test_tf_and_tf_static_topics(ros, lab):
 def test_service_response_result_false_still_delivers_values(ros, lab):
     """As rosbridge_suite's service_response (what roslibpy's servers were tested against): the
     values are the response; values that are no response make a failed call with them as the reason."""
+
     def add(request, response):
         response["sum"] = request["a"] + request["b"]
         return False  # roslibpy's ros1 test_service does this
@@ -239,8 +266,12 @@ def test_service_response_result_false_still_delivers_values(ros, lab):
     refusing.advertise(refuse)
     wait_for(lambda: {"/false_sum", "/false_refuse"} <= set(ros.get_services()))
     try:
-        assert roslibpy.Service(ros, "/false_sum", "rospy_tutorials/AddTwoInts").call(
-            roslibpy.ServiceRequest({"a": 2, "b": 40}), timeout=30)["sum"] == 42
+        assert (
+            roslibpy.Service(ros, "/false_sum", "rospy_tutorials/AddTwoInts").call(
+                roslibpy.ServiceRequest({"a": 2, "b": 40}), timeout=30
+            )["sum"]
+            == 42
+        )
         answer = httpx.post(f"{lab.url}/services/false_sum", json={"a": 1, "b": 1}, timeout=30)
         assert (answer.status_code, answer.json()) == (200, {"sum": 2})
         refused = httpx.post(f"{lab.url}/services/false_refuse", json={"a": 1, "b": 1}, timeout=30)
@@ -292,12 +323,28 @@ class CountingServer:
         current = 0
         for current in range(1, goal["args"]["target"] + 1):
             if self.canceled[goal["id"]].wait(self.step_s):
-                self.send({"op": "action_result", "id": goal["id"], "action": self.name, "values": {"final": current - 1},
-                           "status": 5, "result": True})
+                self.send(
+                    {
+                        "op": "action_result",
+                        "id": goal["id"],
+                        "action": self.name,
+                        "values": {"final": current - 1},
+                        "status": 5,
+                        "result": True,
+                    }
+                )
                 return
             self.send({"op": "action_feedback", "id": goal["id"], "action": self.name, "values": {"current": current}})
-        self.send({"op": "action_result", "id": goal["id"], "action": self.name, "values": {"final": current},
-                   "status": 4, "result": True})
+        self.send(
+            {
+                "op": "action_result",
+                "id": goal["id"],
+                "action": self.name,
+                "values": {"final": current},
+                "status": 4,
+                "result": True,
+            }
+        )
 
     def close(self):
         self.ws.close()
@@ -331,7 +378,10 @@ def test_client_action_listed_and_served_over_http(lab, ros, counting):
     assert sent.status_code == 202, sent.text
     view = wait_goal(lab, "/counting", sent.json()["goal_id"], "succeeded")
     assert view["result"] == {"final": 3} and view["feedback"] == [{"current": 1}, {"current": 2}, {"current": 3}]
-    assert counting.goals[-1]["args"] == {"target": 3} and counting.goals[-1]["action_type"] == "counting_pkg/action/Counting"
+    assert (
+        counting.goals[-1]["args"] == {"target": 3}
+        and counting.goals[-1]["action_type"] == "counting_pkg/action/Counting"
+    )
 
 
 def test_client_action_preempted_over_http_and_busy_rejected(lab, counting):
@@ -349,8 +399,23 @@ def test_client_action_goal_from_cli_and_from_another_client(lab, ros, counting)
     import subprocess
     import sys
 
-    out = subprocess.run([sys.executable, "-m", "app.cli", "action", "send_goal", "/counting", "{target: 2}", "--feedback",
-                          "--url", lab.url], capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "action",
+            "send_goal",
+            "/counting",
+            "{target: 2}",
+            "--feedback",
+            "--url",
+            lab.url,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 0, out.stdout + out.stderr
     assert "current: 2" in out.stdout and "final: 2" in out.stdout and "SUCCEEDED" in out.stdout
     client = roslibpy.ActionClient(ros, "/counting", "counting_pkg/action/Counting")
@@ -379,8 +444,11 @@ def test_advertise_action_refusals(lab):
     with websockets.sync.client.connect(f"ws://127.0.0.1:{lab.port}/") as ws:
         ws.send(json.dumps({"op": "advertise_action", "action": "/count", "type": "hri_lab/Count"}))
         assert "action /count is the lab's" in json.loads(ws.recv(timeout=30))["msg"]
-        ws.send(json.dumps({"op": "action_result", "id": "nope", "action": "/counting", "values": {}, "status": 4,
-                            "result": True}))
+        ws.send(
+            json.dumps(
+                {"op": "action_result", "id": "nope", "action": "/counting", "values": {}, "status": 4, "result": True}
+            )
+        )
         assert "no goal with id nope" in json.loads(ws.recv(timeout=30))["msg"]
 
 
@@ -397,9 +465,15 @@ class ParamNode:
         self.values = {"linear_speed": 0.1, "angular_speed": 0.5}
         self.ws = websockets.sync.client.connect(f"ws://127.0.0.1:{port}/")
         self.lock = threading.Lock()
-        for service, type_ in (("get_parameters", "GetParameters"), ("set_parameters", "SetParameters"),
-                               ("list_parameters", "ListParameters"), ("describe_parameters", "DescribeParameters")):
-            self.send({"op": "advertise_service", "service": f"{node}/{service}", "type": f"rcl_interfaces/srv/{type_}"})
+        for service, type_ in (
+            ("get_parameters", "GetParameters"),
+            ("set_parameters", "SetParameters"),
+            ("list_parameters", "ListParameters"),
+            ("describe_parameters", "DescribeParameters"),
+        ):
+            self.send(
+                {"op": "advertise_service", "service": f"{node}/{service}", "type": f"rcl_interfaces/srv/{type_}"}
+            )
         self.reader = threading.Thread(target=self.read, daemon=True)
         self.reader.start()
 
@@ -416,8 +490,15 @@ class ParamNode:
                 message = json.loads(text)
                 if message["op"] == "call_service":
                     values = self.serve(message["service"].rsplit("/", 1)[1], message["args"])
-                    self.send({"op": "service_response", "id": message["id"], "service": message["service"],
-                               "values": values, "result": True})
+                    self.send(
+                        {
+                            "op": "service_response",
+                            "id": message["id"],
+                            "service": message["service"],
+                            "values": values,
+                            "result": True,
+                        }
+                    )
         except Exception:  # noqa: BLE001 - the socket closed
             pass
 
@@ -425,19 +506,36 @@ class ParamNode:
         if service == "list_parameters":
             return {"result": {"names": sorted(self.values), "prefixes": []}}
         if service == "get_parameters":
-            return {"values": [{"type": 3, "double_value": self.values[n]} if n in self.values else {"type": 0}
-                               for n in args["names"]]}
+            return {
+                "values": [
+                    {"type": 3, "double_value": self.values[n]} if n in self.values else {"type": 0}
+                    for n in args["names"]
+                ]
+            }
         if service == "describe_parameters":
-            return {"descriptors": [{"name": n, "type": 3, "description": f"{n} (m/s)" if n == "linear_speed" else n,
-                                     "read_only": False, "floating_point_range": [{"from_value": 0.0, "to_value": 5.0,
-                                                                                    "step": 0.0}], "integer_range": []}
-                                    for n in args["names"]]}
+            return {
+                "descriptors": [
+                    {
+                        "name": n,
+                        "type": 3,
+                        "description": f"{n} (m/s)" if n == "linear_speed" else n,
+                        "read_only": False,
+                        "floating_point_range": [{"from_value": 0.0, "to_value": 5.0, "step": 0.0}],
+                        "integer_range": [],
+                    }
+                    for n in args["names"]
+                ]
+            }
         results = []
         for parameter in args["parameters"]:
             value = parameter["value"]
             if value["type"] != 3:
-                results.append({"successful": False, "reason": f"Wrong parameter type, parameter {{{parameter['name']}}} "
-                                                               f"is of type {{double}}"})
+                results.append(
+                    {
+                        "successful": False,
+                        "reason": f"Wrong parameter type, parameter {{{parameter['name']}}} is of type {{double}}",
+                    }
+                )
             elif parameter["name"] == "linear_speed" and value["double_value"] > 4.0:
                 results.append({"successful": False, "reason": "linear_speed must be <= 4.0"})
             else:
@@ -454,8 +552,9 @@ def cli(lab, *args):
     import subprocess
     import sys
 
-    return subprocess.run([sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True, text=True,
-                          timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True, text=True, timeout=120
+    )
 
 
 def test_node_parameters_in_the_labs_registry(lab, ros):
@@ -471,7 +570,9 @@ def test_node_parameters_in_the_labs_registry(lab, ros):
         assert "3.5" in cli(lab, "param", "get", "/keytwist_param", "linear_speed").stdout
         refused = cli(lab, "param", "set", "/keytwist_param", "linear_speed", "4.5")
         assert refused.returncode != 0 and "Setting parameter failed: linear_speed must be <= 4.0" in refused.stdout
-        assert cli(lab, "param", "set", "/keytwist_param", "angular_speed", "2").returncode == 0  # an integer, sent as double
+        assert (
+            cli(lab, "param", "set", "/keytwist_param", "angular_speed", "2").returncode == 0
+        )  # an integer, sent as double
         assert node.values["angular_speed"] == 2.0
         described = httpx.get(f"{lab.url}/params/keytwist_param/linear_speed/describe", timeout=30).json()
         assert (described["type"], described["min_value"], described["max_value"]) == ("double", 0.0, 5.0)

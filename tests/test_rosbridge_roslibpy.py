@@ -2,13 +2,13 @@
 service a node advertises answering HTTP and CLI calls (the students' services node from the
 template: tests/test_grade_services.py), topics at their stated rate, commands and the watchdog,
 actions with feedback and cancel. Real server process, real client, loopback."""
+
 import json
 import os
 import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 import httpx
 import numpy as np
@@ -18,7 +18,6 @@ import websockets.sync.client
 
 from app.cli.launch import running_server
 from tests.waiting import stop_node, wait_for
-
 
 
 @pytest.fixture(scope="module")
@@ -61,15 +60,22 @@ def test_rosapi_and_parameters(ros, lab):
         ros.set_param("/cooperative_lifting:mu", "slippery")
     ros.set_param("/cooperative_lifting:mu", 0.5)
     assert ros.get_time().to_sec() > 0.0
-    raw = roslibpy.Service(ros, "/rosapi/topics_and_raw_types", "rosapi/TopicsAndRawTypes").call(roslibpy.ServiceRequest())
-    assert "geometry_msgs/Vector3 force" in raw["typedefs_full_text"][raw["topics"].index("/franka_state_controller/F_ext")]
+    raw = roslibpy.Service(ros, "/rosapi/topics_and_raw_types", "rosapi/TopicsAndRawTypes").call(
+        roslibpy.ServiceRequest()
+    )
+    assert (
+        "geometry_msgs/Vector3 force"
+        in raw["typedefs_full_text"][raw["topics"].index("/franka_state_controller/F_ext")]
+    )
 
 
 def test_lab_services_and_exercises_left_to_nodes(ros, lab):
     reset = roslibpy.Service(ros, "/reset_simulation", "std_srvs/Trigger").call(roslibpy.ServiceRequest(), timeout=10)
     assert reset["success"] is True
     with pytest.raises(roslibpy.core.ServiceException, match="not provided yet"):
-        roslibpy.Service(ros, "/add_two_ints", "hri_lab/AddTwoInts").call(roslibpy.ServiceRequest({"a": 1, "b": 2}), timeout=10)
+        roslibpy.Service(ros, "/add_two_ints", "hri_lab/AddTwoInts").call(
+            roslibpy.ServiceRequest({"a": 1, "b": 2}), timeout=10
+        )
     response = httpx.post(f"{lab.url}/services/divide_ints", json={"a": 1, "b": 2})
     assert response.status_code == 404 and "not provided yet" in response.json()["detail"]
     assert httpx.get(f"{lab.url}/services/divide_ints").json()["srv"].startswith("int64 a\nint64 b\n---")
@@ -84,7 +90,10 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
         response.update(success=request["data"], message="toggled")
         return True
 
-    services = [roslibpy.Service(ros, "/add_two_ints", "hri_lab/AddTwoInts"), roslibpy.Service(ros, "/toggle", "std_srvs/SetBool")]
+    services = [
+        roslibpy.Service(ros, "/add_two_ints", "hri_lab/AddTwoInts"),
+        roslibpy.Service(ros, "/toggle", "std_srvs/SetBool"),
+    ]
     assert "/add_two_ints" not in ros.get_services()
     services[0].advertise(add)
     services[1].advertise(set_bool)
@@ -93,8 +102,13 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
         time.sleep(0.05)
     assert "/add_two_ints" in ros.get_services()
     assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 40}).json() == {"sum": 42}
-    assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": "x"}).status_code == 422  # never reaches the node
-    assert httpx.post(f"{lab.url}/services/toggle", json={"data": True}).json() == {"success": True, "message": "toggled"}
+    assert (
+        httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": "x"}).status_code == 422
+    )  # never reaches the node
+    assert httpx.post(f"{lab.url}/services/toggle", json={"data": True}).json() == {
+        "success": True,
+        "message": "toggled",
+    }
     assert httpx.post(f"{lab.url}/services/toggle", json={"data": 1}).status_code == 422
     assert httpx.get(f"{lab.url}/services/toggle").json()["srv"] == "bool data\n---\nbool success\nstring message"
     assert "/toggle [std_srvs/SetBool]" in cli(lab.url, "service", "list", "-t").stdout
@@ -160,7 +174,9 @@ def test_published_commands_drive_the_robot_until_they_stop(ros, lab):
     command.advertise()
     q0 = np.array(httpx.get(f"{lab.url}/topics/joint_states").json()["position"])
     for _ in range(20):  # every 50 ms for 1 s: -z at 2 cm/s
-        command.publish(roslibpy.Message({"linear": {"x": 0.0, "y": 0.0, "z": -0.02}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}}))
+        command.publish(
+            roslibpy.Message({"linear": {"x": 0.0, "y": 0.0, "z": -0.02}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}})
+        )
         time.sleep(0.05)
     q1 = np.array(httpx.get(f"{lab.url}/topics/joint_states").json()["position"])
     assert np.linalg.norm(q1 - q0) > 1e-3
@@ -171,7 +187,10 @@ def test_published_commands_drive_the_robot_until_they_stop(ros, lab):
         error = httpx.get(f"{lab.url}/topics/lifting_state").json()["error"]
         time.sleep(0.05)
     assert error.startswith("communication constraints violation")
-    assert "Recovered from: communication constraints violation" in httpx.post(f"{lab.url}/services/error_recovery").json()["message"]
+    assert (
+        "Recovered from: communication constraints violation"
+        in httpx.post(f"{lab.url}/services/error_recovery").json()["message"]
+    )
     httpx.post(f"{lab.url}/services/reset_simulation")
 
 
@@ -185,7 +204,9 @@ def test_action_goal_with_feedback_and_cancel(ros):
 
     feedback, results = [], []
     first = threading.Event()
-    goal = count.send_goal(roslibpy.Goal({"count": 30}), results.append, lambda f: (feedback.append(f), first.set()), results.append)
+    goal = count.send_goal(
+        roslibpy.Goal({"count": 30}), results.append, lambda f: (feedback.append(f), first.set()), results.append
+    )
     assert first.wait(15)
     count.cancel_goal(goal)
     count.wait_goal(goal, 15)
@@ -200,11 +221,19 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path):
     nodes = []
     try:
         for script in (services, lifting):
-            nodes.append(subprocess.Popen([sys.executable, str(script), "--port", str(lab.port)],
-                                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True))
+            nodes.append(
+                subprocess.Popen(
+                    [sys.executable, str(script), "--port", str(lab.port)],
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.STDOUT,
+                    text=True,
+                )
+            )
             assert nodes[-1].stdout.readline().startswith("node ready")
         assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 3}, timeout=10).json() == {"sum": 5}
-        assert httpx.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200  # TODO: wrong, well-formed
+        assert (
+            httpx.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200
+        )  # TODO: wrong, well-formed
         deadline = time.monotonic() + 10
         while httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] != "node":
             assert time.monotonic() < deadline  # the lifting node's zero twists drive the robot

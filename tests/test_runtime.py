@@ -1,5 +1,6 @@
 """The simulation process under its supervisor: a killed simulation is restarted, calls in the gap
 are a 503 naming the restart, and the restarted process holds none of the server's sockets."""
+
 import os
 import signal
 import stat

@@ -1,6 +1,7 @@
 """Every step's F_ext in shared memory (app/runtime/sample_ring.py): a reader gets every sample
 once, oldest first; one that fell more than the ring behind is told how many it lost, and is never
 handed a torn or overwritten sample; the writer may be a forked process."""
+
 import multiprocessing
 import time
 

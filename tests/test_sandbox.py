@@ -1,5 +1,6 @@
 """A student's controller runs in a sandboxed process: what it does wrong costs its items with the
 reason, never the grader; it cannot reach the grader, the world, the network or the files."""
+
 import os
 import subprocess
 import sys
@@ -9,13 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sim.controllers.interface import ControllerFault
-from sim.controllers.interface import LiftingParams
+from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.controllers.sandbox import SandboxBudget
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
-
 
 CONTROLLERS = Path(__file__).parent / "controllers"
 FAULTS = CONTROLLERS / "faults.py"
@@ -34,14 +33,17 @@ def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 30
     return str(fault.value)
 
 
-@pytest.mark.parametrize("name, budget, reason", [
-    ("SleepsForever", SandboxBudget(step_timeout=1.0), "did not answer within 1 s (wall clock)"),
-    ("Sleeps50ms", SandboxBudget(), "step sleeps or blocks"),
-    ("StartsThread", SandboxBudget(), "started a thread or a process"),
-    ("Forks", SandboxBudget(), "started a thread or a process"),
-    ("MemoryBomb", SandboxBudget(memory_bytes=400 << 20), "MemoryError"),
-    ("ExitsInStep", SandboxBudget(), "the controller's process exited with code 0"),
-])
+@pytest.mark.parametrize(
+    "name, budget, reason",
+    [
+        ("SleepsForever", SandboxBudget(step_timeout=1.0), "did not answer within 1 s (wall clock)"),
+        ("Sleeps50ms", SandboxBudget(), "step sleeps or blocks"),
+        ("StartsThread", SandboxBudget(), "started a thread or a process"),
+        ("Forks", SandboxBudget(), "started a thread or a process"),
+        ("MemoryBomb", SandboxBudget(memory_bytes=400 << 20), "MemoryError"),
+        ("ExitsInStep", SandboxBudget(), "the controller's process exited with code 0"),
+    ],
+)
 def test_each_fault_stops_the_controller_with_its_reason(name, budget, reason):
     assert reason in fault_of(name, budget)
 
@@ -121,8 +123,10 @@ def test_the_child_follows_the_parent_to_its_cpu():
 def test_the_childs_own_code_loads_no_robot_model():
     """The child's side of the sandbox (and the interface a student's file imports) loads neither
     pinocchio nor numba: every item of a grade starts a child, so its start-up is paid many times."""
-    probe = ("import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
-             "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))")
+    probe = (
+        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
+        "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr
 
@@ -138,8 +142,13 @@ def test_a_trial_is_judged_by_the_world_not_by_the_person_phase():
 
 def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
     env = {**os.environ, "PATH": str(tmp_path)}  # no bwrap on PATH
-    run = subprocess.run([sys.executable, "-m", "app.cli", "grade", str(CONTROLLERS / "reference_sp.py")],
-                         capture_output=True, text=True, env=env, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade", str(CONTROLLERS / "reference_sp.py")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
     assert run.stdout == ""
 
@@ -170,7 +179,9 @@ def test_a_stale_answer_in_the_slot_is_not_taken_for_the_answer():
 def test_a_file_built_on_the_lab_sp_loads_no_robot_model_in_its_child():
     """A student's file that subclasses the lab's SP (as the reference does) imports sim.controllers.sp
     in its child for every graded item: that loads no pinocchio (0.3 s of start-up each)."""
-    probe = ("import sys, sim.controllers.sp; "
-             "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))")
+    probe = (
+        "import sys, sim.controllers.sp; "
+        "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr

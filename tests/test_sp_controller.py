@@ -1,4 +1,5 @@
 """The SP law, branch by branch, with hand-computed twists (docs/method.md, "The SP controller as hri-lab reconstructs it")."""
+
 import numpy as np
 import pytest
 

@@ -1,5 +1,6 @@
 """The rotation exp/log the kernels compile (sim/spatial.py's exp3, log3, compiled in
 sim/person/human.py) against pinocchio's exp3/log3, and the compiled orthonormalize."""
+
 import numpy as np
 import pinocchio as pin
 

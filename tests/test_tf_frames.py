@@ -1,10 +1,12 @@
 """/tf and /tf_static (app/lab/tf.py) compose to the poses the simulation has: the chain of
 transforms from world to the flange is the snapshot's transform_ee_to_base, the box's is its pose."""
+
 import numpy as np
 import pinocchio as pin
 
-from app.lab import tf
 from sim.world import World
+
+from app.lab import tf
 
 
 def _matrix(transform: dict) -> np.ndarray:
@@ -16,8 +18,11 @@ def _matrix(transform: dict) -> np.ndarray:
 
 
 def _in_world(snapshot, frame: str) -> np.ndarray:
-    edges = {t["child_frame_id"]: (t["header"]["frame_id"], _matrix(t["transform"]))
-             for message in (tf.tf(snapshot), tf.tf_static(snapshot)) for t in message["transforms"]}
+    edges = {
+        t["child_frame_id"]: (t["header"]["frame_id"], _matrix(t["transform"]))
+        for message in (tf.tf(snapshot), tf.tf_static(snapshot))
+        for t in message["transforms"]
+    }
     pose = np.eye(4)
     while frame != tf.WORLD:
         frame, relative = edges[frame]

@@ -23,6 +23,7 @@ plate 11 deg (alpha 0.5) to 20 deg (alpha 0.8) off the face, on its outer row of
 
 Thresholds are physics, explained at each assert; nothing here is timed.
 """
+
 from __future__ import annotations
 
 import math
@@ -32,10 +33,10 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Trial, plan
 from sim.controllers.patch import PatchController
-from sim.robot.plate import Plate
 from sim.controllers.sp import SPController
+from sim.procedures.experiment import Trial, plan
+from sim.robot.plate import Plate
 from sim.spatial import rotation_log
 
 TILT = math.radians(45.0)
@@ -79,8 +80,17 @@ def run_tilt(controller, params: LiftingParams | None = None) -> TiltRun:
         min_f_n = min(min_f_n, plate.normal_force)
     result = trial.result()
     plate = world.plate_state
-    return TiltRun(result.success, result.reason, box_tilt, relative, max_cop, min_points, min_f_n,
-                   plate.centre_of_pressure.copy(), plate.points_in_contact)
+    return TiltRun(
+        result.success,
+        result.reason,
+        box_tilt,
+        relative,
+        max_cop,
+        min_points,
+        min_f_n,
+        plate.centre_of_pressure.copy(),
+        plate.points_in_contact,
+    )
 
 
 def test_sp_turns_with_the_box_and_keeps_the_contact():

@@ -1,4 +1,5 @@
 """franka-like Cartesian velocity interface: tracking, limits as reflexes, recovery."""
+
 import numpy as np
 import pytest
 
@@ -97,6 +98,7 @@ def test_after_recovery_the_posture_term_ramps_instead_of_re_tripping():
     """Far from the rest posture (the elbow drifted while following), recover() leaves the robot
     at rest; the null-space term k (q_rest - q) alone would jump qdot beyond the joint acceleration
     limit in one period and trip again, forever. It is ramped: no reflex, the elbow comes back."""
+
     def drifted(ramp):
         arm = CartesianVelocityInterface(PandaModel(), SIDE_Q)
         arm.null_space_ramp = ramp

@@ -1,13 +1,15 @@
 """The 3D scene draws what the simulation says: arrows from F_ext, colours from the state."""
+
 import numpy as np
 import pytest
 
-from app.ros.actions import ActionServer
-from app.lab.lab import Lab
-from app.lab.actions import ACTIONS
-from app.lab.services import SERVICES
 from sim.messages import wrench_stamped
+
 from app.lab import commands
+from app.lab.actions import ACTIONS
+from app.lab.lab import Lab
+from app.lab.services import SERVICES
+from app.ros.actions import ActionServer
 from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
 
 
@@ -89,13 +91,15 @@ def test_converted_meshes_are_cached(tmp_path, monkeypatch):
 
     import pinocchio as pin
 
-    from app.view.view3d import glb_of
     from sim.robot.assets import panda_urdf, robot_data_share
     from sim.robot.panda import PandaModel
 
+    from app.view.view3d import glb_of
+
     monkeypatch.setenv("HRI_LAB_CACHE", str(tmp_path))
-    geometry = pin.buildGeomFromUrdf(PandaModel().model, str(panda_urdf()), pin.GeometryType.VISUAL,
-                                     package_dirs=[str(robot_data_share())])
+    geometry = pin.buildGeomFromUrdf(
+        PandaModel().model, str(panda_urdf()), pin.GeometryType.VISUAL, package_dirs=[str(robot_data_share())]
+    )
     mesh = next(o for o in geometry.geometryObjects if o.meshPath.endswith(".dae"))
     first = glb_of(Path(mesh.meshPath), tuple(mesh.meshScale))
     assert first[:4] == b"glTF"

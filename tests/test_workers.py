@@ -1,6 +1,7 @@
 """Worker processes die with their parent however it dies: the server killed with SIGKILL during
 /run_experiment or /compare_controllers, `hri-lab grade --jobs 2` stopped with SIGTERM. Nothing
 survives and nothing new is left in /dev/shm."""
+
 import os
 import subprocess
 import sys
@@ -75,8 +76,10 @@ def left_in_shm(before: set[str]) -> set[str]:
     return {n for n in shm() - before - in_use() if n.startswith(("sem.mp", "psm_"))}
 
 
-@pytest.mark.parametrize("action, goal", [("run_experiment", {"trials": 3, "participant": "calm"}),
-                                          ("compare_controllers", {"participants": "calm"})])
+@pytest.mark.parametrize(
+    "action, goal",
+    [("run_experiment", {"trials": 3, "participant": "calm"}), ("compare_controllers", {"participants": "calm"})],
+)
 def test_killing_the_server_leaves_no_worker(action, goal):
     before = shm()
     server = ServerProcess("--view", "none")
@@ -98,8 +101,11 @@ def test_killing_the_server_leaves_no_worker(action, goal):
 
 def test_sigterm_to_grade_leaves_no_worker():
     before = shm()
-    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "grade", str(CONTROLLER), "--jobs", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "app.cli", "grade", str(CONTROLLER), "--jobs", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         deadline = time.monotonic() + 120
         while len(descendants(proc.pid)) < 2 and time.monotonic() < deadline and proc.poll() is None:

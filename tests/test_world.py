@@ -1,4 +1,5 @@
 """The assembled lab: sensor sign and noise, move to start, human, controller failures, end to end."""
+
 import json
 import subprocess
 import sys
@@ -7,12 +8,12 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
 from sim.person.human import HandPath, PickAndPlace
 from sim.person.participants import PARTICIPANTS
-from sim.signals import minimum_jerk
-from sim.robot.panda import READY_Q, SIDE_Q
 from sim.physics.sensor import SensorParams, WrenchSensor
+from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
+from sim.robot.panda import READY_Q, SIDE_Q
+from sim.signals import minimum_jerk
 from sim.world import World, WorldConfig
 
 
@@ -176,7 +177,9 @@ def test_robot_never_started_means_no_grip():
     assert not result.success and result.reason.startswith("no grip")
 
 
-SHORT = Setup(params=LiftingParams(alpha=0.8))  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
+SHORT = Setup(
+    params=LiftingParams(alpha=0.8)
+)  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
 
 
 def test_experiment_is_deterministic_per_seed():
@@ -196,29 +199,84 @@ def test_experiment_is_deterministic_per_seed():
 
 def test_cli_experiment_json():
     out = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8",
-         "--json", "--quiet"],
-        capture_output=True, text=True, check=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "experiment",
+            "--trials",
+            "1",
+            "--participant",
+            "hasty",
+            "--seed",
+            "3",
+            "--set",
+            "alpha=0.8",
+            "--json",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
     )
     data = json.loads(out.stdout)
     assert data["summary"]["trials"] == 1
     trial = data["trials"][0]
     assert set(trial) >= {"success", "duration", "f_n_min", "f_n_max", "max_friction_ratio", "slip", "reason"}
     table = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8",
-         "--quiet"],
-        capture_output=True, text=True, check=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "experiment",
+            "--trials",
+            "1",
+            "--participant",
+            "hasty",
+            "--seed",
+            "3",
+            "--set",
+            "alpha=0.8",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
     ).stdout
     assert "participant" in table and "hasty" in table and "success: " in table
-    bad = subprocess.run([sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True)
+    bad = subprocess.run(
+        [sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True
+    )
     assert bad.returncode == 2 and "--trials" in bad.stderr
 
 
 def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller():
     out = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--compare", "sp,patch", "--trials", "1", "--participant", "hasty",
-         "--seed", "3", "--set", "alpha=0.8", "--json", "--jobs", "2"],  # short trials: dropped at ~3 s
-        capture_output=True, text=True, check=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "experiment",
+            "--compare",
+            "sp,patch",
+            "--trials",
+            "1",
+            "--participant",
+            "hasty",
+            "--seed",
+            "3",
+            "--set",
+            "alpha=0.8",
+            "--json",
+            "--jobs",
+            "2",
+        ],  # short trials: dropped at ~3 s
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
     )
     data = json.loads(out.stdout)
     title_asked = f"seed 3; parameters: alpha = 0.8 (default {LiftingParams().alpha:g})"
@@ -244,18 +302,24 @@ def _sim_ends():
 
     ranges = {p.name: (p, p.range) for p in LAB_PARAMETERS if p.node == "sim" and p.offline is not None}
     noisy = {name: high for name, (_, (low, high)) in ranges.items() if name not in ("box_mass", "contact_stiffness")}
-    cases = [{"box_mass": m, "contact_stiffness": k, **noisy} for m, k in product(ranges["box_mass"][1], ranges["contact_stiffness"][1])]
+    cases = [
+        {"box_mass": m, "contact_stiffness": k, **noisy}
+        for m, k in product(ranges["box_mass"][1], ranges["contact_stiffness"][1])
+    ]
     cases.append({name: low for name, (_, (low, high)) in ranges.items()})
     return [(case, [(ranges[name][0], value) for name, value in case.items()]) for case in cases]
 
 
-@pytest.mark.parametrize("case, overrides", _sim_ends(), ids=lambda c: "-".join(f"{v:g}" for v in c.values()) if isinstance(c, dict) else "")
+@pytest.mark.parametrize(
+    "case, overrides", _sim_ends(), ids=lambda c: "-".join(f"{v:g}" for v in c.values()) if isinstance(c, dict) else ""
+)
 def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
     """Grip and release at the ends of the ranges: the box stays where the hands hold it (an
     unstable integration blows it away within a few steps: a 0.05 kg box without substeps did
     at the 12th)."""
-    from app.lab.overrides import setup_of
     from sim.procedures.experiment import make_trial
+
+    from app.lab.overrides import setup_of
 
     index, person, attempt, seed = plan(1, "calm", 0)[0]
     trial = make_trial(index, person, attempt, seed, setup=setup_of(overrides))
@@ -292,7 +356,8 @@ def test_the_live_world_judges_its_scripted_participant_like_the_experiment():
     headless = Trial(PARTICIPANTS["hasty"], seed=11).run()
     assert live.state == "succeeded" and live.reason == ""
     assert (live.duration, live.slip, live.f_n_min, live.f_n_max, live.max_friction_ratio) == pytest.approx(
-        (headless.duration, headless.slip, headless.f_n_min, headless.f_n_max, headless.max_friction_ratio), abs=1e-9)
+        (headless.duration, headless.slip, headless.f_n_min, headless.f_n_max, headless.max_friction_ratio), abs=1e-9
+    )
     world.reset()
     assert world.snapshot().trial.state == "none"
 
@@ -305,7 +370,10 @@ def test_a_live_trial_taken_over_by_the_gizmo_is_abandoned_and_stopping_drops_th
     assert world.snapshot().trial.duration == pytest.approx(0.1)
     world.human.set_target(world.human.position)
     world.step()
-    assert (world.trial.state, world.trial.reason) == ("abandoned", "abandoned: the palm was taken over (no scripted result)")
+    assert (world.trial.state, world.trial.reason) == (
+        "abandoned",
+        "abandoned: the palm was taken over (no scripted result)",
+    )
     world.reset()
     world.start_lifting(10.0)
     while world.human.phase != "settling":

@@ -1,5 +1,6 @@
 """Waiting in tests: for a condition (polls, never asserts on how long it took) and for a
 student's node (tests/nodes/) to say it is ready."""
+
 import os
 import subprocess
 import sys
@@ -48,8 +49,12 @@ def process_gone(pid: int) -> bool:
 
 def start_node(lab, script: str, *args: str) -> subprocess.Popen:
     """tests/nodes/SCRIPT connected to the lab (a running_server), once it printed "node ready"."""
-    node = subprocess.Popen([sys.executable, str(NODES / script), "--port", str(lab.port), *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    node = subprocess.Popen(
+        [sys.executable, str(NODES / script), "--port", str(lab.port), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     line = node.stdout.readline()
     assert line.startswith("node ready"), line + node.stdout.read()
     return node

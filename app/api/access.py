@@ -7,6 +7,7 @@ The token is compared as bytes in constant time (any header bytes are a 401, nev
 tokens from one client address are answered one at a time, each after a delay that doubles per
 failure (0.1 s up to 2 s), so guessing is slow. Cross-site requests are refused before this
 (app/api/security.py). The token's rules and checks are app/tokens.py's."""
+
 from __future__ import annotations
 
 import asyncio
@@ -80,8 +81,19 @@ class TokenMiddleware:
         async with self.throttle.lock(client):  # one wrong guess at a time per client
             delay = self.throttle.fail(client)
             await asyncio.sleep(delay)
-        body = json.dumps({"detail": "this server needs a token for changes: send 'Authorization: Bearer <token>'"}).encode()
-        await send({"type": "http.response.start", "status": 401,
-                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
-                                (b"www-authenticate", b"Bearer"), (b"retry-after", str(max(1, round(delay))).encode())]})
+        body = json.dumps(
+            {"detail": "this server needs a token for changes: send 'Authorization: Bearer <token>'"}
+        ).encode()
+        await send(
+            {
+                "type": "http.response.start",
+                "status": 401,
+                "headers": [
+                    (b"content-type", b"application/json"),
+                    (b"content-length", str(len(body)).encode()),
+                    (b"www-authenticate", b"Bearer"),
+                    (b"retry-after", str(max(1, round(delay))).encode()),
+                ],
+            }
+        )
         await send({"type": "http.response.body", "body": body})

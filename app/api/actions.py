@@ -1,8 +1,8 @@
 """/actions: send goals, follow their feedback (long-poll or WebSocket) and cancel them
 (ros2 action list / send_goal), for every action of the server: the lab's, and those nodes
 provide over rosbridge (app/rosbridge/internal/node_actions.py)."""
-import asyncio
 
+import asyncio
 from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Query, WebSocket, WebSocketDisconnect
@@ -33,16 +33,26 @@ def router(actions: list[Action]) -> APIRouter:
     for action in actions:
         r.add_api_route(
             f"/actions{action.name}/goals",
-            with_body(action.goal, lambda goal, server, a=action: _accept(server, a, goal),
-                      "send_goal" + action.name.replace("/", "_"), server=ActionsDep),
-            methods=["POST"], status_code=202, summary=f"send a goal to {action.name} ({action.type})",
+            with_body(
+                action.goal,
+                lambda goal, server, a=action: _accept(server, a, goal),
+                "send_goal" + action.name.replace("/", "_"),
+                server=ActionsDep,
+            ),
+            methods=["POST"],
+            status_code=202,
+            summary=f"send a goal to {action.name} ({action.type})",
             description=f"{action.description}\n\n```\n{action.definition}\n```",
         )
 
-    @r.post("/actions/{name}/goals", status_code=202, summary="Send a goal to an action a node provides",
-            description="The lab's actions have typed routes of their own (above); this one serves the actions "
-                        "nodes advertise at run time. The goal is checked against the action's type when the lab "
-                        "knows it (422 naming the field).")
+    @r.post(
+        "/actions/{name}/goals",
+        status_code=202,
+        summary="Send a goal to an action a node provides",
+        description="The lab's actions have typed routes of their own (above); this one serves the actions "
+        "nodes advertise at run time. The goal is checked against the action's type when the lab "
+        "knows it (422 naming the field).",
+    )
     def send_node_goal(name: str, server: ActionsDep, body: Any = Body(None)) -> JSONResponse:
         action = server.get(name)
         if action is None:
@@ -59,14 +69,27 @@ def router(actions: list[Action]) -> APIRouter:
         action = server.get(name)
         if action is None:
             raise HTTPException(404, f"action '{absolute(name)}' does not exist")
-        return {"name": action.name, "type": action.type, "definition": action.definition,
-                "description": action.description, "goal_schema": action.goal.model_json_schema(by_alias=True)}
+        return {
+            "name": action.name,
+            "type": action.type,
+            "definition": action.definition,
+            "description": action.description,
+            "goal_schema": action.goal.model_json_schema(by_alias=True),
+        }
 
-    @r.get("/actions/{name}/goals/{goal_id}", summary="Status, feedback and result of a goal (long-poll)",
-           description="`wait` > 0: answer once there is feedback beyond the `after`-th, the goal ends, or "
-                       "`wait` s pass; a waiting request holds no thread.")
-    async def goal_status(name: str, goal_id: str, server: ActionsDep, after: int = Query(0, ge=0, le=INT64_MAX),
-                          wait: float = Query(0.0, ge=0.0, le=30.0)) -> dict:
+    @r.get(
+        "/actions/{name}/goals/{goal_id}",
+        summary="Status, feedback and result of a goal (long-poll)",
+        description="`wait` > 0: answer once there is feedback beyond the `after`-th, the goal ends, or "
+        "`wait` s pass; a waiting request holds no thread.",
+    )
+    async def goal_status(
+        name: str,
+        goal_id: str,
+        server: ActionsDep,
+        after: int = Query(0, ge=0, le=INT64_MAX),
+        wait: float = Query(0.0, ge=0.0, le=30.0),
+    ) -> dict:
         handle = goal_of(server, name, goal_id)
         if wait > 0:
             await handle.updated(after, wait)
@@ -97,7 +120,9 @@ def router(actions: list[Action]) -> APIRouter:
                     await websocket.send_json({"feedback": fb})
                 sent = view["feedback_count"]
                 if handle.status in TERMINAL:
-                    await websocket.send_json({"status": view["status"], "result": view["result"], "message": view["message"]})
+                    await websocket.send_json(
+                        {"status": view["status"], "result": view["result"], "message": view["message"]}
+                    )
                     await websocket.close()
                     return
         except (WebSocketDisconnect, RuntimeError):

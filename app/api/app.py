@@ -1,5 +1,6 @@
 """The FastAPI app: one router per resource (services, parameters, topics, actions, teleop, robot,
 system), around one Lab whose simulation runs while the app is served."""
+
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
 from importlib.metadata import version as package_version
@@ -18,9 +19,8 @@ from app.api import services as services_api
 from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
-from app.api.docs import add_offline_docs
 from app.api.access import TokenMiddleware
-from app.tokens import token_problem
+from app.api.docs import add_offline_docs
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
@@ -30,13 +30,20 @@ from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
 from app.ros.actions import ActionServer
 from app.rosbridge import server as rosbridge
-from app.rosbridge.internal.state import Bridge
 from app.rosbridge.internal.node_services import NodeServices
+from app.rosbridge.internal.state import Bridge
 from app.runtime.process import SimulationRestarting
+from app.tokens import token_problem
 
 
-def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127.0.0.1", view_port: int = 8080,
-               token: str | None = None, exercises: bool = False) -> FastAPI:
+def create_app(
+    lab: Lab | None = None,
+    view: str = "none",
+    view_host: str = "127.0.0.1",
+    view_port: int = 8080,
+    token: str | None = None,
+    exercises: bool = False,
+) -> FastAPI:
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
     view_host: the address the server (API and view) is bound to; requests must name it
@@ -54,8 +61,9 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
         if view != "none":
             from app.view.view3d import LabView  # viser only when a view is asked for
 
-            app.state.view = LabView(lab, app.state.actions, services, view_host, view_port, light=view == "light",
-                                     controls=token is None)
+            app.state.view = LabView(
+                lab, app.state.actions, services, view_host, view_port, light=view == "light", controls=token is None
+            )
             app.state.view.start()
         try:
             yield
@@ -93,8 +101,11 @@ def create_app(lab: Lab | None = None, view: str = "none", view_host: str = "127
 
     @app.exception_handler(CallTimeout)
     async def stuck(request: Request, exc: CallTimeout) -> JSONResponse:
-        return SafeJSONResponse({"detail": "the simulation did not answer in time; call again"}, status_code=503,
-                            headers={"Retry-After": "1"})
+        return SafeJSONResponse(
+            {"detail": "the simulation did not answer in time; call again"},
+            status_code=503,
+            headers={"Retry-After": "1"},
+        )
 
     app.include_router(system_api.router)
     app.include_router(services_api.router(services))

@@ -1,4 +1,5 @@
 """Typed dependencies of the routers: what a request may use of the running app."""
+
 from typing import Annotated
 
 from fastapi import Depends

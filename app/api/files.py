@@ -1,6 +1,7 @@
 """Files the lab made: live recordings (`GET /recordings`, `GET /recordings/NAME` downloads the
 MCAP file) and the figures of experiment / comparison goals (`GET /figures/RUN/NAME`, the URLs
 an action's result lists). Read-only; names are single path components (no way out of the folder)."""
+
 import re
 from pathlib import Path
 

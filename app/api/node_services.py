@@ -2,6 +2,7 @@
 declared services have typed routes of their own (app/api/services.py); this route, included
 after them, serves the names added later. Refusals as for any service: 422 naming the field,
 404 not advertised, 400 the node's failure, 502 a malformed answer, 504 no answer in time."""
+
 from typing import Any
 
 from fastapi import APIRouter, Body

@@ -5,6 +5,7 @@ outside int64); the bounds are put back as exact integers. The responses every r
 documented on it: 401 (a change without the server's token), 403 (a cross-site request), 413/415
 (a body too large or of another type), 404 (a name or goal that does not exist), 409 (an action
 busy with another goal, teleop while lifting), 503 (the simulation is restarting)."""
+
 from __future__ import annotations
 
 from fastapi import FastAPI

@@ -1,5 +1,6 @@
 """/params: ROS 2 parameters over HTTP (ros2 param list / get / set / describe / dump / load): the
 lab's declared ones and those of nodes that declare their own (app/ros/params.py)."""
+
 from typing import Any
 
 from fastapi import APIRouter, Body, HTTPException, Request
@@ -23,9 +24,17 @@ def _refused(exc: ParameterRefused) -> JSONResponse:
 router = APIRouter(tags=["parameters"])
 
 # a `param dump` file: node -> {ros__parameters: {name: value}}
-PARAMETER_FILE = {"type": "object", "additionalProperties": {
-    "type": "object", "required": ["ros__parameters"], "additionalProperties": False,
-    "properties": {"ros__parameters": {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean"]}}}}}
+PARAMETER_FILE = {
+    "type": "object",
+    "additionalProperties": {
+        "type": "object",
+        "required": ["ros__parameters"],
+        "additionalProperties": False,
+        "properties": {
+            "ros__parameters": {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean"]}}
+        },
+    },
+}
 
 
 @router.get("/params", summary="All parameters with their values (ros2 param list)")
@@ -38,11 +47,14 @@ def dump(server: ParamsDep, node: str | None = None) -> str:
     return server.dump(node)
 
 
-@router.post("/params/load", summary="Set parameters from a YAML dump (ros2 param load)",
-             description="Body: a `param dump` file, `Content-Type: application/yaml`, at most 64 KiB "
-                         "and 16 levels deep; a refused file is a 422 with the reason.",
-             responses={422: {"description": "the file is refused as a whole (with the reason)"}},
-             openapi_extra={"requestBody": {"required": True, "content": {"application/yaml": {"schema": PARAMETER_FILE}}}})
+@router.post(
+    "/params/load",
+    summary="Set parameters from a YAML dump (ros2 param load)",
+    description="Body: a `param dump` file, `Content-Type: application/yaml`, at most 64 KiB "
+    "and 16 levels deep; a refused file is a 422 with the reason.",
+    responses={422: {"description": "the file is refused as a whole (with the reason)"}},
+    openapi_extra={"requestBody": {"required": True, "content": {"application/yaml": {"schema": PARAMETER_FILE}}}},
+)
 async def load(request: Request, server: ParamsDep):
     text = (await request.body()).decode("utf-8", errors="replace")
     try:  # parsing and setting take time (and wait for the simulation): off the event loop

@@ -1,4 +1,5 @@
 """Responses that always encode, and the bounded echo of an input in a refusal."""
+
 import json
 import math
 

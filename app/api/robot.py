@@ -1,4 +1,5 @@
 """/robot: the robot's links and joints with their limits (check_urdf)."""
+
 from functools import lru_cache
 
 from fastapi import APIRouter

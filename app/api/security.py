@@ -15,6 +15,7 @@ A page on another site the student has open must not drive the lab, token or not
 
 `origin_refusal` is the same check for servers that are not ASGI apps (the 3D view, viser).
 """
+
 from __future__ import annotations
 
 import ipaddress
@@ -170,7 +171,15 @@ async def _refuse(scope, send, status: int, detail: str) -> None:
         await send({"type": "websocket.close", "code": 1008, "reason": detail[:120]})
         return
     body = json.dumps({"detail": detail}).encode()
-    await send({"type": "http.response.start", "status": status,
-                "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
-                            (b"connection", b"close")]})
+    await send(
+        {
+            "type": "http.response.start",
+            "status": status,
+            "headers": [
+                (b"content-type", b"application/json"),
+                (b"content-length", str(len(body)).encode()),
+                (b"connection", b"close"),
+            ],
+        }
+    )
     await send({"type": "http.response.body", "body": body})

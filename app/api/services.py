@@ -1,8 +1,9 @@
 """/services: list, describe and call the registry's services (ros2 service list / call)."""
+
 from fastapi import APIRouter, HTTPException
-from app.api.responses import SafeJSONResponse as JSONResponse
 
 from app.api.deps import LabDep
+from app.api.responses import SafeJSONResponse as JSONResponse
 from app.api.typed_routes import with_body
 from app.ros.messages import RosMessage
 from app.ros.names import absolute
@@ -48,7 +49,9 @@ def _endpoint(registry: ServiceRegistry, service: Service):
         except SimulationRestarting:
             raise  # a 503 (app/api/app.py)
         except ServiceFailure as failure:
-            return JSONResponse({"service": service.name, "success": False, "detail": str(failure)}, status_code=failure.status)
+            return JSONResponse(
+                {"service": service.name, "success": False, "detail": str(failure)}, status_code=failure.status
+            )
         except Exception as exc:  # noqa: BLE001 - a handler bug is a failure response, not a crash
             detail = f"{type(exc).__name__}: {exc}"
             return JSONResponse({"service": service.name, "success": False, "detail": detail}, status_code=500)

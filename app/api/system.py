@@ -1,4 +1,5 @@
 """The server itself: the page at /, /health, /log (rosout) and /view (where the 3D view is)."""
+
 from pathlib import Path
 from typing import Literal
 
@@ -48,11 +49,18 @@ def view_info(request: Request) -> dict:
     return {"url": view.url, "light": view.light}
 
 
-@router.get("/log", summary="Recent lines of /rosout: the lab's and every node's (rqt_console)",
-            description="Oldest first; `node` and `level` (DEBUG, INFO, WARN, ERROR, FATAL: that level and "
-                        "above) filter them, `after_seq` keeps the lines that came after the one of that `seq`.")
-def log(lab: LabDep, node: str | None = None, level: Literal["DEBUG", "INFO", "WARN", "ERROR", "FATAL"] | None = None,
-        after_seq: int = Query(0, ge=0, le=2**63 - 1)) -> list[dict]:
+@router.get(
+    "/log",
+    summary="Recent lines of /rosout: the lab's and every node's (rqt_console)",
+    description="Oldest first; `node` and `level` (DEBUG, INFO, WARN, ERROR, FATAL: that level and "
+    "above) filter them, `after_seq` keeps the lines that came after the one of that `seq`.",
+)
+def log(
+    lab: LabDep,
+    node: str | None = None,
+    level: Literal["DEBUG", "INFO", "WARN", "ERROR", "FATAL"] | None = None,
+    after_seq: int = Query(0, ge=0, le=2**63 - 1),
+) -> list[dict]:
     lines = lab.rosout.recent()
     if node:
         lines = [line for line in lines if line.node.strip("/") == node.strip("/")]

@@ -1,13 +1,15 @@
 """/teleop: jog the end effector with a key, like the keytwist node."""
+
 from typing import Literal
 
 from fastapi import APIRouter
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel, ConfigDict
 
+from sim.robot.teleop import key_twist
+
 from app.api.deps import LabDep
 from app.lab import commands
-from sim.robot.teleop import key_twist
 
 
 class TeleopKey(BaseModel):

@@ -5,15 +5,17 @@ It only reads snapshots, so it never blocks the simulation; a client that reads 
 always fresh, messages (the ones it could not take are dropped). `rate` is 0.1 to 1000 Hz; a stream
 ends as soon as its client goes (it listens for the close while it waits). /rosout is a log, not a
 state: its stream sends every line as it comes (app/ros/rosout.py)."""
+
 import asyncio
 from collections import deque
 
 from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
 
+from sim.messages import Topic
+
 from app.api.deps import LabDep
 from app.ros import rosout
 from app.ros.names import absolute
-from sim.messages import Topic
 
 MIN_RATE_HZ, MAX_RATE_HZ = 0.1, 1000.0
 MAX_QUEUED = 1000  # /rosout lines waiting for a slow client
@@ -40,8 +42,9 @@ def router(topics: list[Topic]) -> APIRouter:
         return topic.build(lab.snapshot())
 
     @r.websocket("/topics/{name:path}/stream")
-    async def stream(websocket: WebSocket, name: str, lab: LabDep,
-                     rate: float = Query(10.0, ge=MIN_RATE_HZ, le=MAX_RATE_HZ)) -> None:
+    async def stream(
+        websocket: WebSocket, name: str, lab: LabDep, rate: float = Query(10.0, ge=MIN_RATE_HZ, le=MAX_RATE_HZ)
+    ) -> None:
         if absolute(name) == rosout.TOPIC:
             return await _log_stream(websocket, lab)
         topic = by_name.get(absolute(name))

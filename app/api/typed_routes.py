@@ -1,7 +1,9 @@
 """Route functions whose signature carries a pydantic body model, built at run time (so FastAPI
 validates the body and lists its schema in OpenAPI) — shared by services and actions."""
+
 import inspect
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from fastapi import Body
 from pydantic import BaseModel

@@ -1,4 +1,5 @@
 """`hri-lab record | play | bag info`: like `ros2 bag record`, `ros2 bag play`, `ros2 bag info`."""
+
 from __future__ import annotations
 
 import argparse
@@ -20,8 +21,11 @@ def record(args) -> int:
     response = c._request(args, "POST", "/services/start_recording", json={"name": output.stem, "max_mb": args.max_mb})
     if response.status_code != 200:
         raise c.CliError(f"cannot start recording: {c._detail(response)}")
-    print(f"[INFO] recording the lab at {args.url} (server file {response.json()['path']}); press Ctrl+C to stop",
-          file=sys.stderr, flush=True)
+    print(
+        f"[INFO] recording the lab at {args.url} (server file {response.json()['path']}); press Ctrl+C to stop",
+        file=sys.stderr,
+        flush=True,
+    )
     try:
         end = time.monotonic() + args.duration if args.duration else None
         while end is None or time.monotonic() < end:
@@ -36,8 +40,10 @@ def record(args) -> int:
     if "path" not in body:
         return 1
     try:
-        with c._client(args) as client, client.stream("GET", f"/recordings/{Path(body['path']).name}",
-                                                      timeout=60.0) as download:
+        with (
+            c._client(args) as client,
+            client.stream("GET", f"/recordings/{Path(body['path']).name}", timeout=60.0) as download,
+        ):
             if download.status_code != 200:
                 raise c.CliError(f"cannot download the recording: HTTP {download.status_code}")
             with open(output, "wb") as f:
@@ -79,10 +85,13 @@ def play(args) -> int:
     port = args.port or free_port()
     if args.play:
         view.play()
-    print(f"hri-lab play: {playback.path.name}, {playback.duration:.2f} s, {len(playback.frames)} frames\n"
-          f"  3D view   {view.url}\n"
-          f"  topics    http://127.0.0.1:{port}/topics  (hri-lab topic echo NAME --url http://127.0.0.1:{port})\n"
-          "Press Ctrl+C to stop.", flush=True)
+    print(
+        f"hri-lab play: {playback.path.name}, {playback.duration:.2f} s, {len(playback.frames)} frames\n"
+        f"  3D view   {view.url}\n"
+        f"  topics    http://127.0.0.1:{port}/topics  (hri-lab topic echo NAME --url http://127.0.0.1:{port})\n"
+        "Press Ctrl+C to stop.",
+        flush=True,
+    )
     try:
         uvicorn.run(replay_app(view), host="127.0.0.1", port=port, log_level="warning", access_log=False)
     finally:
@@ -92,10 +101,15 @@ def play(args) -> int:
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     url = argparse.ArgumentParser(add_help=False)
-    url.add_argument("--url", default=c.os.environ.get("HRI_LAB_URL", c.DEFAULT_URL),
-                     help=f"the hri-lab server (default $HRI_LAB_URL or {c.DEFAULT_URL})")
+    url.add_argument(
+        "--url",
+        default=c.os.environ.get("HRI_LAB_URL", c.DEFAULT_URL),
+        help=f"the hri-lab server (default $HRI_LAB_URL or {c.DEFAULT_URL})",
+    )
     rec = sub.add_parser("record", parents=[url], help="record the live lab to MCAP (like ros2 bag record)")
-    rec.add_argument("-o", "--output", metavar="FILE.mcap", help="where to save it (default hri-lab_<date>_<time>.mcap)")
+    rec.add_argument(
+        "-o", "--output", metavar="FILE.mcap", help="where to save it (default hri-lab_<date>_<time>.mcap)"
+    )
     rec.add_argument("--duration", type=float, help="stop after this many seconds (default: Ctrl+C)")
     rec.add_argument("--max-mb", type=float, default=1024.0, help="size cap: the recording stops there (MiB)")
     rec.set_defaults(func=record)
@@ -104,7 +118,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     ply.add_argument("file", metavar="FILE.mcap")
     ply.add_argument("--port", type=int, default=0, help="port of the topics API (default: a free one)")
     ply.add_argument("--view-port", type=int, default=0, help="port of the 3D view (default: a free one)")
-    ply.add_argument("--view", choices=("full", "light"), default="full", help="full meshes or light (collision meshes)")
+    ply.add_argument(
+        "--view", choices=("full", "light"), default="full", help="full meshes or light (collision meshes)"
+    )
     ply.add_argument("--play", action="store_true", help="start playing at once (default: paused at 0)")
     ply.set_defaults(func=play)
 

@@ -1,4 +1,5 @@
 """`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url)."""
+
 import argparse
 import json
 import os
@@ -56,7 +57,9 @@ def _detail(response: httpx.Response) -> str:
         return response.text
     detail = body.get("detail", body) if isinstance(body, dict) else body
     if isinstance(detail, list):  # FastAPI validation errors
-        return "; ".join(f"{'.'.join(str(x) for x in e.get('loc', [])[1:]) or 'request'}: {e.get('msg')}" for e in detail)
+        return "; ".join(
+            f"{'.'.join(str(x) for x in e.get('loc', [])[1:]) or 'request'}: {e.get('msg')}" for e in detail
+        )
     return str(detail)
 
 
@@ -157,15 +160,19 @@ def param(args) -> int:
             text = read_parameter_file(args.file)
         except ParameterRefused as exc:
             raise CliError(f"{args.file}: {exc}") from None
-        response = _request(args, "POST", "/params/load", content=text.encode("utf-8"),
-                            headers={"content-type": "application/yaml"})
+        response = _request(
+            args, "POST", "/params/load", content=text.encode("utf-8"), headers={"content-type": "application/yaml"}
+        )
         body = response.json()
         if "results" not in body:
             print(f"Loading parameters failed: {body.get('reason')}")
             return 1
         for r in body["results"]:
-            print(f"Set parameter {r['name']} successful" if r["successful"] else
-                  f"Set parameter {r['name']} failed: {r['reason']}")
+            print(
+                f"Set parameter {r['name']} successful"
+                if r["successful"]
+                else f"Set parameter {r['name']} failed: {r['reason']}"
+            )
         return 0 if body["successful"] else 1
     raise CliError(f"unknown param action {args.action}")
 
@@ -179,7 +186,9 @@ def topic(args) -> int:
         _print_message(response.json())
         return 0
 
-    ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://") + f"/topics{name}/stream?rate={args.rate}"
+    ws_url = (
+        args.url.replace("http://", "ws://").replace("https://", "wss://") + f"/topics{name}/stream?rate={args.rate}"
+    )
     received = 0
     try:
         with connect(ws_url) as ws:
@@ -195,8 +204,10 @@ class _Dumper(yaml.SafeDumper):
     """YAML with a text of several lines (a results table) as a literal block, readable as printed."""
 
 
-_Dumper.add_representer(str, lambda dumper, text: dumper.represent_scalar(
-    "tag:yaml.org,2002:str", text, style="|" if "\n" in text else None))
+_Dumper.add_representer(
+    str,
+    lambda dumper, text: dumper.represent_scalar("tag:yaml.org,2002:str", text, style="|" if "\n" in text else None),
+)
 
 
 def _dump(value, **options) -> str:
@@ -243,14 +254,20 @@ def action(args) -> int:
         if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
             break
     print(f"Result:\n{_indented(view['result'])}\n")
-    print(f"Goal finished with status: {view['status'].upper()}" + (f" ({view['message']})" if view["status"] == "aborted" else ""))
+    print(
+        f"Goal finished with status: {view['status'].upper()}"
+        + (f" ({view['message']})" if view["status"] == "aborted" else "")
+    )
     return 0 if view["status"] == "succeeded" else 1
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     url = argparse.ArgumentParser(add_help=False)
-    url.add_argument("--url", default=os.environ.get("HRI_LAB_URL", DEFAULT_URL),
-                     help=f"the hri-lab server (default $HRI_LAB_URL or {DEFAULT_URL})")
+    url.add_argument(
+        "--url",
+        default=os.environ.get("HRI_LAB_URL", DEFAULT_URL),
+        help=f"the hri-lab server (default $HRI_LAB_URL or {DEFAULT_URL})",
+    )
 
     srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
     srv_sub = srv.add_subparsers(dest="action", required=True)

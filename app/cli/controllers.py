@@ -1,4 +1,5 @@
 """--controller sp|patch|FILE.py[:Class] of `experiment` and `serve`."""
+
 from __future__ import annotations
 
 import sys

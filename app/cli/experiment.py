@@ -1,4 +1,5 @@
 """`hri-lab experiment`: the Table 1 trials headless, a comparison of controllers, a sweep."""
+
 from __future__ import annotations
 
 import argparse
@@ -7,10 +8,6 @@ import sys
 
 from tqdm import tqdm
 
-from app.cli.controllers import loaded_factory
-from app.cli.outputs import summary_figure, trial_outputs
-from app.lab import overrides
-from app.ros.params import ParameterRefused, read_parameter_file
 from sim.procedures.experiment import (
     format_comparison,
     format_sweep,
@@ -23,6 +20,11 @@ from sim.procedures.experiment import (
     sweep_json,
 )
 
+from app.cli.controllers import loaded_factory
+from app.cli.outputs import summary_figure, trial_outputs
+from app.lab import overrides
+from app.ros.params import ParameterRefused, read_parameter_file
+
 
 def _overrides(args: argparse.Namespace) -> list:
     """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
@@ -33,7 +35,10 @@ def _overrides(args: argparse.Namespace) -> list:
         except ParameterRefused as exc:
             raise ParameterRefused(f"{args.params}: {exc}") from None
         if ignored and not args.quiet:
-            print(f"hri-lab: {args.params}: not applicable to a headless trial, ignored: {', '.join(ignored)}", file=sys.stderr)
+            print(
+                f"hri-lab: {args.params}: not applicable to a headless trial, ignored: {', '.join(ignored)}",
+                file=sys.stderr,
+            )
     return found + overrides.parse_set(args.set or [])
 
 
@@ -67,9 +72,16 @@ def run(args: argparse.Namespace) -> int:
         if points:
             rows = run_sweep(points, args.trials, args.participant, args.seed, factory, progress, args.jobs)
         else:
-            results = run_experiment(args.trials, args.participant, args.seed, controller_factory=factory,
-                                     on_result=progress, jobs=args.jobs, setup=overrides.setup_of(found),
-                                     outputs=trial_outputs(args))
+            results = run_experiment(
+                args.trials,
+                args.participant,
+                args.seed,
+                controller_factory=factory,
+                on_result=progress,
+                jobs=args.jobs,
+                setup=overrides.setup_of(found),
+                outputs=trial_outputs(args),
+            )
     controller = args.controller or "sp"
     if not points:
         summary_figure(args, {controller: results})
@@ -79,8 +91,18 @@ def run(args: argparse.Namespace) -> int:
         swept = " x ".join(p.name for p, _ in axes)
         print(format_sweep(rows, f"sweep of {swept}, controller {controller}, seed {args.seed}; {title}"))
     elif args.json:
-        print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, "summary": summary(results),
-                          "trials": [r.as_dict() for r in results]}, indent=2))
+        print(
+            json.dumps(
+                {
+                    "controller": controller,
+                    "seed": args.seed,
+                    "set": changed,
+                    "summary": summary(results),
+                    "trials": [r.as_dict() for r in results],
+                },
+                indent=2,
+            )
+        )
     else:
         print(format_table(results, f"controller {controller}, seed {args.seed}; {title}"))
     return 0
@@ -91,13 +113,28 @@ def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
     names = [n.strip() for n in args.compare.split(",") if n.strip()]
     factories = {name: loaded_factory(name) for name in names}
     people = [args.participant] if args.participant else None
-    results = run_comparison(names, args.trials, people, args.seed, controller_factory=factories.__getitem__, jobs=args.jobs,
-                             setup=setup, outputs=trial_outputs(args))
+    results = run_comparison(
+        names,
+        args.trials,
+        people,
+        args.seed,
+        controller_factory=factories.__getitem__,
+        jobs=args.jobs,
+        setup=setup,
+        outputs=trial_outputs(args),
+    )
     summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
     if args.json:
-        print(json.dumps({"seed": args.seed, "set": changed,
-                          "results": {n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()}},
-                         indent=2))
+        print(
+            json.dumps(
+                {
+                    "seed": args.seed,
+                    "set": changed,
+                    "results": {n: {p: [r.as_dict() for r in rs] for p, rs in by.items()} for n, by in results.items()},
+                },
+                indent=2,
+            )
+        )
     else:
         print(format_comparison(results, f"seed {args.seed}; {title}"))
     return 0

@@ -3,6 +3,7 @@
 Exit status: 0 all passed, 1 some failed (or could not be loaded), 2 refused (no sandbox, no
 file); never 0 before every report is written.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -12,11 +13,12 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from app.cli.outputs import trial_outputs
-from app.cli.reports import emit
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
 from sim.procedures.grading import battery, job_items, new_report, run_items
+
+from app.cli.outputs import trial_outputs
+from app.cli.reports import emit
 
 
 def expand(specs: list[str]) -> list[str]:
@@ -35,8 +37,11 @@ def run(args: argparse.Namespace) -> int:
     """Grade every file, write and print the reports; the exit status (module docstring)."""
     sandboxed = not args.unsandboxed
     if sandboxed and (reason := sandbox_unavailable()):
-        print(f"hri-lab grade: refusing to run students' code without a sandbox: {reason}\n"
-              "(--unsandboxed runs it in processes of their own but with your privileges)", file=sys.stderr)
+        print(
+            f"hri-lab grade: refusing to run students' code without a sandbox: {reason}\n"
+            "(--unsandboxed runs it in processes of their own but with your privileges)",
+            file=sys.stderr,
+        )
         return 2
     specs = expand(args.controllers)
     if not specs:
@@ -59,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
             jobs.append(job)
             owners += [report] * job_items(job)
     with tqdm(total=len(owners), desc="grading", unit="item", file=sys.stderr, disable=args.quiet) as bar:
+
         def progress(item) -> None:
             bar.set_postfix_str(f"{item.name[:40]}: {item.mark}")
             bar.update(1)

@@ -12,6 +12,7 @@ with this process's own pinocchio model at the q the lab reports on /joint_state
 and after each call: the robot must not move in between), and the least-squares wrench with
 numpy. Reports: the controller grader's formats (text, JSON, Gradescope's results.json).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -20,16 +21,17 @@ import os
 import re
 import string
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import httpx
 import numpy as np
 import pinocchio as pin
 
-from app.cli.reports import emit
 from sim.procedures.report import Item, Report
 from sim.robot.assets import panda_urdf
+
+from app.cli.reports import emit
 
 SECTION = "services"
 INT64_MAX = 2**63 - 1
@@ -95,8 +97,10 @@ def _close(got, expected, what: str, request: dict) -> None:
         raise Wrong(f"{_short(request)}: {what} has {got.size} values, expected {expected.size}")
     error = np.max(np.abs(got - expected))
     if not error <= TORQUE_TOLERANCE * (1.0 + np.max(np.abs(expected))):
-        raise Wrong(f"{_short(request)}: {what} = {np.round(got, 4).tolist()}, expected "
-                    f"{np.round(expected, 4).tolist()} (off by {error:.3g})")
+        raise Wrong(
+            f"{_short(request)}: {what} = {np.round(got, 4).tolist()}, expected "
+            f"{np.round(expected, 4).tolist()} (off by {error:.3g})"
+        )
 
 
 # --- the independent answers -------------------------------------------------------------------
@@ -109,7 +113,9 @@ def planar_hand(q: np.ndarray) -> np.ndarray:
 def planar_expected(q: np.ndarray, force: np.ndarray) -> np.ndarray:
     """tau = J(q)^T [fx, fy, mz] with J by central differences of planar_hand (Nm)."""
     step = 1e-6
-    jacobian = np.column_stack([(planar_hand(q + step * e) - planar_hand(q - step * e)) / (2 * step) for e in np.eye(3)])
+    jacobian = np.column_stack(
+        [(planar_hand(q + step * e) - planar_hand(q - step * e)) / (2 * step) for e in np.eye(3)]
+    )
     return jacobian.T @ np.append(force, 0.0)[:3]
 
 
@@ -133,7 +139,7 @@ class PandaJacobian:
 class Exercise:
     service: str
     points: float
-    check: Callable[["Grading"], None]  # raises Wrong at the first wrong case
+    check: Callable[[Grading], None]  # raises Wrong at the first wrong case
     what: str
 
 
@@ -142,7 +148,9 @@ class Grading:
 
     def __init__(self, lab: LabClient, seed: int):
         self.lab = lab
-        self.rng = np.random.default_rng([seed, 2])  # the services' cases (the controller grader draws from [seed, 0|1])
+        self.rng = np.random.default_rng(
+            [seed, 2]
+        )  # the services' cases (the controller grader draws from [seed, 0|1])
         self._jacobian: PandaJacobian | None = None
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:
@@ -164,7 +172,7 @@ class Grading:
 
 
 def check_add_two_ints(g: Grading) -> None:
-    a, b = g.integers(-10**6, 10**6, 2)
+    a, b = g.integers(-(10**6), 10**6, 2)
     big = g.integers(0, 2**40, 1)[0]
     for request in ({"a": a, "b": b}, {"a": -a, "b": b}, {"a": 2**62 + big, "b": 2**62 - 1 - big}):  # exact int64
         got = g.lab.answer("add_two_ints", request)["sum"]
@@ -173,12 +181,15 @@ def check_add_two_ints(g: Grading) -> None:
 
 
 def check_divide_ints(g: Grading) -> None:
-    a, b = g.integers(-10**4, 10**4, 2)
+    a, b = g.integers(-(10**4), 10**4, 2)
     b = b or 7
     for request in ({"a": a, "b": b}, {"a": b, "b": a or 3}):
         body = g.lab.answer("divide_ints", request)
         expected = request["a"] / request["b"]
-        if not math.isclose(body["result"], expected, rel_tol=1e-12, abs_tol=1e-12) or body["message"] != "Division ok.":
+        if (
+            not math.isclose(body["result"], expected, rel_tol=1e-12, abs_tol=1e-12)
+            or body["message"] != "Division ok."
+        ):
             raise Wrong(f"{request}: {body}, expected result {expected!r} and 'Division ok.'")
     body = g.lab.answer("divide_ints", {"a": a, "b": 0})
     if body["message"] != "Division by zero!":
@@ -208,9 +219,11 @@ def check_echo(g: Grading) -> None:
 def check_login(g: Grading) -> None:
     name = "student" + str(g.integers(1, 999, 1)[0])
     wrong = g.integers(43, 10**6, 1)[0]
-    for request, success in (({"username": name, "magic_number": 42}, True),
-                             ({"username": name, "magic_number": wrong}, False),
-                             ({"username": "", "magic_number": 42}, False)):
+    for request, success in (
+        ({"username": name, "magic_number": 42}, True),
+        ({"username": name, "magic_number": wrong}, False),
+        ({"username": "", "magic_number": 42}, False),
+    ):
         body = g.lab.answer("login", request)
         if body["success"] is not success:
             raise Wrong(f"{request}: success = {body['success']}, expected {success}")
@@ -262,8 +275,10 @@ def check_start(g: Grading) -> None:
     state = g.lab.topic("lifting_state")
     f_n_max = force + 5.0
     if not (state["started"] and math.isclose(state["f_n_min"], force) and math.isclose(state["f_n_max"], f_n_max)):
-        raise Wrong(f"force = {force}: the lab's /lifting_state shows started={state['started']}, "
-                    f"f_n_min={state['f_n_min']}, f_n_max={state['f_n_max']} (expected {force:g} and {f_n_max:g} N)")
+        raise Wrong(
+            f"force = {force}: the lab's /lifting_state shows started={state['started']}, "
+            f"f_n_min={state['f_n_min']}, f_n_max={state['f_n_max']} (expected {force:g} and {f_n_max:g} N)"
+        )
     if not _states(message, force):
         raise Wrong(f"force = {force}: message {message!r} does not state the force {force:g} N")
 
@@ -272,7 +287,9 @@ def check_stop(g: Grading) -> None:
     message = g.lab.answer("stop_cooperative_lifting")["message"]
     state = g.lab.topic("lifting_state")
     if state["started"] or state["f_n_min"] != 0.0:
-        raise Wrong(f"the lab's /lifting_state shows started={state['started']}, f_n_min={state['f_n_min']} after the stop")
+        raise Wrong(
+            f"the lab's /lifting_state shows started={state['started']}, f_n_min={state['f_n_min']} after the stop"
+        )
     if "stop" not in message.lower() or not _states(message, 0.0):
         raise Wrong(f"message {message!r} does not say that lifting stopped and f_n_min is reset to 0 N")
 
@@ -303,8 +320,9 @@ def grade_exercise(g: Grading, exercise: Exercise) -> Item:
     return Item(SECTION, name, exercise.points, exercise.points)
 
 
-def grade_services(url: str, seed: int, token: str | None = None,
-                   progress: Callable[[Item], None] = lambda item: None) -> Report:
+def grade_services(
+    url: str, seed: int, token: str | None = None, progress: Callable[[Item], None] = lambda item: None
+) -> Report:
     """Every exercise service of the lab at `url`, in order; the lab is reset before and after
     (robot at rest, lifting stopped). Raises httpx.HTTPError when the lab cannot be reached."""
     report = Report(subject=url, kind="services", seed=seed)
@@ -327,6 +345,7 @@ def grade_services(url: str, seed: int, token: str | None = None,
 def run(args: argparse.Namespace) -> int:
     """`hri-lab grade-services`: one line per item as it is graded, then the report; 2 when the
     lab cannot be reached."""
+
     def progress(item) -> None:
         if not args.quiet:
             print(f"{item.mark:>6}  {item.name}", file=sys.stderr, flush=True)

@@ -1,12 +1,13 @@
 """Start `hri-lab serve` as a separate process on a free loopback port and wait until it is ready
 (for tests, benchmarks and grading runs that need a real server)."""
+
 import socket
 import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Iterator
 
 
 def free_port() -> int:
@@ -27,7 +28,9 @@ class ServerProcess:
         output = ("--output-dir", self._output.name) if self._output else ()
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *output, *args],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
             start_new_session=own_session,  # out of the terminal's Ctrl+C: its starter stops it (hri-lab launch)
         )
         self.banner = self._wait_ready(timeout)

@@ -4,6 +4,7 @@ A command's code is its own module (`app/cli/experiment.py`, `serve.py`, `grade.
 when that command runs (`_command`): the ros2-like client commands start without loading the
 simulation (numba, pinocchio) that `experiment`, `grade` and `serve` need.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -14,15 +15,18 @@ import os
 import signal
 from pathlib import Path
 
+from sim.person.participants import PARTICIPANTS
+
 from app.cli import bag
 from app.cli import client as client_cli
-from sim.person.participants import PARTICIPANTS
 
 
 def _command(module: str):
     """The command `module.run(args)`, its module imported when the command runs."""
+
     def run(args: argparse.Namespace) -> int:
         return importlib.import_module(module).run(args)
+
     return run
 
 
@@ -30,19 +34,39 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
     sub = parser.add_subparsers(dest="command", required=True)
     exp = sub.add_parser("experiment", help="run the lab's Table 1 trials headless (faster than real time)")
-    exp.add_argument("--trials", type=_positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)")
+    exp.add_argument(
+        "--trials", type=_positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)"
+    )
     exp.add_argument("--participant", choices=sorted(PARTICIPANTS), help="only this participant")
     exp.add_argument("--seed", type=int, default=0, help="random seed (same seed, same table)")
-    exp.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1,
-                     help="trials run in this many processes (default: one per core; same results)")
+    exp.add_argument(
+        "--jobs",
+        type=_positive_int,
+        default=os.cpu_count() or 1,
+        help="trials run in this many processes (default: one per core; same results)",
+    )
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
-    exp.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
-    exp.add_argument("--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side")
-    exp.add_argument("--set", action="append", metavar="NAME=VALUE",
-                     help="a parameter for every trial, e.g. --set alpha=0.5 --set k_t=0.2 (checked like `param set`)")
-    exp.add_argument("--params", metavar="FILE.yaml", help="parameters for every trial, a `param dump` file (--set wins)")
-    exp.add_argument("--sweep", action="append", metavar="NAME=V1,V2,...",
-                     help="run the same trials at each value (twice: a grid of two parameters); one table")
+    exp.add_argument(
+        "--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)"
+    )
+    exp.add_argument(
+        "--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side"
+    )
+    exp.add_argument(
+        "--set",
+        action="append",
+        metavar="NAME=VALUE",
+        help="a parameter for every trial, e.g. --set alpha=0.5 --set k_t=0.2 (checked like `param set`)",
+    )
+    exp.add_argument(
+        "--params", metavar="FILE.yaml", help="parameters for every trial, a `param dump` file (--set wins)"
+    )
+    exp.add_argument(
+        "--sweep",
+        action="append",
+        metavar="NAME=V1,V2,...",
+        help="run the same trials at each value (twice: a grid of two parameters); one table",
+    )
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
     add_output_options(exp)
     exp.set_defaults(func=_command("app.cli.experiment"))
@@ -51,51 +75,100 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
     srv.add_argument("--port", type=int, default=8000)
     srv.add_argument("--params", metavar="FILE.yaml", help="parameters to load at start (a `param dump` file)")
-    srv.add_argument("--view", choices=("full", "light", "none"), default=os.environ.get("HRI_LAB_VIEW", "full"),
-                     help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none")
-    srv.add_argument("--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)")
-    srv.add_argument("--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)")
-    srv.add_argument("--output-dir", default=".", metavar="DIR",
-                     help="where live recordings (DIR/recordings) and the actions' figures (DIR/figures) go")
-    srv.add_argument("--token", default=os.environ.get("HRI_LAB_TOKEN"),
-                     help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)")
-    srv.add_argument("--exercises", action="store_true",
-                     help="leave the handout's exercise services to the students' nodes (rosbridge): "
-                          "each answers 'not provided yet' until a node advertises it")
+    srv.add_argument(
+        "--view",
+        choices=("full", "light", "none"),
+        default=os.environ.get("HRI_LAB_VIEW", "full"),
+        help="3D view: full meshes, light (collision meshes, no shadows: software-rendered browsers) or none",
+    )
+    srv.add_argument(
+        "--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)"
+    )
+    srv.add_argument(
+        "--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)"
+    )
+    srv.add_argument(
+        "--output-dir",
+        default=".",
+        metavar="DIR",
+        help="where live recordings (DIR/recordings) and the actions' figures (DIR/figures) go",
+    )
+    srv.add_argument(
+        "--token",
+        default=os.environ.get("HRI_LAB_TOKEN"),
+        help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)",
+    )
+    srv.add_argument(
+        "--exercises",
+        action="store_true",
+        help="leave the handout's exercise services to the students' nodes (rosbridge): "
+        "each answers 'not provided yet' until a node advertises it",
+    )
     srv.set_defaults(func=_command("app.cli.serve"))
 
-    tpl = sub.add_parser("template", help="print a starting file: the controller (default), a services node or the lifting node")
-    tpl.add_argument("kind", nargs="?", choices=("controller", "services", "node"), default="controller",
-                     help="controller: cooperative_lifting.py (plug-in); services: a node with the handout's "
-                          "servers; node: the lifting application as a node")
-    tpl.add_argument("--api", choices=("rospy", "rclpy", "roslibpy"), default="rospy",
-                     help="the node's client library (default rospy, like the handout; rospy and rclpy programs "
-                          "run with `hri-lab run`)")
+    tpl = sub.add_parser(
+        "template", help="print a starting file: the controller (default), a services node or the lifting node"
+    )
+    tpl.add_argument(
+        "kind",
+        nargs="?",
+        choices=("controller", "services", "node"),
+        default="controller",
+        help="controller: cooperative_lifting.py (plug-in); services: a node with the handout's "
+        "servers; node: the lifting application as a node",
+    )
+    tpl.add_argument(
+        "--api",
+        choices=("rospy", "rclpy", "roslibpy"),
+        default="rospy",
+        help="the node's client library (default rospy, like the handout; rospy and rclpy programs "
+        "run with `hri-lab run`)",
+    )
     tpl.set_defaults(func=_template)
 
-    grd = sub.add_parser("grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed")
-    grd.add_argument("controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)")
+    grd = sub.add_parser(
+        "grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed"
+    )
+    grd.add_argument(
+        "controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)"
+    )
     _report_options(grd, "probe values and trials")
     grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="items in parallel processes")
-    grd.add_argument("--unsandboxed", action="store_true",
-                     help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run")
+    grd.add_argument(
+        "--unsandboxed",
+        action="store_true",
+        help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run",
+    )
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
     add_output_options(grd)
     grd.set_defaults(func=_command("app.cli.grade"))
 
-    gsv = sub.add_parser("grade-services", help="grade the handout's exercise services a student's node provides "
-                         "(a lab started with serve --exercises), over its HTTP API")
-    gsv.add_argument("--url", default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
-                     help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
+    gsv = sub.add_parser(
+        "grade-services",
+        help="grade the handout's exercise services a student's node provides "
+        "(a lab started with serve --exercises), over its HTTP API",
+    )
+    gsv.add_argument(
+        "--url",
+        default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
+        help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN",
+    )
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
 
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
-    run.add_argument("--url", default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
-                     help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN")
-    run.add_argument("--workspace", metavar="DIR", help="where the program's own interface packages are "
-                     "(PKG/srv/X.srv, PKG/msg/X.msg, PKG/action/X.action; default: its folder and parents)")
+    run.add_argument(
+        "--url",
+        default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
+        help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN",
+    )
+    run.add_argument(
+        "--workspace",
+        metavar="DIR",
+        help="where the program's own interface packages are "
+        "(PKG/srv/X.srv, PKG/msg/X.msg, PKG/action/X.action; default: its folder and parents)",
+    )
     run.add_argument("program", metavar="FILE.py")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
     run.set_defaults(func=_command("app.rosclient.run"))
@@ -115,27 +188,46 @@ def build_parser() -> argparse.ArgumentParser:
 def add_output_options(parser: argparse.ArgumentParser) -> None:
     """--record DIR, --plots DIR of `experiment` and `grade` (app/cli/outputs.py)."""
     parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
-    parser.add_argument("--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)")
+    parser.add_argument(
+        "--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)"
+    )
 
 
 def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
     """The grading report's options (the same for controllers and services)."""
-    parser.add_argument("--out", metavar="DIR", help="write NAME.txt, NAME.json (and NAME.results.json with --format "
-                        "gradescope) per report and summary.csv")
-    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text",
-                        help="what a single report prints (gradescope: its results.json); with --out, also written")
+    parser.add_argument(
+        "--out",
+        metavar="DIR",
+        help="write NAME.txt, NAME.json (and NAME.results.json with --format gradescope) per report and summary.csv",
+    )
+    parser.add_argument(
+        "--format",
+        choices=("text", "json", "gradescope"),
+        default="text",
+        help="what a single report prints (gradescope: its results.json); with --out, also written",
+    )
     parser.add_argument("--json", metavar="OUT.json", help="also write a single report as JSON")
-    parser.add_argument("--seed", type=int, default=os.environ.get("HRI_LAB_GRADE_SEED", "0"), help=f"seed of the {drawn} "
-                        "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)")
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=os.environ.get("HRI_LAB_GRADE_SEED", "0"),
+        help=f"seed of the {drawn} "
+        "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)",
+    )
 
 
 def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
         path = Path(importlib.util.find_spec("sim.controllers.template").origin)
     else:
-        names = {("services", "roslibpy"): "services_node.py", ("node", "roslibpy"): "lifting_node.py",
-                 ("services", "rospy"): "services_rospy.py", ("node", "rospy"): "lifting_rospy.py",
-                 ("services", "rclpy"): "services_rclpy.py", ("node", "rclpy"): "lifting_rclpy.py"}
+        names = {
+            ("services", "roslibpy"): "services_node.py",
+            ("node", "roslibpy"): "lifting_node.py",
+            ("services", "rospy"): "services_rospy.py",
+            ("node", "rospy"): "lifting_rospy.py",
+            ("services", "rclpy"): "services_rclpy.py",
+            ("node", "rclpy"): "lifting_rclpy.py",
+        }
         path = Path(__file__).parent / "templates" / names[args.kind, args.api]
     print(path.read_text(encoding="utf-8"), end="")
     return 0
@@ -162,5 +254,3 @@ def main(argv: list[str] | None = None) -> int:
         for signum in (signal.SIGTERM, signal.SIGHUP):
             signal.signal(signum, _stop_with_workers)
     return client_cli.run(args.func, args)
-
-

@@ -1,5 +1,6 @@
 """--record DIR and --plots DIR, shared by `hri-lab experiment` and `hri-lab grade`: an MCAP
 recording and a figure of every trial."""
+
 from __future__ import annotations
 
 import argparse

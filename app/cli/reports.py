@@ -1,5 +1,6 @@
 """The grading reports as `hri-lab grade` and `hri-lab grade-services` write and print them:
 text, JSON, Gradescope's results.json, and with --out DIR a file per report and summary.csv."""
+
 from __future__ import annotations
 
 import argparse

@@ -5,6 +5,7 @@ whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the conn
 opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most 64 KiB
 (h11/httptools), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within
 SHUTDOWN_S."""
+
 import argparse
 import asyncio
 import sys
@@ -14,14 +15,15 @@ from pathlib import Path
 import uvicorn
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
+from sim.controllers.plugin import PluginFactory
+
 from app.api.access import is_loopback
-from app.tokens import TOKEN_ENV, token_problem
 from app.api.app import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
 from app.ros.params import ParameterRefused, read_parameter_file
 from app.rosbridge.protocol import MAX_FRAME
-from sim.controllers.plugin import PluginFactory
+from app.tokens import TOKEN_ENV, token_problem
 
 
 def load_parameter_file(lab: Lab, path: str) -> None:
@@ -33,11 +35,21 @@ def load_parameter_file(lab: Lab, path: str) -> None:
         raise ParameterRefused("; ".join(f"/{r['node']}/{r['name']}: {r['reason']}" for r in failed))
 
 
-def serve(host: str = "127.0.0.1", port: int = 8000, params_file: str | None = None, view: str = "full",
-          view_port: int = 8080, controller=None, token: str | None = None, exercises: bool = False,
-          output_dir: str = ".") -> int:
+def serve(
+    host: str = "127.0.0.1",
+    port: int = 8000,
+    params_file: str | None = None,
+    view: str = "full",
+    view_port: int = 8080,
+    controller=None,
+    token: str | None = None,
+    exercises: bool = False,
+    output_dir: str = ".",
+) -> int:
     if not is_loopback(host) and not token:
-        print(f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr)
+        print(
+            f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr
+        )
         return 2
     if token and token_problem(token):
         print(f"hri-lab: {token_problem(token)}", file=sys.stderr)
@@ -64,10 +76,18 @@ SHUTDOWN_S = 3
 def server_config(app, host: str, port: int, read_timeout_s: float = READ_TIMEOUT_S) -> uvicorn.Config:
     """uvicorn's configuration with the server's limits (see the module's docstring)."""
     protocol = type("TimedProtocol", (TimedHttpProtocol,), {"read_timeout_s": read_timeout_s})
-    return uvicorn.Config(app, host=host, port=port, log_level="warning", access_log=False, http=protocol,
-                          timeout_keep_alive=KEEP_ALIVE_S, timeout_graceful_shutdown=SHUTDOWN_S,
-                          h11_max_incomplete_event_size=64 * 1024,
-                          ws_max_size=2 * MAX_FRAME)  # bytes; a longer rosbridge frame is refused by the session
+    return uvicorn.Config(
+        app,
+        host=host,
+        port=port,
+        log_level="warning",
+        access_log=False,
+        http=protocol,
+        timeout_keep_alive=KEEP_ALIVE_S,
+        timeout_graceful_shutdown=SHUTDOWN_S,
+        h11_max_incomplete_event_size=64 * 1024,
+        ws_max_size=2 * MAX_FRAME,
+    )  # bytes; a longer rosbridge frame is refused by the session
 
 
 class TimedHttpProtocol(HttpToolsProtocol):
@@ -137,5 +157,14 @@ def run(args: argparse.Namespace) -> int:
     factory = loaded_factory(args.controller)
     if isinstance(factory, PluginFactory):
         factory = replace(factory, eager=False)
-    return serve(args.host, args.port, args.params, args.view, args.view_port, factory(), args.token,
-                 exercises=args.exercises, output_dir=args.output_dir)
+    return serve(
+        args.host,
+        args.port,
+        args.params,
+        args.view,
+        args.view_port,
+        factory(),
+        args.token,
+        exercises=args.exercises,
+        output_dir=args.output_dir,
+    )

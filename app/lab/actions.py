@@ -1,10 +1,13 @@
 """The lab's actions (docs/design.md, "Actions"), one declaration each."""
+
 import multiprocessing
 from pathlib import Path
 from typing import Annotated
 
 from pydantic import BeforeValidator, Field
 
+from sim.controllers.builtin import BUILTIN
+from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import (
     COMPARISON_PARTICIPANTS,
     ComparedTrial,
@@ -12,25 +15,39 @@ from sim.procedures.experiment import (
     format_comparison,
     format_table,
     run_comparison,
+)
+from sim.procedures.experiment import (
     run_experiment as run_trials,
 )
-from sim.person.participants import PARTICIPANTS
-from sim.controllers.builtin import BUILTIN
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialOutputs
 
 from app.lab import commands as cmd
 from app.lab import overrides
 from app.ros.actions import Action, GoalFailure, GoalHandle
+from app.ros.messages import (
+    Bool,
+    Empty,
+    Float64,
+    Int32,
+    Int64,
+    RosMessage,
+    RosType,
+    String,
+    int32_array,
+    integral,
+    string_array,
+)
 from app.ros.params import ParameterRefused
-from app.ros.messages import Bool, Empty, Float64, Int32, Int64, RosMessage, RosType, String, integral, int32_array, string_array
-
 
 # `set`: parameters for every trial of the goal, NAME=VALUE separated by spaces; the schema says
 # the syntax, the parameter server's rules (declared, type, range) reject a goal up front (409)
 SET_PATTERN = r"^\s*([A-Za-z_][A-Za-z0-9_/]*=\S+(\s+|$))*$"
-SetField = Annotated[str, Field(max_length=2000, alias="set", pattern=SET_PATTERN),
-                     RosType("string", "parameters for every trial, e.g. 'alpha=0.5 k_t=0.2'")]
+SetField = Annotated[
+    str,
+    Field(max_length=2000, alias="set", pattern=SET_PATTERN),
+    RosType("string", "parameters for every trial, e.g. 'alpha=0.5 k_t=0.2'"),
+]
 
 
 def overrides_valid(lab, goal) -> str | None:
@@ -172,25 +189,48 @@ def run_experiment(lab, goal: ExperimentGoal, handle: GoalHandle) -> ExperimentR
 
     def feedback(result: TrialResult) -> None:
         done.append(result)
-        handle.feedback(ExperimentFeedback(trial=len(done), of=goal.trials, participant=result.participant,
-                                           success=result.success, duration=result.duration, reason=result.reason))
+        handle.feedback(
+            ExperimentFeedback(
+                trial=len(done),
+                of=goal.trials,
+                participant=result.participant,
+                success=result.success,
+                duration=result.duration,
+                reason=result.reason,
+            )
+        )
 
-    results = run_trials(goal.trials, goal.participant or None, goal.seed, on_result=feedback,
-                         setup=overrides.setup_of(found), cancelled=lambda: handle.cancel_requested, mp_context=SPAWN,
-                         outputs=outputs)
+    results = run_trials(
+        goal.trials,
+        goal.participant or None,
+        goal.seed,
+        on_result=feedback,
+        setup=overrides.setup_of(found),
+        cancelled=lambda: handle.cancel_requested,
+        mp_context=SPAWN,
+        outputs=outputs,
+    )
     if folder is not None:
         _summary_figure({"sp": results}, folder)
-    return ExperimentResult(trials=len(results), successes=sum(r.success for r in results),
-                            table=format_table(results, overrides.describe(found)),
-                            figures=_figure_urls(folder) if folder is not None else [])
+    return ExperimentResult(
+        trials=len(results),
+        successes=sum(r.success for r in results),
+        table=format_table(results, overrides.describe(found)),
+        figures=_figure_urls(folder) if folder is not None else [],
+    )
 
 
 # --- /compare_controllers ----------------------------------------------------------------------
 class CompareGoal(RosMessage):
-    controllers: Annotated[str, Field(pattern=_names(BUILTIN)), RosType("string", "comma-separated, e.g. sp,patch")] = "sp,patch"
+    controllers: Annotated[str, Field(pattern=_names(BUILTIN)), RosType("string", "comma-separated, e.g. sp,patch")] = (
+        "sp,patch"
+    )
     trials: Annotated[int, Field(ge=1, le=5), BeforeValidator(integral), RosType("int32", "tries per participant")] = 1
-    participants: Annotated[str, Field(pattern="^$|" + _names(PARTICIPANTS)),
-                            RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS))] = ""
+    participants: Annotated[
+        str,
+        Field(pattern="^$|" + _names(PARTICIPANTS)),
+        RosType("string", "comma-separated; '' = " + ",".join(COMPARISON_PARTICIPANTS)),
+    ] = ""
     seed: Int64 = 0
     plots: Annotated[bool, RosType("bool", "a figure of every trial and a summary (result: figures)")] = False
     set_: SetField = ""
@@ -224,32 +264,84 @@ def compare_controllers(lab, goal: CompareGoal, handle: GoalHandle) -> CompareRe
 
     def feedback(item: ComparedTrial, result: TrialResult) -> None:
         done.append(result)
-        handle.feedback(CompareFeedback(controller=item.controller, participant=result.participant, trial=len(done), of=total,
-                                        success=result.success, duration=result.duration, reason=result.reason))
+        handle.feedback(
+            CompareFeedback(
+                controller=item.controller,
+                participant=result.participant,
+                trial=len(done),
+                of=total,
+                success=result.success,
+                duration=result.duration,
+                reason=result.reason,
+            )
+        )
 
     found = overrides.parse_set(goal.set_)
     outputs, folder = _figures_of(lab, handle) if goal.plots else (None, None)
-    results = run_comparison(names, goal.trials, people, goal.seed, on_result=feedback, setup=overrides.setup_of(found),
-                             cancelled=lambda: handle.cancel_requested, mp_context=SPAWN, outputs=outputs)
+    results = run_comparison(
+        names,
+        goal.trials,
+        people,
+        goal.seed,
+        on_result=feedback,
+        setup=overrides.setup_of(found),
+        cancelled=lambda: handle.cancel_requested,
+        mp_context=SPAWN,
+        outputs=outputs,
+    )
     runs = [[r for rs in results[name].values() for r in rs] for name in names]
     if folder is not None:
         _summary_figure(dict(zip(names, runs)), folder)
-    return CompareResult(controllers=names, successes=[sum(r.success for r in rs) for rs in runs],
-                         trials=[len(rs) for rs in runs], table=format_comparison(results, overrides.describe(found)),
-                         figures=_figure_urls(folder) if folder is not None else [])
+    return CompareResult(
+        controllers=names,
+        successes=[sum(r.success for r in rs) for rs in runs],
+        trials=[len(rs) for rs in runs],
+        table=format_comparison(results, overrides.describe(found)),
+        figures=_figure_urls(folder) if folder is not None else [],
+    )
 
 
 ACTIONS = [
-    Action("/count", "hri_lab/Count", CountGoal, CountResult, CountFeedback, count,
-           "Count up to `count`, one number a second (the seed's action)."),
-    Action("/move_to_start", "hri_lab/MoveToStart", Empty, MoveResult, MoveFeedback, move_to_start,
-           "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it. "
-           "Refused (409) while lifting runs or the robot is in error.", precondition=robot_free),
-    Action("/run_experiment", "hri_lab/RunExperiment", ExperimentGoal, ExperimentResult, ExperimentFeedback, run_experiment,
-           "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial. "
-           "A `set` the parameter server refuses rejects the goal (409, its message).", precondition=overrides_valid),
-    Action("/compare_controllers", "hri_lab/CompareControllers", CompareGoal, CompareResult, CompareFeedback,
-           compare_controllers,
-           "Run the same participants and seeds with each controller (sp, patch) and compare them side by side. "
-           "A `set` the parameter server refuses rejects the goal (409, its message).", precondition=overrides_valid),
+    Action(
+        "/count",
+        "hri_lab/Count",
+        CountGoal,
+        CountResult,
+        CountFeedback,
+        count,
+        "Count up to `count`, one number a second (the seed's action).",
+    ),
+    Action(
+        "/move_to_start",
+        "hri_lab/MoveToStart",
+        Empty,
+        MoveResult,
+        MoveFeedback,
+        move_to_start,
+        "Move the robot to the start (side) pose with a smooth joint motion; cancel brakes it. "
+        "Refused (409) while lifting runs or the robot is in error.",
+        precondition=robot_free,
+    ),
+    Action(
+        "/run_experiment",
+        "hri_lab/RunExperiment",
+        ExperimentGoal,
+        ExperimentResult,
+        ExperimentFeedback,
+        run_experiment,
+        "Run the lab's Table 1 trials headless (own worlds, worker process); feedback per trial. "
+        "A `set` the parameter server refuses rejects the goal (409, its message).",
+        precondition=overrides_valid,
+    ),
+    Action(
+        "/compare_controllers",
+        "hri_lab/CompareControllers",
+        CompareGoal,
+        CompareResult,
+        CompareFeedback,
+        compare_controllers,
+        "Run the same participants and seeds with each controller (sp, patch) and compare them side by side. "
+        "A `set` the parameter server refuses rejects the goal (409, its message).",
+        precondition=overrides_valid,
+    ),
 ]

@@ -2,6 +2,7 @@
 simulation process between two steps (`lab.call(fn, *args)`, app/runtime/process.py). This is the
 only way into the world from app/: services, parameters, actions, teleop and the 3D view all call
 these. They live at module level so they travel by name."""
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -10,9 +11,10 @@ from typing import Any
 import numpy as np
 
 from sim.controllers.builtin import builtin, builtin_name
-from sim.person.participants import PARTICIPANTS
 from sim.controllers.external import ExternalCommand
-from sim.controllers.interface import start_lifting as start_band, stop_lifting as stop_band
+from sim.controllers.interface import start_lifting as start_band
+from sim.controllers.interface import stop_lifting as stop_band
+from sim.person.participants import PARTICIPANTS
 from sim.world import World, WorldConfig
 
 
@@ -90,8 +92,11 @@ def world_config(world: World) -> WorldConfig:
 def scene_geometry(world: World) -> dict[str, Any]:
     """What the 3D view draws that does not move: plate (width, height, offset), box size, palm size (m)."""
     cfg = world.config
-    return {"plate": (cfg.plate.width, cfg.plate.height, cfg.plate.offset), "box": tuple(cfg.box.size),
-            "palm": tuple(cfg.palm_size)}
+    return {
+        "plate": (cfg.plate.width, cfg.plate.height, cfg.plate.offset),
+        "box": tuple(cfg.box.size),
+        "palm": tuple(cfg.palm_size),
+    }
 
 
 def controller_name(world: World) -> str:

@@ -1,6 +1,7 @@
 """What the lab logs on its own, on /rosout, as it happens: a reflex that stops the robot and its
 recovery, a trial's end, a restart of the simulation. Read from the published snapshots and the
 supervisor's figures (never from inside the simulation), every PERIOD_S."""
+
 from __future__ import annotations
 
 import threading
@@ -36,19 +37,22 @@ class LabEvents:
                 continue
             if snapshot.error != error:
                 if snapshot.error:
-                    lab.rosout.log("franka_control", f"reflex: {snapshot.error} (the robot stopped; call "
-                                                     f"/error_recovery)", "ERROR")
+                    lab.rosout.log(
+                        "franka_control", f"reflex: {snapshot.error} (the robot stopped; call /error_recovery)", "ERROR"
+                    )
                 elif error:
                     lab.rosout.log("franka_control", "the error was recovered: the robot follows commands again")
                 error = snapshot.error
             state = snapshot.trial.state
             if state != trial:
                 if state == "succeeded":
-                    lab.rosout.log("trial", f"trial of {snapshot.trial.participant} succeeded in "
-                                            f"{snapshot.trial.duration:.1f} s")
+                    lab.rosout.log(
+                        "trial", f"trial of {snapshot.trial.participant} succeeded in {snapshot.trial.duration:.1f} s"
+                    )
                 elif state in ("failed", "abandoned"):
-                    lab.rosout.log("trial", f"trial of {snapshot.trial.participant} {state}: {snapshot.trial.reason}",
-                                   "WARN")
+                    lab.rosout.log(
+                        "trial", f"trial of {snapshot.trial.participant} {state}: {snapshot.trial.reason}", "WARN"
+                    )
                 elif state == "running":
                     lab.rosout.log("trial", f"trial of {snapshot.trial.participant} started")
                 trial = state

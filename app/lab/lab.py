@@ -1,6 +1,9 @@
 """The Lab: the server's one simulation (in its own process, app/runtime), its parameters and its log."""
+
+from collections.abc import Callable
 from concurrent.futures import Future
-from typing import Any, Callable, ContextManager, TypeVar
+from contextlib import AbstractContextManager
+from typing import Any, TypeVar
 
 from sim.controllers.interface import Controller
 from sim.controllers.sp import SPController
@@ -19,8 +22,12 @@ T = TypeVar("T")
 
 
 class Lab:
-    def __init__(self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None) -> None:
-        self.runtime = SimulationProcess(World(config or WorldConfig(), controller or SPController()), realtime=realtime)
+    def __init__(
+        self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None
+    ) -> None:
+        self.runtime = SimulationProcess(
+            World(config or WorldConfig(), controller or SPController()), realtime=realtime
+        )
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.rosout = Rosout()  # /rosout: the lab's log lines and every node's
         self.events = LabEvents(self)  # logs reflexes, trials and restarts as they happen
@@ -60,7 +67,7 @@ class Lab:
         app/runtime/sample_ring.py."""
         return self.runtime.wrenches.since(seen)
 
-    def needs(self, period: float) -> ContextManager[None]:
+    def needs(self, period: float) -> AbstractContextManager[None]:
         """While the block runs, a reader of snapshots needs a fresh one every `period` s (an idle
         loop wakes that often; app/runtime/loop.py)."""
         return self.runtime.needs(period)

@@ -7,6 +7,7 @@ rules and messages; each declaration's `offline` puts the value into a plain Set
 sim.procedures.experiment runs. Parameters without `offline` (f_n_min, which the start sets; the
 controller, which --controller picks; the participant; teleop; the rate) do not apply to a trial.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -39,8 +40,10 @@ def validate(name: str, value: Any) -> Override:
     param = declaration(name)
     param, value = VALIDATOR.validate(param.node, param.name, value)
     if param.offline is None:
-        raise ParameterRefused(f"parameter '{param.name}' does not apply to a headless experiment "
-                               "(the trial starts lifting with f_n_min = 10 N; --controller and --participant choose the rest)")
+        raise ParameterRefused(
+            f"parameter '{param.name}' does not apply to a headless experiment "
+            "(the trial starts lifting with f_n_min = 10 N; --controller and --participant choose the rest)"
+        )
     return param, value
 
 
@@ -71,8 +74,9 @@ def parse_file(text: str) -> tuple[list[Override], list[str]]:
     do not apply to a trial). Read-only ones are accepted as at `serve --params`."""
     tree = parse_parameter_file(text)  # the server's limits: size, depth, no aliases
     if not isinstance(tree, dict):
-        raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}, "
-                               "as `hri-lab param dump` writes it")
+        raise ParameterRefused(
+            "a parameter file maps node names to {ros__parameters: {...}}, as `hri-lab param dump` writes it"
+        )
     overrides, ignored = [], []
     for node, body in tree.items():
         params = body.get("ros__parameters") if isinstance(body, dict) else None
@@ -129,8 +133,14 @@ def parse_sweep(specs: list[str]) -> list[tuple[Parameter, list[Any]]]:
     return axes
 
 
-def sweep_points(axes: list[tuple[Parameter, list[Any]]], base: list[Override], setup: Setup | None = None) -> list[SweepPoint]:
+def sweep_points(
+    axes: list[tuple[Parameter, list[Any]]], base: list[Override], setup: Setup | None = None
+) -> list[SweepPoint]:
     """Every combination of the axes' values, on top of the `base` overrides (on `setup`)."""
-    return [({p.name: v for (p, _), v in zip(axes, combo)},
-             setup_of(base + [(p, v) for (p, _), v in zip(axes, combo)], setup))
-            for combo in itertools.product(*(values for _, values in axes))]
+    return [
+        (
+            {p.name: v for (p, _), v in zip(axes, combo)},
+            setup_of(base + [(p, v) for (p, _), v in zip(axes, combo)], setup),
+        )
+        for combo in itertools.product(*(values for _, values in axes))
+    ]

@@ -8,6 +8,7 @@ the messages' header stamps are the simulated time. The file is finished (index,
 stop, on the server's shutdown and when the thread fails; a size cap (max_mb) or a free-disk
 floor stops it with a message; a file cut short by a crash of the server is still readable.
 """
+
 from __future__ import annotations
 
 import threading
@@ -15,8 +16,9 @@ import time
 import traceback
 from pathlib import Path
 
-from app.lab import commands
 from sim.recording.writer import MIN_FREE_BYTES, Recording
+
+from app.lab import commands
 
 POLL_PERIOD = 0.005  # s between two reads of the snapshot (every new 10 ms sample is seen)
 DEFAULT_DIR = Path("recordings")
@@ -26,8 +28,9 @@ class LiveRecorder:
     def __init__(self, lab, path: Path, max_bytes: int, min_free_bytes: int = MIN_FREE_BYTES) -> None:
         self.lab = lab
         self.path = path
-        self.recording = Recording(path, lab.call(commands.world_config), source="live", max_bytes=max_bytes,
-                                   min_free_bytes=min_free_bytes)
+        self.recording = Recording(
+            path, lab.call(commands.world_config), source="live", max_bytes=max_bytes, min_free_bytes=min_free_bytes
+        )
         self.started = time.time()
         self.failure: str | None = None
         self._stop = threading.Event()

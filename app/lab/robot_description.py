@@ -1,4 +1,5 @@
 """The Panda's links and joints with their limits, as `check_urdf` shows them (served at GET /robot)."""
+
 import xml.etree.ElementTree as ElementTree
 
 from sim.robot.assets import panda_urdf

@@ -1,10 +1,16 @@
 """The lab's services (docs/design.md, "Services"), one declaration each: request, response, handler."""
+
 import time
 from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 from pydantic import Field
+
+from sim import camera
+from sim.controllers.builtin import BUILTIN
+from sim.controllers.interface import ControllerFault
+from sim.robot import planar_arm
 
 from app.lab import commands as cmd
 from app.lab.params import F_N_MIN_RANGE
@@ -23,10 +29,6 @@ from app.ros.messages import (
     float64_array,
 )
 from app.ros.services import Service, ServiceFailure, ServiceRegistry
-from sim import camera
-from sim.controllers.builtin import BUILTIN
-from sim.controllers.interface import ControllerFault
-from sim.robot import planar_arm
 
 
 class Trigger(RosMessage):
@@ -40,10 +42,14 @@ class Message(RosMessage):
 
 # --- cooperative lifting --------------------------------------------------------------------
 class StartRequest(RosMessage):
-    force: Annotated[float, Field(ge=F_N_MIN_RANGE[0], le=F_N_MIN_RANGE[1], allow_inf_nan=False, examples=[10.0]),
-                     RosType("float64")]
-    controller: Annotated[str, Field(pattern="^(|" + "|".join(BUILTIN) + ")$"),
-                          RosType("string", "'' keeps the current one; " + " or ".join(BUILTIN))] = ""
+    force: Annotated[
+        float, Field(ge=F_N_MIN_RANGE[0], le=F_N_MIN_RANGE[1], allow_inf_nan=False, examples=[10.0]), RosType("float64")
+    ]
+    controller: Annotated[
+        str,
+        Field(pattern="^(|" + "|".join(BUILTIN) + ")$"),
+        RosType("string", "'' keeps the current one; " + " or ".join(BUILTIN)),
+    ] = ""
 
 
 def start(lab, request: StartRequest) -> Message:
@@ -219,15 +225,24 @@ def error_recovery(lab, request: Empty) -> Trigger:
 
 def reset_simulation(lab, request: Empty) -> Trigger:
     lab.call(cmd.reset_world)
-    return Trigger(success=True, message="Simulation reset: lifting stopped, robot at the start pose, box held in front of the plate.")
+    return Trigger(
+        success=True,
+        message="Simulation reset: lifting stopped, robot at the start pose, box held in front of the plate.",
+    )
 
 
 # --- recording (app/lab/recorder.py) ---------------------------------------------------------
 class StartRecordingRequest(RosMessage):
-    name: Annotated[str, Field(pattern=r"^([A-Za-z0-9_-][A-Za-z0-9_.-]{0,63})?$"),
-                    RosType("string", "file name in the server's recordings folder; '' = hri-lab_<date>_<time>")] = ""
-    max_mb: Annotated[float, Field(gt=0.0, le=10240.0, allow_inf_nan=False),
-                      RosType("float64", "size cap (MiB): the recording stops there")] = 1024.0
+    name: Annotated[
+        str,
+        Field(pattern=r"^([A-Za-z0-9_-][A-Za-z0-9_.-]{0,63})?$"),
+        RosType("string", "file name in the server's recordings folder; '' = hri-lab_<date>_<time>"),
+    ] = ""
+    max_mb: Annotated[
+        float,
+        Field(gt=0.0, le=10240.0, allow_inf_nan=False),
+        RosType("float64", "size cap (MiB): the recording stops there"),
+    ] = 1024.0
 
 
 class RecordingResponse(RosMessage):
@@ -240,7 +255,6 @@ class RecordingResponse(RosMessage):
 
 def start_recording(lab, request: StartRecordingRequest) -> RecordingResponse:
     """Record the live lab to MCAP (topics 100 Hz, /tf and /scene 25 Hz) until /stop_recording."""
-
 
     if lab.recorder is not None and lab.recorder.running:
         raise ServiceFailure(f"already recording to {lab.recorder.path}: call /stop_recording first")
@@ -263,42 +277,118 @@ def stop_recording(lab, request: Empty) -> RecordingResponse:
     early = recorder.stop()
     lab.recorder = None
     size = recorder.recording.size
-    message = (f"{early}; " if early else "") + (f"recorded {recorder.recording.messages} messages, "
-                                                 f"{size / 2**20:.2f} MiB to {recorder.path}")
+    message = (f"{early}; " if early else "") + (
+        f"recorded {recorder.recording.messages} messages, {size / 2**20:.2f} MiB to {recorder.path}"
+    )
     lab.info("recorder", message)
-    return RecordingResponse(success=not early, message=message, path=str(recorder.path),
-                             messages=recorder.recording.messages, bytes=size)
+    return RecordingResponse(
+        success=not early, message=message, path=str(recorder.path), messages=recorder.recording.messages, bytes=size
+    )
 
 
-SERVICES = ServiceRegistry([
-    Service("/start_cooperative_lifting", "hri_lab/StartCooperativeLifting", StartRequest, Message, start,
+SERVICES = ServiceRegistry(
+    [
+        Service(
+            "/start_cooperative_lifting",
+            "hri_lab/StartCooperativeLifting",
+            StartRequest,
+            Message,
+            start,
             "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (5 N); "
-            "controller 'sp' or 'patch' selects the lifting controller first ('' keeps the current one)."),
-    Service("/stop_cooperative_lifting", "hri_lab/StopCooperativeLifting", Empty, Message, stop,
-            "Stop cooperative lifting: f_n_min = 0, the robot stops (zero twist)."),
-    Service("/compute_torques", "hri_lab/ComputeTorques", WrenchRequest, Torques, compute_torques,
-            "Joint torques tau = J(q)^T F of the Panda at its current q; F = [fx, fy, fz, mx, my, mz] at the flange, base frame."),
-    Service("/compute_wrench", "hri_lab/ComputeWrench", TorquesRequest, WrenchResponse, compute_wrench,
-            "Least-squares flange wrench from 7 joint torques (Exercise 2)."),
-    Service("/planar_torques", "hri_lab/PlanarTorques", PlanarRequest, Torques, planar_torques,
-            "Torques of the 3-DoF planar arm (links of 1 m) for a hand force [fx, fy] or [fx, fy, mz] (Exercise 1)."),
-    Service("/add_two_ints", "hri_lab/AddTwoInts", TwoInts, Sum, add_two_ints, "sum = a + b"),
-    Service("/divide_ints", "hri_lab/DivideInts", TwoInts, Quotient, divide_ints, "result = a / b"),
-    Service("/multiply_three", "hri_lab/MultiplyThree", ThreeInts, Product, multiply_three, "product = a * b * c"),
-    Service("/echo", "hri_lab/Echo", EchoRequest, EchoResponse, echo, "out = in"),
-    Service("/login", "hri_lab/Login", LoginRequest, Trigger, login, "Log in with a user name and the magic number."),
-    Service("/get_target_position", "hri_lab/GetObjectPosition", TargetRequest, Pixel, get_target_position,
-            "Box centre in the image of a fixed virtual 640x480 camera (get=false: 0, 0)."),
-    Service("/error_recovery", "std_srvs/Trigger", Empty, Trigger, error_recovery,
-            "Clear the robot's reflex error (franka's error recovery)."),
-    Service("/reset_simulation", "std_srvs/Trigger", Empty, Trigger, reset_simulation,
-            "Reset the world: lifting stopped, robot at the start pose, box held by the person in front of the plate."),
-    Service("/start_recording", "hri_lab/StartRecording", StartRecordingRequest, RecordingResponse, start_recording,
-            "Record the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it."),
-    Service("/stop_recording", "hri_lab/StopRecording", Empty, RecordingResponse, stop_recording,
-            "Stop the recording and finish the file (index, summary); download it with GET /recordings/NAME."),
-])
+            "controller 'sp' or 'patch' selects the lifting controller first ('' keeps the current one).",
+        ),
+        Service(
+            "/stop_cooperative_lifting",
+            "hri_lab/StopCooperativeLifting",
+            Empty,
+            Message,
+            stop,
+            "Stop cooperative lifting: f_n_min = 0, the robot stops (zero twist).",
+        ),
+        Service(
+            "/compute_torques",
+            "hri_lab/ComputeTorques",
+            WrenchRequest,
+            Torques,
+            compute_torques,
+            "Joint torques tau = J(q)^T F of the Panda at its current q; F = [fx, fy, fz, mx, my, mz] at the flange, base frame.",
+        ),
+        Service(
+            "/compute_wrench",
+            "hri_lab/ComputeWrench",
+            TorquesRequest,
+            WrenchResponse,
+            compute_wrench,
+            "Least-squares flange wrench from 7 joint torques (Exercise 2).",
+        ),
+        Service(
+            "/planar_torques",
+            "hri_lab/PlanarTorques",
+            PlanarRequest,
+            Torques,
+            planar_torques,
+            "Torques of the 3-DoF planar arm (links of 1 m) for a hand force [fx, fy] or [fx, fy, mz] (Exercise 1).",
+        ),
+        Service("/add_two_ints", "hri_lab/AddTwoInts", TwoInts, Sum, add_two_ints, "sum = a + b"),
+        Service("/divide_ints", "hri_lab/DivideInts", TwoInts, Quotient, divide_ints, "result = a / b"),
+        Service("/multiply_three", "hri_lab/MultiplyThree", ThreeInts, Product, multiply_three, "product = a * b * c"),
+        Service("/echo", "hri_lab/Echo", EchoRequest, EchoResponse, echo, "out = in"),
+        Service(
+            "/login", "hri_lab/Login", LoginRequest, Trigger, login, "Log in with a user name and the magic number."
+        ),
+        Service(
+            "/get_target_position",
+            "hri_lab/GetObjectPosition",
+            TargetRequest,
+            Pixel,
+            get_target_position,
+            "Box centre in the image of a fixed virtual 640x480 camera (get=false: 0, 0).",
+        ),
+        Service(
+            "/error_recovery",
+            "std_srvs/Trigger",
+            Empty,
+            Trigger,
+            error_recovery,
+            "Clear the robot's reflex error (franka's error recovery).",
+        ),
+        Service(
+            "/reset_simulation",
+            "std_srvs/Trigger",
+            Empty,
+            Trigger,
+            reset_simulation,
+            "Reset the world: lifting stopped, robot at the start pose, box held by the person in front of the plate.",
+        ),
+        Service(
+            "/start_recording",
+            "hri_lab/StartRecording",
+            StartRecordingRequest,
+            RecordingResponse,
+            start_recording,
+            "Record the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it.",
+        ),
+        Service(
+            "/stop_recording",
+            "hri_lab/StopRecording",
+            Empty,
+            RecordingResponse,
+            stop_recording,
+            "Stop the recording and finish the file (index, summary); download it with GET /recordings/NAME.",
+        ),
+    ]
+)
 
 # `hri-lab serve --exercises`: these stay declared but are left to the students' nodes
-EXERCISES = ("/add_two_ints", "/divide_ints", "/multiply_three", "/echo", "/login", "/planar_torques",
-             "/compute_torques", "/compute_wrench", "/start_cooperative_lifting", "/stop_cooperative_lifting")
+EXERCISES = (
+    "/add_two_ints",
+    "/divide_ints",
+    "/multiply_three",
+    "/echo",
+    "/login",
+    "/planar_torques",
+    "/compute_torques",
+    "/compute_wrench",
+    "/start_cooperative_lifting",
+    "/stop_cooperative_lifting",
+)

@@ -7,6 +7,7 @@ shows the scene live from them; roslibpy's TFClient reads them through /republis
 The tree: world -> panda_link0 (the robot stands at the origin) -> panda_link1 ... panda_link8
 (the flange) -> plate; panda_link0 -> box, palm. A transform is the child's pose in its parent's
 frame. Fixed ones (world, the fixed joints, the plate) are /tf_static; the rest /tf."""
+
 from __future__ import annotations
 
 import threading
@@ -14,10 +15,11 @@ import threading
 import numpy as np
 import pinocchio as pin
 
-from app.lab.robot_description import robot_description
 from sim.messages import header
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
+
+from app.lab.robot_description import robot_description
 
 WORLD = "world"
 BASE = "panda_link0"
@@ -53,8 +55,11 @@ def frames_in_world(s: Snapshot) -> dict[str, np.ndarray]:
     with _LOCK:
         model = _model()
         pin.framesForwardKinematics(model.model, model.data, np.asarray(s.q, dtype=float))
-        poses = {f.name: f_pose.homogeneous.copy() for f, f_pose in zip(model.model.frames, model.data.oMf)
-                 if f.type == pin.FrameType.BODY}  # the links (pinocchio's BODY frames)
+        poses = {
+            f.name: f_pose.homogeneous.copy()
+            for f, f_pose in zip(model.model.frames, model.data.oMf)
+            if f.type == pin.FrameType.BODY
+        }  # the links (pinocchio's BODY frames)
         flange = model.flange_name
     poses[WORLD] = np.eye(4)
     poses[PLATE] = poses[flange] @ _pose(np.eye(3), np.array([0.0, 0.0, s.lifting.plate_offset]))
@@ -80,9 +85,14 @@ def transform_stamped(s: Snapshot, parent: str, child: str, pose_parent: np.ndar
 def _stamped(s: Snapshot, parent: str, child: str, relative: np.ndarray) -> dict:
     x, y, z, w = pin.Quaternion(relative[:3, :3]).coeffs()
     t = relative[:3, 3]
-    return {"header": header(s, parent), "child_frame_id": child,
-            "transform": {"translation": {"x": float(t[0]), "y": float(t[1]), "z": float(t[2])},
-                          "rotation": {"x": float(x), "y": float(y), "z": float(z), "w": float(w)}}}
+    return {
+        "header": header(s, parent),
+        "child_frame_id": child,
+        "transform": {
+            "translation": {"x": float(t[0]), "y": float(t[1]), "z": float(t[2])},
+            "rotation": {"x": float(x), "y": float(y), "z": float(z), "w": float(w)},
+        },
+    }
 
 
 def _fixed_links() -> dict[tuple[str, str], np.ndarray]:
@@ -103,8 +113,13 @@ def _fixed_links() -> dict[tuple[str, str], np.ndarray]:
 def tf(s: Snapshot) -> dict:
     """/tf: the transforms that move (the joints' links, the box, the palm)."""
     poses = frames_in_world(s)
-    return {"transforms": [transform_stamped(s, parent, child, poses[parent], poses[child])
-                           for parent, child, fixed in tree() if not fixed]}
+    return {
+        "transforms": [
+            transform_stamped(s, parent, child, poses[parent], poses[child])
+            for parent, child, fixed in tree()
+            if not fixed
+        ]
+    }
 
 
 def tf_static(s: Snapshot) -> dict:

@@ -1,6 +1,7 @@
 """The lab's topics (docs/design.md, "The ROS vocabulary over HTTP"): the ones a recording stores
 (sim/messages.py, so headless trials record them too), franka_states, which nodes read, and the
 frames (/tf, /tf_static: app/lab/tf.py)."""
+
 import threading
 
 import numpy as np
@@ -11,7 +12,6 @@ from sim.robot.panda import PandaModel
 from sim.world import Snapshot
 
 from app.lab import tf
-
 
 _MODEL_LOCK = threading.Lock()
 _MODEL: list[PandaModel] = []  # one model for the Jacobian, made on first use (pinocchio's data is not thread-safe)
@@ -25,13 +25,22 @@ def franka_state(s: Snapshot) -> dict:
         if not _MODEL:
             _MODEL.append(PandaModel())
         jacobian = np.array(_MODEL[0].jacobian_base(s.q))
-    return {"header": header(s, "panda_link0"), "q": s.q.tolist(), "dq": s.qdot.tolist(),
-            "O_T_EE": s.transform_ee_to_base.flatten(order="F").tolist(),
-            "K_F_ext_hat_K": s.wrench_ee.tolist(), "O_Jac_EE": jacobian.flatten(order="F").tolist()}
+    return {
+        "header": header(s, "panda_link0"),
+        "q": s.q.tolist(),
+        "dq": s.qdot.tolist(),
+        "O_T_EE": s.transform_ee_to_base.flatten(order="F").tolist(),
+        "K_F_ext_hat_K": s.wrench_ee.tolist(),
+        "O_Jac_EE": jacobian.flatten(order="F").tolist(),
+    }
 
 
-TOPICS = [*RECORDED_TOPICS, Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state),
-          Topic("/tf", "tf2_msgs/TFMessage", tf.tf), Topic("/tf_static", "tf2_msgs/TFMessage", tf.tf_static)]
+TOPICS = [
+    *RECORDED_TOPICS,
+    Topic("/franka_state_controller/franka_states", "hri_lab/FrankaState", franka_state),
+    Topic("/tf", "tf2_msgs/TFMessage", tf.tf),
+    Topic("/tf_static", "tf2_msgs/TFMessage", tf.tf_static),
+]
 # at most this often to one subscriber (s): the frames cost a forward kinematics each (tf2's
 # broadcasters publish at tens of Hz)
 MIN_PERIOD_S = {"/tf": 0.01, "/tf_static": 0.1}

@@ -15,15 +15,17 @@ Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal 
 GET .../goals/{id} (long-poll with ?after=N&wait=S for feedback beyond the N-th);
 POST .../goals/{id}/cancel; WebSocket .../goals/{id}/stream (every feedback and the final state).
 """
+
 import asyncio
 import builtins
 import threading
 import time
 import traceback
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any, Callable
+from typing import Any
 
 from app.ros.messages import RosMessage, definition
 from app.ros.names import absolute
@@ -69,7 +71,11 @@ class Action:
     @property
     def definition(self) -> str:
         """The .action text: goal --- result --- feedback."""
-        return "\n".join(part for part in (definition(self.goal), "---", definition(self.result), "---", definition(self.feedback)) if part)
+        return "\n".join(
+            part
+            for part in (definition(self.goal), "---", definition(self.result), "---", definition(self.feedback))
+            if part
+        )
 
 
 @dataclass
@@ -153,7 +159,7 @@ class GoalHandle:
                     return
                 try:
                     await asyncio.wait_for(event.wait(), left)
-                except (TimeoutError, asyncio.TimeoutError):
+                except TimeoutError:
                     return
         finally:
             with self._changed:
@@ -248,4 +254,6 @@ class ActionServer:
             handle.set_status(GoalStatus.ABORTED, reason)
             return
         final = GoalStatus.PREEMPTED if handle.cancel_requested else GoalStatus.SUCCEEDED
-        handle.set_status(final, "canceled" if final == GoalStatus.PREEMPTED else "done", result.model_dump(by_alias=True))
+        handle.set_status(
+            final, "canceled" if final == GoalStatus.PREEMPTED else "done", result.model_dump(by_alias=True)
+        )

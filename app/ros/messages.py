@@ -3,6 +3,7 @@
 A message is a `RosMessage` (strict: a string is not a number, a bool is not an int, unknown
 fields are refused) whose fields are annotated with these types, e.g. `a: Int64`.
 """
+
 from dataclasses import dataclass
 from typing import Annotated
 
@@ -41,8 +42,11 @@ def float64_array(min_length: int | None = None, max_length: int | None = None):
 
 
 def int32_array():
-    return Annotated[list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral)]], Field(max_length=10_000),
-                     RosType("int32[]")]
+    return Annotated[
+        list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral)]],
+        Field(max_length=10_000),
+        RosType("int32[]"),
+    ]
 
 
 def string_array():

@@ -8,6 +8,7 @@ and ranges: a ROS 1 name `/node/param` that a declared parameter has is that par
 set through its declaration), so `rospy.get_param('/cooperative_lifting/mu')` reads the lab's.
 Limits keep a client from filling the server: MAX_ENTRIES leaves, values checked like a parameter
 file (app/ros/params.py's limits)."""
+
 from __future__ import annotations
 
 import copy
@@ -150,4 +151,3 @@ class _Missing:
 
 
 _MISSING = _Missing()
-

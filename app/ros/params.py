@@ -8,10 +8,12 @@ Deviation from ROS 2: JSON has one number type, so an integer is accepted for a 
 Nodes that declare their own parameters (an rclpy node over rosbridge) join through `remote`: their
 parameters are listed, read, set and described through the node's standard parameter services.
 """
+
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Literal, Protocol
+from typing import Any, Literal, Protocol
 
 import yaml
 
@@ -39,8 +41,14 @@ class Parameter:
     offline: Callable[[Any, Any], Any] | None = None  # (setup, value) -> setup of a headless run; None: not applicable
 
     def describe(self) -> dict:
-        out = {"node": self.node, "name": self.name, "type": self.type, "description": self.description,
-               "read_only": self.read_only, "default": self.default}
+        out = {
+            "node": self.node,
+            "name": self.name,
+            "type": self.type,
+            "description": self.description,
+            "read_only": self.read_only,
+            "default": self.default,
+        }
         if self.range is not None:
             out["min_value"], out["max_value"] = self.range
         if self.choices:
@@ -100,8 +108,7 @@ class ParameterServer:
     def remote_node(self, node: str) -> bool:
         """`node` is a node's that declares its own parameters (not one of the lab's)."""
         node = node_name(node)
-        return (self.remote is not None and all(n != node for n, _ in self.declarations)
-                and node in self.remote.nodes())
+        return self.remote is not None and all(n != node for n, _ in self.declarations) and node in self.remote.nodes()
 
     def _remote(self) -> "RemoteParameters":
         """The nodes' parameters (set whenever remote_node() said yes)."""
@@ -212,7 +219,9 @@ class ParameterServer:
                     values = self._remote().get(node, names) if names else []
                 except ParameterRefused:
                     continue
-                out += [(Parameter(node, name, type_name(value), None, ""), value) for name, value in zip(names, values)]  # type: ignore[arg-type]
+                out += [
+                    (Parameter(node, name, type_name(value), None, ""), value) for name, value in zip(names, values)
+                ]  # type: ignore[arg-type]
         return out
 
     def dump(self, node: str | None = None) -> str:
@@ -227,8 +236,9 @@ class ParameterServer:
         """Set every parameter of a dump; one result per parameter (like `ros2 param load`)."""
         tree = parse_parameter_file(text)
         if not isinstance(tree, dict):
-            raise ParameterRefused("a parameter file maps node names to {ros__parameters: {...}}, "
-                                   "as `hri-lab param dump` writes it")
+            raise ParameterRefused(
+                "a parameter file maps node names to {ros__parameters: {...}}, as `hri-lab param dump` writes it"
+            )
         results = []
         for node, body in tree.items():
             params = body.get("ros__parameters") if isinstance(body, dict) else None
@@ -239,7 +249,9 @@ class ParameterServer:
                     self.set(str(node), str(name), value, force=force)
                     results.append({"node": node_name(str(node)), "name": name, "successful": True, "reason": ""})
                 except ParameterRefused as refused:
-                    results.append({"node": node_name(str(node)), "name": name, "successful": False, "reason": str(refused)})
+                    results.append(
+                        {"node": node_name(str(node)), "name": name, "successful": False, "reason": str(refused)}
+                    )
         return results
 
 
@@ -261,13 +273,15 @@ def read_parameter_file(path: str | Path) -> str:
     except OSError as exc:
         raise ParameterRefused(f"cannot read it: {exc.strerror}") from None
     if len(data) > MAX_FILE_BYTES:
-        raise ParameterRefused(f"not a parameter file (larger than {MAX_FILE_BYTES} bytes; a parameter file "
-                               f"is {FILE_FORMAT})")
+        raise ParameterRefused(
+            f"not a parameter file (larger than {MAX_FILE_BYTES} bytes; a parameter file is {FILE_FORMAT})"
+        )
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
-        raise ParameterRefused(f"not a parameter file (binary, not UTF-8 text; a parameter file is "
-                               f"{FILE_FORMAT})") from None
+        raise ParameterRefused(
+            f"not a parameter file (binary, not UTF-8 text; a parameter file is {FILE_FORMAT})"
+        ) from None
 
 
 def parse_parameter_file(text: str) -> Any:

@@ -5,14 +5,16 @@ One line is a LogLine; `Rosout` keeps the newest MAX_LINES and hands each new li
 listeners (the rosbridge streams, the HTTP stream, the dashboard's console through GET /log).
 Levels are named as rcl_interfaces has them (DEBUG, INFO, WARN, ERROR, FATAL); the numbers
 differ between the two message types and are converted here, nowhere else."""
+
 from __future__ import annotations
 
 import math
 import threading
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
-from typing import Any, Callable
+from typing import Any
 
 TOPIC = "/rosout"
 TYPE = "rcl_interfaces/Log"
@@ -48,11 +50,25 @@ class LogLine:
         sec = int(self.stamp)
         nanosec = min(int(round((self.stamp - sec) * 1e9)), 999_999_999)
         if type_name == ROS1_TYPE:
-            return {"header": {"seq": 0, "stamp": {"secs": sec, "nsecs": nanosec}, "frame_id": ""},
-                    "level": ROS1_LEVELS[self.level], "name": self.node, "msg": self.msg, "file": self.file,
-                    "function": self.function, "line": self.line, "topics": []}
-        return {"stamp": {"sec": sec, "nanosec": nanosec}, "level": LEVELS[self.level], "name": self.node,
-                "msg": self.msg, "file": self.file, "function": self.function, "line": self.line}
+            return {
+                "header": {"seq": 0, "stamp": {"secs": sec, "nsecs": nanosec}, "frame_id": ""},
+                "level": ROS1_LEVELS[self.level],
+                "name": self.node,
+                "msg": self.msg,
+                "file": self.file,
+                "function": self.function,
+                "line": self.line,
+                "topics": [],
+            }
+        return {
+            "stamp": {"sec": sec, "nanosec": nanosec},
+            "level": LEVELS[self.level],
+            "name": self.node,
+            "msg": self.msg,
+            "file": self.file,
+            "function": self.function,
+            "line": self.line,
+        }
 
 
 def _stamp(stamp: Any) -> float:
@@ -80,10 +96,20 @@ def from_message(msg: dict, type_name: str, node: str) -> LogLine:
     line = msg.get("line", 0)
     if isinstance(line, bool) or not isinstance(line, int):
         raise BadLogMessage("field 'line' must be an integer")
-    stamp = _stamp(msg.get("header", {}).get("stamp") if type_name == ROS1_TYPE and isinstance(msg.get("header"), dict)
-                   else msg.get("stamp"))
-    return LogLine(stamp, names[level], (msg.get("name") or node)[:256], msg.get("msg", "")[:MAX_TEXT],
-                   msg.get("file", "")[:256], msg.get("function", "")[:256], line)
+    stamp = _stamp(
+        msg.get("header", {}).get("stamp")
+        if type_name == ROS1_TYPE and isinstance(msg.get("header"), dict)
+        else msg.get("stamp")
+    )
+    return LogLine(
+        stamp,
+        names[level],
+        (msg.get("name") or node)[:256],
+        msg.get("msg", "")[:MAX_TEXT],
+        msg.get("file", "")[:256],
+        msg.get("function", "")[:256],
+        line,
+    )
 
 
 class Rosout:

@@ -6,10 +6,11 @@ list and call.
 A handler gets the Lab and the validated request and returns the response; `call` is the one way
 to run it. A `ServiceFailure` is a failed call with a reason (HTTP 400).
 """
+
 import builtins
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from app.ros.messages import RosMessage, definition
 from app.ros.names import absolute

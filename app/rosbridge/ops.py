@@ -1,13 +1,32 @@
 """The ops of rosbridge v2 by name: each capability module's OPS, gathered once (an op declared
 twice is a bug found at import)."""
+
 from __future__ import annotations
 
-from app.rosbridge.capabilities import (actions, advertise, advertise_action, advertise_service, call_service,
-                                        connection, publish, service_response, subscribe)
+from app.rosbridge.capabilities import (
+    actions,
+    advertise,
+    advertise_action,
+    advertise_service,
+    call_service,
+    connection,
+    publish,
+    service_response,
+    subscribe,
+)
 from app.rosbridge.capabilities.op import Op
 
-MODULES = (connection, subscribe, advertise, publish, call_service, advertise_service, service_response, actions,
-           advertise_action)
+MODULES = (
+    connection,
+    subscribe,
+    advertise,
+    publish,
+    call_service,
+    advertise_service,
+    service_response,
+    actions,
+    advertise_action,
+)
 
 
 def _gather() -> dict[str, Op]:

@@ -5,6 +5,7 @@ a bad client from costing the server: a frame longer than MAX_FRAME characters c
 (1009), nesting deeper than MAX_DEPTH is refused; every refusal is a `status` message at level
 error that names the op and the field.
 """
+
 from __future__ import annotations
 
 import json
@@ -52,7 +53,9 @@ def depth(value: Any) -> int:
     return deepest
 
 
-def field(message: dict, name: str, kind: type | tuple[type, ...], default: Any = ..., *, allow_none: bool = False) -> Any:
+def field(
+    message: dict, name: str, kind: type | tuple[type, ...], default: Any = ..., *, allow_none: bool = False
+) -> Any:
     """message[name] if it is of `kind` (a bool is not an int), the default when absent, else BadFrame."""
     op = message.get("op")
     if name not in message or (message[name] is None and default is not ...):
@@ -64,8 +67,17 @@ def field(message: dict, name: str, kind: type | tuple[type, ...], default: Any 
     if value is None and allow_none:
         return None
     if isinstance(value, bool) and bool not in kinds or not isinstance(value, kinds):
-        names = " or ".join({str: "a string", int: "an integer", float: "a number", bool: "a boolean", dict: "an object",
-                             list: "an array"}.get(k, k.__name__) for k in kinds)
+        names = " or ".join(
+            {
+                str: "a string",
+                int: "an integer",
+                float: "a number",
+                bool: "a boolean",
+                dict: "an object",
+                list: "an array",
+            }.get(k, k.__name__)
+            for k in kinds
+        )
         raise BadFrame(f"{op}: field '{name}' must be {names}, got {json.dumps(value)[:80]}")
     return value
 

@@ -2,36 +2,63 @@
 Foxglove's topics_and_raw_types, ...), answered from the lab's own registries. Parameter names are
 rosapi's `/node:name` (ROS 2) or `/ns/name` (ROS 1's parameter server); values travel as JSON
 text, as rosapi has them."""
+
 from __future__ import annotations
 
 import json
 from typing import Any
 
+from app.lab.topics import TOPICS
 from app.ros import rosout
 from app.ros.messages import RosType
 from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
-from app.lab.topics import TOPICS
 from app.rosbridge import tf_republisher
 
 LAB_NODE = "/hri_lab"
-READ_ONLY = {"/rosapi/topics", "/rosapi/topic_type", "/rosapi/topics_for_type", "/rosapi/services", "/rosapi/service_type",
-             "/rosapi/services_for_type", "/rosapi/service_request_details", "/rosapi/service_response_details",
-             "/rosapi/message_details", "/rosapi/nodes", "/rosapi/node_details", "/rosapi/get_param_names",
-             "/rosapi/get_param", "/rosapi/has_param", "/rosapi/search_param", "/rosapi/get_time",
-             "/rosapi/topics_and_raw_types", "/rosapi/action_servers"}
+READ_ONLY = {
+    "/rosapi/topics",
+    "/rosapi/topic_type",
+    "/rosapi/topics_for_type",
+    "/rosapi/services",
+    "/rosapi/service_type",
+    "/rosapi/services_for_type",
+    "/rosapi/service_request_details",
+    "/rosapi/service_response_details",
+    "/rosapi/message_details",
+    "/rosapi/nodes",
+    "/rosapi/node_details",
+    "/rosapi/get_param_names",
+    "/rosapi/get_param",
+    "/rosapi/has_param",
+    "/rosapi/search_param",
+    "/rosapi/get_time",
+    "/rosapi/topics_and_raw_types",
+    "/rosapi/action_servers",
+}
 WRITING = {"/rosapi/set_param", "/rosapi/delete_param"}
 NAMES = READ_ONLY | WRITING
 
 # nested message types of the lab's topics, by field name (ROS's own spellings)
-NESTED = {"header": "std_msgs/Header", "stamp": "builtin_interfaces/Time", "wrench": "geometry_msgs/Wrench",
-          "force": "geometry_msgs/Vector3", "torque": "geometry_msgs/Vector3", "linear": "geometry_msgs/Vector3",
-          "angular": "geometry_msgs/Vector3", "pose": "geometry_msgs/Pose", "position": "geometry_msgs/Point",
-          "orientation": "geometry_msgs/Quaternion", "tangential_force": "geometry_msgs/Vector3",
-          "centre_of_pressure": "hri_lab/Point2", "transforms": "geometry_msgs/TransformStamped",
-          "transform": "geometry_msgs/Transform", "translation": "geometry_msgs/Vector3",
-          "rotation": "geometry_msgs/Quaternion"}
+NESTED = {
+    "header": "std_msgs/Header",
+    "stamp": "builtin_interfaces/Time",
+    "wrench": "geometry_msgs/Wrench",
+    "force": "geometry_msgs/Vector3",
+    "torque": "geometry_msgs/Vector3",
+    "linear": "geometry_msgs/Vector3",
+    "angular": "geometry_msgs/Vector3",
+    "pose": "geometry_msgs/Pose",
+    "position": "geometry_msgs/Point",
+    "orientation": "geometry_msgs/Quaternion",
+    "tangential_force": "geometry_msgs/Vector3",
+    "centre_of_pressure": "hri_lab/Point2",
+    "transforms": "geometry_msgs/TransformStamped",
+    "transform": "geometry_msgs/Transform",
+    "translation": "geometry_msgs/Vector3",
+    "rotation": "geometry_msgs/Quaternion",
+}
 
 
 def _scalar(value: Any) -> str:
@@ -47,8 +74,15 @@ def message_typedefs(type_name: str, sample: dict) -> list[dict]:
         if name in seen:
             return
         seen.add(name)
-        typedef = {"type": name, "fieldnames": [], "fieldtypes": [], "fieldarraylen": [], "examples": [],
-                   "constnames": [], "constvalues": []}
+        typedef = {
+            "type": name,
+            "fieldnames": [],
+            "fieldtypes": [],
+            "fieldarraylen": [],
+            "examples": [],
+            "constnames": [],
+            "constvalues": [],
+        }
         out.append(typedef)
         nested = []
         for key, value in message.items():
@@ -72,8 +106,10 @@ def full_text(typedefs: list[dict]) -> str:
     """The .msg text with its nested definitions (the format of bag files and Foxglove)."""
     parts = []
     for i, typedef in enumerate(typedefs):
-        lines = [f"{t}{'[]' if n == 0 else ''} {f}" for f, t, n in
-                 zip(typedef["fieldnames"], typedef["fieldtypes"], typedef["fieldarraylen"])]
+        lines = [
+            f"{t}{'[]' if n == 0 else ''} {f}"
+            for f, t, n in zip(typedef["fieldnames"], typedef["fieldtypes"], typedef["fieldarraylen"])
+        ]
         head = "" if i == 0 else "=" * 80 + f"\nMSG: {typedef['type']}\n"
         parts.append(head + "\n".join(lines))
     return "\n".join(parts)
@@ -81,8 +117,15 @@ def full_text(typedefs: list[dict]) -> str:
 
 def model_typedefs(type_name: str, model) -> list[dict]:
     """TypeDefs of a request/response model from its ROS field types."""
-    typedef = {"type": type_name, "fieldnames": [], "fieldtypes": [], "fieldarraylen": [], "examples": [],
-               "constnames": [], "constvalues": []}
+    typedef = {
+        "type": type_name,
+        "fieldnames": [],
+        "fieldtypes": [],
+        "fieldarraylen": [],
+        "examples": [],
+        "constnames": [],
+        "constvalues": [],
+    }
     for name, info in model.model_fields.items():
         ros = next((m for m in info.metadata if isinstance(m, RosType)), RosType("string"))
         array = ros.name.endswith("[]")
@@ -120,7 +163,7 @@ def _json_arg(args: dict, key: str, what: str) -> Any:
     try:
         return json.loads(text)
     except (TypeError, ValueError):
-        raise ServiceFailure(f"{what}: '{key}' must be JSON text, e.g. \"0.6\" or \"\\\"patch\\\"\"") from None
+        raise ServiceFailure(f'{what}: \'{key}\' must be JSON text, e.g. "0.6" or "\\"patch\\""') from None
 
 
 def _get_param(lab, args: dict) -> dict:
@@ -164,8 +207,9 @@ def _delete_param(lab, args: dict) -> dict:
     name = str(args.get("name", ""))
     node_param = _node_param(name) or _declared(lab, name)
     if node_param is not None:
-        raise ServiceFailure(f"parameter {node_param[0]}:{node_param[1]} is declared by its node: it can be set, "
-                             f"not deleted")
+        raise ServiceFailure(
+            f"parameter {node_param[0]}:{node_param[1]} is declared by its node: it can be set, not deleted"
+        )
     lab.param_tree.delete(name)  # deleting a name that is not set is no error (rosapi's)
     return {}
 
@@ -187,9 +231,14 @@ def _search_param(lab, args: dict) -> dict:
     return {"global_name": found or ""}
 
 
-PARAM_SERVICES = {"/rosapi/get_param": _get_param, "/rosapi/set_param": _set_param,
-                  "/rosapi/delete_param": _delete_param, "/rosapi/has_param": _has_param,
-                  "/rosapi/get_param_names": _get_param_names, "/rosapi/search_param": _search_param}
+PARAM_SERVICES = {
+    "/rosapi/get_param": _get_param,
+    "/rosapi/set_param": _set_param,
+    "/rosapi/delete_param": _delete_param,
+    "/rosapi/has_param": _has_param,
+    "/rosapi/get_param_names": _get_param_names,
+    "/rosapi/search_param": _search_param,
+}
 _UNSET = object()
 
 
@@ -214,7 +263,9 @@ def call(bridge, session, name: str, args: dict) -> dict:
         offered = [s.name for s in bridge.services if bridge.nodes.offered(s.name)]
         return {"services": offered + sorted(NAMES) + [tf_republisher.SERVICE]}
     if name == "/rosapi/services_for_type":
-        return {"services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]}
+        return {
+            "services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]
+        }
     if name == "/rosapi/service_type":
         wanted = str(args.get("service", ""))
         if wanted == tf_republisher.SERVICE:
@@ -242,16 +293,25 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/topics_and_raw_types":
         texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(lab.snapshot()).items()}
         topics = bridge.topic_types()
-        return {"topics": list(topics), "types": list(topics.values()),
-                "typedefs_full_text": [texts.get(t, "") for t in topics]}
+        return {
+            "topics": list(topics),
+            "types": list(topics.values()),
+            "typedefs_full_text": [texts.get(t, "") for t in topics],
+        }
     if name == "/rosapi/nodes":
         return {"nodes": [LAB_NODE] + [s.name for s in bridge.sessions]}
     if name == "/rosapi/node_details":
         node = str(args.get("node", ""))
         if node == LAB_NODE:
-            return {"subscribing": ["/cartesian_velocity_controller/command"], "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
-                    "services": [s.name for s in bridge.services
-                                 if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)]}
+            return {
+                "subscribing": ["/cartesian_velocity_controller/command"],
+                "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
+                "services": [
+                    s.name
+                    for s in bridge.services
+                    if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)
+                ],
+            }
         other = next((s for s in bridge.sessions if s.name == node), None)
         if other is None:
             return {"subscribing": [], "publishing": [], "services": []}

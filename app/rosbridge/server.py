@@ -11,6 +11,7 @@ Layout (rosbridge_suite's): this route; session.py, one connection; ops.py, the 
 capabilities/ (one module per op family); internal/, the state every session shares; protocol.py,
 frames; rosapi.py, the rosapi services.
 """
+
 from __future__ import annotations
 
 from fastapi import APIRouter, WebSocket

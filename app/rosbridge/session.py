@@ -5,11 +5,13 @@ advertised topics and services, goals — which it gives back when the client go
 Every refusal is a `status` message naming the op and the field; the connection goes on, except
 for a frame beyond MAX_FRAME (closed with 1009).
 """
+
 from __future__ import annotations
 
 import asyncio
 import json
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from fastapi import WebSocket
 
@@ -119,8 +121,10 @@ class Session:
             if capability is None:
                 raise BadFrame(f"unknown op '{op[:40]}'")
             if capability.mutating and not self.authorized:
-                raise BadFrame(f"{op}: this lab needs a token for changes: connect with 'Authorization: Bearer "
-                               f"<token>' or send {{\"op\": \"auth\", \"mac\": \"<token>\"}}")
+                raise BadFrame(
+                    f"{op}: this lab needs a token for changes: connect with 'Authorization: Bearer "
+                    f'<token>\' or send {{"op": "auth", "mac": "<token>"}}'
+                )
             await capability.handler(self, message, id_)
         except BadFrame as bad:
             await self.report("error", str(bad), id_)

@@ -4,15 +4,17 @@ TFClient call: the transforms of `source_frames` in `target_frame`, on a topic o
 frames are the lab's (app/lab/tf.py); the topic goes when the client that asked for it does.
 Deviation from tf2_web_republisher: every period sends all the transforms (it sends those that
 moved beyond `trans_thres`/`angular_thres`); the first message is the same."""
+
 from __future__ import annotations
 
 import itertools
 import math
 from typing import Any
 
+from sim.messages import Topic
+
 from app.lab import tf
 from app.ros.services import ServiceFailure
-from sim.messages import Topic
 
 SERVICE = "/republish_tfs"
 TYPE = "tf2_web_republisher/RepublishTFs"
@@ -48,8 +50,11 @@ def republish(session: Any, args: dict) -> dict:
 
     def build(snapshot) -> dict:
         poses = tf.frames_in_world(snapshot)
-        return {"transforms": [tf.transform_stamped(snapshot, target, source, poses[target], poses[source])
-                               for source in sources]}
+        return {
+            "transforms": [
+                tf.transform_stamped(snapshot, target, source, poses[target], poses[source]) for source in sources
+            ]
+        }
 
     name = f"/tf_repub_{next(_NUMBERS)}"
     bridge.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / min(float(rate), MAX_RATE_HZ))

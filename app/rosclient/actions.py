@@ -6,10 +6,12 @@ the program answers with action_feedback and action_result. Status codes are act
 (4 succeeded, 5 canceled, 6 aborted); actionlib's (3 succeeded, 2 preempted, 4 aborted) are mapped
 from them in actionlib.
 """
+
 from __future__ import annotations
 
 import threading
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from app.rosclient import process
 
@@ -29,16 +31,23 @@ class GoalCall:
     """One goal sent to an action server: feedback and the result come to the callbacks (from the
     connection's reader thread); `done` is set with the result."""
 
-    def __init__(self, name: str, action_class: Any, goal: Any, on_feedback: Callable[[Any], None] | None = None,
-                 on_result: Callable[["GoalCall"], None] | None = None) -> None:
+    def __init__(
+        self,
+        name: str,
+        action_class: Any,
+        goal: Any,
+        on_feedback: Callable[[Any], None] | None = None,
+        on_result: Callable[[GoalCall], None] | None = None,
+    ) -> None:
         self.name, self.action_class = name, action_class
         self.on_feedback, self.on_result = on_feedback, on_result
         self.done = threading.Event()
         self.status = STATUS_ACCEPTED
         self.result: Any = None
         self.error = ""
-        self.id = process.connection().send_action_goal(name, type_name(action_class), goal.to_json(),
-                                                        self._feedback, self._result)
+        self.id = process.connection().send_action_goal(
+            name, type_name(action_class), goal.to_json(), self._feedback, self._result
+        )
 
     def _feedback(self, message: dict) -> None:
         self.status = STATUS_EXECUTING
@@ -68,7 +77,7 @@ class GoalCall:
 class ServedGoal:
     """A goal the program's action server got: its request, cancel flag, feedback and result."""
 
-    def __init__(self, server: "ActionServing", message: dict) -> None:
+    def __init__(self, server: ActionServing, message: dict) -> None:
         self.server, self.id = server, message.get("id")
         self.request = server.action_class.Goal.from_json(message.get("args") or {})
         self.cancel_requested = threading.Event()
@@ -77,22 +86,39 @@ class ServedGoal:
     def publish_feedback(self, feedback: Any) -> None:
         if not isinstance(feedback, self.server.action_class.Feedback):
             raise TypeError(f"Expected {self.server.action_class.Feedback._type}, got {type(feedback)}")
-        process.connection().send({"op": "action_feedback", "id": self.id, "action": self.server.name,
-                                   "values": feedback.to_json()})
+        process.connection().send(
+            {"op": "action_feedback", "id": self.id, "action": self.server.name, "values": feedback.to_json()}
+        )
 
     def finish(self, status: int, result: Any) -> None:
         if self.finished:
             return
         self.finished = True
         values = result.to_json() if result is not None else self.server.action_class.Result().to_json()
-        process.connection().send({"op": "action_result", "id": self.id, "action": self.server.name,
-                                   "values": values, "status": status, "result": True})
+        process.connection().send(
+            {
+                "op": "action_result",
+                "id": self.id,
+                "action": self.server.name,
+                "values": values,
+                "status": status,
+                "result": True,
+            }
+        )
         self.server.goals.pop(self.id, None)
 
     def reject(self, reason: str) -> None:
         self.finished = True
-        process.connection().send({"op": "action_result", "id": self.id, "action": self.server.name,
-                                   "values": reason, "status": STATUS_ABORTED, "result": False})
+        process.connection().send(
+            {
+                "op": "action_result",
+                "id": self.id,
+                "action": self.server.name,
+                "values": reason,
+                "status": STATUS_ABORTED,
+                "result": False,
+            }
+        )
         self.server.goals.pop(self.id, None)
 
 
@@ -100,8 +126,13 @@ class ActionServing:
     """An action the program provides: each goal goes to `on_goal(ServedGoal)` (from the reader
     thread: the API decides where it runs); a cancel request to `on_cancel(ServedGoal)`."""
 
-    def __init__(self, name: str, action_class: Any, on_goal: Callable[[ServedGoal], None],
-                 on_cancel: Callable[[ServedGoal], None]) -> None:
+    def __init__(
+        self,
+        name: str,
+        action_class: Any,
+        on_goal: Callable[[ServedGoal], None],
+        on_cancel: Callable[[ServedGoal], None],
+    ) -> None:
         self.name, self.action_class = name, action_class
         self.on_goal, self.on_cancel = on_goal, on_cancel
         self.goals: dict[Any, ServedGoal] = {}

@@ -4,6 +4,7 @@ Only this process gets the ROS client libraries (app/rosclient/site) on sys.path
 finder on sys.meta_path; then FILE runs as `__main__` with sys.argv = [FILE, ARGS...] (its
 `--ros-args` included, as ros2 run passes them), its folder first on sys.path like `python FILE`.
 """
+
 from __future__ import annotations
 
 import os

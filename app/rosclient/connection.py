@@ -8,6 +8,7 @@ and action_result, as a server). Incoming frames are read on one thread ("rosbri
 handed to the handlers registered here; the layers decide on which thread the user's callbacks
 run. The lab going away calls `on_lost` (by default: a clear message and exit status 1).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -15,8 +16,9 @@ import json
 import os
 import sys
 import threading
+from collections.abc import Callable
 from concurrent.futures import Future
-from typing import Any, Callable
+from typing import Any
 from urllib.parse import urlsplit, urlunsplit
 
 from websockets.exceptions import ConnectionClosed
@@ -43,11 +45,14 @@ class Connection:
         token = token if token is not None else os.environ.get("HRI_LAB_TOKEN")
         headers = {"Authorization": f"Bearer {token}"} if token else None
         try:
-            self.ws = connect(websocket_url(self.url), additional_headers=headers, max_size=None,
-                              open_timeout=10, close_timeout=1)
+            self.ws = connect(
+                websocket_url(self.url), additional_headers=headers, max_size=None, open_timeout=10, close_timeout=1
+            )
         except (OSError, TimeoutError) as exc:
-            raise ConnectionError(f"cannot reach the lab at {self.url} ({exc}); start it with `hri-lab serve` "
-                                  f"or give its address with --url / $HRI_LAB_URL") from None
+            raise ConnectionError(
+                f"cannot reach the lab at {self.url} ({exc}); start it with `hri-lab serve` "
+                f"or give its address with --url / $HRI_LAB_URL"
+            ) from None
         self.closing = False
         self.on_lost: Callable[[str], None] = _exit_lab_gone
         self._ids = itertools.count(1)
@@ -76,13 +81,22 @@ class Connection:
         self.ws.close()
 
     # --- topics ---------------------------------------------------------------------------------
-    def subscribe(self, topic: str, type_name: str, handler: Callable[[dict], None], queue_length: int = 0,
-                  throttle_rate: int = 0) -> str:
+    def subscribe(
+        self, topic: str, type_name: str, handler: Callable[[dict], None], queue_length: int = 0, throttle_rate: int = 0
+    ) -> str:
         with self._lock:
             self.topic_handlers.setdefault(topic, []).append(handler)
         sid = self.next_id(f"subscribe:{topic}")
-        self.send({"op": "subscribe", "id": sid, "topic": topic, "type": type_name, "queue_length": queue_length,
-                   "throttle_rate": throttle_rate})
+        self.send(
+            {
+                "op": "subscribe",
+                "id": sid,
+                "topic": topic,
+                "type": type_name,
+                "queue_length": queue_length,
+                "throttle_rate": throttle_rate,
+            }
+        )
         return sid
 
     def unsubscribe(self, topic: str, sid: str, handler: Callable[[dict], None]) -> None:
@@ -118,20 +132,35 @@ class Connection:
         self.send({"op": "service_response", "id": call_id, "service": name, "values": values, "result": ok})
 
     # --- actions (ROS 2 ops) ----------------------------------------------------------------------
-    def send_action_goal(self, action: str, type_name: str, args: dict, on_feedback: Callable[[dict], None],
-                         on_result: Callable[[dict], None]) -> str:
+    def send_action_goal(
+        self,
+        action: str,
+        type_name: str,
+        args: dict,
+        on_feedback: Callable[[dict], None],
+        on_result: Callable[[dict], None],
+    ) -> str:
         goal_id = self.next_id(f"send_action_goal:{action}")
         with self._lock:
             self._goals[goal_id] = (on_feedback, on_result)
-        self.send({"op": "send_action_goal", "id": goal_id, "action": action, "action_type": type_name,
-                   "args": args, "feedback": True})
+        self.send(
+            {
+                "op": "send_action_goal",
+                "id": goal_id,
+                "action": action,
+                "action_type": type_name,
+                "args": args,
+                "feedback": True,
+            }
+        )
         return goal_id
 
     def cancel_action_goal(self, action: str, goal_id: str) -> None:
         self.send({"op": "cancel_action_goal", "id": goal_id, "action": action})
 
-    def advertise_action(self, name: str, type_name: str, on_goal: Callable[[dict], None],
-                         on_cancel: Callable[[dict], None]) -> None:
+    def advertise_action(
+        self, name: str, type_name: str, on_goal: Callable[[dict], None], on_cancel: Callable[[dict], None]
+    ) -> None:
         self.action_handlers[name] = (on_goal, on_cancel)
         self.send({"op": "advertise_action", "action": name, "type": type_name})
 

@@ -14,6 +14,7 @@ parses it and makes a class:
 
 A missing or malformed definition is an ImportError naming the file, the line and what was expected.
 """
+
 from __future__ import annotations
 
 import base64
@@ -30,13 +31,25 @@ from typing import Any
 SHARE = Path(__file__).parent / "share"
 KINDS = ("msg", "srv", "action")
 
-INTEGERS = {"byte": (0, 255), "char": (0, 255), "int8": (-2**7, 2**7 - 1), "uint8": (0, 2**8 - 1),
-            "int16": (-2**15, 2**15 - 1), "uint16": (0, 2**16 - 1), "int32": (-2**31, 2**31 - 1),
-            "uint32": (0, 2**32 - 1), "int64": (-2**63, 2**63 - 1), "uint64": (0, 2**64 - 1)}
+INTEGERS = {
+    "byte": (0, 255),
+    "char": (0, 255),
+    "int8": (-(2**7), 2**7 - 1),
+    "uint8": (0, 2**8 - 1),
+    "int16": (-(2**15), 2**15 - 1),
+    "uint16": (0, 2**16 - 1),
+    "int32": (-(2**31), 2**31 - 1),
+    "uint32": (0, 2**32 - 1),
+    "int64": (-(2**63), 2**63 - 1),
+    "uint64": (0, 2**64 - 1),
+}
 FLOATS = ("float32", "float64")
 PRIMITIVES = {*INTEGERS, *FLOATS, "bool", "string", "wstring"}
-BUILTIN_ALIASES = {"time": "builtin_interfaces/Time", "duration": "builtin_interfaces/Duration",
-                   "Header": "std_msgs/Header"}
+BUILTIN_ALIASES = {
+    "time": "builtin_interfaces/Time",
+    "duration": "builtin_interfaces/Duration",
+    "Header": "std_msgs/Header",
+}
 BYTES = ("uint8", "byte", "char")  # arrays of these travel as base64 text in rosbridge's JSON
 _FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
@@ -50,8 +63,11 @@ def lab_definitions() -> dict[str, dict[str, str]]:
         from app.lab.actions import ACTIONS
         from app.lab.services import SERVICES
 
-        _LAB.update(msg={}, srv={s.type.split("/")[-1]: s.srv for s in SERVICES if s.type.startswith(LAB_PACKAGE + "/")},
-                    action={a.type.split("/")[-1]: a.definition for a in ACTIONS if a.type.startswith(LAB_PACKAGE + "/")})
+        _LAB.update(
+            msg={},
+            srv={s.type.split("/")[-1]: s.srv for s in SERVICES if s.type.startswith(LAB_PACKAGE + "/")},
+            action={a.type.split("/")[-1]: a.definition for a in ACTIONS if a.type.startswith(LAB_PACKAGE + "/")},
+        )
     return _LAB
 
 
@@ -112,15 +128,15 @@ class Message:
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         fields = self._fields
         if len(args) > len(fields):
-            raise TypeError(f"{self._type} takes {len(fields)} field values ({', '.join(f.attr for f in fields)}), "
-                            f"got {len(args)}")
+            raise TypeError(
+                f"{self._type} takes {len(fields)} field values ({', '.join(f.attr for f in fields)}), got {len(args)}"
+            )
         if args and kwargs:
             raise TypeError(f"{self._type}: give the field values by position or by name, not both")
         names = {f.attr: f for f in fields}
         for key in kwargs:
             if key not in names:
-                raise TypeError(f"{self._type} has no field '{key}' (its fields: "
-                                f"{', '.join(names) or 'none'})")
+                raise TypeError(f"{self._type} has no field '{key}' (its fields: {', '.join(names) or 'none'})")
         for i, f in enumerate(fields):
             if i < len(args):
                 value = args[i]
@@ -153,7 +169,7 @@ class Message:
         return {f.name: _to_json(self._type, f, getattr(self, f.attr)) for f in self._fields}
 
     @classmethod
-    def from_json(cls, data: Any) -> "Message":
+    def from_json(cls, data: Any) -> Message:
         if not isinstance(data, dict):
             raise TypeError(f"{cls._type}: expected a JSON object, got {type(data).__name__}")
         out = cls()
@@ -171,8 +187,9 @@ def _to_json(owner: str, f: Field, value: Any) -> Any:
         if hasattr(value, "tolist") and not isinstance(value, (list, tuple)):
             value = value.tolist()
         if not isinstance(value, (list, tuple)):
-            raise TypeError(f"The '{f.attr}' field of {owner} must be a sequence ({f.type_text}), "
-                            f"got {type(value).__name__}")
+            raise TypeError(
+                f"The '{f.attr}' field of {owner} must be a sequence ({f.type_text}), got {type(value).__name__}"
+            )
         if f.array is not True and not f.bound and len(value) != f.array:
             raise ValueError(f"The '{f.attr}' field of {owner} must have {f.array} elements, got {len(value)}")
         if f.bound and len(value) > f.array:
@@ -226,7 +243,10 @@ def _from_json(f: Field, value: Any) -> Any:
 def _scalar_from_json(f: Field, value: Any) -> Any:
     if f.msg_class is not None:
         if isinstance(value, dict) and f.msg_class._type in ("builtin_interfaces/Time", "builtin_interfaces/Duration"):
-            value = {"sec": value.get("sec", value.get("secs", 0)), "nanosec": value.get("nanosec", value.get("nsecs", 0))}
+            value = {
+                "sec": value.get("sec", value.get("secs", 0)),
+                "nanosec": value.get("nanosec", value.get("nsecs", 0)),
+            }
         return f.msg_class.from_json(value)
     base = f.base.split("<=")[0]
     if base in FLOATS and isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -249,8 +269,11 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
             line = line.split("#", 1)[0].strip()
         m = _FIELD.match(line)
         if m is None:
-            raise DefinitionError(f"{where}: expected 'TYPE NAME', 'TYPE NAME DEFAULT' or 'TYPE NAME=VALUE' "
-                                  f"(e.g. 'int64 a'), got {raw.strip()!r}", name=package)
+            raise DefinitionError(
+                f"{where}: expected 'TYPE NAME', 'TYPE NAME DEFAULT' or 'TYPE NAME=VALUE' "
+                f"(e.g. 'int64 a'), got {raw.strip()!r}",
+                name=package,
+            )
         base, brackets, bounded, size, name, is_constant, rest = m.groups()
         if name in {f.name for f in fields} or name in constants:
             raise DefinitionError(f"{where}: field '{name}' is defined twice", name=package)
@@ -262,8 +285,11 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         base = _qualify(base, package)
         scalar = base.split("<=")[0]
         if scalar not in PRIMITIVES and "/" not in scalar:
-            raise DefinitionError(f"{where}: unknown type {base!r}: expected a primitive (bool, int8..uint64, float32, "
-                                  f"float64, string, time, duration) or PACKAGE/Message", name=package)
+            raise DefinitionError(
+                f"{where}: unknown type {base!r}: expected a primitive (bool, int8..uint64, float32, "
+                f"float64, string, time, duration) or PACKAGE/Message",
+                name=package,
+            )
         if is_constant:
             if array is not None or scalar not in PRIMITIVES:
                 raise DefinitionError(f"{where}: a constant must be of a primitive type, not {base}", name=package)
@@ -273,12 +299,15 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         rest = rest.strip()
         if rest:
             if scalar not in PRIMITIVES:
-                raise DefinitionError(f"{where}: a default value is only allowed for primitive types, not {base}",
-                                      name=package)
+                raise DefinitionError(
+                    f"{where}: a default value is only allowed for primitive types, not {base}", name=package
+                )
             if array is not None:
                 items = rest.strip()
                 if not (items.startswith("[") and items.endswith("]")):
-                    raise DefinitionError(f"{where}: expected an array default like [1, 2, 3], got {rest!r}", name=package)
+                    raise DefinitionError(
+                        f"{where}: expected an array default like [1, 2, 3], got {rest!r}", name=package
+                    )
                 default = [_literal(scalar, x.strip(), where, package) for x in items[1:-1].split(",") if x.strip()]
             else:
                 default = _literal(scalar, rest, where, package)
@@ -353,8 +382,11 @@ class Interfaces:
                 path = self.find(package, kind, name)
                 if path is None:
                     searched = ", ".join(str(r / package / kind / f"{name}.{kind}") for r in self.roots)
-                    raise DefinitionError(f"cannot import name '{name}' from '{package}.{kind}': no definition file "
-                                          f"(looked for {searched})", name=f"{package}.{kind}")
+                    raise DefinitionError(
+                        f"cannot import name '{name}' from '{package}.{kind}': no definition file "
+                        f"(looked for {searched})",
+                        name=f"{package}.{kind}",
+                    )
                 self._cache[key] = self._make(package, kind, name, path)
             return self._cache[key]
 
@@ -370,22 +402,32 @@ class Interfaces:
         sections = _sections(text)
         wanted = {"msg": 1, "srv": 2, "action": 3}[kind]
         if len(sections) != wanted:
-            raise DefinitionError(f"{path}: expected {wanted} section{'s' if wanted > 1 else ''} separated by "
-                                  f"'---' lines, found {len(sections)}", name=f"{package}.{kind}")
+            raise DefinitionError(
+                f"{path}: expected {wanted} section{'s' if wanted > 1 else ''} separated by "
+                f"'---' lines, found {len(sections)}",
+                name=f"{package}.{kind}",
+            )
         if kind == "msg":
             return self._message(package, name, sections[0], path, f"{package}/{name}", f"{package}/msg/{name}")
         suffixes = ("Request", "Response") if kind == "srv" else ("Goal", "Result", "Feedback")
-        parts = [self._message(package, name + s, section, path, f"{package}/{name}{s}", f"{package}/{kind}/{name}_{s}")
-                 for s, section in zip(suffixes, sections)]
+        parts = [
+            self._message(package, name + s, section, path, f"{package}/{name}{s}", f"{package}/{kind}/{name}_{s}")
+            for s, section in zip(suffixes, sections)
+        ]
         namespace = {s: cls for s, cls in zip(suffixes, parts)}
-        namespace.update(_type=f"{package}/{name}", _ros2_type=f"{package}/{kind}/{name}", _definition=text,
-                         __module__=f"{package}.{kind}")
+        namespace.update(
+            _type=f"{package}/{name}",
+            _ros2_type=f"{package}/{kind}/{name}",
+            _definition=text,
+            __module__=f"{package}.{kind}",
+        )
         if kind == "srv":
             namespace.update(_request_class=parts[0], _response_class=parts[1])
         return type(name, (), namespace)
 
-    def _message(self, package: str, name: str, section: tuple[str, int], path: Path, type_name: str,
-                 ros2_type: str) -> type[Message]:
+    def _message(
+        self, package: str, name: str, section: tuple[str, int], path: Path, type_name: str, ros2_type: str
+    ) -> type[Message]:
         text, first = section
         fields, constants = parse_fields(text, path, package, first)
         for f in fields:
@@ -394,11 +436,19 @@ class Interfaces:
                 try:
                     f.msg_class = self.message(scalar)
                 except DefinitionError as exc:
-                    raise DefinitionError(f"{path}: field '{f.name}' has type {f.base}, whose definition cannot be "
-                                          f"read: {exc}", name=package) from None
-        namespace: dict[str, Any] = {"__slots__": tuple(f.attr for f in fields), "_type": type_name,
-                                     "_ros2_type": ros2_type, "_fields": tuple(fields), "_definition": text,
-                                     "__slots__types": [f.type_text for f in fields], "__module__": f"{package}.msg"}
+                    raise DefinitionError(
+                        f"{path}: field '{f.name}' has type {f.base}, whose definition cannot be read: {exc}",
+                        name=package,
+                    ) from None
+        namespace: dict[str, Any] = {
+            "__slots__": tuple(f.attr for f in fields),
+            "_type": type_name,
+            "_ros2_type": ros2_type,
+            "_fields": tuple(fields),
+            "_definition": text,
+            "__slots__types": [f.type_text for f in fields],
+            "__module__": f"{package}.msg",
+        }
         namespace.update(constants)
         base: tuple[type, ...] = (Message,)
         if type_name in ("builtin_interfaces/Time", "builtin_interfaces/Duration"):
@@ -458,11 +508,11 @@ class _KindModule(types.ModuleType):
         if interfaces.find(package, kind, attr) is None:
             # rospy's XRequest/XResponse; actionlib's XAction/XGoal/XResult/XFeedback (in .action and, as
             # genmsg makes them, in .msg)
-            for suffix, source in {"srv": (("Request", "srv"), ("Response", "srv")),
-                                   "action": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"),
-                                              ("Action", "action")),
-                                   "msg": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"),
-                                           ("Action", "action"))}[kind]:
+            for suffix, source in {
+                "srv": (("Request", "srv"), ("Response", "srv")),
+                "action": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"), ("Action", "action")),
+                "msg": (("Goal", "action"), ("Result", "action"), ("Feedback", "action"), ("Action", "action")),
+            }[kind]:
                 stem = attr[: -len(suffix)]
                 if attr.endswith(suffix) and stem and interfaces.find(package, source, stem) is not None:
                     made = interfaces.get(package, source, stem)

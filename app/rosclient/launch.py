@@ -13,6 +13,7 @@ ROS 1 files as `_name:=value` and `__name:=NAME` (rospy), ROS 2 files as `--ros-
 stops every node (SIGINT, then SIGKILL after a grace period) and the lab; a node that ends is
 reported by name with its exit status, as roslaunch reports it.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -91,8 +92,10 @@ class Reader:
             kind, rest = m.group(1), (m.group(2) or "").strip()
             if kind in ("arg", "var"):
                 if rest not in self.args:
-                    raise self.fail(f"$({kind} {rest}): no argument '{rest}' (declare it with <arg name=\"{rest}\" "
-                                    f"default=\"...\"/> or pass {rest}:=VALUE)")
+                    raise self.fail(
+                        f"$({kind} {rest}): no argument '{rest}' (declare it with <arg name=\"{rest}\" "
+                        f'default="..."/> or pass {rest}:=VALUE)'
+                    )
                 return self.args[rest]
             if kind == "env":
                 if rest not in os.environ:
@@ -178,9 +181,14 @@ class Reader:
             raise self.fail("<node> needs type= (ROS 1) or exec= (ROS 2): the program to run")
         program = self.find_program(package, program_name)
         name = self.sub(element.get("name")) or Path(program_name).stem
-        spec = NodeSpec(name, program, self.sub(element.get("args")).split(), output=element.get("output", "log"),
-                        namespace=_join(namespace, self.sub(element.get("ns") or element.get("namespace") or "")),
-                        ros2=ros2)
+        spec = NodeSpec(
+            name,
+            program,
+            self.sub(element.get("args")).split(),
+            output=element.get("output", "log"),
+            namespace=_join(namespace, self.sub(element.get("ns") or element.get("namespace") or "")),
+            ros2=ros2,
+        )
         for child in element:
             if child.tag == "param":
                 key, value = self.param(child)
@@ -193,13 +201,21 @@ class Reader:
         base = self.path.parent
         candidates = []
         for stem in (name, name + ".py") if not name.endswith(".py") else (name,):
-            candidates += [base / stem, base / package / stem, base / package / "scripts" / stem, base / "scripts" / stem,
-                           self.package_dir(package) / stem, self.package_dir(package) / "scripts" / stem]
+            candidates += [
+                base / stem,
+                base / package / stem,
+                base / package / "scripts" / stem,
+                base / "scripts" / stem,
+                self.package_dir(package) / stem,
+                self.package_dir(package) / "scripts" / stem,
+            ]
         for candidate in candidates:
             if candidate.is_file():
                 return candidate
-        raise self.fail(f"node program {name!r} of package {package!r} not found (looked beside the launch file: "
-                        f"{', '.join(str(c) for c in candidates[:4])}, ...)")
+        raise self.fail(
+            f"node program {name!r} of package {package!r} not found (looked beside the launch file: "
+            f"{', '.join(str(c) for c in candidates[:4])}, ...)"
+        )
 
     def param(self, element: ET.Element) -> tuple[str, Any]:
         from app.rosclient.process import parse_value
@@ -210,7 +226,7 @@ class Reader:
         if "value" not in element.attrib:
             if "textfile" in element.attrib:
                 return name, Path(self.sub(element.get("textfile"))).read_text(encoding="utf-8")
-            raise self.fail(f"<param name=\"{name}\"> needs a value")
+            raise self.fail(f'<param name="{name}"> needs a value')
         text = self.sub(element.get("value"))
         kind = element.get("type")
         if kind in ("str", "string"):
@@ -275,8 +291,9 @@ class Running:
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH", "")) if p)
         self.log = logs / f"{self.label}.log"
         self.argv = command(str(spec.program), spec.argv())
-        self.proc = subprocess.Popen(self.argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                     start_new_session=True)  # Ctrl+C reaches it from here, once
+        self.proc = subprocess.Popen(
+            self.argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+        )  # Ctrl+C reaches it from here, once
         self.reported = False
         threading.Thread(target=self._relay, daemon=True).start()
 
@@ -335,8 +352,11 @@ def run(args: argparse.Namespace) -> int:
                         print(f"[{r.label}] process has finished cleanly", flush=True)
                     else:
                         crashed += 1
-                        print(f"[{r.label}] process has died [pid {r.proc.pid}, exit code {code}, cmd "
-                              f"{' '.join(r.argv[3:])}]\nlog file: {r.log}", flush=True)
+                        print(
+                            f"[{r.label}] process has died [pid {r.proc.pid}, exit code {code}, cmd "
+                            f"{' '.join(r.argv[3:])}]\nlog file: {r.log}",
+                            flush=True,
+                        )
             stopping.wait(0.1)
         if stopping.is_set():
             print("shutting down processing monitor...", flush=True)

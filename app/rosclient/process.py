@@ -5,14 +5,16 @@ initialises ROS), ROS names, wall time, the /rosout publisher and the shutdown s
 interface finder installed; a program started otherwise (plain `python`) connects to the same
 variables' lab.
 """
+
 from __future__ import annotations
 
 import os
 import sys
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from app.rosclient.connection import Connection
 
@@ -139,9 +141,9 @@ def program_args(argv: list[str] | None = None) -> tuple[list[str], list[str]]:
     if "--ros-args" not in argv:
         return argv, []
     i = argv.index("--ros-args")
-    rest = argv[i + 1:]
+    rest = argv[i + 1 :]
     end = rest.index("--") if "--" in rest else len(rest)
-    return argv[:i] + rest[end + 1:], rest[:end]
+    return argv[:i] + rest[end + 1 :], rest[:end]
 
 
 def parse_value(text: str) -> Any:

@@ -1,6 +1,7 @@
 """`hri-lab run FILE.py [ARGS...] [--ros-args ...]`: a student's ROS program against the lab, like
 `rosrun` / `ros2 run`. This process becomes the program (app/rosclient/boot.py): its exit status,
 its signals (Ctrl+C ends rospy.spin() / rclpy.spin()) and its output are the program's."""
+
 from __future__ import annotations
 
 import argparse

@@ -16,6 +16,7 @@ simulated time; only their wall-clock spacing changes), publishing the last of t
 1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
 (`LoopStats.batched` counts the ticks stepped in batches).
 """
+
 from __future__ import annotations
 
 import os
@@ -23,8 +24,9 @@ import queue
 import threading
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from sim.world import Snapshot, World
 
@@ -62,8 +64,15 @@ class SimulationLoop:
     batch_period = 0.02  # s between two wake-ups of an idle loop (< max_behind)
     fine_hold = 1.0  # s at 1 ms granularity after the last command
 
-    def __init__(self, world: World, publish: Callable[[Published], None], reply: Reply, realtime: bool = True,
-                 granularity: Any = None, sample: Callable[[World], None] | None = None) -> None:
+    def __init__(
+        self,
+        world: World,
+        publish: Callable[[Published], None],
+        reply: Reply,
+        realtime: bool = True,
+        granularity: Any = None,
+        sample: Callable[[World], None] | None = None,
+    ) -> None:
         """granularity: a shared value (.value, s) the server sets to the finest spacing of snapshots
         its readers need now (app/runtime/process.py, `needs`); None: only `batch_period`.
         sample: called with the world after every step, published or not (every step's F_ext)."""
@@ -134,7 +143,7 @@ class SimulationLoop:
                 self.stats.overruns += 1
                 next_tick = now
             elif (wake := self.wake_period(now)) > period:  # idle: sleep until a batch is due (or a
-                if next_tick > now:                            # command comes), then catch up
+                if next_tick > now:  # command comes), then catch up
                     self._wake.wait(next_tick - period + wake - now)
                     self._wake.clear()
                 self.stats.batched += 1

@@ -14,6 +14,7 @@ server's Python (HTTP, WebSockets, the 3D view) never holds the interpreter lock
   records why and forks a fresh process from its pristine world (the state is lost, as when a real
   robot's controller restarts). A loop that stops ticking for `stall_timeout` is killed and restarted.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -27,12 +28,13 @@ import sys
 import threading
 import time
 from collections import Counter
+from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
-from typing import Any, Callable, Iterator
+from typing import Any
 
 from sim.world import Snapshot, World
 
@@ -91,9 +93,12 @@ class SimulationProcess:
 
     def _spawn(self) -> None:
         parent_end, child_end = _FORK.Pipe()
-        process = _FORK.Process(target=_child_main, args=(self.world, self.realtime, self._shared, child_end, parent_end,
-                                                          self._granularity, self.wrenches),
-                                name="hri-lab-sim", daemon=True)
+        process = _FORK.Process(
+            target=_child_main,
+            args=(self.world, self.realtime, self._shared, child_end, parent_end, self._granularity, self.wrenches),
+            name="hri-lab-sim",
+            daemon=True,
+        )
         process.start()
         child_end.close()
         with self._lock:
@@ -197,8 +202,9 @@ class SimulationProcess:
 
     def health(self) -> Health:
         process = self._process
-        return Health(self._shared.read().stats, process is not None and process.is_alive(), self.restarts,
-                      self.last_death)
+        return Health(
+            self._shared.read().stats, process is not None and process.is_alive(), self.restarts, self.last_death
+        )
 
     # --- answers ----------------------------------------------------------------------------
     def _receive(self, conn: Connection) -> None:
@@ -211,7 +217,10 @@ class SimulationProcess:
             try:
                 value = pickle.loads(message[9:])
             except Exception as exc:  # noqa: BLE001 - e.g. an exception type that does not rebuild here
-                ok, value = False, RuntimeError(f"the simulation's answer could not be read: {type(exc).__name__}: {exc}")
+                ok, value = (
+                    False,
+                    RuntimeError(f"the simulation's answer could not be read: {type(exc).__name__}: {exc}"),
+                )
             with self._lock:
                 future = self._pending.pop(call_id, None)
             if future is not None:
@@ -244,8 +253,15 @@ def _close_inherited_sockets(keep: int) -> None:
             pass
 
 
-def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Connection, parent_end: Connection,
-                granularity, wrenches: SampleRing) -> None:
+def _child_main(
+    world: World,
+    realtime: bool,
+    shared: SharedSnapshot,
+    conn: Connection,
+    parent_end: Connection,
+    granularity,
+    wrenches: SampleRing,
+) -> None:
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
     the supervisor is gone: the pipe ends)."""
     parent_end.close()
@@ -261,7 +277,10 @@ def _child_main(world: World, realtime: bool, shared: SharedSnapshot, conn: Conn
         try:
             data = pickle.dumps(value)
         except Exception as exc:  # noqa: BLE001 - the value does not pickle: say what it was
-            ok, data = False, pickle.dumps(RuntimeError(f"the result could not be sent back: {type(exc).__name__}: {exc}"))
+            ok, data = (
+                False,
+                pickle.dumps(RuntimeError(f"the result could not be sent back: {type(exc).__name__}: {exc}")),
+            )
         with send_lock:
             conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 

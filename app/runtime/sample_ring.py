@@ -9,6 +9,7 @@ count % CAPACITY, then publishes count + 1. A reader copies the slots after the 
 and reads the count again: slots the writer may have overwritten meanwhile (more than CAPACITY
 behind) are dropped, never returned torn.
 """
+
 from __future__ import annotations
 
 import mmap
@@ -47,6 +48,6 @@ class SampleRing:
         rows = self._slots[indices].copy()
         safe_from = self.count - self.capacity + 1  # what the writer may have overwritten while we copied
         if safe_from > first:
-            rows = rows[safe_from - first:]
+            rows = rows[safe_from - first :]
             first = safe_from
         return rows, count, first - seen

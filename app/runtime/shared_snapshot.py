@@ -10,13 +10,15 @@ go and skips a text it wrote last time (the same object), unless another writer 
 The record is a tree of dataclasses whose leaves are numpy arrays (fixed shapes), numbers, bools
 and texts (`str` or None), as the sample it is built from; a text longer than its slot is cut.
 """
+
 from __future__ import annotations
 
 import dataclasses
 import mmap
 import operator
 import struct
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -57,8 +59,10 @@ class SharedSnapshot:
         self._memory = mmap.mmap(-1, self._size)  # MAP_SHARED | MAP_ANONYMOUS: shared with the fork
         self._numbers_view = np.frombuffer(self._memory, np.float64, self._floats, _HEADER)
         # where the writer puts its values: every array's elements, then the numbers (one scatter)
-        self._index = np.concatenate([np.arange(start, stop) for _, start, stop in self._arrays]
-                                     + [np.array([i for _, i in self._numbers], dtype=np.intp)]).astype(np.intp)
+        self._index = np.concatenate(
+            [np.arange(start, stop) for _, start, stop in self._arrays]
+            + [np.array([i for _, i in self._numbers], dtype=np.intp)]
+        ).astype(np.intp)
         self._array_getters = [g for g, _, _ in self._arrays]
         self._number_getters = [g for g, _ in self._numbers]
         self._written_texts: tuple[int, list] = (-1, [])  # (the counter after this copy's last write, its texts)
@@ -112,7 +116,7 @@ class SharedSnapshot:
             else:
                 data = text.encode("utf-8", "replace")[: TEXT_SLOT - 2]
                 struct.pack_into("<H", memory, offset, len(data))
-                memory[offset + 2: offset + 2 + len(data)] = data
+                memory[offset + 2 : offset + 2 + len(data)] = data
         struct.pack_into("<Q", memory, 0, seq + 2)  # even: complete
 
     # --- readers (any thread of the other process) ------------------------------------------
@@ -124,7 +128,7 @@ class SharedSnapshot:
                 return self._cached
             if before % 2:
                 continue  # being written (a few microseconds)
-            data = self._memory[:self._size]  # a copy
+            data = self._memory[: self._size]  # a copy
             (after,) = struct.unpack_from("<Q", self._memory, 0)
             if after == before:
                 break
@@ -145,12 +149,16 @@ class SharedSnapshot:
                 kwargs[name] = self._build(part, numbers, data)
             elif part.kind == "array":
                 size = int(np.prod(part.shape))
-                kwargs[name] = numbers[part.start: part.start + size].reshape(part.shape)
+                kwargs[name] = numbers[part.start : part.start + size].reshape(part.shape)
             elif part.kind == "text":
                 offset = self._text_base + part.start * TEXT_SLOT
                 (length,) = struct.unpack_from("<H", data, offset)
-                kwargs[name] = None if length == _NONE else data[offset + 2: offset + 2 + length].decode("utf-8", "replace")
+                kwargs[name] = (
+                    None if length == _NONE else data[offset + 2 : offset + 2 + length].decode("utf-8", "replace")
+                )
             else:
                 value = numbers[part.start]
-                kwargs[name] = bool(value) if part.kind == "bool" else int(value) if part.kind == "int" else float(value)
+                kwargs[name] = (
+                    bool(value) if part.kind == "bool" else int(value) if part.kind == "int" else float(value)
+                )
         return node.cls(**kwargs)

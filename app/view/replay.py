@@ -10,6 +10,7 @@ box's path), and the recorded topics served read-only like `ros2 bag play` publi
 
 so `hri-lab topic echo NAME --url URL` reads a recording as it reads the live lab.
 """
+
 from __future__ import annotations
 
 import asyncio
@@ -28,8 +29,9 @@ SPEEDS = ("0.25", "0.5", "1", "2", "4")
 
 
 class ReplayView(SceneView):
-    def __init__(self, playback: Playback, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
-                 rate_hz: float = 30.0) -> None:
+    def __init__(
+        self, playback: Playback, host: str = "127.0.0.1", port: int = 8080, light: bool = False, rate_hz: float = 30.0
+    ) -> None:
         self.playback = playback
         self.rate_hz = rate_hz
         self.time = 0.0  # s, playback time
@@ -51,8 +53,14 @@ class ReplayView(SceneView):
         scene, world = self.server.scene, self.playback.world
         plate = world.get("plate", {"width": 0.1, "height": 0.1, "offset": 0.02})
         first = self.playback.frames[0]
-        self.shapes = SceneShapes(scene, (plate["width"], plate["height"]), world.get("box_size", (0.2, 0.2, 0.2)),
-                                  world.get("palm_size", (0.08, 0.08)), first.mu, first.box_colour)
+        self.shapes = SceneShapes(
+            scene,
+            (plate["width"], plate["height"]),
+            world.get("box_size", (0.2, 0.2, 0.2)),
+            world.get("palm_size", (0.08, 0.08)),
+            first.mu,
+            first.box_colour,
+        )
         self.box_path = np.array([f.poses["box"][0] for f in self.playback.frames])
 
     def draw(self, t: float) -> None:
@@ -69,16 +77,25 @@ class ReplayView(SceneView):
             for name, handle in shapes.arrows.items():
                 handle.points = frame.arrows[name][None]
             shapes.show_mu(frame.mu)
-            shown = self.box_path[max(0, int(np.searchsorted(self.playback.times, t, side="right")) - 300):
-                                  int(np.searchsorted(self.playback.times, t, side="right"))]
+            shown = self.box_path[
+                max(0, int(np.searchsorted(self.playback.times, t, side="right")) - 300) : int(
+                    np.searchsorted(self.playback.times, t, side="right")
+                )
+            ]
             if len(shown) >= 2:
                 shapes.path.points = np.stack((shown[:-1], shown[1:]), axis=1)
         contact = self.playback.message_at("/contact_state", frame.time) or {}
         lifting = self.playback.message_at("/lifting_state", frame.time) or {}
-        band = f"band [{lifting.get('f_n_min', 0):g}, {lifting.get('f_n_max', 0):g}] N" if lifting.get("started") else "lifting stopped"
-        self.status.content = (f"t = {frame.time:.2f} / {self.playback.duration:.2f} s · `{frame.state}` · {band} · "
-                               f"f_n = {contact.get('normal_force', 0.0):.1f} N · person: {lifting.get('human_phase', '')}"
-                               + (f"\n\n**reflex:** {lifting['error']}" if lifting.get("error") else ""))
+        band = (
+            f"band [{lifting.get('f_n_min', 0):g}, {lifting.get('f_n_max', 0):g}] N"
+            if lifting.get("started")
+            else "lifting stopped"
+        )
+        self.status.content = (
+            f"t = {frame.time:.2f} / {self.playback.duration:.2f} s · `{frame.state}` · {band} · "
+            f"f_n = {contact.get('normal_force', 0.0):.1f} N · person: {lifting.get('human_phase', '')}"
+            + (f"\n\n**reflex:** {lifting['error']}" if lifting.get("error") else "")
+        )
 
     def seek(self, t: float) -> None:
         """Scrub to t (s): the slider, the scene."""
@@ -98,8 +115,9 @@ class ReplayView(SceneView):
         self.status = gui.add_markdown("")
         self._setting = False
         step = max(0.001, float(np.min(np.diff(self.playback.times)))) if len(self.playback.times) > 1 else 0.04
-        self.slider = gui.add_slider("Time (s)", min=0.0, max=max(self.playback.duration, step), step=step,
-                                     initial_value=0.0)
+        self.slider = gui.add_slider(
+            "Time (s)", min=0.0, max=max(self.playback.duration, step), step=step, initial_value=0.0
+        )
         self.slider.on_update(self._on_slider)
         self.play_button = gui.add_button("Play")
         self.play_button.on_click(lambda _: self.play())
@@ -178,7 +196,13 @@ def replay_app(view: ReplayView) -> FastAPI:
 
     @app.get("/replay", summary="The playback: file, duration, time, playing, speed, 3D view")
     def state() -> dict:
-        return {"file": str(playback.path), "duration": playback.duration, "time": view.time, "playing": view.playing,
-                "speed": view.speed, "view": view.url}
+        return {
+            "file": str(playback.path),
+            "duration": playback.duration,
+            "time": view.time,
+            "playing": view.playing,
+            "speed": view.speed,
+            "view": view.url,
+        }
 
     return app

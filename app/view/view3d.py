@@ -6,6 +6,7 @@ same service registry and action server as the API (no second code path).
 The scene is redrawn from the loop's snapshot at `rate_hz` inside `server.atomic()`. Light mode
 draws the collision meshes (simple, few triangles) for software-rendered browsers.
 """
+
 import hashlib
 import math
 import os
@@ -22,13 +23,14 @@ import pinocchio as pin
 import viser
 import websockets.asyncio.server
 
-from app.api.security import host_refusal, local_names, origin_refusal
-from app.lab import commands
 from sim.person.participants import PARTICIPANTS
 from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, PALM_COLOUR, PLATE_COLOUR, arrows_of, state_of
 from sim.robot.assets import panda_urdf, robot_data_share
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
+
+from app.api.security import host_refusal, local_names, origin_refusal
+from app.lab import commands
 
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
 
@@ -68,8 +70,12 @@ CAMERA_FOV = math.radians(50.0)  # vertical; three.js' 75 degrees makes the lab 
 PANEL_WIDTH = 300  # px: the controls docked at the right edge, beside the scene (never over it)
 GIZMO_SIZE = 90  # px on screen whatever the zoom (arrows from the palm), drawn over the box
 MEANING = {  # state -> what the box colour says (the view's legend)
-    "inside": "f_n inside the band", "below": "f_n below the band", "above": "f_n above the band",
-    "slipping": "the plate slips on the box", "error": "robot reflex (error)", "idle": "lifting stopped",
+    "inside": "f_n inside the band",
+    "below": "f_n below the band",
+    "above": "f_n above the band",
+    "slipping": "the plate slips on the box",
+    "error": "robot reflex (error)",
+    "idle": "lifting stopped",
 }
 ARROWS = {  # arrow -> (RGB, what it shows)
     "normal": (ARROW_COLOURS["normal"], "F_ext, normal part (at the plate)"),
@@ -80,13 +86,16 @@ ARROWS = {  # arrow -> (RGB, what it shows)
 
 def legend_markdown() -> str:
     """The legend of the box colours, the arrows and the other shapes (HTML swatches in markdown)."""
+
     def swatch(rgb):
         return f'<span style="display:inline-block;width:0.9em;height:0.9em;background:rgb{tuple(rgb)}"></span>'
 
     boxes = "<br>".join(f"{swatch(COLOURS[k])} {text}" for k, text in MEANING.items())
     arrows = "<br>".join(f"{swatch(rgb)} {text}" for rgb, text in ARROWS.values())
-    return (f"**Box colour**<br>{boxes}<br><br>**Arrows** ({FORCE_SCALE * 100:g} cm per N)<br>{arrows}<br><br>"
-            f"{swatch((255, 220, 0))} friction cone (opening = mu)<br>{swatch((120, 120, 120))} the box's path")
+    return (
+        f"**Box colour**<br>{boxes}<br><br>**Arrows** ({FORCE_SCALE * 100:g} cm per N)<br>{arrows}<br><br>"
+        f"{swatch((255, 220, 0))} friction cone (opening = mu)<br>{swatch((120, 120, 120))} the box's path"
+    )
 
 
 def wxyz(rotation: np.ndarray) -> np.ndarray:
@@ -117,8 +126,9 @@ def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
     (trimesh itself, 0.7 s to import, is only imported to convert)."""
 
     stat = mesh_path.stat()
-    key = hashlib.sha1(repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh")))
-                       .encode()).hexdigest()
+    key = hashlib.sha1(
+        repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh"))).encode()
+    ).hexdigest()
     cached = mesh_cache() / f"{mesh_path.stem}-{key[:16]}.glb"
     try:
         return cached.read_bytes()
@@ -147,17 +157,22 @@ class SceneShapes:
     def __init__(self, scene, plate_size, box_size, palm_size, mu: float, box_colour) -> None:
         scene.add_grid("/floor", width=2.0, height=2.0, cell_size=0.1, position=(0.4, 0.2, 0.0))
         self.plate_frame = scene.add_frame("/plate", show_axes=False)
-        scene.add_box("/plate/pad", dimensions=(plate_size[0], plate_size[1], 0.006), color=PLATE_COLOUR,
-                      position=(0, 0, -0.003))
+        scene.add_box(
+            "/plate/pad", dimensions=(plate_size[0], plate_size[1], 0.006), color=PLATE_COLOUR, position=(0, 0, -0.003)
+        )
         vertices, faces = cone_mesh(mu)
-        self.cone = scene.add_mesh_simple("/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3,
-                                          side="double")
+        self.cone = scene.add_mesh_simple(
+            "/plate/friction_cone", vertices, faces, color=(255, 220, 0), opacity=0.3, side="double"
+        )
         self.cone_mu = mu
         self.box = scene.add_box("/box", dimensions=tuple(box_size), color=box_colour)
         self.palm = scene.add_box("/palm", dimensions=(palm_size[0], palm_size[1], 0.015), color=PALM_COLOUR)
-        self.arrows = {name: scene.add_arrows(f"/forces/{name}", np.zeros((1, 2, 3)), colour, shaft_radius=0.004,
-                                              head_radius=0.01, head_length=0.02)
-                       for name, colour in ARROW_COLOURS.items()}
+        self.arrows = {
+            name: scene.add_arrows(
+                f"/forces/{name}", np.zeros((1, 2, 3)), colour, shaft_radius=0.004, head_radius=0.01, head_length=0.02
+            )
+            for name, colour in ARROW_COLOURS.items()
+        }
         self.path = scene.add_line_segments("/box_path", np.zeros((1, 2, 3)), colors=(120, 120, 120), thickness=0.004)
 
     def show_mu(self, mu: float) -> None:
@@ -173,7 +188,9 @@ class RobotMeshes:
     def __init__(self, server: viser.ViserServer, light: bool) -> None:
         self.model = PandaModel()
         kind = pin.GeometryType.COLLISION if light else pin.GeometryType.VISUAL
-        geometry = pin.buildGeomFromUrdf(self.model.model, str(panda_urdf()), kind, package_dirs=[str(robot_data_share())])
+        geometry = pin.buildGeomFromUrdf(
+            self.model.model, str(panda_urdf()), kind, package_dirs=[str(robot_data_share())]
+        )
         self.geometry = geometry
         self.geometry_data = pin.GeometryData(geometry)
         self.frames: list[tuple[int, viser.FrameHandle]] = []
@@ -181,8 +198,12 @@ class RobotMeshes:
             if obj.name.startswith(NOT_SHOWN) or not obj.meshPath.lower().endswith((".dae", ".stl", ".obj")):
                 continue
             frame = server.scene.add_frame(f"/robot/{obj.name}", show_axes=False)
-            server.scene.add_glb(f"/robot/{obj.name}/mesh", glb_of(Path(obj.meshPath), tuple(obj.meshScale)),
-                                 cast_shadow=not light, receive_shadow=not light)
+            server.scene.add_glb(
+                f"/robot/{obj.name}/mesh",
+                glb_of(Path(obj.meshPath), tuple(obj.meshScale)),
+                cast_shadow=not light,
+                receive_shadow=not light,
+            )
             self.frames.append((index, frame))
 
     def place(self, q: np.ndarray) -> None:
@@ -199,7 +220,9 @@ class SceneView:
     Panda's meshes; a subclass draws the rest and has the thread's loop, `_run`, which runs from its
     start() until stop()."""
 
-    def __init__(self, server: viser.ViserServer, light: bool, camera_position, camera_look_at, thread_name: str) -> None:
+    def __init__(
+        self, server: viser.ViserServer, light: bool, camera_position, camera_look_at, thread_name: str
+    ) -> None:
         self.server = server
         server.scene.set_up_direction("+z")
         server.initial_camera.position = camera_position  # m, base frame
@@ -224,8 +247,17 @@ class SceneView:
 
 
 class LabView(SceneView):
-    def __init__(self, lab, actions, services, host: str = "127.0.0.1", port: int = 8080, light: bool = False,
-                 rate_hz: float = 30.0, controls: bool = True) -> None:
+    def __init__(
+        self,
+        lab,
+        actions,
+        services,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        light: bool = False,
+        rate_hz: float = 30.0,
+        controls: bool = True,
+    ) -> None:
         self.lab, self.actions, self.services = lab, actions, services
         self.light = light
         self.rate_hz = rate_hz
@@ -249,11 +281,20 @@ class LabView(SceneView):
         s = self.lab.snapshot()
         geometry = self.lab.call(commands.scene_geometry)
         plate_width, plate_height, self.plate_offset = geometry["plate"]
-        self.shapes = SceneShapes(scene, (plate_width, plate_height), geometry["box"], geometry["palm"], s.lifting.mu,
-                                  COLOURS["idle"])
-        self.gizmo = scene.add_transform_controls("/hand_target", scale=GIZMO_SIZE, fixed=True, line_width=4.0,
-                                                  depth_test=False, disable_rotations=True, disable_sliders=True,
-                                                  position=s.palm_position, visible=self.controls)
+        self.shapes = SceneShapes(
+            scene, (plate_width, plate_height), geometry["box"], geometry["palm"], s.lifting.mu, COLOURS["idle"]
+        )
+        self.gizmo = scene.add_transform_controls(
+            "/hand_target",
+            scale=GIZMO_SIZE,
+            fixed=True,
+            line_width=4.0,
+            depth_test=False,
+            disable_rotations=True,
+            disable_sliders=True,
+            position=s.palm_position,
+            visible=self.controls,
+        )
         if self.controls:
             self.gizmo.on_update(self._on_gizmo)
 
@@ -307,7 +348,9 @@ class LabView(SceneView):
         gui = self.server.gui
         with gui.add_folder("Lifting"):
             self.force = gui.add_number("Force (N)", initial_value=10.0, min=0.0, max=60.0, step=0.5)
-            gui.add_button("Start lifting").on_click(lambda _: self._call("/start_cooperative_lifting", force=float(self.force.value)))
+            gui.add_button("Start lifting").on_click(
+                lambda _: self._call("/start_cooperative_lifting", force=float(self.force.value))
+            )
             gui.add_button("Stop lifting").on_click(lambda _: self._call("/stop_cooperative_lifting"))
             gui.add_button("Move to start").on_click(lambda _: self._move_to_start())
             gui.add_button("Reset").on_click(lambda _: self._call("/reset_simulation"))
@@ -315,20 +358,32 @@ class LabView(SceneView):
         with gui.add_folder("Person"):
             self.participant = gui.add_dropdown("Participant", tuple(PARTICIPANTS), initial_value="calm")
             gui.add_button("Run scripted participant").on_click(lambda _: self._run_participant())
-            self.take_over = gui.add_checkbox("Take over the palm", initial_value=False,
-                                              hint="The scripted person stops; drag the gizmo to move the palm. Uncheck: Reset.")
+            self.take_over = gui.add_checkbox(
+                "Take over the palm",
+                initial_value=False,
+                hint="The scripted person stops; drag the gizmo to move the palm. Uncheck: Reset.",
+            )
             self.take_over.on_update(self._on_take_over)
             gui.add_markdown("Take over, then drag the gizmo on the palm to lift and carry the box yourself.")
 
     def _update_gui(self, s: Snapshot, state: str) -> None:
         """The status line, from the snapshot only: current whoever changed the state."""
-        lifting = f"lifting **on**, band [{s.lifting.f_n_min:g}, {s.lifting.f_n_max:g}] N" if s.lifting.running else "lifting **off**"
+        lifting = (
+            f"lifting **on**, band [{s.lifting.f_n_min:g}, {s.lifting.f_n_max:g}] N"
+            if s.lifting.running
+            else "lifting **off**"
+        )
         trial = s.trial
-        result = {"running": f"trial running ({trial.duration:.1f} s)",
-                  "succeeded": f"trial **succeeded** in {trial.duration:.1f} s, slip {trial.slip * 1e3:.1f} mm",
-                  "failed": f"trial **failed**: {trial.reason}", "abandoned": "trial abandoned (palm taken over)"}.get(trial.state, "")
-        lines = [f"{lifting} · f_n = {s.plate.normal_force:.1f} N · box: {MEANING[state]}",
-                 f"person: {s.human_phase}" + (f" · {result}" if result else "")]
+        result = {
+            "running": f"trial running ({trial.duration:.1f} s)",
+            "succeeded": f"trial **succeeded** in {trial.duration:.1f} s, slip {trial.slip * 1e3:.1f} mm",
+            "failed": f"trial **failed**: {trial.reason}",
+            "abandoned": "trial abandoned (palm taken over)",
+        }.get(trial.state, "")
+        lines = [
+            f"{lifting} · f_n = {s.plate.normal_force:.1f} N · box: {MEANING[state]}",
+            f"person: {s.human_phase}" + (f" · {result}" if result else ""),
+        ]
         if s.error:
             lines.append(f"**reflex:** {s.error.splitlines()[0]} (Error recovery clears it)")
         if self.status_message:
@@ -345,14 +400,18 @@ class LabView(SceneView):
         """A service of the registry, exactly as POST /services{name} calls it."""
         try:
             response = self.services.call(self.lab, name, self.services.get(name).request(**request)).model_dump()
-            self.status_message = f"{name}: {response.get('message', 'done')}" + ("" if response.get("success", True) else " (failed)")
+            self.status_message = f"{name}: {response.get('message', 'done')}" + (
+                "" if response.get("success", True) else " (failed)"
+            )
         except Exception as exc:  # noqa: BLE001 - shown to the person, the view goes on
             self.status_message = f"{name} failed: {exc}"
 
     def _move_to_start(self) -> None:
         action = self.actions.get("/move_to_start")
         handle = self.actions.send_goal(action, action.goal())
-        self.status_message = f"/move_to_start: goal {handle.status.value}" + (f" ({handle.message})" if handle.message else "")
+        self.status_message = f"/move_to_start: goal {handle.status.value}" + (
+            f" ({handle.message})" if handle.message else ""
+        )
 
     def _run_participant(self) -> None:
         try:
@@ -384,4 +443,3 @@ class LabView(SceneView):
 
     def _on_gizmo(self, _event) -> None:
         self._set_hand(np.array(self.gizmo.position, dtype=float))  # dragging takes the palm over too
-

@@ -172,7 +172,9 @@ def rosbridge_ops() -> str:
             return "yes, but for rosapi's reading services (below)"
         return "yes" if OPS[name].mutating else ""
 
-    return _table(["op", "needs the token (when the lab has one)"], [[f"`{name}`", token(name)] for name in sorted(OPS)])
+    return _table(
+        ["op", "needs the token (when the lab has one)"], [[f"`{name}`", token(name)] for name in sorted(OPS)]
+    )
 
 
 GENERATORS: dict[str, Callable[[], str]] = {

@@ -1,5 +1,6 @@
 """The lab's built-in lifting controllers, by name: the one table the start service, the
 `controller` parameter, the CLI and the comparison use."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -7,6 +7,7 @@ same law written for numba, on the controller's state array (`LiftingLawControll
 parameter vector `lifting_vector(params)`; tests/test_compiled_law.py runs both, step after step,
 at many random wrenches, poses and parameters, and fails if they differ.
 """
+
 from __future__ import annotations
 
 import math
@@ -15,8 +16,22 @@ import numpy as np
 from numba import njit
 
 from sim.controllers.interface import (
-    A_MAX, ALPHA, DW_MAX, F_CONTACT, F_N_BAND, F_N_MIN, FILTER_HZ, K_N, K_T, K_W, MOMENT_DEADBAND, MU, PLATE_OFFSET,
-    RUNNING, V_MAX, W_MAX,
+    A_MAX,
+    ALPHA,
+    DW_MAX,
+    F_CONTACT,
+    F_N_BAND,
+    F_N_MIN,
+    FILTER_HZ,
+    K_N,
+    K_T,
+    K_W,
+    MOMENT_DEADBAND,
+    MU,
+    PLATE_OFFSET,
+    RUNNING,
+    V_MAX,
+    W_MAX,
 )
 from sim.controllers.lifting_law import FILTERED, HAS_FILTERED, PATCH, SLIPPING, TWIST_BASE
 from sim.controllers.patch import KERN_SCALE, PLATE_HEIGHT, PLATE_WIDTH, R_EQ, TORSION_DEADBAND
@@ -92,7 +107,7 @@ def rate_limit_into(previous, target, dv_max, dw_max, out):
 def low_pass(state, wrench_ee, p, dt):
     """Step 0: the filtered F_ext, y <- y + a (x - y), a = dt / (tau + dt), tau = 1 / (2 pi filter_hz)
     (sim.signals.low_pass_gain; no filter for filter_hz <= 0 and at the first sample)."""
-    filtered = state[FILTERED:FILTERED + 6]
+    filtered = state[FILTERED : FILTERED + 6]
     if p[FILTER_HZ] > 0.0 and state[HAS_FILTERED] != 0.0:
         a = low_pass_gain(dt, p[FILTER_HZ])
         for i in range(6):
@@ -109,7 +124,7 @@ def to_base_rate_limited(state, p, twist_ee, rotation, dt, out):
     target = np.empty(6)
     target[:3] = rotation @ twist_ee[:3]
     target[3:] = rotation @ twist_ee[3:]
-    previous = state[TWIST_BASE:TWIST_BASE + 6]
+    previous = state[TWIST_BASE : TWIST_BASE + 6]
     rate_limit_into(previous.copy(), target, p[A_MAX] * dt, p[DW_MAX] * dt, out)
     previous[:] = out
 

@@ -9,6 +9,7 @@ velocity controller on `/cartesian_velocity_controller/command`), with franka's 
   velocity limits still trips the robot's reflex (the interface checks it).
 The lab's `running` flag does not gate it: a node drives the robot while its commands are fresh.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -39,14 +40,18 @@ class ExternalCommand(LiftingController):
         self.twist_target = twist.copy()
         self.age = 0.0
 
-    def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
+    def step(
+        self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float
+    ) -> np.ndarray:
         if self.age is not None:
             self.age += dt
             if self.age > self.period + 1e-9:
                 age = self.age
                 self.reset()
-                raise Reflex(f"communication constraints violation: no command on /cartesian_velocity_controller/command "
-                             f"for {age * 1e3:.0f} ms (period {self.period * 1e3:.0f} ms)")
+                raise Reflex(
+                    f"communication constraints violation: no command on /cartesian_velocity_controller/command "
+                    f"for {age * 1e3:.0f} ms (period {self.period * 1e3:.0f} ms)"
+                )
         # limit_rate: twist <- twist + sat(target - twist), |dv| <= a_max dt, |dw| <= dw_max dt
         self.twist_base = rate_limit(self.twist_base, self.twist_target, params, dt)
         return self.twist_base.copy()

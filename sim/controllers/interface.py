@@ -5,6 +5,7 @@ A controller maps the measured F_ext to an EE twist command:
 wrench_ee = [fx, fy, fz, mx, my, mz] (N, Nm), the wrench the robot applies, at the EE origin, in
 the EE frame; the twist [vx, vy, vz, wx, wy, wz] (m/s, rad/s) is the EE's, in the base frame.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -43,8 +44,24 @@ class LiftingParams:
 
 
 LIFTING_FIELDS = tuple(LiftingParams.__dataclass_fields__)  # the order of lifting_vector
-(RUNNING, F_N_MIN, F_N_BAND, MU, ALPHA, K_N, K_T, K_W, MOMENT_DEADBAND, F_CONTACT, V_MAX, W_MAX, A_MAX, DW_MAX,
- FILTER_HZ, PLATE_OFFSET) = range(len(LIFTING_FIELDS))
+(
+    RUNNING,
+    F_N_MIN,
+    F_N_BAND,
+    MU,
+    ALPHA,
+    K_N,
+    K_T,
+    K_W,
+    MOMENT_DEADBAND,
+    F_CONTACT,
+    V_MAX,
+    W_MAX,
+    A_MAX,
+    DW_MAX,
+    FILTER_HZ,
+    PLATE_OFFSET,
+) = range(len(LIFTING_FIELDS))
 
 
 def lifting_vector(params: LiftingParams) -> np.ndarray:

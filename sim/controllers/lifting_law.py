@@ -5,6 +5,7 @@ A controller's state (the last command, the filtered F_ext, the slipping flag) i
 `LiftingLawController.state` (sim/state.py), so that the compiled world step can run a built-in
 controller's law on it (sim/controllers/compiled_law.py); these classes stay plain Python, the
 law of record that students read and subclass."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,7 +45,9 @@ def saturate_twist(v: np.ndarray, w: np.ndarray, params: LiftingParams) -> np.nd
 def rate_limit(twist_previous: np.ndarray, twist_target: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
     """Step 6: |dv| <= a_max dt and |dw| <= dw_max dt per control period (franka's limitRate idea)."""
     delta = twist_target - twist_previous
-    return twist_previous + np.concatenate((saturate(delta[:3], params.a_max * dt), saturate(delta[3:], params.dw_max * dt)))
+    return twist_previous + np.concatenate(
+        (saturate(delta[:3], params.a_max * dt), saturate(delta[3:], params.dw_max * dt))
+    )
 
 
 class LiftingLawController(LiftingController):
@@ -83,7 +86,9 @@ class LiftingLawController(LiftingController):
         frame) instead of rest, so the first command differs from it by at most a_max dt, dw_max dt."""
         self.twist_base = twist_base
 
-    def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
+    def step(
+        self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float
+    ) -> np.ndarray:
         # step 0, first-order low-pass (sim.signals.LowPass): y = x without a filter or a first sample
         wrench = np.asarray(wrench_ee, dtype=float)
         time_constant = cutoff_time_constant(params.filter_hz)

@@ -47,6 +47,7 @@ normal showed up in the plate frame as "less friction" (f_t,plate = f_t,face - f
 1.5-2 N), so the robot followed the person later and the person's palm, already near its friction
 cone, carried that extra drag and slipped (see tests/test_tilt.py for the tilting case).
 """
+
 from __future__ import annotations
 
 import math

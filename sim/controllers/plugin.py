@@ -5,6 +5,7 @@ config file, never through the API. The class is instantiated with no argument a
 `start(params, force) -> str` and `stop(params) -> str`, the handlers of the start/stop services.
 The file is never imported here: it runs in a sandboxed process (sim/controllers/sandbox/).
 """
+
 from __future__ import annotations
 
 import codecs
@@ -41,8 +42,10 @@ def check_file(path: Path) -> None:
     """PluginError saying what `path` is when it cannot be a controller file: missing, a folder, or
     not Python source text (binary: e.g. a recording or a compiled file handed by mistake)."""
     if path.is_dir():
-        raise PluginError(f"{path} is a folder, not a controller file: name the .py file in it "
-                          "(`hri-lab grade` takes folders of them)")
+        raise PluginError(
+            f"{path} is a folder, not a controller file: name the .py file in it "
+            "(`hri-lab grade` takes folders of them)"
+        )
     if not path.is_file():
         raise PluginError(f"no controller file {path}")
     with open(path, "rb") as f:
@@ -53,8 +56,10 @@ def check_file(path: Path) -> None:
     except UnicodeDecodeError:
         binary = True
     if binary:
-        raise PluginError(f"{path} is not a Python file (binary, not source text): a controller is a .py file "
-                          f"with a class {DEFAULT_CLASS} (start from `hri-lab template`)")
+        raise PluginError(
+            f"{path} is not a Python file (binary, not source text): a controller is a .py file "
+            f"with a class {DEFAULT_CLASS} (start from `hri-lab template`)"
+        )
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ Sign convention: F_ext (wrench_ee) is the wrench the ROBOT applies to the box (f
 K_F_ext_hat_K). Pressing gives f_n > 0. When the person lifts the box, the plate's friction
 holds the box back, so f_t points DOWN and the robot must move UP: against f_t.
 """
+
 from __future__ import annotations
 
 import math

@@ -14,6 +14,7 @@ the band; from then on the box is held only by the two contacts.
 The person's state lives in one array (`VirtualHuman.state`, sim/state.py) that `human_step` and
 `hand_wrench` advance and read: the compiled world step (sim/compiled_step.py) runs the same two.
 """
+
 from __future__ import annotations
 
 import math
@@ -101,15 +102,47 @@ exp3 = njit(cache=True)(spatial.exp3)
 log3 = njit(cache=True)(spatial.log3)
 
 # the person's state array (sim/state.py)
-(TIME, PHASE_TIME, SQUEEZE, GRIP_TIME, FELT_GRIP, LETTING_GO, GRASP_WEIGHT, PHASE, HAS_LEVEL, HAS_GRASP,
- SQUEEZE_FORCE, TREMOR_AMPLITUDE, TILT, HOLD, PATH_DURATION) = range(15)
+(
+    TIME,
+    PHASE_TIME,
+    SQUEEZE,
+    GRIP_TIME,
+    FELT_GRIP,
+    LETTING_GO,
+    GRASP_WEIGHT,
+    PHASE,
+    HAS_LEVEL,
+    HAS_GRASP,
+    SQUEEZE_FORCE,
+    TREMOR_AMPLITUDE,
+    TILT,
+    HOLD,
+    PATH_DURATION,
+) = range(15)
 HAND, TARGET, POSITION, VELOCITY, ANGULAR_VELOCITY, START, GRASP_POSITION = 15, 18, 21, 24, 27, 30, 33
 TARGET_ROTATION, ROTATION, BOX_LEVEL, GRASP_ROTATION = 36, 45, 54, 63
 TREMOR_PHASE, TREMOR_FREQUENCY, MOVES, DURATIONS = 72, 74, 76, 85  # 2, 2, 9, 3
 # HumanParams as the kernels read them (field order), then the carry direction (unit, 3)
-(GRIP_DWELL, FEEL_TIME_CONSTANT, RELEASE_TIME, SETTLE_TIME, K_F, GRIP_LOAD_RATIO, K_P, V_SQUEEZE_MAX,
- GRASP_STIFFNESS, GRASP_DAMPING, GRASP_ROT_STIFFNESS, GRASP_ROT_DAMPING, WRIST_STIFFNESS, WRIST_DAMPING,
- HAND_LEVER, MANUAL_SPEED, MANUAL_GAIN, CARRY_AXIS) = range(18)
+(
+    GRIP_DWELL,
+    FEEL_TIME_CONSTANT,
+    RELEASE_TIME,
+    SETTLE_TIME,
+    K_F,
+    GRIP_LOAD_RATIO,
+    K_P,
+    V_SQUEEZE_MAX,
+    GRASP_STIFFNESS,
+    GRASP_DAMPING,
+    GRASP_ROT_STIFFNESS,
+    GRASP_ROT_DAMPING,
+    WRIST_STIFFNESS,
+    WRIST_DAMPING,
+    HAND_LEVER,
+    MANUAL_SPEED,
+    MANUAL_GAIN,
+    CARRY_AXIS,
+) = range(18)
 
 
 class VirtualHuman:
@@ -152,8 +185,9 @@ class VirtualHuman:
         self.state = allocate(VirtualHuman)
         self.params = params
         axis = np.asarray(path.carry_direction, float)
-        self.constants = np.concatenate(([float(getattr(params, f)) for f in HumanParams.__dataclass_fields__],
-                                         axis / np.linalg.norm(axis)))
+        self.constants = np.concatenate(
+            ([float(getattr(params, f)) for f in HumanParams.__dataclass_fields__], axis / np.linalg.norm(axis))
+        )
         self.path_spec = path
         self.rotation = np.array(rotation, float)
         self.start = np.array(position, float)
@@ -168,7 +202,11 @@ class VirtualHuman:
         self.tremor_phase = self.rng.uniform(0.0, 2.0 * math.pi, 2)
         self.tremor_freq = participant.tremor_frequency * self.rng.uniform(0.9, 1.1, 2)
         s = self.state
-        s[SQUEEZE_FORCE], s[TREMOR_AMPLITUDE], s[TILT] = participant.squeeze_force, participant.tremor_amplitude, participant.tilt
+        s[SQUEEZE_FORCE], s[TREMOR_AMPLITUDE], s[TILT] = (
+            participant.squeeze_force,
+            participant.tremor_amplitude,
+            participant.tilt,
+        )
         self.path_moves, self.path_durations = self.path.moves, self.path.durations
         s[HOLD], s[PATH_DURATION] = self.path.hold, self.path.duration
 
@@ -201,13 +239,13 @@ class VirtualHuman:
     @property
     def box_level(self) -> np.ndarray | None:
         """The box orientation the wrist keeps once let go (None before)."""
-        return self.state[BOX_LEVEL:BOX_LEVEL + 9].reshape(3, 3) if self.state[HAS_LEVEL] else None
+        return self.state[BOX_LEVEL : BOX_LEVEL + 9].reshape(3, 3) if self.state[HAS_LEVEL] else None
 
     @box_level.setter
     def box_level(self, rotation: np.ndarray | None) -> None:
         self.state[HAS_LEVEL] = rotation is not None
         if rotation is not None:
-            self.state[BOX_LEVEL:BOX_LEVEL + 9] = np.asarray(rotation, float).ravel()
+            self.state[BOX_LEVEL : BOX_LEVEL + 9] = np.asarray(rotation, float).ravel()
 
     @property
     def grasp_offset(self) -> tuple[np.ndarray, np.ndarray] | None:
@@ -215,14 +253,14 @@ class VirtualHuman:
         s = self.state
         if not s[HAS_GRASP]:
             return None
-        return s[GRASP_POSITION:GRASP_POSITION + 3], s[GRASP_ROTATION:GRASP_ROTATION + 9].reshape(3, 3)
+        return s[GRASP_POSITION : GRASP_POSITION + 3], s[GRASP_ROTATION : GRASP_ROTATION + 9].reshape(3, 3)
 
     @grasp_offset.setter
     def grasp_offset(self, offset: tuple[np.ndarray, np.ndarray] | None) -> None:
         self.state[HAS_GRASP] = offset is not None
         if offset is not None:
-            self.state[GRASP_POSITION:GRASP_POSITION + 3] = offset[0]
-            self.state[GRASP_ROTATION:GRASP_ROTATION + 9] = np.asarray(offset[1], float).ravel()
+            self.state[GRASP_POSITION : GRASP_POSITION + 3] = offset[0]
+            self.state[GRASP_ROTATION : GRASP_ROTATION + 9] = np.asarray(offset[1], float).ravel()
 
     def grasp(self, box: BoxPose) -> None:
         """Take hold of the box where it is now (it cannot fall while grasped)."""
@@ -280,8 +318,18 @@ class VirtualHuman:
         plate_force: the robot's normal force (N); band: (f_n_min, f_n_max) of the running
         lifting, None when stopped; box_rotation: the box's orientation (it is kept level)."""
         low, high = band if band is not None else (0.0, 0.0)
-        human_step(self.state, self.constants, dt, palm_force, palm_load, plate_force, band is not None, low, high,
-                   np.asarray(box_rotation, float))
+        human_step(
+            self.state,
+            self.constants,
+            dt,
+            palm_force,
+            palm_load,
+            plate_force,
+            band is not None,
+            low,
+            high,
+            np.asarray(box_rotation, float),
+        )
 
     def tremor(self, t: float) -> np.ndarray:
         """Physiological tremor (m) in the palm plane (`tremor` below)."""
@@ -295,8 +343,17 @@ class VirtualHuman:
         """Force (N) and moment about the box centre (Nm), world, that the hand applies besides the
         palm contact (`hand_wrench` below)."""
         force, moment = np.zeros(3), np.zeros(3)
-        hand_wrench(self.state, self.constants, box.position, box.rotation, box.velocity, box.angular_velocity,
-                    palm_force, force, moment)
+        hand_wrench(
+            self.state,
+            self.constants,
+            box.position,
+            box.rotation,
+            box.velocity,
+            box.angular_velocity,
+            palm_force,
+            force,
+            moment,
+        )
         return force, moment
 
 
@@ -330,7 +387,7 @@ def human_step(s, k, dt, palm_force, palm_load, plate_force, band_on, band_low, 
     elif phase == SETTLING and s[PHASE_TIME] >= k[SETTLE_TIME]:
         _enter(s, CARRYING)
     elif phase == CARRYING:
-        offset = path_offset(s[MOVES:MOVES + 9].reshape((3, 3)), s[DURATIONS:DURATIONS + 3], s[PHASE_TIME])
+        offset = path_offset(s[MOVES : MOVES + 9].reshape((3, 3)), s[DURATIONS : DURATIONS + 3], s[PHASE_TIME])
         for i in range(3):
             s[HAND + i] = s[START + i] + offset[i]
         if s[PHASE_TIME] >= s[PATH_DURATION] - s[HOLD]:
@@ -339,10 +396,10 @@ def human_step(s, k, dt, palm_force, palm_load, plate_force, band_on, band_low, 
         _enter(s, DONE)
     elif phase == MANUAL:
         _follow_target(s, k, dt)
-    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    rotation = s[ROTATION : ROTATION + 9].reshape((3, 3))
     if s[LETTING_GO] != 0.0:
         if s[HAS_LEVEL] == 0.0:
-            s[BOX_LEVEL:BOX_LEVEL + 9] = box_rotation.ravel()
+            s[BOX_LEVEL : BOX_LEVEL + 9] = box_rotation.ravel()
             s[HAS_LEVEL] = 1.0
         s[GRASP_WEIGHT] = max(0.0, s[GRASP_WEIGHT] - dt / k[RELEASE_TIME])
     if s[GRASP_WEIGHT] < 1.0:  # the palm regulates its push once the grasp is loosened
@@ -368,11 +425,11 @@ def _follow_target(s, k, dt):
     scale = limit / norm if norm > limit else 1.0
     for i in range(3):
         s[HAND + i] += step[i] * scale
-    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
-    target = s[TARGET_ROTATION:TARGET_ROTATION + 9].reshape((3, 3))
+    rotation = s[ROTATION : ROTATION + 9].reshape((3, 3))
+    target = s[TARGET_ROTATION : TARGET_ROTATION + 9].reshape((3, 3))
     w = np.minimum(np.maximum(k[MANUAL_GAIN] * log3(target @ rotation.T), -1.0), 1.0)
     rotation[:, :] = exp3(w * dt) @ rotation
-    s[ANGULAR_VELOCITY:ANGULAR_VELOCITY + 3] = w
+    s[ANGULAR_VELOCITY : ANGULAR_VELOCITY + 3] = w
 
 
 @njit(cache=True)
@@ -382,7 +439,7 @@ def tremor(s, t):
     a = s[TREMOR_AMPLITUDE]
     x = a * math.sin(2.0 * math.pi * s[TREMOR_FREQUENCY] * t + s[TREMOR_PHASE])
     y = a * math.sin(2.0 * math.pi * s[TREMOR_FREQUENCY + 1] * t + s[TREMOR_PHASE + 1])
-    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
+    rotation = s[ROTATION : ROTATION + 9].reshape((3, 3))
     return rotation[:, 0] * x + rotation[:, 1] * y
 
 
@@ -390,12 +447,12 @@ def tremor(s, t):
 def tilted_level(s, k):
     """The box orientation the wrist aims at: as let go, tilted by the participant's tilt about the
     carry direction along the carry (minimum-jerk over the path's duration)."""
-    level = s[BOX_LEVEL:BOX_LEVEL + 9].reshape((3, 3)).copy()
+    level = s[BOX_LEVEL : BOX_LEVEL + 9].reshape((3, 3)).copy()
     phase, tilt = s[PHASE], s[TILT]
     if tilt == 0.0 or not (phase == CARRYING or phase == HOLDING or phase == DONE):
         return level
     progress = 1.0 if phase != CARRYING else minimum_jerk(s[PHASE_TIME] / (s[PATH_DURATION] - s[HOLD]))
-    return exp3(k[CARRY_AXIS:CARRY_AXIS + 3] * (tilt * progress)) @ level
+    return exp3(k[CARRY_AXIS : CARRY_AXIS + 3] * (tilt * progress)) @ level
 
 
 @njit(cache=True)
@@ -408,18 +465,22 @@ def hand_wrench(s, k, box_position, box_rotation, box_velocity, box_omega, palm_
     force[:] = 0.0
     moment[:] = 0.0
     weight = s[GRASP_WEIGHT]
-    rotation = s[ROTATION:ROTATION + 9].reshape((3, 3))
-    omega = s[ANGULAR_VELOCITY:ANGULAR_VELOCITY + 3]
+    rotation = s[ROTATION : ROTATION + 9].reshape((3, 3))
+    omega = s[ANGULAR_VELOCITY : ANGULAR_VELOCITY + 3]
     if s[HAS_GRASP] != 0.0 and weight > 0.0:
-        arm = rotation @ s[GRASP_POSITION:GRASP_POSITION + 3]
-        target_velocity = s[VELOCITY:VELOCITY + 3] + np.cross(omega, arm)
+        arm = rotation @ s[GRASP_POSITION : GRASP_POSITION + 3]
+        target_velocity = s[VELOCITY : VELOCITY + 3] + np.cross(omega, arm)
         for i in range(3):
             target = s[POSITION + i] + arm[i]
-            force[i] = weight * (k[GRASP_STIFFNESS] * (target - box_position[i])
-                                 + k[GRASP_DAMPING] * (target_velocity[i] - box_velocity[i]))
-        rot_err = log3((rotation @ s[GRASP_ROTATION:GRASP_ROTATION + 9].reshape((3, 3))) @ box_rotation.T)
+            force[i] = weight * (
+                k[GRASP_STIFFNESS] * (target - box_position[i])
+                + k[GRASP_DAMPING] * (target_velocity[i] - box_velocity[i])
+            )
+        rot_err = log3((rotation @ s[GRASP_ROTATION : GRASP_ROTATION + 9].reshape((3, 3))) @ box_rotation.T)
         for i in range(3):
-            moment[i] = weight * (k[GRASP_ROT_STIFFNESS] * rot_err[i] + k[GRASP_ROT_DAMPING] * (omega[i] - box_omega[i]))
+            moment[i] = weight * (
+                k[GRASP_ROT_STIFFNESS] * rot_err[i] + k[GRASP_ROT_DAMPING] * (omega[i] - box_omega[i])
+            )
     if s[HAS_LEVEL] != 0.0:
         wrist = k[WRIST_STIFFNESS] * log3(tilted_level(s, k) @ box_rotation.T) - k[WRIST_DAMPING] * box_omega
         capacity = k[HAND_LEVER] * max(palm_force, 0.0)

@@ -1,6 +1,7 @@
 """The participants of the experiment (lab Table 1, plus two harder ones for comparing
 controllers): how fast each moves, how hard each squeezes, how much each trembles.
 The virtual human that plays them is sim/person/human.py."""
+
 from __future__ import annotations
 
 import math
@@ -39,8 +40,14 @@ PARTICIPANTS: dict[str, Participant] = {
         Participant("hasty", peak_speed=0.16, squeeze_force=12.0, tremor_amplitude=0.001, tremor_frequency=10.0),
         # harder participants for comparing controllers (not in the handout's Table 1)
         Participant("brisk", peak_speed=0.14, squeeze_force=14.0, tremor_amplitude=0.0005, tremor_frequency=9.0),
-        Participant("tilting", peak_speed=0.08, squeeze_force=14.0, tremor_amplitude=0.0002, tremor_frequency=8.0,
-                    tilt=math.radians(15.0)),
+        Participant(
+            "tilting",
+            peak_speed=0.08,
+            squeeze_force=14.0,
+            tremor_amplitude=0.0002,
+            tremor_frequency=8.0,
+            tilt=math.radians(15.0),
+        ),
     )
 }
 TABLE_1 = ("calm", "average", "hasty")  # the handout's three participants

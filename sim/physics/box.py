@@ -4,6 +4,7 @@ Semi-implicit (symplectic) Euler, world frame:
     v <- v + (F/m + g) dt,   x <- x + v dt
     w <- w + I_w^-1 (tau - w x I_w w) dt,   R <- exp([w dt]x) R,   I_w = R I_body R^T
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from sim.physics.contact import BoxPose
 from sim import spatial
+from sim.physics.contact import BoxPose
 
 GRAVITY = np.array([0.0, 0.0, -9.81])  # m/s^2
 orthonormalize = njit(cache=True)(spatial.orthonormalize)  # sim/spatial.py's, compiled for box_step
@@ -64,9 +65,18 @@ class Box:
     def step(self, force: np.ndarray, torque: np.ndarray, dt: float) -> None:
         """Advance dt (s) under the total external force (N) and moment about the centre (Nm), world."""
         self._steps = box_step(
-            self.position, self.rotation, self.velocity, self.angular_velocity,
-            np.asarray(force, float), np.asarray(torque, float), self.params.mass, self._inertia, self._inertia_inv,
-            GRAVITY, dt, self._steps,
+            self.position,
+            self.rotation,
+            self.velocity,
+            self.angular_velocity,
+            np.asarray(force, float),
+            np.asarray(torque, float),
+            self.params.mass,
+            self._inertia,
+            self._inertia_inv,
+            GRAVITY,
+            dt,
+            self._steps,
         )
 
 
@@ -103,9 +113,11 @@ def _integrate(position, rotation, velocity, omega, force, torque, mass, inertia
         kx, ky, kz = wx / theta, wy / theta, wz / theta
         c, s = np.cos(theta), np.sin(theta)
         v = 1.0 - c
-        step = np.array([
-            [c + kx * kx * v, kx * ky * v - kz * s, kx * kz * v + ky * s],
-            [ky * kx * v + kz * s, c + ky * ky * v, ky * kz * v - kx * s],
-            [kz * kx * v - ky * s, kz * ky * v + kx * s, c + kz * kz * v],
-        ])
+        step = np.array(
+            [
+                [c + kx * kx * v, kx * ky * v - kz * s, kx * kz * v + ky * s],
+                [ky * kx * v + kz * s, c + ky * ky * v, ky * kz * v - kx * s],
+                [kz * kx * v - ky * s, kz * ky * v + kx * s, c + kz * kz * v],
+            ]
+        )
         rotation[:, :] = step @ rotation

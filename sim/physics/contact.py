@@ -14,6 +14,7 @@ slides once the cone is left). k, c, k_t, c_t are the patch totals divided by th
 points. Sums give the force, the moment, and the centre of pressure; a tilted patch presses
 harder at one edge and so yields a moment and a shifted centre of pressure.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -129,11 +130,22 @@ class PatchContact:
     ) -> ContactResult:
         """Contact forces for one time step dt (s); advances the bristles."""
         out = np.empty(20)
-        return result_of(self.step_into(rotation_patch_to_world, position_patch, velocity_patch, angular_velocity_patch,
-                                        box, dt, out))
+        return result_of(
+            self.step_into(
+                rotation_patch_to_world, position_patch, velocity_patch, angular_velocity_patch, box, dt, out
+            )
+        )
 
-    def step_into(self, rotation_patch_to_world, position_patch, velocity_patch, angular_velocity_patch, box: BoxPose,
-                  dt: float, out: np.ndarray) -> np.ndarray:
+    def step_into(
+        self,
+        rotation_patch_to_world,
+        position_patch,
+        velocity_patch,
+        angular_velocity_patch,
+        box: BoxPose,
+        dt: float,
+        out: np.ndarray,
+    ) -> np.ndarray:
         """`step` into the array `out` (_patch_kernel's layout)."""
         _patch_kernel(
             self.points_patch,
@@ -177,12 +189,32 @@ def result_of(out: np.ndarray) -> ContactResult:
 @njit(cache=True)
 def patch_step(points, bristles, constants, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, dt, out):
     """_patch_kernel with the patch's constants array (PatchContact.constants: k, c, k_t, c_t, mu)."""
-    _patch_kernel(points, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, bristles,
-                  constants[0], constants[1], constants[2], constants[3], constants[4], dt, out)
+    _patch_kernel(
+        points,
+        rot_p,
+        pos_p,
+        vel_p,
+        omg_p,
+        pos_b,
+        rot_b,
+        vel_b,
+        omg_b,
+        half,
+        bristles,
+        constants[0],
+        constants[1],
+        constants[2],
+        constants[3],
+        constants[4],
+        dt,
+        out,
+    )
 
 
 @njit(cache=True)
-def _patch_kernel(pts, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, bristles, k, c, kt, ct, mu, dt, out):
+def _patch_kernel(
+    pts, rot_p, pos_p, vel_p, omg_p, pos_b, rot_b, vel_b, omg_b, half, bristles, k, c, kt, ct, mu, dt, out
+):
     """The per-point loop of the module docstring (numba: ~1 us instead of ~100 us of numpy calls).
 
     out = [force(3), torque about box centre(3), moment about patch centre(3), f_n, f_t(3),

@@ -8,6 +8,7 @@ R = rotation EE -> base. Pressing the plate on the box gives f_n = f_ee . z > 0.
 Then Gaussian noise (N, Nm) and an optional first-order low-pass (sim.signals.low_pass_gain):
     y <- y + a (x - y),  a = dt / (tau + dt),  tau = 1 / (2 pi f_c).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -36,15 +37,24 @@ def wrench_at_ee(
 ) -> np.ndarray:
     """Noise-free wrench (6,) at the EE origin in the EE frame from the plate's force/moment (world)."""
     out = np.empty(6)
-    wrench_at_ee_into(np.asarray(force_world, float), np.asarray(moment_plate_world, float),
-                      np.asarray(position_plate, float), np.asarray(transform_ee_to_base, float), out)
+    wrench_at_ee_into(
+        np.asarray(force_world, float),
+        np.asarray(moment_plate_world, float),
+        np.asarray(position_plate, float),
+        np.asarray(transform_ee_to_base, float),
+        out,
+    )
     return out
 
 
 @njit(cache=True)
 def wrench_at_ee_into(force_world, moment_plate_world, position_plate, transform, out):
     """wrench_at_ee into `out`: f_ee = R^T f, m_ee = R^T (m_c + (p_c - p_ee) x f)."""
-    r0, r1, r2 = position_plate[0] - transform[0, 3], position_plate[1] - transform[1, 3], position_plate[2] - transform[2, 3]
+    r0, r1, r2 = (
+        position_plate[0] - transform[0, 3],
+        position_plate[1] - transform[1, 3],
+        position_plate[2] - transform[2, 3],
+    )
     f0, f1, f2 = force_world[0], force_world[1], force_world[2]
     m0 = moment_plate_world[0] + (r1 * f2 - r2 * f1)
     m1 = moment_plate_world[1] + (r2 * f0 - r0 * f2)

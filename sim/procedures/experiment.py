@@ -11,23 +11,24 @@ by both plate and palm; along the way it never slipped 2 cm in the palm, neither
 palm lost contact for more than 0.2 s, no robot reflex, within 60 s, and no faster than the
 person's path takes. Nine trials = three participants x three tries.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import asdict, dataclass, field, replace
-from typing import Any, Callable, Iterable
+from typing import Any
 
 import numpy as np
 
 from sim.controllers.interface import Controller, LiftingParams
-from sim.person.participants import PARTICIPANTS, TABLE_1, Participant
-from sim.controllers.sp import SPController
 from sim.controllers.plugin import controller_factory as default_factory
+from sim.controllers.sp import SPController
+from sim.person.participants import PARTICIPANTS, TABLE_1, Participant
 from sim.procedures.monitor import TrialRules
 from sim.procedures.workers import worker_pool
 from sim.recording.trial import TrialObserver
 from sim.world import World, WorldConfig
-
 
 
 @dataclass(frozen=True)
@@ -45,7 +46,9 @@ class Setup:
 
     def with_config(self, part: str, name: str, value: Any) -> Setup:
         """A field of a part of WorldConfig (sensor, box, plate_contact, ...)."""
-        return replace(self, config=replace(self.config, **{part: replace(getattr(self.config, part), **{name: value})}))
+        return replace(
+            self, config=replace(self.config, **{part: replace(getattr(self.config, part), **{name: value})})
+        )
 
     def with_person(self, name: str, value: Any) -> Setup:
         return replace(self, person=tuple((k, v) for k, v in self.person if k != name) + ((name, value),))
@@ -86,7 +89,7 @@ class Trial:
     params: LiftingParams = field(default_factory=LiftingParams)
     index: int = 0
     attempt: int = 1
-    observer: Callable[["Trial"], None] | None = None  # called after every step (recording, figures)
+    observer: Callable[[Trial], None] | None = None  # called after every step (recording, figures)
 
     def __post_init__(self) -> None:
         rng = np.random.default_rng(self.seed)
@@ -180,11 +183,26 @@ def run_trial(
         getattr(trial.controller, "close", lambda: None)()  # a sandboxed plug-in's process ends with its trial
 
 
-def make_trial(index: int, person: Participant, attempt: int, seed: int, rules: TrialRules = TrialRules(),
-               controller_factory: Callable[[], Controller] = SPController, setup: Setup = Setup()) -> Trial:
+def make_trial(
+    index: int,
+    person: Participant,
+    attempt: int,
+    seed: int,
+    rules: TrialRules = TrialRules(),
+    controller_factory: Callable[[], Controller] = SPController,
+    setup: Setup = Setup(),
+) -> Trial:
     """A trial of `person` with the setup's parameters (its own copy of them)."""
-    return Trial(setup.participant(person), seed, controller_factory(), config=setup.config, rules=rules,
-                 params=replace(setup.params), index=index, attempt=attempt)
+    return Trial(
+        setup.participant(person),
+        seed,
+        controller_factory(),
+        config=setup.config,
+        rules=rules,
+        params=replace(setup.params),
+        index=index,
+        attempt=attempt,
+    )
 
 
 @dataclass(frozen=True)
@@ -202,8 +220,16 @@ class Job:
     outputs: Any = None  # a TrialOutputs (sim/recording/trial.py): record and plot the trial
 
     def run(self) -> TrialResult:
-        return run_trial(self.index, self.participant, self.attempt, self.seed, self.rules,
-                         self.controller_factory, self.setup, self.outputs)
+        return run_trial(
+            self.index,
+            self.participant,
+            self.attempt,
+            self.seed,
+            self.rules,
+            self.controller_factory,
+            self.setup,
+            self.outputs,
+        )
 
 
 def run_jobs(
@@ -259,8 +285,10 @@ def run_experiment(
 ) -> list[TrialResult]:
     """Run the trials (see run_jobs); returned in plan order (a cancel leaves out those not run).
     outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial."""
-    work = [Job(None, i, p, a, s, controller_factory, setup, rules, outputs)
-            for i, p, a, s in plan(trials, participant, seed)]
+    work = [
+        Job(None, i, p, a, s, controller_factory, setup, rules, outputs)
+        for i, p, a, s in plan(trials, participant, seed)
+    ]
     results = run_jobs(work, jobs, (lambda job, r: on_result(r)) if on_result else None, cancelled, mp_context)
     return [r for r in results if r is not None]
 
@@ -286,11 +314,16 @@ def run_sweep(
 ) -> list[SweepRow]:
     """The same trials (participants, tries, seeds) at every point, all in one pool."""
     items = plan(trials, participant, seed)
-    work = [Job(k, i, p, a, s, controller_factory, setup, rules)
-            for k, (_, setup) in enumerate(points) for i, p, a, s in items]
+    work = [
+        Job(k, i, p, a, s, controller_factory, setup, rules)
+        for k, (_, setup) in enumerate(points)
+        for i, p, a, s in items
+    ]
     results = run_jobs(work, jobs, (lambda job, r: on_result(r)) if on_result else None)
-    return [SweepRow(dict(values), [r for job, r in zip(work, results) if job.key == k])
-            for k, (values, _) in enumerate(points)]
+    return [
+        SweepRow(dict(values), [r for job, r in zip(work, results) if job.key == k])
+        for k, (values, _) in enumerate(points)
+    ]
 
 
 def aggregate(results: list[TrialResult]) -> dict:
@@ -320,9 +353,14 @@ def sweep_json(rows: list[SweepRow]) -> dict:
     """The sweep as data (one point per row; per participant the aggregate; every trial)."""
     return {
         "parameters": list(rows[0].values) if rows else [],
-        "points": [{"values": row.values,
-                    "participants": {p: aggregate(rs) for p, rs in by_participant(row.results).items()},
-                    "trials": [r.as_dict() for r in row.results]} for row in rows],
+        "points": [
+            {
+                "values": row.values,
+                "participants": {p: aggregate(rs) for p, rs in by_participant(row.results).items()},
+                "trials": [r.as_dict() for r in row.results],
+            }
+            for row in rows
+        ],
     }
 
 
@@ -338,8 +376,10 @@ def format_sweep(rows: list[SweepRow], title: str = "") -> str:
             a = aggregate(rs)
             time_s = f"{a['mean_duration_success']:.1f}" if a["successes"] else "-"
             slip = f"{a['slip_mean'] * 1000:.1f}/{a['slip_max'] * 1000:.1f}"
-            lines.append(f"{values}{person:<11} {a['successes']}/{a['trials']:<2} {time_s:>7} {slip:>17} "
-                         f"{a['f_n_min']:>6.1f}..{a['f_n_max']:<5.1f} {a['friction_ratio']:>10.2f}")
+            lines.append(
+                f"{values}{person:<11} {a['successes']}/{a['trials']:<2} {time_s:>7} {slip:>17} "
+                f"{a['f_n_min']:>6.1f}..{a['f_n_max']:<5.1f} {a['friction_ratio']:>10.2f}"
+            )
     lines.append("-" * len(header))
     return "\n".join(line.rstrip() for line in lines)
 
@@ -385,14 +425,18 @@ class ComparedTrial:
     seed: int
 
 
-def comparison_plan(controllers: list[str], trials: int, participants: list[str] | None = None,
-                    seed: int = 0) -> list[ComparedTrial]:
+def comparison_plan(
+    controllers: list[str], trials: int, participants: list[str] | None = None, seed: int = 0
+) -> list[ComparedTrial]:
     """`trials` tries of each participant (default COMPARISON_PARTICIPANTS), the same seeds for
     every controller."""
     people = participants or list(COMPARISON_PARTICIPANTS)
-    return [ComparedTrial(name, index, person, attempt, trial_seed)
-            for name in controllers for who in people
-            for index, person, attempt, trial_seed in plan(trials, who, seed)]
+    return [
+        ComparedTrial(name, index, person, attempt, trial_seed)
+        for name in controllers
+        for who in people
+        for index, person, attempt, trial_seed in plan(trials, who, seed)
+    ]
 
 
 def run_comparison(
@@ -414,9 +458,19 @@ def run_comparison(
     the controller)."""
     make = controller_factory or default_factory
     items = comparison_plan(controllers, trials, participants, seed)
-    work = [Job(item, item.index, item.participant, item.attempt, item.seed, make(item.controller), setup,
-                outputs=replace(outputs, prefix=f"{item.controller}_", label=item.controller) if outputs else None)
-            for item in items]
+    work = [
+        Job(
+            item,
+            item.index,
+            item.participant,
+            item.attempt,
+            item.seed,
+            make(item.controller),
+            setup,
+            outputs=replace(outputs, prefix=f"{item.controller}_", label=item.controller) if outputs else None,
+        )
+        for item in items
+    ]
     done = run_jobs(work, jobs, (lambda job, r: on_result(job.key, r)) if on_result else None, cancelled, mp_context)
     results: Comparison = {name: {} for name in controllers}
     for item, result in zip(items, done):
@@ -429,7 +483,9 @@ def format_comparison(results: Comparison, title: str = "") -> str:
     """Per participant, per controller: successes, mean time, f_n range, friction margin, slip."""
     names = list(results)
     header = f"{'participant':<11} " + " | ".join(f"{n:^44}" for n in names)
-    sub = f"{'':<11} " + " | ".join(f"{'ok':>4} {'time s':>7} {'f_n min..max':>13} {'|ft|/mu fn':>10} {'slip mm':>7}" for _ in names)
+    sub = f"{'':<11} " + " | ".join(
+        f"{'ok':>4} {'time s':>7} {'f_n min..max':>13} {'|ft|/mu fn':>10} {'slip mm':>7}" for _ in names
+    )
     lines = ([title] if title else []) + [header, sub, "-" * len(sub)]
     people = list(dict.fromkeys(person for by in results.values() for person in by))
     for person in people:
@@ -442,8 +498,10 @@ def format_comparison(results: Comparison, title: str = "") -> str:
             ok = [r for r in rs if r.success]
             time_s = f"{np.mean([r.duration for r in ok]):.1f}" if ok else "-"
             f_lo, f_hi = np.mean([r.f_n_min for r in rs]), np.mean([r.f_n_max for r in rs])
-            cells.append(f"{len(ok)}/{len(rs):<2} {time_s:>7} {f_lo:>6.1f}..{f_hi:<5.1f} {np.mean([r.max_friction_ratio for r in rs]):>10.2f} "
-                         f"{np.mean([r.slip for r in rs]) * 1000:>7.1f}")
+            cells.append(
+                f"{len(ok)}/{len(rs):<2} {time_s:>7} {f_lo:>6.1f}..{f_hi:<5.1f} {np.mean([r.max_friction_ratio for r in rs]):>10.2f} "
+                f"{np.mean([r.slip for r in rs]) * 1000:>7.1f}"
+            )
         lines.append(f"{person:<11} " + " | ".join(cells))
     totals = []
     for name in names:

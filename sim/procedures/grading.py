@@ -23,16 +23,16 @@ PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP met
 A plug-in runs sandboxed (sim/controllers/sandbox/): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from concurrent.futures import as_completed
 from dataclasses import replace
-from typing import Callable
 
 import numpy as np
 
-from sim.controllers.interface import ControllerFault
-from sim.controllers.interface import Controller, LiftingParams, start_lifting, stop_lifting
+from sim.controllers.interface import Controller, ControllerFault, LiftingParams, start_lifting, stop_lifting
 from sim.person.participants import PARTICIPANTS
 from sim.physics.sensor import SensorParams, WrenchSensor
 from sim.procedures.experiment import Trial, TrialResult, make_trial, plan, trial_seed
@@ -123,8 +123,9 @@ class ProbeStream:
         try:
             for k in range(steps):
                 self.wrench = start + (target - start) * min(1.0, (k + 1) * dt / ramp)
-                twist = np.asarray(controller.step(self.sensor.measure(self.wrench, dt), self.transform.copy(), params, dt),
-                                   float)
+                twist = np.asarray(
+                    controller.step(self.sensor.measure(self.wrench, dt), self.transform.copy(), params, dt), float
+                )
                 if twist.shape != (6,) or not np.all(np.isfinite(twist)):
                     raise ControllerFault(f"twist must be 6 finite numbers, got {twist!r}")
                 self.transform[:3, 3] += twist[:3] * dt
@@ -147,7 +148,9 @@ class ProbeStream:
             self.controller.reset()
             self.params = LiftingParams()
             start = getattr(self.controller, "start", None)  # the world's start_lifting: the controller's handler
-            start(self.params, TrialRules().force) if callable(start) else start_lifting(self.params, TrialRules().force)
+            start(self.params, TrialRules().force) if callable(start) else start_lifting(
+                self.params, TrialRules().force
+            )
         return self.controller
 
     def close(self) -> None:
@@ -178,8 +181,10 @@ def _probe_start_stop(stream: ProbeStream, draw: Draw) -> str:
     start, stop = getattr(controller, "start", None), getattr(controller, "stop", None)
     start(params, force) if callable(start) else start_lifting(params, force)
     if not (np.isclose(params.f_n_min, force) and np.isclose(params.f_n_max, force + 5.0) and params.running):
-        return (f"after start({force:g}): f_n_min={params.f_n_min:g}, f_n_max={params.f_n_max:g}, running={params.running}; "
-                f"expected {force:g}, {force + 5:g}, True")
+        return (
+            f"after start({force:g}): f_n_min={params.f_n_min:g}, f_n_max={params.f_n_max:g}, running={params.running}; "
+            f"expected {force:g}, {force + 5:g}, True"
+        )
     stop(params) if callable(stop) else stop_lifting(params)
     if (params.f_n_min, params.running) != (0.0, False):
         return f"after stop(): f_n_min={params.f_n_min:g}, running={params.running}; expected 0, False"
@@ -243,8 +248,10 @@ def _probe_follow(stream: ProbeStream, draw: Draw) -> str:
     twist, f_t, rotation, f_n, params, size = _tangential(stream, draw, 1.3, 2.0, True)
     _, v_t = _split(twist, rotation)
     if np.linalg.norm(v_t) < 0.01 or _cos(v_t, -f_t) < 0.9:
-        return (f"|f_t| = {size:.2f} N > alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N: tangential motion {_fmt(v_t)}; "
-                f"expected against f_t = {_fmt(f_t)} (base frame)")
+        return (
+            f"|f_t| = {size:.2f} N > alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N: tangential motion {_fmt(v_t)}; "
+            f"expected against f_t = {_fmt(f_t)} (base frame)"
+        )
     return ""
 
 
@@ -267,11 +274,15 @@ def _probe_inside_cone(stream: ProbeStream, draw: Draw) -> str:
 def _probe_margin(stream: ProbeStream, draw: Draw) -> str:
     """alpha mu f_n < |f_t| < mu f_n: the margin is left, the robot must already follow."""
     alpha = stream.params.alpha
-    twist, f_t, rotation, f_n, params, size = _tangential(stream, draw, (1.0 + alpha) / 2.0 + 0.1 * (1 - alpha), 0.98, False)
+    twist, f_t, rotation, f_n, params, size = _tangential(
+        stream, draw, (1.0 + alpha) / 2.0 + 0.1 * (1 - alpha), 0.98, False
+    )
     _, v_t = _split(twist, rotation)
     if np.linalg.norm(v_t) < 2e-3 or _cos(v_t, -f_t) < 0.9:
-        return (f"|f_t| = {size:.2f} N between alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N and mu f_n = {params.mu * f_n:.2f} N: "
-                f"tangential motion {_fmt(v_t)}; expected against f_t (the margin alpha = {params.alpha:.2f} is left)")
+        return (
+            f"|f_t| = {size:.2f} N between alpha mu f_n = {params.alpha * params.mu * f_n:.2f} N and mu f_n = {params.mu * f_n:.2f} N: "
+            f"tangential motion {_fmt(v_t)}; expected against f_t (the margin alpha = {params.alpha:.2f} is left)"
+        )
     return ""
 
 
@@ -324,11 +335,16 @@ def probe_items(factory: Callable[[], Controller], seed: int = 0) -> list[Item]:
                 reasons[index] = str(exc)
     finally:
         stream.close()
-    return [Item("probe", name, 0.0 if reasons[i] else PROBE_POINTS, PROBE_POINTS, reasons[i]) for i, (name, _) in enumerate(PROBES)]
+    return [
+        Item("probe", name, 0.0 if reasons[i] else PROBE_POINTS, PROBE_POINTS, reasons[i])
+        for i, (name, _) in enumerate(PROBES)
+    ]
 
 
 # --- 2. the experiment and 3. robustness: trials judged by the world's state ----------------------------
-def _run(trial: Trial, outputs, prefix: str = "", perturb: Callable[[Trial], None] | None = None) -> tuple[TrialResult, LawWatch]:
+def _run(
+    trial: Trial, outputs, prefix: str = "", perturb: Callable[[Trial], None] | None = None
+) -> tuple[TrialResult, LawWatch]:
     """Run a trial (perturb(trial) after every step), its stream watched for the SP law
     (sim/procedures/law_checks.py), recorded and plotted when asked (files prefixed `prefix`)."""
     observer, watch = None, LawWatch()
@@ -368,13 +384,21 @@ def _pull_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWa
     return _run(trial, outputs, "robust_pull_", pull_then_stop)
 
 
-ROBUSTNESS = [("three times the sensor noise (calm trial)", _noisy_trial),
-              ("a sudden 3 cm pull while carrying, then a stop mid-carry: held still 2 s, more weight on the robot, "
-               "the box turned (calm trial)", _pull_trial)]
+ROBUSTNESS = [
+    ("three times the sensor noise (calm trial)", _noisy_trial),
+    (
+        "a sudden 3 cm pull while carrying, then a stop mid-carry: held still 2 s, more weight on the robot, "
+        "the box turned (calm trial)",
+        _pull_trial,
+    ),
+]
 
 
 def _trial_detail(r: TrialResult) -> str:
-    return r.reason or f"carried in {r.duration:.1f} s, f_n {r.f_n_min:.1f}..{r.f_n_max:.1f} N, slip {r.slip * 1000:.1f} mm"
+    return (
+        r.reason
+        or f"carried in {r.duration:.1f} s, f_n {r.f_n_min:.1f}..{r.f_n_max:.1f} N, slip {r.slip * 1000:.1f} mm"
+    )
 
 
 def _judged(section: str, name: str, worth: float, result: TrialResult, watch: LawWatch) -> Item:
@@ -418,15 +442,22 @@ def _job(job: tuple) -> Item | list[Item]:
         getattr(controller, "close", lambda: None)()
 
 
-def battery(factory: Callable[[], Controller], seed: int = 0, sections: tuple[str, ...] = ("probe", "trial", "robustness"),
-            trials: int = 9, outputs=None) -> list[tuple]:
+def battery(
+    factory: Callable[[], Controller],
+    seed: int = 0,
+    sections: tuple[str, ...] = ("probe", "trial", "robustness"),
+    trials: int = 9,
+    outputs=None,
+) -> list[tuple]:
     """The jobs of a grade, in report order; outputs: a TrialOutputs (sim/recording/trial.py) to
     record and plot every trial."""
     jobs: list[tuple] = []
     if "probe" in sections:
         jobs += [("probes", factory, seed)]
     if "trial" in sections:
-        jobs += [("trial", i, person, attempt, s, factory, outputs) for i, person, attempt, s in plan(trials, seed=seed)]
+        jobs += [
+            ("trial", i, person, attempt, s, factory, outputs) for i, person, attempt, s in plan(trials, seed=seed)
+        ]
     if "robustness" in sections:
         jobs += [("robustness", i, factory, seed, outputs) for i in range(len(ROBUSTNESS))]
     return jobs
@@ -460,9 +491,16 @@ def run_items(jobs: list[tuple], workers: int = 1, on_item: Callable[[Item], Non
     return [item for result in results for item in (result if isinstance(result, list) else [result])]
 
 
-def grade(factory: Callable[[], Controller], name: str, seed: int = 0, jobs: int = 1,
-          on_item: Callable[[Item], None] | None = None, sections: tuple[str, ...] = ("probe", "trial", "robustness"),
-          trials: int = 9, outputs=None) -> Report:
+def grade(
+    factory: Callable[[], Controller],
+    name: str,
+    seed: int = 0,
+    jobs: int = 1,
+    on_item: Callable[[Item], None] | None = None,
+    sections: tuple[str, ...] = ("probe", "trial", "robustness"),
+    trials: int = 9,
+    outputs=None,
+) -> Report:
     report = new_report(name, seed)
     report.items = run_items(battery(factory, seed, sections, trials, outputs), jobs, on_item)
     return report

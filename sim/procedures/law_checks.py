@@ -17,6 +17,7 @@ plate touches it (f_n >= CONTACT). f_t, f_n, the moment: the plate's contact on 
 frame), never the noisy F_ext; mu, alpha and the band: the trial's LiftingParams. The thresholds
 are measured (bench/law_margins.py prints the figures they come from; the page gives the margins).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -96,8 +97,17 @@ class LawWatch:
         v_t = v - v_n[:, None] * n
         contact = (r[:, 17] > 0.5) & (f_n >= CONTACT)
         limit = p.alpha * p.mu * np.maximum(f_n, 1e-9)
-        return {"t": r[:, 0], "f_n": f_n, "f_t": f_t, "ratio": np.linalg.norm(f_t, axis=1) / limit, "m_c": m_c,
-                "v_n": v_n, "v_t": v_t, "w": w, "contact": contact}
+        return {
+            "t": r[:, 0],
+            "f_n": f_n,
+            "f_t": f_t,
+            "ratio": np.linalg.norm(f_t, axis=1) / limit,
+            "m_c": m_c,
+            "v_n": v_n,
+            "v_t": v_t,
+            "w": w,
+            "contact": contact,
+        }
 
     def measures(self) -> dict[str, tuple[float, float]]:
         """The worst of each behaviour over the stream: (figure, world time); what the thresholds
@@ -118,7 +128,9 @@ class LawWatch:
         out["band"] = _most_motion(np.abs(s["v_n"]) * dt, _lasted(in_band, lag), window, s["t"])
         judged = _lasted(beyond, react)
         speed_t = np.linalg.norm(s["v_t"], axis=1)
-        cos_follow = -np.einsum("ij,ij->i", s["v_t"], s["f_t"]) / np.maximum(speed_t * np.linalg.norm(s["f_t"], axis=1), 1e-12)
+        cos_follow = -np.einsum("ij,ij->i", s["v_t"], s["f_t"]) / np.maximum(
+            speed_t * np.linalg.norm(s["f_t"], axis=1), 1e-12
+        )
         cos_follow = np.where(speed_t >= FOLLOW_SPEED, cos_follow, -1.0)
         out["follow"] = _least_held(cos_follow, judged, wrong, s["t"])
         out["grip"] = _least_held(s["v_n"], judged & (s["f_n"] <= p.f_n_max - BAND_EDGE), wrong, s["t"])
@@ -141,33 +153,63 @@ class LawWatch:
         value, time = m["stick"]
         if value > STICK_MOVE:
             i = at(time)
-            found.append(Finding("stick", time, f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, inside "
-                                 f"your margin alpha = {p.alpha:g}, yet the plate moved {value * 1000:.1f} mm along it in "
-                                 f"{WINDOW:g} s (at most {STICK_MOVE * 1000:g} mm)"))
+            found.append(
+                Finding(
+                    "stick",
+                    time,
+                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, inside "
+                    f"your margin alpha = {p.alpha:g}, yet the plate moved {value * 1000:.1f} mm along it in "
+                    f"{WINDOW:g} s (at most {STICK_MOVE * 1000:g} mm)",
+                )
+            )
         value, time = m["band"]
         if value > BAND_MOVE:
             i = at(time)
-            found.append(Finding("band", time, f"at {time:.1f} s f_n was {s['f_n'][i]:.1f} N, inside the band [{p.f_n_min:g}, "
-                                 f"{p.f_n_max:g}] N, yet the plate moved {value * 1000:.1f} mm along its normal in {WINDOW:g} s "
-                                 f"(at most {BAND_MOVE * 1000:g} mm)"))
+            found.append(
+                Finding(
+                    "band",
+                    time,
+                    f"at {time:.1f} s f_n was {s['f_n'][i]:.1f} N, inside the band [{p.f_n_min:g}, "
+                    f"{p.f_n_max:g}] N, yet the plate moved {value * 1000:.1f} mm along its normal in {WINDOW:g} s "
+                    f"(at most {BAND_MOVE * 1000:g} mm)",
+                )
+            )
         value, time = m["follow"]
         if value < FOLLOW_COS:
             i = at(time)
-            found.append(Finding("follow", time, f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
-                                 f"your margin alpha = {p.alpha:g}, yet for {WRONG_TIME:g} s the plate did not follow against "
-                                 f"f_t (tangential speed {np.linalg.norm(s['v_t'][i]) * 1000:.1f} mm/s)"))
+            found.append(
+                Finding(
+                    "follow",
+                    time,
+                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
+                    f"your margin alpha = {p.alpha:g}, yet for {WRONG_TIME:g} s the plate did not follow against "
+                    f"f_t (tangential speed {np.linalg.norm(s['v_t'][i]) * 1000:.1f} mm/s)",
+                )
+            )
         value, time = m["grip"]
         if value < GRIP_SPEED:
             i = at(time)
-            found.append(Finding("grip", time, f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
-                                 f"your margin, at f_n = {s['f_n'][i]:.1f} N < f_n_max = {p.f_n_max:g} N, yet for "
-                                 f"{WRONG_TIME:g} s the grip was not raised (v_n = {s['v_n'][i] * 1000:.1f} mm/s)"))
+            found.append(
+                Finding(
+                    "grip",
+                    time,
+                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
+                    f"your margin, at f_n = {s['f_n'][i]:.1f} N < f_n_max = {p.f_n_max:g} N, yet for "
+                    f"{WRONG_TIME:g} s the grip was not raised (v_n = {s['v_n'][i] * 1000:.1f} mm/s)",
+                )
+            )
         value, time = m["moment"]
         if value < MOMENT_COS:
             i = at(time)
-            found.append(Finding("moment", time, f"at {time:.1f} s the moment at the plate was "
-                                 f"{np.linalg.norm(s['m_c'][i]):.2f} Nm, yet for {WRONG_TIME:g} s the plate did not turn "
-                                 f"with it (|w| = {np.linalg.norm(s['w'][i]):.3f} rad/s)"))
+            found.append(
+                Finding(
+                    "moment",
+                    time,
+                    f"at {time:.1f} s the moment at the plate was "
+                    f"{np.linalg.norm(s['m_c'][i]):.2f} Nm, yet for {WRONG_TIME:g} s the plate did not turn "
+                    f"with it (|w| = {np.linalg.norm(s['w'][i]):.3f} rad/s)",
+                )
+            )
         return sorted(found, key=lambda f: f.time)
 
 
@@ -180,7 +222,7 @@ def _lasted(condition: np.ndarray, steps: int) -> np.ndarray:
     steps = max(steps, 1)
     held = np.concatenate(([0], np.cumsum(condition.astype(int))))
     out = np.zeros(len(condition), bool)
-    out[steps - 1:] = (held[steps:] - held[:-steps]) == steps
+    out[steps - 1 :] = (held[steps:] - held[:-steps]) == steps
     return out
 
 

@@ -14,6 +14,7 @@ The figures a trial keeps live in one array (`TrialMonitor.state`, sim/state.py)
 `monitor_update` advances after every step (the compiled world step runs it too); it says which
 rule ended the trial, and the monitor words the outcome.
 """
+
 from __future__ import annotations
 
 import math
@@ -56,8 +57,21 @@ class TrialOutcome:
 
 
 # the monitor's state array (sim/state.py)
-(RUNNING, STARTED_AT, ELAPSED, SLIP, F_N_LOW, F_N_HIGH, RATIO, NO_CONTACT_TIME, PALM_LOSS_TIME, HAS_SLIP_REFERENCE,
- HAS_CARRY_START, CARRY_START, JUMP_COUNT) = range(13)
+(
+    RUNNING,
+    STARTED_AT,
+    ELAPSED,
+    SLIP,
+    F_N_LOW,
+    F_N_HIGH,
+    RATIO,
+    NO_CONTACT_TIME,
+    PALM_LOSS_TIME,
+    HAS_SLIP_REFERENCE,
+    HAS_CARRY_START,
+    CARRY_START,
+    JUMP_COUNT,
+) = range(13)
 SLIP_REFERENCE, PREVIOUS_TWIST, JUMPS = 13, 16, 22  # 3, 6, JUMP_HISTORY x 2
 JUMP_HISTORY = 100  # steps whose command jumps a reflex report looks at
 # what ended a trial (monitor_update's answer)
@@ -98,8 +112,9 @@ class TrialMonitor:
     @rules.setter
     def rules(self, rules: TrialRules) -> None:
         self._rules = rules
-        self.rules_vector = np.array([rules.time_limit, rules.approach_limit, rules.max_slip, rules.contact_force,
-                                      rules.max_contact_loss])
+        self.rules_vector = np.array(
+            [rules.time_limit, rules.approach_limit, rules.max_slip, rules.contact_force, rules.max_contact_loss]
+        )
 
     @property
     def state(self) -> str:
@@ -115,7 +130,7 @@ class TrialMonitor:
     def slip_reference(self) -> np.ndarray | None:
         """The palm centre in the box frame when the grasp was let go (None before)."""
         a = self.state_array
-        return a[SLIP_REFERENCE:SLIP_REFERENCE + 3] if a[HAS_SLIP_REFERENCE] else None
+        return a[SLIP_REFERENCE : SLIP_REFERENCE + 3] if a[HAS_SLIP_REFERENCE] else None
 
     @property
     def carry_start(self) -> float | None:
@@ -127,7 +142,7 @@ class TrialMonitor:
     def jumps(self) -> list[tuple[float, float]]:
         """(|dv|, |dw|) of the twist command over the last steps (at most JUMP_HISTORY)."""
         count = int(self.state_array[JUMP_COUNT])
-        return [tuple(row) for row in self._jumps[:min(count, JUMP_HISTORY)]]
+        return [tuple(row) for row in self._jumps[: min(count, JUMP_HISTORY)]]
 
     def _clear(self) -> None:
         running = self.state_array[RUNNING]
@@ -155,9 +170,20 @@ class TrialMonitor:
             return
         box, human = world.box, world.human
         event = monitor_update(
-            self.state_array, self.rules_vector, world.time, world.config.dt, human.state[PHASE], world.twist_command,
-            human.grasp_weight, world.error is not None, box.position, box.rotation, human.position,
-            world.plate_out, world.palm_out, world.params.mu,
+            self.state_array,
+            self.rules_vector,
+            world.time,
+            world.config.dt,
+            human.state[PHASE],
+            world.twist_command,
+            human.grasp_weight,
+            world.error is not None,
+            box.position,
+            box.rotation,
+            human.position,
+            world.plate_out,
+            world.palm_out,
+            world.params.mu,
         )
         self.conclude(event, world)
 
@@ -211,8 +237,10 @@ class TrialMonitor:
         dw = max((w for _, w in self.jumps), default=0.0)
         hint = ""
         if dv / dt > self.rules.jump_acceleration or dw / dt > self.rules.jump_angular_acceleration:
-            hint = (f"; your twist jumps by up to {dv:.3f} m/s ({dv / dt:.0f} m/s^2), {dw:.3f} rad/s ({dw / dt:.0f} rad/s^2) "
-                    "between steps: low-pass F_ext (step 0) and limit the rate (at most a_max dt, dw_max dt per step)")
+            hint = (
+                f"; your twist jumps by up to {dv:.3f} m/s ({dv / dt:.0f} m/s^2), {dw:.3f} rad/s ({dw / dt:.0f} rad/s^2) "
+                "between steps: low-pass F_ext (step 0) and limit the rate (at most a_max dt, dw_max dt per step)"
+            )
         return f"robot reflex: {error}{hint}"
 
     def _finish(self, reason: str, state: str | None = None) -> None:
@@ -223,9 +251,14 @@ class TrialMonitor:
 
     def outcome(self) -> TrialOutcome:
         return TrialOutcome(
-            state=self.state, participant=self.participant, duration=float(self.elapsed),
-            f_n_min=float(self.f_n_low) if np.isfinite(self.f_n_low) else 0.0, f_n_max=float(self.f_n_high),
-            max_friction_ratio=float(self.ratio), slip=float(self.slip), reason=self.reason,
+            state=self.state,
+            participant=self.participant,
+            duration=float(self.elapsed),
+            f_n_min=float(self.f_n_low) if np.isfinite(self.f_n_low) else 0.0,
+            f_n_max=float(self.f_n_high),
+            max_friction_ratio=float(self.ratio),
+            slip=float(self.slip),
+            reason=self.reason,
         )
 
 
@@ -235,8 +268,22 @@ def _norm3(x, y, z):
 
 
 @njit(cache=True)
-def monitor_update(m, rules, time, dt, phase, twist, grasp_weight, has_error, box_position, box_rotation,
-                   palm_position, plate_out, palm_out, mu):
+def monitor_update(
+    m,
+    rules,
+    time,
+    dt,
+    phase,
+    twist,
+    grasp_weight,
+    has_error,
+    box_position,
+    box_rotation,
+    palm_position,
+    plate_out,
+    palm_out,
+    mu,
+):
     """One step of the success rule on the monitor's state `m` (module docstring): the command's
     jumps, the carry's start, and once the grasp is let go the slip, contact and force figures;
     returns what ended the trial (the first rule broken), NONE while it goes on."""
@@ -246,7 +293,7 @@ def monitor_update(m, rules, time, dt, phase, twist, grasp_weight, has_error, bo
     if phase == MANUAL:
         m[RUNNING] = 0.0
         return ABANDONED
-    previous = m[PREVIOUS_TWIST:PREVIOUS_TWIST + 6]
+    previous = m[PREVIOUS_TWIST : PREVIOUS_TWIST + 6]
     row = JUMPS + 2 * (int(m[JUMP_COUNT]) % JUMP_HISTORY)
     m[row] = _norm3(twist[0] - previous[0], twist[1] - previous[1], twist[2] - previous[2])
     m[row + 1] = _norm3(twist[3] - previous[3], twist[4] - previous[4], twist[5] - previous[5])
@@ -277,19 +324,19 @@ def _watch_hold(m, rules, dt, box_position, box_rotation, palm_position, plate_o
     # slip = how far the palm centre slid over the box face since the grasp was let go:
     # the palm centre in the box frame, minus its component along the face normal
     palm_in_box = box_rotation.T @ (palm_position - box_position)
-    reference = m[SLIP_REFERENCE:SLIP_REFERENCE + 3]
+    reference = m[SLIP_REFERENCE : SLIP_REFERENCE + 3]
     if m[HAS_SLIP_REFERENCE] == 0.0:
         reference[:] = palm_in_box
         m[HAS_SLIP_REFERENCE] = 1.0
     moved = palm_in_box - reference
     if palm_out[OUT_IN_CONTACT] > 0.0:
-        normal_box = box_rotation.T @ palm_out[OUT_NORMAL:OUT_NORMAL + 3]
+        normal_box = box_rotation.T @ palm_out[OUT_NORMAL : OUT_NORMAL + 3]
         moved = moved - (moved[0] * normal_box[0] + moved[1] * normal_box[1] + moved[2] * normal_box[2]) * normal_box
     m[SLIP] = max(m[SLIP], _norm3(moved[0], moved[1], moved[2]))
     f_n = plate_out[OUT_NORMAL_FORCE]
     m[F_N_LOW], m[F_N_HIGH] = min(m[F_N_LOW], f_n), max(m[F_N_HIGH], f_n)
     if f_n > 1e-9:
-        t = plate_out[OUT_TANGENTIAL:OUT_TANGENTIAL + 3]
+        t = plate_out[OUT_TANGENTIAL : OUT_TANGENTIAL + 3]
         m[RATIO] = max(m[RATIO], _norm3(t[0], t[1], t[2]) / (mu * f_n))
     m[NO_CONTACT_TIME] = m[NO_CONTACT_TIME] + dt if f_n < rules[CONTACT_FORCE] else 0.0
     palm = palm_out[OUT_NORMAL_FORCE]

@@ -4,6 +4,7 @@ A report is a list of items (points out of max points, and why points were lost)
 rules: the score over all items, and optionally over one section, must reach a mark (%).
 An item worth 0 points is reported but not counted ("not counted").
 """
+
 from __future__ import annotations
 
 import csv
@@ -62,15 +63,24 @@ class Report:
 
     def verdict(self) -> str:
         rules = " and ".join(f"{mark:g} % of {section or 'all'} points" for section, mark in self.marks.items())
-        return (f"score: {self.points:g}/{self.max_points:g} = {self.score:.1f} % (pass: {rules}): "
-                + ("PASS" if self.passed else "FAIL"))
+        return f"score: {self.points:g}/{self.max_points:g} = {self.score:.1f} % (pass: {rules}): " + (
+            "PASS" if self.passed else "FAIL"
+        )
 
     def as_dict(self) -> dict:
-        return {"subject": self.subject, "kind": self.kind, "seed": self.seed, "points": self.points,
-                "max_points": self.max_points, "score": round(self.score, 1),
-                "section_scores": {s: round(self.score_of(s), 1) for s in dict.fromkeys(i.section for i in self.items)},
-                "pass_marks": {s or "all": m for s, m in self.marks.items()}, "passed": self.passed, "error": self.error,
-                "items": [asdict(i) | {"mark": i.mark} for i in self.items]}
+        return {
+            "subject": self.subject,
+            "kind": self.kind,
+            "seed": self.seed,
+            "points": self.points,
+            "max_points": self.max_points,
+            "score": round(self.score, 1),
+            "section_scores": {s: round(self.score_of(s), 1) for s in dict.fromkeys(i.section for i in self.items)},
+            "pass_marks": {s or "all": m for s, m in self.marks.items()},
+            "passed": self.passed,
+            "error": self.error,
+            "items": [asdict(i) | {"mark": i.mark} for i in self.items],
+        }
 
     def json(self) -> str:
         return json.dumps(self.as_dict(), indent=2)
@@ -81,7 +91,10 @@ class Report:
             return "\n".join(lines + [f"NOT GRADED: {self.error}", "score: 0: FAIL"])
         lines.append(" points  item")
         for i in self.items:
-            lines.append(f" {i.points:>4g}/{i.max_points:<3g} {i.section}: {i.name} — {i.mark}" + (f": {i.detail}" if i.detail else ""))
+            lines.append(
+                f" {i.points:>4g}/{i.max_points:<3g} {i.section}: {i.name} — {i.mark}"
+                + (f": {i.detail}" if i.detail else "")
+            )
         lines.append(self.verdict())
         return "\n".join(lines)
 
@@ -89,9 +102,19 @@ class Report:
         """Gradescope's results.json: the total and one test per item."""
         if self.error:
             return {"score": 0.0, "output": f"not graded: {self.error}", "tests": []}
-        return {"score": self.points, "output": self.verdict(),
-                "tests": [{"name": f"{i.section}: {i.name}", "score": i.points, "max_score": i.max_points,
-                           "output": i.mark + (f": {i.detail}" if i.detail else "")} for i in self.items]}
+        return {
+            "score": self.points,
+            "output": self.verdict(),
+            "tests": [
+                {
+                    "name": f"{i.section}: {i.name}",
+                    "score": i.points,
+                    "max_score": i.max_points,
+                    "output": i.mark + (f": {i.detail}" if i.detail else ""),
+                }
+                for i in self.items
+            ],
+        }
 
 
 SUMMARY_FIELDS = ("subject", "points", "max_points", "score", "passed", "error")
@@ -103,6 +126,14 @@ def summary_csv(reports: list[Report]) -> str:
     writer = csv.writer(out)
     writer.writerow(SUMMARY_FIELDS)
     for r in reports:
-        writer.writerow([r.subject, f"{r.points:g}", f"{r.max_points:g}", f"{r.score:.1f}", "yes" if r.passed else "no",
-                         r.error.splitlines()[0] if r.error else ""])
+        writer.writerow(
+            [
+                r.subject,
+                f"{r.points:g}",
+                f"{r.max_points:g}",
+                f"{r.score:.1f}",
+                "yes" if r.passed else "no",
+                r.error.splitlines()[0] if r.error else "",
+            ]
+        )
     return out.getvalue()

@@ -3,6 +3,7 @@ person stops mid-carry and holds the box still, lets the robot take more of the 
 Each is a perturbation called after every step of a Trial (sim/procedures/experiment.py); it
 changes only what the person does (the hand's path, the wrist's aim), never the robot or the box.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -50,4 +51,6 @@ class MidCarryStop:
             human.start = human.start - UP * (self.sink / self.sink_time * dt)
         elif self.paused >= self.hold + self.sink_time and human.box_level is not None:
             axis = np.asarray(human.path_spec.carry_direction, float)
-            human.box_level = rotation_exp(axis / np.linalg.norm(axis) * (self.turn / self.turn_time * dt)) @ human.box_level
+            human.box_level = (
+                rotation_exp(axis / np.linalg.norm(axis) * (self.turn / self.turn_time * dt)) @ human.box_level
+            )

@@ -3,6 +3,7 @@
 Every pool's workers ask Linux to kill them when their parent dies (prctl PR_SET_PDEATHSIG), so a
 killed server, CLI or test leaves no trial running behind it.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -26,5 +27,6 @@ def die_with_parent(parent_pid: int) -> None:
 
 def worker_pool(jobs: int, mp_context=None) -> ProcessPoolExecutor:
     """A ProcessPoolExecutor of `jobs` workers that die with this process."""
-    return ProcessPoolExecutor(max_workers=max(1, jobs), mp_context=mp_context,
-                               initializer=die_with_parent, initargs=(os.getpid(),))
+    return ProcessPoolExecutor(
+        max_workers=max(1, jobs), mp_context=mp_context, initializer=die_with_parent, initargs=(os.getpid(),)
+    )

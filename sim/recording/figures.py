@@ -7,6 +7,7 @@ reflex or time-out ended the trial. The summary: successes per participant and c
 Each panel's axes carries a gid (f_n, friction_ratio, slip, box_height, robot_speed) and each
 line a label, so tests read the figure's data back.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -30,8 +31,10 @@ def trial_figure(trace, result, label: str = "") -> Figure:
     fig.subplots_adjust(left=0.1, right=0.98, top=0.96, bottom=0.05, hspace=0.1)  # fixed: layout engines cost 40 %
     verdict = "success" if result.success else f"NO: {result.reason}"
     who = f"{label}, " if label else ""
-    fig.suptitle(f"Trial {result.index + 1}: {who}{result.participant} try {result.attempt} (seed {result.seed}) — {verdict}",
-                 fontsize=10)
+    fig.suptitle(
+        f"Trial {result.index + 1}: {who}{result.participant} try {result.attempt} (seed {result.seed}) — {verdict}",
+        fontsize=10,
+    )
 
     ax = axes[0]
     ax.fill_between(t, a["f_n_min"], a["f_n_max"], color="tab:green", alpha=0.15, label="band [f_n_min, f_n_max]")
@@ -106,8 +109,11 @@ def summary_figure(results_by_controller: dict[str, list]) -> Figure:
     ax.set_xticks(range(len(people)), people)
     ax.set_ylabel("successful trials")
     ax.yaxis.set_major_locator(MaxNLocator(integer=True))
-    ax.set_ylim(0, max([1] + [sum(1 for r in rs if r.participant == p) for rs in results_by_controller.values()
-                              for p in people]) + 0.5)
+    ax.set_ylim(
+        0,
+        max([1] + [sum(1 for r in rs if r.participant == p) for rs in results_by_controller.values() for p in people])
+        + 0.5,
+    )
     ax.set_title("Success per participant" + (" and controller" if len(names) > 1 else ""), fontsize=10)
     ax.legend(fontsize=8)
     return fig

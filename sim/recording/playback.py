@@ -5,6 +5,7 @@ Everything comes from the file's own channels: q from /joint_states, the plate, 
 /tf, the arrows and the box colour from /scene (drawn live with the same code), mu from the plate
 entity's metadata, the status from /contact_state and /lifting_state.
 """
+
 from __future__ import annotations
 
 import bisect
@@ -48,7 +49,9 @@ class Playback:
         try:
             self._read(tf, scenes, joints)
             if not scenes or not joints:
-                raise reader.RecordingError(f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording")
+                raise reader.RecordingError(
+                    f"{self.path}: no /scene or /joint_states messages: not a hri-lab recording"
+                )
             joint_times = [t for t, _ in joints]
             self.frames: list[Frame] = []
             for t in sorted(scenes):
@@ -57,8 +60,10 @@ class Playback:
                 i = max(0, bisect.bisect_right(joint_times, t) - 1)
                 self.frames.append(self._frame(t, joints[i][1], tf[t], scenes[t]))
         except (ValueError, KeyError, TypeError, IndexError) as exc:  # JSON of another shape (or not JSON)
-            raise reader.RecordingError(f"{self.path}: its messages are not hri-lab's ({type(exc).__name__}: "
-                                        f"{str(exc)[:100]}): not a hri-lab recording") from None
+            raise reader.RecordingError(
+                f"{self.path}: its messages are not hri-lab's ({type(exc).__name__}: "
+                f"{str(exc)[:100]}): not a hri-lab recording"
+            ) from None
         self.times = np.array([f.time for f in self.frames])
 
     def _read(self, tf: dict[int, dict], scenes: dict[int, dict], joints: list[tuple[int, np.ndarray]]) -> None:
@@ -68,7 +73,9 @@ class Playback:
             if m.topic == "/tf":
                 data = json.loads(raw_data)
                 tf.setdefault(m.log_time, {})[data["child_frame_id"]] = (
-                    _vec(data["translation"]), rotation_of(data["rotation"]))
+                    _vec(data["translation"]),
+                    rotation_of(data["rotation"]),
+                )
             elif m.topic == "/scene":
                 scenes[m.log_time] = json.loads(raw_data)
             else:
@@ -84,10 +91,15 @@ class Playback:
         forces = entities["forces"]
         names = meta(forces)["order"].split(",")
         box = entities["box"]
-        return Frame(time=(t - self.start) / 1e9, q=q, poses={k: frames[k] for k in ("plate", "box", "palm")},
-                     arrows={n: arrow_points(a) for n, a in zip(names, forces["arrows"])},
-                     box_colour=rgb_of(box["cubes"][0]["color"]), state=meta(box)["state"],
-                     mu=float(meta(entities["plate"])["mu"]))
+        return Frame(
+            time=(t - self.start) / 1e9,
+            q=q,
+            poses={k: frames[k] for k in ("plate", "box", "palm")},
+            arrows={n: arrow_points(a) for n, a in zip(names, forces["arrows"])},
+            box_colour=rgb_of(box["cubes"][0]["color"]),
+            state=meta(box)["state"],
+            mu=float(meta(entities["plate"])["mu"]),
+        )
 
     @property
     def duration(self) -> float:

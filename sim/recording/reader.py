@@ -3,14 +3,16 @@
 A finished file is read through its index and summary; a file cut short (its writer was killed)
 has neither: it is read front to back up to the last complete chunk, and `complete` says so.
 """
+
 from __future__ import annotations
 
 import codecs
 import json
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Iterator, NamedTuple
+from typing import NamedTuple
 
 from mcap.reader import NonSeekingReader, make_reader
 
@@ -51,8 +53,9 @@ def check_file(path: Path) -> None:
             what = "a text file"
         except UnicodeDecodeError:
             what = "a binary file of another format"
-    raise RecordingError(f"{path}: not an MCAP recording ({what}; an MCAP file starts with the bytes "
-                         f"\\x89MCAP0): {HOW_TO_RECORD}")
+    raise RecordingError(
+        f"{path}: not an MCAP recording ({what}; an MCAP file starts with the bytes \\x89MCAP0): {HOW_TO_RECORD}"
+    )
 
 
 def _summary(path: Path):
@@ -73,11 +76,19 @@ def messages(path: str | Path, topics: list[str] | None = None, decode: bool = T
     complete = _summary(path) is not None
     with open(path, "rb") as f:
         reader = make_reader(f) if complete else NonSeekingReader(f)
-        iterator = reader.iter_messages(topics=topics, log_time_order=True) if complete else reader.iter_messages(topics=topics, log_time_order=False)
+        iterator = (
+            reader.iter_messages(topics=topics, log_time_order=True)
+            if complete
+            else reader.iter_messages(topics=topics, log_time_order=False)
+        )
         try:
             for schema, channel, message in iterator:
-                yield Message(channel.topic, schema.name if schema else "", message.log_time,
-                              json.loads(message.data) if decode else bytes(message.data))
+                yield Message(
+                    channel.topic,
+                    schema.name if schema else "",
+                    message.log_time,
+                    json.loads(message.data) if decode else bytes(message.data),
+                )
         except Exception as exc:  # noqa: BLE001 - the tail of a file cut short
             if complete:
                 raise RecordingError(f"{path}: {exc}") from exc
@@ -130,9 +141,16 @@ class BagInfo:
         return (self.end - self.start) / 1e9 if self.messages else 0.0
 
     def as_dict(self) -> dict:
-        return {"path": str(self.path), "size": self.size, "complete": self.complete, "duration": self.duration,
-                "start": self.start, "end": self.end, "messages": self.messages,
-                "topics": [vars(t) for t in self.topics]}
+        return {
+            "path": str(self.path),
+            "size": self.size,
+            "complete": self.complete,
+            "duration": self.duration,
+            "start": self.start,
+            "end": self.end,
+            "messages": self.messages,
+            "topics": [vars(t) for t in self.topics],
+        }
 
 
 def info(path: str | Path) -> BagInfo:
@@ -142,11 +160,24 @@ def info(path: str | Path) -> BagInfo:
     summary = _summary(path)
     if summary is not None and summary.statistics is not None:
         stats = summary.statistics
-        topics = [TopicInfo(c.topic, summary.schemas[c.schema_id].name if c.schema_id in summary.schemas else "",
-                            stats.channel_message_counts.get(cid, 0), c.message_encoding)
-                  for cid, c in sorted(summary.channels.items())]
-        return BagInfo(path, path.stat().st_size, True, stats.message_start_time, stats.message_end_time,
-                       stats.message_count, topics)
+        topics = [
+            TopicInfo(
+                c.topic,
+                summary.schemas[c.schema_id].name if c.schema_id in summary.schemas else "",
+                stats.channel_message_counts.get(cid, 0),
+                c.message_encoding,
+            )
+            for cid, c in sorted(summary.channels.items())
+        ]
+        return BagInfo(
+            path,
+            path.stat().st_size,
+            True,
+            stats.message_start_time,
+            stats.message_end_time,
+            stats.message_count,
+            topics,
+        )
     counts: dict[str, TopicInfo] = {}
     start, end, total = None, None, 0
     for m in messages(path):
@@ -158,7 +189,7 @@ def info(path: str | Path) -> BagInfo:
 
 
 def _when(ns: int) -> str:
-    t = datetime.fromtimestamp(ns / 1e9, tz=timezone.utc)
+    t = datetime.fromtimestamp(ns / 1e9, tz=UTC)
     return f"{t:%b %d %Y %H:%M:%S}.{int(ns % 1_000_000_000) // 1_000_000:03d} ({ns / 1e9:.3f})"
 
 
@@ -169,7 +200,8 @@ def format_info(bag: BagInfo) -> str:
     lines = [
         f"Files:             {bag.path.name}",
         f"Bag size:          {human}",
-        "Storage id:        mcap" + ("" if bag.complete else "  (cut short: no index; read up to the last complete chunk)"),
+        "Storage id:        mcap"
+        + ("" if bag.complete else "  (cut short: no index; read up to the last complete chunk)"),
         f"Duration:          {bag.duration:.3f}s",
         f"Start:             {_when(bag.start)}",
         f"End:               {_when(bag.end)}",
@@ -179,6 +211,8 @@ def format_info(bag: BagInfo) -> str:
     type_width = max((len(t.type) for t in bag.topics), default=0)
     for i, t in enumerate(bag.topics):
         prefix = "Topic information: " if i == 0 else " " * 19
-        lines.append(f"{prefix}Topic: {t.name:<{width}} | Type: {t.type:<{type_width}} | Count: {t.count} | "
-                     f"Serialization Format: {t.encoding}")
+        lines.append(
+            f"{prefix}Topic: {t.name:<{width}} | Type: {t.type:<{type_width}} | Count: {t.count} | "
+            f"Serialization Format: {t.encoding}"
+        )
     return "\n".join(lines)

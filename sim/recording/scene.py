@@ -5,6 +5,7 @@ foxglove.SceneUpdate for the plate, box, palm, robot skeleton and arrows), JSON-
 Frames: `panda_link0` (the base, the root), `panda_link1` ... `panda_link8` (the flange = EE),
 `plate`, `box`, `palm`; every one is given relative to the base.
 """
+
 from __future__ import annotations
 
 import json
@@ -96,8 +97,13 @@ def rgb_of(colour: dict) -> tuple[int, int, int]:
 
 def frame_transform(t: float, child: str, position, rotation) -> dict:
     """foxglove.FrameTransform of `child` in the base frame."""
-    return {"timestamp": stamp(t), "parent_frame_id": BASE_FRAME, "child_frame_id": child,
-            "translation": _xyz(position), "rotation": _quat(rotation)}
+    return {
+        "timestamp": stamp(t),
+        "parent_frame_id": BASE_FRAME,
+        "child_frame_id": child,
+        "translation": _xyz(position),
+        "rotation": _quat(rotation),
+    }
 
 
 class SceneBuilder:
@@ -121,10 +127,11 @@ class SceneBuilder:
     def transforms(self, s: Snapshot) -> list[dict]:
         links = self.links(s.q)
         plate_position, plate_rotation = self.plate_pose(s)
-        return ([frame_transform(s.time, name, m[:3, 3], m[:3, :3]) for name, m in links]
-                + [frame_transform(s.time, "plate", plate_position, plate_rotation),
-                   frame_transform(s.time, "box", s.box_position, s.box_rotation),
-                   frame_transform(s.time, "palm", s.palm_position, s.palm_rotation)])
+        return [frame_transform(s.time, name, m[:3, 3], m[:3, :3]) for name, m in links] + [
+            frame_transform(s.time, "plate", plate_position, plate_rotation),
+            frame_transform(s.time, "box", s.box_position, s.box_rotation),
+            frame_transform(s.time, "palm", s.palm_position, s.palm_rotation),
+        ]
 
     def scene_update(self, s: Snapshot) -> dict:
         state = state_of(s)
@@ -132,29 +139,56 @@ class SceneBuilder:
         identity = {"position": _xyz((0, 0, 0)), "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}
 
         def entity(id_: str, frame: str, metadata: dict | None = None, **primitives) -> dict:
-            return {"timestamp": ts, "frame_id": frame, "id": id_, "lifetime": {"sec": 0, "nsec": 0},
-                    "frame_locked": True, "metadata": [{"key": k, "value": str(v)} for k, v in (metadata or {}).items()],
-                    **{kind: primitives.get(kind, []) for kind in
-                       ("arrows", "cubes", "spheres", "cylinders", "lines", "triangles", "texts", "models")}}
+            return {
+                "timestamp": ts,
+                "frame_id": frame,
+                "id": id_,
+                "lifetime": {"sec": 0, "nsec": 0},
+                "frame_locked": True,
+                "metadata": [{"key": k, "value": str(v)} for k, v in (metadata or {}).items()],
+                **{
+                    kind: primitives.get(kind, [])
+                    for kind in ("arrows", "cubes", "spheres", "cylinders", "lines", "triangles", "texts", "models")
+                },
+            }
 
         def cube(size, rgb, z: float = 0.0, a: float = 1.0) -> dict:
-            return {"pose": {"position": _xyz((0, 0, z)), "orientation": identity["orientation"]},
-                    "size": _xyz(size), "color": _rgba(rgb, a)}
+            return {
+                "pose": {"position": _xyz((0, 0, z)), "orientation": identity["orientation"]},
+                "size": _xyz(size),
+                "color": _rgba(rgb, a),
+            }
 
         origins = [m[:3, 3] for _, m in self.links(s.q)]
-        skeleton = {"type": 0, "pose": identity, "thickness": 0.03, "scale_invariant": False,
-                    "points": [_xyz(np.zeros(3))] + [_xyz(p) for p in origins], "color": _rgba((235, 235, 235)),
-                    "colors": [], "indices": []}
-        arrows = [arrow_primitive(points[0], points[1], ARROW_COLOURS[name])
-                  for name, points in arrows_of(s, self.plate.offset).items()]
-        return {"deletions": [], "entities": [
-            entity("robot", BASE_FRAME, lines=[skeleton]),
-            entity("plate", "plate", {"mu": s.lifting.mu},
-                   cubes=[cube((self.plate.width, self.plate.height, 0.006), PLATE_COLOUR, -0.003)]),
-            entity("box", "box", {"state": state}, cubes=[cube(self.box_size, COLOURS[state])]),
-            entity("palm", "palm", cubes=[cube((*self.palm_size, 0.015), PALM_COLOUR)]),
-            entity("forces", BASE_FRAME, {"order": ",".join(ARROW_COLOURS)}, arrows=arrows),
-        ]}
+        skeleton = {
+            "type": 0,
+            "pose": identity,
+            "thickness": 0.03,
+            "scale_invariant": False,
+            "points": [_xyz(np.zeros(3))] + [_xyz(p) for p in origins],
+            "color": _rgba((235, 235, 235)),
+            "colors": [],
+            "indices": [],
+        }
+        arrows = [
+            arrow_primitive(points[0], points[1], ARROW_COLOURS[name])
+            for name, points in arrows_of(s, self.plate.offset).items()
+        ]
+        return {
+            "deletions": [],
+            "entities": [
+                entity("robot", BASE_FRAME, lines=[skeleton]),
+                entity(
+                    "plate",
+                    "plate",
+                    {"mu": s.lifting.mu},
+                    cubes=[cube((self.plate.width, self.plate.height, 0.006), PLATE_COLOUR, -0.003)],
+                ),
+                entity("box", "box", {"state": state}, cubes=[cube(self.box_size, COLOURS[state])]),
+                entity("palm", "palm", cubes=[cube((*self.palm_size, 0.015), PALM_COLOUR)]),
+                entity("forces", BASE_FRAME, {"order": ",".join(ARROW_COLOURS)}, arrows=arrows),
+            ],
+        }
 
 
 def arrow_primitive(start, end, rgb) -> dict:
@@ -166,8 +200,14 @@ def arrow_primitive(start, end, rgb) -> dict:
     if length > 1e-9:
         rotation = pin.Quaternion.FromTwoVectors(np.array([1.0, 0.0, 0.0]), vector / length).toRotationMatrix()
     head = min(ARROW_HEAD, 0.3 * length)
-    return {"pose": {"position": _xyz(start), "orientation": _quat(rotation)}, "shaft_length": length - head,
-            "shaft_diameter": 0.008, "head_length": head, "head_diameter": 0.02, "color": _rgba(rgb)}
+    return {
+        "pose": {"position": _xyz(start), "orientation": _quat(rotation)},
+        "shaft_length": length - head,
+        "shaft_diameter": 0.008,
+        "head_length": head,
+        "head_diameter": 0.02,
+        "color": _rgba(rgb),
+    }
 
 
 def arrow_points(arrow: dict) -> np.ndarray:
@@ -187,24 +227,69 @@ _POSE = {"type": "object", "properties": {"position": _VEC3, "orientation": _QUA
 _COLOR = {"type": "object", "properties": {"r": _NUM, "g": _NUM, "b": _NUM, "a": _NUM}}
 _ARRAY = {"type": "array"}
 FRAME_TRANSFORM_SCHEMA = {
-    "title": "foxglove.FrameTransform", "type": "object",
-    "properties": {"timestamp": _TIME, "parent_frame_id": {"type": "string"}, "child_frame_id": {"type": "string"},
-                   "translation": _VEC3, "rotation": _QUAT},
+    "title": "foxglove.FrameTransform",
+    "type": "object",
+    "properties": {
+        "timestamp": _TIME,
+        "parent_frame_id": {"type": "string"},
+        "child_frame_id": {"type": "string"},
+        "translation": _VEC3,
+        "rotation": _QUAT,
+    },
 }
-_ENTITY = {"type": "object", "properties": {
-    "timestamp": _TIME, "frame_id": {"type": "string"}, "id": {"type": "string"}, "lifetime": _TIME,
-    "frame_locked": {"type": "boolean"}, "metadata": _ARRAY,
-    "arrows": {"type": "array", "items": {"type": "object", "properties": {
-        "pose": _POSE, "shaft_length": _NUM, "shaft_diameter": _NUM, "head_length": _NUM, "head_diameter": _NUM,
-        "color": _COLOR}}},
-    "cubes": {"type": "array", "items": {"type": "object", "properties": {"pose": _POSE, "size": _VEC3, "color": _COLOR}}},
-    "lines": {"type": "array", "items": {"type": "object", "properties": {
-        "type": {"type": "integer"}, "pose": _POSE, "thickness": _NUM, "scale_invariant": {"type": "boolean"},
-        "points": {"type": "array", "items": _VEC3}, "color": _COLOR, "colors": _ARRAY, "indices": _ARRAY}}},
-    "spheres": _ARRAY, "cylinders": _ARRAY, "triangles": _ARRAY, "texts": _ARRAY, "models": _ARRAY,
-}}
+_ENTITY = {
+    "type": "object",
+    "properties": {
+        "timestamp": _TIME,
+        "frame_id": {"type": "string"},
+        "id": {"type": "string"},
+        "lifetime": _TIME,
+        "frame_locked": {"type": "boolean"},
+        "metadata": _ARRAY,
+        "arrows": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "pose": _POSE,
+                    "shaft_length": _NUM,
+                    "shaft_diameter": _NUM,
+                    "head_length": _NUM,
+                    "head_diameter": _NUM,
+                    "color": _COLOR,
+                },
+            },
+        },
+        "cubes": {
+            "type": "array",
+            "items": {"type": "object", "properties": {"pose": _POSE, "size": _VEC3, "color": _COLOR}},
+        },
+        "lines": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "type": {"type": "integer"},
+                    "pose": _POSE,
+                    "thickness": _NUM,
+                    "scale_invariant": {"type": "boolean"},
+                    "points": {"type": "array", "items": _VEC3},
+                    "color": _COLOR,
+                    "colors": _ARRAY,
+                    "indices": _ARRAY,
+                },
+            },
+        },
+        "spheres": _ARRAY,
+        "cylinders": _ARRAY,
+        "triangles": _ARRAY,
+        "texts": _ARRAY,
+        "models": _ARRAY,
+    },
+}
 SCENE_UPDATE_SCHEMA = {
-    "title": "foxglove.SceneUpdate", "type": "object",
+    "title": "foxglove.SceneUpdate",
+    "type": "object",
     "properties": {"deletions": _ARRAY, "entities": {"type": "array", "items": _ENTITY}},
 }
 

@@ -1,6 +1,7 @@
 """What a trial leaves besides its table row: an MCAP recording and a figure (`--record DIR`,
 `--plots DIR`). A TrialObserver is called by the Trial after every step; it records the decimated
 Snapshots and keeps a trace of the figure's signals (every TRACE_PERIOD s, and at the events)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -51,8 +52,10 @@ class Trace:
     reason: str = ""
 
     def arrays(self) -> dict[str, np.ndarray]:
-        return {k: np.asarray(getattr(self, k)) for k in
-                ("time", "f_n", "f_n_min", "f_n_max", "friction_ratio", "slip", "box_height", "robot_speed")}
+        return {
+            k: np.asarray(getattr(self, k))
+            for k in ("time", "f_n", "f_n_min", "f_n_max", "friction_ratio", "slip", "box_height", "robot_speed")
+        }
 
 
 class TrialObserver:
@@ -66,8 +69,13 @@ class TrialObserver:
         if outputs.record_dir:
             from sim.recording.writer import Recording
 
-            self.recording = Recording(Path(outputs.record_dir) / f"{self.stem}.mcap", trial.world.config,
-                                       source="trial", model=trial.world.model, trial_state=True)
+            self.recording = Recording(
+                Path(outputs.record_dir) / f"{self.stem}.mcap",
+                trial.world.config,
+                source="trial",
+                model=trial.world.model,
+                trial_state=True,
+            )
         self._next_trace = 0.0
 
     def __call__(self, trial) -> None:
@@ -93,10 +101,18 @@ class TrialObserver:
             t.robot_speed.append(speed)
         if self.recording is not None and (self.recording.due(world.time) or trial.finished):
             snapshot = world.snapshot()
-            self.recording.add(snapshot, trial_state={
-                "header": header(snapshot, ""), "slip": trial.slip, "robot_speed": speed,
-                "box_height": float(world.box.position[2]), "human_phase": world.human.phase,
-                "finished": trial.finished, "reason": trial.reason})
+            self.recording.add(
+                snapshot,
+                trial_state={
+                    "header": header(snapshot, ""),
+                    "slip": trial.slip,
+                    "robot_speed": speed,
+                    "box_height": float(world.box.position[2]),
+                    "human_phase": world.human.phase,
+                    "finished": trial.finished,
+                    "reason": trial.reason,
+                },
+            )
 
     def finish(self, result) -> dict[str, str]:
         """Close the recording, write the figure; the paths made."""
@@ -109,6 +125,7 @@ class TrialObserver:
         if self.outputs.plots_dir:
             from sim.recording.figures import save_trial_figure
 
-            paths.update(save_trial_figure(self.trace, result, Path(self.outputs.plots_dir) / self.stem,
-                                           self.outputs.label))
+            paths.update(
+                save_trial_figure(self.trace, result, Path(self.outputs.plots_dir) / self.stem, self.outputs.label)
+            )
         return paths

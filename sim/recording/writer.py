@@ -15,12 +15,13 @@ short (its writer killed) keeps all but the last flush period and is still reada
 `close()` writes the index and summary. A size cap and a free-disk floor stop a runaway
 recording: `add()` then returns False and `stopped` tells why.
 """
+
 from __future__ import annotations
 
 import json
 import shutil
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from mcap.writer import CompressionType, Writer
@@ -57,17 +58,32 @@ def schema_of(example) -> dict:
 def world_description(config: WorldConfig) -> dict:
     """What a replay needs to draw the scene (m)."""
     plate = config.plate
-    return {"plate": {"width": plate.width, "height": plate.height, "offset": plate.offset},
-            "box_size": list(config.box.size), "palm_size": list(config.palm_size), "dt": config.dt}
+    return {
+        "plate": {"width": plate.width, "height": plate.height, "offset": plate.offset},
+        "box_size": list(config.box.size),
+        "palm_size": list(config.palm_size),
+        "dt": config.dt,
+    }
 
 
 class Recording:
     """One MCAP file being written from Snapshots (not thread-safe: one writer thread)."""
 
-    def __init__(self, path: str | Path, config: WorldConfig, *, source: str = "live", model: PandaModel | None = None,
-                 topics: Iterable[Topic] = TOPICS, trial_state: bool = False, state_period: float = STATE_PERIOD,
-                 scene_period: float = SCENE_PERIOD, flush_period: float = 1.0, max_bytes: int = MAX_BYTES,
-                 min_free_bytes: int = MIN_FREE_BYTES) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        config: WorldConfig,
+        *,
+        source: str = "live",
+        model: PandaModel | None = None,
+        topics: Iterable[Topic] = TOPICS,
+        trial_state: bool = False,
+        state_period: float = STATE_PERIOD,
+        scene_period: float = SCENE_PERIOD,
+        flush_period: float = 1.0,
+        max_bytes: int = MAX_BYTES,
+        min_free_bytes: int = MIN_FREE_BYTES,
+    ) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.topics = list(topics)
@@ -85,10 +101,16 @@ class Recording:
         self._last_scene: float | None = None
         self._last_flush: int | None = None  # ns, log time
         self._last_time: float | None = None
-        self._writer.add_metadata("hri_lab", {
-            "source": source, "world": json.dumps(world_description(config)),
-            "decimation": json.dumps({"topics_hz": round(1 / state_period, 3), "scene_hz": round(1 / scene_period, 3)}),
-        })
+        self._writer.add_metadata(
+            "hri_lab",
+            {
+                "source": source,
+                "world": json.dumps(world_description(config)),
+                "decimation": json.dumps(
+                    {"topics_hz": round(1 / state_period, 3), "scene_hz": round(1 / scene_period, 3)}
+                ),
+            },
+        )
         self._trial_state = trial_state
 
     def _channel(self, topic: str, schema_name: str, schema: dict) -> int:
@@ -97,15 +119,22 @@ class Recording:
             self._channels[topic] = self._writer.register_channel(topic, MessageEncoding.JSON, schema_id)
         return self._channels[topic]
 
-    def _write(self, topic: str, schema_name: str, message: dict, log_time: int, publish_time: int, schema=None) -> None:
+    def _write(
+        self, topic: str, schema_name: str, message: dict, log_time: int, publish_time: int, schema=None
+    ) -> None:
         channel = self._channel(topic, schema_name, schema if schema is not None else schema_of(message))
         self._writer.add_message(channel, log_time, json.dumps(message, separators=(",", ":")).encode(), publish_time)
         self.messages += 1
 
     def due(self, t: float) -> bool:
         """Whether a Snapshot at simulated time t (s) would be sampled (saves taking it otherwise)."""
-        return (self._last_state is None or t < self._last_state or t - self._last_state >= self.state_period - 1e-9
-                or self._last_scene is None or t - self._last_scene >= self.scene_period - 1e-9)
+        return (
+            self._last_state is None
+            or t < self._last_state
+            or t - self._last_state >= self.state_period - 1e-9
+            or self._last_scene is None
+            or t - self._last_scene >= self.scene_period - 1e-9
+        )
 
     def add(self, s: Snapshot, log_time: int | None = None, trial_state: dict | None = None) -> bool:
         """Record `s` if a sample is due (decimation). log_time in ns (default: the simulated
@@ -127,7 +156,9 @@ class Recording:
             self._last_scene = s.time
             for transform in self.scene.transforms(s):
                 self._write("/tf", "foxglove.FrameTransform", transform, log_time, publish, FRAME_TRANSFORM_SCHEMA)
-            self._write("/scene", "foxglove.SceneUpdate", self.scene.scene_update(s), log_time, publish, SCENE_UPDATE_SCHEMA)
+            self._write(
+                "/scene", "foxglove.SceneUpdate", self.scene.scene_update(s), log_time, publish, SCENE_UPDATE_SCHEMA
+            )
         if self._last_flush is None:
             self._last_flush = log_time
         elif log_time - self._last_flush >= self.flush_period * 1e9 or log_time < self._last_flush:
@@ -139,12 +170,16 @@ class Recording:
     def _check_caps(self) -> None:
         size = self._file.tell()
         if size > self.max_bytes:
-            self._stop(f"recording stopped: the file reached {size / 2**20:.0f} MiB (cap {self.max_bytes / 2**20:.0f} MiB)")
+            self._stop(
+                f"recording stopped: the file reached {size / 2**20:.0f} MiB (cap {self.max_bytes / 2**20:.0f} MiB)"
+            )
             return
         free = shutil.disk_usage(self.path.parent).free
         if free < self.min_free_bytes:
-            self._stop(f"recording stopped: only {free / 2**20:.0f} MiB free on the disk "
-                       f"(floor {self.min_free_bytes / 2**20:.0f} MiB)")
+            self._stop(
+                f"recording stopped: only {free / 2**20:.0f} MiB free on the disk "
+                f"(floor {self.min_free_bytes / 2**20:.0f} MiB)"
+            )
 
     def _stop(self, reason: str) -> None:
         self.stopped = reason
@@ -172,7 +207,7 @@ class Recording:
         """Bytes on disk so far."""
         return self.path.stat().st_size
 
-    def __enter__(self) -> "Recording":
+    def __enter__(self) -> Recording:
         return self
 
     def __exit__(self, *exc) -> None:

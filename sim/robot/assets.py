@@ -1,4 +1,5 @@
 """Locate the Panda description shipped by the `example-robot-data` wheel (no hard-coded paths)."""
+
 from __future__ import annotations
 
 import importlib.metadata

@@ -11,6 +11,7 @@ The null-space term keeps the redundant 7th DoF near the start posture; it does 
 A command that would break a limit is not followed: the robot stops (qdot = 0) and an error
 state with the reason is raised, like libfranka's reflexes, until `recover()`.
 """
+
 from __future__ import annotations
 
 import math
@@ -41,7 +42,18 @@ class Reflex(Exception):
 
 
 # the robot's state array (sim/state.py): what arm_command_twist reads and writes
-Q, QDOT, TWIST_BASE, TWIST_COMMAND, POSTURE, Q_REST, ERROR, TRANSFORM, JACOBIAN, STATE_SIZE = 0, 7, 14, 20, 26, 33, 40, 41, 57, 99
+Q, QDOT, TWIST_BASE, TWIST_COMMAND, POSTURE, Q_REST, ERROR, TRANSFORM, JACOBIAN, STATE_SIZE = (
+    0,
+    7,
+    14,
+    20,
+    26,
+    33,
+    40,
+    41,
+    57,
+    99,
+)
 # the interface's constants array: the scalars, then qdot_max, qdd_max, q_min, q_max (7 each)
 V_MAX, W_MAX, A_MAX, DW_MAX, NULL_GAIN, NULL_RAMP, DAMPING2 = range(7)
 QDOT_MAX, QDD_MAX, Q_MIN, Q_MAX = 7, 14, 21, 28
@@ -84,11 +96,23 @@ class CartesianVelocityInterface:
     def constants(self) -> np.ndarray:
         """The limits and gains as the kernels read them (layout: V_MAX ... Q_MAX above)."""
         lim, model = self.limits, self.model
-        return np.concatenate((
-            [lim.cartesian_velocity, lim.cartesian_angular_velocity, lim.cartesian_acceleration,
-             lim.cartesian_angular_acceleration, self.null_space_gain, self.null_space_ramp, self.damping**2],
-            model.qdot_max, self.qdd_max, model.q_min, model.q_max,
-        ))
+        return np.concatenate(
+            (
+                [
+                    lim.cartesian_velocity,
+                    lim.cartesian_angular_velocity,
+                    lim.cartesian_acceleration,
+                    lim.cartesian_angular_acceleration,
+                    self.null_space_gain,
+                    self.null_space_ramp,
+                    self.damping**2,
+                ],
+                model.qdot_max,
+                self.qdd_max,
+                model.q_min,
+                model.q_max,
+            )
+        )
 
     @property
     def error(self) -> str | None:
@@ -113,8 +137,16 @@ class CartesianVelocityInterface:
 
     def update_kinematics(self) -> None:
         c = self.chain
-        chain_kinematics(self.q, c.rotations, c.translations, c.axes, c.flange_rotation, c.flange_translation,
-                         self.transform_ee_to_base, self.jacobian)
+        chain_kinematics(
+            self.q,
+            c.rotations,
+            c.translations,
+            c.axes,
+            c.flange_rotation,
+            c.flange_translation,
+            self.transform_ee_to_base,
+            self.jacobian,
+        )
 
     # --- commands ---------------------------------------------------------------------------
     def command_twist(self, twist_base: np.ndarray, dt: float) -> None:
@@ -127,8 +159,17 @@ class CartesianVelocityInterface:
             self.stop_with_error(self.reflex_reason(INVALID, -1, 0.0))
             return
         c = self.chain
-        kind, j, value = arm_command_twist(self.state, twist, dt, self.constants(), c.rotations, c.translations,
-                                           c.axes, c.flange_rotation, c.flange_translation)
+        kind, j, value = arm_command_twist(
+            self.state,
+            twist,
+            dt,
+            self.constants(),
+            c.rotations,
+            c.translations,
+            c.axes,
+            c.flange_rotation,
+            c.flange_translation,
+        )
         if kind != OK:
             self.stop_with_error(self.reflex_reason(kind, j, value))
 
@@ -141,8 +182,9 @@ class CartesianVelocityInterface:
             qdot = np.asarray(qdot, dtype=float)
             if qdot.shape != (self.model.nq,) or not np.isfinite(qdot).all():
                 raise Reflex("invalid command: joint velocity must be 7 finite numbers")
-            kind, j, value = check_joint_limits(qdot, self.qdot, self.q, dt, self.model.qdot_max, self.qdd_max,
-                                                self.model.q_min, self.model.q_max)
+            kind, j, value = check_joint_limits(
+                qdot, self.qdot, self.q, dt, self.model.qdot_max, self.qdd_max, self.model.q_min, self.model.q_max
+            )
             if kind != OK:
                 raise Reflex(self.reflex_reason(kind, j, value))
             self._integrate(qdot, dt)
@@ -162,17 +204,28 @@ class CartesianVelocityInterface:
         model, lim = self.model, self.limits
         return {
             INVALID: lambda: "invalid command: twist must be 6 finite numbers",
-            CARTESIAN_VELOCITY: lambda: f"cartesian velocity limit: |v| = {value:.3f} m/s > {lim.cartesian_velocity} m/s",
-            CARTESIAN_ANGULAR_VELOCITY: lambda: (f"cartesian velocity limit: |w| = {value:.3f} rad/s > "
-                                                 f"{lim.cartesian_angular_velocity} rad/s"),
-            CARTESIAN_ACCELERATION: lambda: (f"cartesian acceleration limit: {value:.1f} m/s^2 > "
-                                             f"{lim.cartesian_acceleration} m/s^2"),
-            CARTESIAN_ANGULAR_ACCELERATION: lambda: (f"cartesian acceleration limit: {value:.1f} rad/s^2 > "
-                                                     f"{lim.cartesian_angular_acceleration} rad/s^2"),
-            VELOCITY: lambda: f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})",
-            ACCELERATION: lambda: f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})",
-            POSITION: lambda: (f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
-                               f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"),
+            CARTESIAN_VELOCITY: lambda: (
+                f"cartesian velocity limit: |v| = {value:.3f} m/s > {lim.cartesian_velocity} m/s"
+            ),
+            CARTESIAN_ANGULAR_VELOCITY: lambda: (
+                f"cartesian velocity limit: |w| = {value:.3f} rad/s > {lim.cartesian_angular_velocity} rad/s"
+            ),
+            CARTESIAN_ACCELERATION: lambda: (
+                f"cartesian acceleration limit: {value:.1f} m/s^2 > {lim.cartesian_acceleration} m/s^2"
+            ),
+            CARTESIAN_ANGULAR_ACCELERATION: lambda: (
+                f"cartesian acceleration limit: {value:.1f} rad/s^2 > {lim.cartesian_angular_acceleration} rad/s^2"
+            ),
+            VELOCITY: lambda: (
+                f"joint velocity limit: joint {j + 1} at {value:.3f} rad/s (limit {model.qdot_max[j]:.3f})"
+            ),
+            ACCELERATION: lambda: (
+                f"joint acceleration limit: joint {j + 1} at {value:.1f} rad/s^2 (limit {self.qdd_max[j]:.1f})"
+            ),
+            POSITION: lambda: (
+                f"joint position limit: joint {j + 1} would reach {value:.3f} rad "
+                f"(range {model.q_min[j]:.3f}..{model.q_max[j]:.3f})"
+            ),
         }[kind]()
 
     def _integrate(self, qdot: np.ndarray, dt: float) -> None:
@@ -183,10 +236,10 @@ class CartesianVelocityInterface:
         self.twist_base = self.jacobian @ qdot
 
     def _halt(self) -> None:
-        self.state[POSTURE:POSTURE + 7] = 0.0
-        self.state[QDOT:QDOT + 7] = 0.0
-        self.state[TWIST_BASE:TWIST_BASE + 6] = 0.0
-        self.state[TWIST_COMMAND:TWIST_COMMAND + 6] = 0.0
+        self.state[POSTURE : POSTURE + 7] = 0.0
+        self.state[QDOT : QDOT + 7] = 0.0
+        self.state[TWIST_BASE : TWIST_BASE + 6] = 0.0
+        self.state[TWIST_COMMAND : TWIST_COMMAND + 6] = 0.0
 
     def stop_with_error(self, reason: str) -> None:
         """Halt (zero velocity) with `reason` as the error, as a reflex does."""
@@ -200,8 +253,27 @@ INVALID = 8  # not 6 finite numbers
 
 
 @njit(cache=True)
-def twist_to_joint_velocity(jac, twist, twist_prev, q, qdot_prev, posture, q_rest, dt, v_max, w_max, a_max, dw_max,
-                            null_space_gain, null_space_ramp, damping2, qdot_max, qdd_max, q_min, q_max):
+def twist_to_joint_velocity(
+    jac,
+    twist,
+    twist_prev,
+    q,
+    qdot_prev,
+    posture,
+    q_rest,
+    dt,
+    v_max,
+    w_max,
+    a_max,
+    dw_max,
+    null_space_gain,
+    null_space_ramp,
+    damping2,
+    qdot_max,
+    qdd_max,
+    q_min,
+    q_max,
+):
     """One Cartesian velocity command -> (kind, index, value, qdot, posture); kind OK or the first
     check failed, in libfranka's order: 6 finite numbers, |v|, |w|, the Cartesian accelerations,
     then (after DLS) the joint velocity, acceleration and position limits.
@@ -315,9 +387,9 @@ def arm_command_twist(state, twist, dt, constants, rotations, translations, axes
     layout): with the error flag set, the robot stays halted; a command breaking a limit halts it
     and sets the flag; otherwise q <- q + qdot dt with the flange pose, Jacobian and executed
     twist J qdot. Returns (kind, joint or axis, value) of the broken limit, kind OK if none."""
-    q, qdot_prev = state[Q:Q + 7], state[QDOT:QDOT + 7]
-    twist_base, twist_command = state[TWIST_BASE:TWIST_BASE + 6], state[TWIST_COMMAND:TWIST_COMMAND + 6]
-    posture = state[POSTURE:POSTURE + 7]
+    q, qdot_prev = state[Q : Q + 7], state[QDOT : QDOT + 7]
+    twist_base, twist_command = state[TWIST_BASE : TWIST_BASE + 6], state[TWIST_COMMAND : TWIST_COMMAND + 6]
+    posture = state[POSTURE : POSTURE + 7]
     if state[ERROR] != 0.0:
         posture[:] = 0.0
         qdot_prev[:] = 0.0
@@ -325,12 +397,28 @@ def arm_command_twist(state, twist, dt, constants, rotations, translations, axes
         twist_command[:] = 0.0
         return OK, -1, 0.0
     c = constants
-    transform = state[TRANSFORM:TRANSFORM + 16].reshape((4, 4))
-    jacobian = state[JACOBIAN:JACOBIAN + 42].reshape((6, 7))
+    transform = state[TRANSFORM : TRANSFORM + 16].reshape((4, 4))
+    jacobian = state[JACOBIAN : JACOBIAN + 42].reshape((6, 7))
     kind, j, value, qdot, posture_new = twist_to_joint_velocity(
-        jacobian, twist, twist_command, q, qdot_prev, posture, state[Q_REST:Q_REST + 7], dt,
-        c[V_MAX], c[W_MAX], c[A_MAX], c[DW_MAX], c[NULL_GAIN], c[NULL_RAMP], c[DAMPING2],
-        c[QDOT_MAX:QDOT_MAX + 7], c[QDD_MAX:QDD_MAX + 7], c[Q_MIN:Q_MIN + 7], c[Q_MAX:Q_MAX + 7],
+        jacobian,
+        twist,
+        twist_command,
+        q,
+        qdot_prev,
+        posture,
+        state[Q_REST : Q_REST + 7],
+        dt,
+        c[V_MAX],
+        c[W_MAX],
+        c[A_MAX],
+        c[DW_MAX],
+        c[NULL_GAIN],
+        c[NULL_RAMP],
+        c[DAMPING2],
+        c[QDOT_MAX : QDOT_MAX + 7],
+        c[QDD_MAX : QDD_MAX + 7],
+        c[Q_MIN : Q_MIN + 7],
+        c[Q_MAX : Q_MAX + 7],
     )
     if kind != OK:
         state[ERROR] = 1.0

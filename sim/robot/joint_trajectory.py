@@ -1,9 +1,10 @@
 """Smooth joint-space motion (the lab's move_to_start / move_to_side): minimum-jerk in q.
 
-    q_ref(t) = q0 + (q1 - q0) s(t/T),  s = 10 tau^3 - 15 tau^4 + 6 tau^5
-    T = 1.875 max|q1 - q0| / qdot_peak   (so the fastest joint peaks at qdot_peak)
-    qdot_cmd = q_ref'(t) + k (q_ref(t) - q)   (tracking feedback against integration drift)
+q_ref(t) = q0 + (q1 - q0) s(t/T),  s = 10 tau^3 - 15 tau^4 + 6 tau^5
+T = 1.875 max|q1 - q0| / qdot_peak   (so the fastest joint peaks at qdot_peak)
+qdot_cmd = q_ref'(t) + k (q_ref(t) - q)   (tracking feedback against integration drift)
 """
+
 from __future__ import annotations
 
 import numpy as np

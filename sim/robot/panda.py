@@ -4,6 +4,7 @@ Frames: `base` = panda_link0 (z up); `ee` = the flange panda_link8 (the lab's en
 "None", so EE = flange = franka's stiffness frame K). The contact plate (sim/robot/plate.py) is
 rigidly mounted on the flange: outward normal = flange +z, centre at `offset` along flange +z.
 """
+
 from __future__ import annotations
 
 import numpy as np

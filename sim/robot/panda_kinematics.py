@@ -12,6 +12,7 @@ which is pinocchio's `framesForwardKinematics` and `computeFrameJacobian(..., LO
 for a serial chain of revolute joints. tests/test_kinematics.py checks both against pinocchio at
 many random configurations.
 """
+
 from __future__ import annotations
 
 import math
@@ -54,7 +55,9 @@ def chain_arrays(model, frame_id: int) -> ChainArrays:
     frame = model.frames[frame_id]
     if frame.parentJoint != n:
         raise ValueError("the flange frame must hang on the last joint")
-    return ChainArrays(rotations, translations, axes, frame.placement.rotation.copy(), frame.placement.translation.copy())
+    return ChainArrays(
+        rotations, translations, axes, frame.placement.rotation.copy(), frame.placement.translation.copy()
+    )
 
 
 @njit(cache=True)
@@ -89,8 +92,9 @@ def chain_kinematics(q, rotations, translations, axes, flange_rotation, flange_t
         r[:, :] = tmp
     transform[:, :] = 0.0
     for row in range(3):
-        transform[row, 3] = p[row] + (r[row, 0] * flange_translation[0] + r[row, 1] * flange_translation[1]
-                                      + r[row, 2] * flange_translation[2])
+        transform[row, 3] = p[row] + (
+            r[row, 0] * flange_translation[0] + r[row, 1] * flange_translation[1] + r[row, 2] * flange_translation[2]
+        )
     _mul3(r, flange_rotation, tmp)
     transform[:3, :3] = tmp
     transform[3, 3] = 1.0

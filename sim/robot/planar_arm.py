@@ -2,6 +2,7 @@
 
 Hand position p = sum_i L_i [cos(theta_i), sin(theta_i)] with theta_i = q_1 + ... + q_i.
 """
+
 from __future__ import annotations
 
 import numpy as np

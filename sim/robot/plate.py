@@ -1,5 +1,6 @@
 """The flat contact plate mounted on the Panda's flange (its own module: a controller needs its
 size and offset, not the robot model)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

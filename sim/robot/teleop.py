@@ -3,6 +3,7 @@ and down within an acceleration limit so that it never trips the robot's reflexe
 
     w / s: +/- linear_speed along base x      a / d: +/- angular_speed about base z     q: stop
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -1,4 +1,5 @@
 """Controllers with one bug each, for the grader's tests (load as broken.py:ClassName)."""
+
 import time
 
 import numpy as np

@@ -1,4 +1,5 @@
 """sys.exit(0) while the grader imports the file."""
+
 import sys
 
 sys.exit(0)

@@ -1,5 +1,6 @@
 """Plug-ins that misbehave (load as faults.py:ClassName): each must cost the items it breaks,
 never the grader, the server or the loop's rate."""
+
 import os
 import socket
 import threading
@@ -118,7 +119,7 @@ class AnswersEarly(SPController):
         slot = mmap.mmap(5, os.fstat(5).st_size)
         seq = struct.unpack_from("<Q", slot, 0)[0]
         answer_at = os.fstat(5).st_size - (64 << 10)
-        slot[answer_at:answer_at + 48] = struct.pack("<6d", *[float("nan")] * 6)
+        slot[answer_at : answer_at + 48] = struct.pack("<6d", *[float("nan")] * 6)
         struct.pack_into("<QcI", slot, 64, seq - 1, b"k", 48)
         os.write(4, b"\1")
         time.sleep(0.002)  # the parent wakes and sees the stale answer meanwhile

@@ -1,5 +1,6 @@
 """Controllers that carry the box without being SP (load as followers.py:ClassName). Each must
 FAIL the battery; docs/grading-battery.md says which items each loses (tests/test_law_checks.py)."""
+
 import numpy as np
 
 from sim.controllers.lifting_law import band_speed, saturate_twist

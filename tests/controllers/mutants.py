@@ -1,5 +1,6 @@
 """Controllers with one mistake each (load as mutants.py:ClassName), and the two that do nothing;
 each must lose exactly the grader's items that test its mistake, or fall below the pass mark."""
+
 import numpy as np
 
 from sim.controllers.interface import LiftingParams

@@ -1,5 +1,6 @@
 """Replaces the grader's scoring when the file is imported (its own file: importing it anywhere
 but in the sandbox patches that process)."""
+
 import numpy as np
 
 

@@ -1,6 +1,7 @@
 """Files written to beat a grader: the issue's follower (band on f_n, v_t = -0.05 f_t, no cone, no
 moment compliance) that switches to the SP law when it believes it is being probed. Each keys on
 something a probe might give away; each must FAIL the battery (tests/test_law_checks.py)."""
+
 import numpy as np
 
 from sim.controllers.lifting_law import band_speed, saturate_twist

@@ -1,4 +1,5 @@
 """The built-in SP controller wrapped as a plug-in file (what a perfect submission does)."""
+
 from sim.controllers.sp import SPController
 
 

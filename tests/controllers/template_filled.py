@@ -13,6 +13,7 @@ EE z axis, its centre p_c = [0, 0, params.plate_offset]. Pressing the box gives 
 Return the EE twist [vx, vy, vz, wx, wy, wz] in the BASE frame (m/s, rad/s).
 As it is, this file runs and commands zero twist: the robot does not move.
 """
+
 import numpy as np  # the handout's tools: np.dot, np.cross, np.linalg.norm, np.clip, np.hstack
 
 

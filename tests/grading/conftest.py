@@ -6,6 +6,7 @@
 
 Without HRI_LAB_URL it starts the lab's own server and grades the lab's own answers (how `make test`
 checks the reference: every item passes)."""
+
 import os
 
 import pytest

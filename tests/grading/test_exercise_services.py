@@ -1,5 +1,6 @@
 """The services exercises as the handouts define them: each test is one gradable item, in the
 grader's order (the torques while the robot is at rest, start before stop)."""
+
 import pytest
 
 from app.cli.grade_services import EXERCISES, grade_exercise

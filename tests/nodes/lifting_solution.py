@@ -1,4 +1,5 @@
 """The lifting node template filled in with the SP law (what a student hands in for Exercise 16)."""
+
 import math
 
 import numpy as np
@@ -8,7 +9,9 @@ from app.cli.templates import lifting_node as node
 
 def start(request, response):
     node.lifting.update(f_n_min=request["force"], running=True)
-    response["message"] = f"Cooperative Lifting started with f_n_min = {request['force']:g} N, f_n_max = {request['force'] + 5:g} N."
+    response["message"] = (
+        f"Cooperative Lifting started with f_n_min = {request['force']:g} N, f_n_max = {request['force'] + 5:g} N."
+    )
     return True
 
 

@@ -1,6 +1,7 @@
 """The services template filled in (what a student hands in). Mistakes to grade, by flag:
 `--wrong-torques`: compute_torques with F's force and moment swapped (tau = J^T [m, f]);
 `--torques-as-force`: compute_torques answers tau = [F, 0] (no Jacobian at all)."""
+
 import sys
 
 import numpy as np
@@ -89,5 +90,8 @@ def stop_cooperative_lifting(request, response):
 
 
 if __name__ == "__main__":
-    handlers = {name: (type_name, globals().get(name.strip("/"), handler)) for name, (type_name, handler) in node.SERVERS.items()}
+    handlers = {
+        name: (type_name, globals().get(name.strip("/"), handler))
+        for name, (type_name, handler) in node.SERVERS.items()
+    }
     node.main(handlers)

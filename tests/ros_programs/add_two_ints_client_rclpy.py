@@ -1,4 +1,5 @@
 """AddTwoInts client (rclpy): adds the two numbers of its command line with the service."""
+
 import sys
 
 import rclpy
@@ -32,8 +33,9 @@ def main(args=None):
             except Exception as e:
                 client.get_logger().info("Service call failed %r" % (e,))
             else:
-                print("Result of add_two_ints: for %d + %d = %d" % (client.req.a, client.req.b, response.sum),
-                      flush=True)
+                print(
+                    "Result of add_two_ints: for %d + %d = %d" % (client.req.a, client.req.b, response.sum), flush=True
+                )
             break
     client.destroy_node()
     rclpy.shutdown()

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """AddTwoInts client (rospy): adds the two numbers of its command line with the service."""
+
 import sys
 
 import rospy

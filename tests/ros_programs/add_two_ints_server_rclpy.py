@@ -1,4 +1,5 @@
 """AddTwoInts server (rclpy): answers /add_two_ints with a + b."""
+
 import rclpy
 from example_interfaces.srv import AddTwoInts
 from rclpy.node import Node

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """AddTwoInts server (rospy): answers /add_two_ints with a + b."""
+
 import rospy
 from example_interfaces.srv import AddTwoInts, AddTwoIntsResponse
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """A client with a mistake: the request field 'c' does not exist in AddTwoInts."""
+
 import rospy
 from example_interfaces.srv import AddTwoInts, AddTwoIntsRequest
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env python
 """An actionlib client of a counting action (default: the lab's /count): preempts the goal once the
 feedback reaches 2, then prints the final state and result."""
+
 import sys
 import threading
 
@@ -26,5 +27,8 @@ client.send_goal(CountGoal(count=30), feedback_cb=feedback)
 reached.wait(60)
 client.cancel_goal()
 client.wait_for_result(rospy.Duration(30))
-print("state %d (PREEMPTED is %d), final_count %d" % (client.get_state(), actionlib.GoalStatus.PREEMPTED,
-                                                      client.get_result().final_count), flush=True)
+print(
+    "state %d (PREEMPTED is %d), final_count %d"
+    % (client.get_state(), actionlib.GoalStatus.PREEMPTED, client.get_result().final_count),
+    flush=True,
+)

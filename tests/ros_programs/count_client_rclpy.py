@@ -1,4 +1,5 @@
 """An rclpy action client of the lab's /count: counts to 2 with feedback."""
+
 import rclpy
 from hri_lab.action import Count
 from rclpy.action import ActionClient
@@ -31,8 +32,12 @@ def main():
         return
     result_future = goal_handle.get_result_async()
     rclpy.spin_until_future_complete(node, result_future)
-    print("Result: final_count {0}, status {1}".format(result_future.result().result.final_count,
-                                                       result_future.result().status), flush=True)
+    print(
+        "Result: final_count {0}, status {1}".format(
+            result_future.result().result.final_count, result_future.result().status
+        ),
+        flush=True,
+    )
     rclpy.shutdown()
 
 

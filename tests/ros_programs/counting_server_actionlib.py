@@ -1,6 +1,7 @@
 #!/usr/bin/env python
 """The counting action (actionlib, the workspace's cpp_package/Counting.action): counts to the goal,
 one number per ~delay (default 1 s), with feedback; a preempt stops it."""
+
 import actionlib
 import rospy
 from cpp_package.msg import CountingAction, CountingFeedback, CountingResult

@@ -1,5 +1,6 @@
 """The counting action (rclpy, the workspace's cpp_package/Counting.action): counts to the goal, one
 number per `delay` parameter (default 1 s), with feedback; cancellable."""
+
 import time
 
 import rclpy
@@ -12,8 +13,9 @@ class CountingServer(Node):
     def __init__(self):
         super().__init__("counting_server")
         self.declare_parameter("delay", 1.0)
-        self._server = ActionServer(self, Counting, "counting", self.execute,
-                                    cancel_callback=lambda goal: CancelResponse.ACCEPT)
+        self._server = ActionServer(
+            self, Counting, "counting", self.execute, cancel_callback=lambda goal: CancelResponse.ACCEPT
+        )
         self.get_logger().info("counting server ready")
 
     def execute(self, goal_handle):

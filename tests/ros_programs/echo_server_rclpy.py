@@ -1,4 +1,5 @@
 """A string echo service (rclpy), the lab's hri_lab/Echo: out = in (a Python keyword: in_)."""
+
 import rclpy
 from hri_lab.srv import Echo
 from rclpy.node import Node

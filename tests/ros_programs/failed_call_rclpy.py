@@ -1,4 +1,5 @@
 """Calls a service no program provides yet (in `serve --exercises`): the future holds the exception."""
+
 import time
 
 import rclpy

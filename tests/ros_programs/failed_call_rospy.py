@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """Calls a service no program provides yet (in `serve --exercises`): a failed call."""
+
 import rospy
 from hri_lab.srv import DivideInts
 

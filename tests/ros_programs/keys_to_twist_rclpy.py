@@ -1,5 +1,6 @@
 """Keys to twist (rclpy): the keys of argv ('w' forward, 's' back, 'a'/'d' turn) become Twists on
 /key_twist, scaled by the parameters linear_speed and angular_speed (settable while it runs)."""
+
 import sys
 
 import rclpy
@@ -14,8 +15,14 @@ class KeyTwist(Node):
     def __init__(self, keys):
         super().__init__("keytwist_param")
         self.declare_parameter("linear_speed", 0.1)
-        self.declare_parameter("angular_speed", 0.5, ParameterDescriptor(
-            description="rad/s per key press", floating_point_range=[FloatingPointRange(from_value=0.0, to_value=2.0)]))
+        self.declare_parameter(
+            "angular_speed",
+            0.5,
+            ParameterDescriptor(
+                description="rad/s per key press",
+                floating_point_range=[FloatingPointRange(from_value=0.0, to_value=2.0)],
+            ),
+        )
         self.add_on_set_parameters_callback(self.check)
         self.publisher = self.create_publisher(Twist, "key_twist", 10)
         self.keys, self.index = keys, 0

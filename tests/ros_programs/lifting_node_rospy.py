@@ -1,6 +1,7 @@
 #!/usr/bin/env python
 """The lifting node of Exercise 16 in rospy: F_ext (low-passed) through the SP law to a Twist on the
 robot's command topic, with the start/stop services (f_n_max = f_n_min + 5)."""
+
 import math
 
 import numpy as np
@@ -9,8 +10,20 @@ from geometry_msgs.msg import Twist, WrenchStamped
 from hri_lab.msg import FrankaState
 from hri_lab.srv import StartCooperativeLifting, StopCooperativeLifting
 
-P = {"f_n_band": 5.0, "mu": 0.5, "alpha": 0.8, "k_n": 0.005, "k_t": 0.1, "k_w": 1.0, "moment_deadband": 0.1,
-     "f_contact": 1.0, "v_max": 0.5, "w_max": 1.0, "filter_hz": 10.0, "plate_offset": 0.02}
+P = {
+    "f_n_band": 5.0,
+    "mu": 0.5,
+    "alpha": 0.8,
+    "k_n": 0.005,
+    "k_t": 0.1,
+    "k_w": 1.0,
+    "moment_deadband": 0.1,
+    "f_contact": 1.0,
+    "v_max": 0.5,
+    "w_max": 1.0,
+    "filter_hz": 10.0,
+    "plate_offset": 0.02,
+}
 
 
 class Lifting:

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """The cooperative-lifting start/stop servers (rospy): f_n_max = f_n_min + 5."""
+
 import rospy
 from hri_lab.srv import StartCooperativeLifting, StartCooperativeLiftingResponse, StopCooperativeLifting
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """Login chain 2/3 (rospy): logs in with every magic number it hears."""
+
 import rospy
 from hri_lab.srv import Login
 from std_msgs.msg import Int64

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """Login chain 3/3 (rospy): the login service, magic number 42."""
+
 import rospy
 from hri_lab.srv import Login, LoginResponse
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """Login chain 1/3 (rospy): publishes a random magic number on /magic_number, 5 a second."""
+
 import random
 
 import rospy

@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """A client with a mistake: it waits for a service nobody provides (/add_three_ints)."""
+
 import rospy
 from example_interfaces.srv import AddTwoInts
 

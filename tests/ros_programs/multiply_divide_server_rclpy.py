@@ -1,4 +1,5 @@
 """MultiplyThree and DivideInts servers (rclpy) with the workspace's own cpp_package/srv files."""
+
 import rclpy
 from cpp_package.srv import DivideInts, MultiplyThree
 from rclpy.node import Node

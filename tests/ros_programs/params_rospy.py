@@ -1,5 +1,6 @@
 #!/usr/bin/env python
 """rospy's parameter server: global, relative and private names; set, get, has, delete, defaults."""
+
 import rospy
 
 rospy.init_node("param_talker")

@@ -14,6 +14,7 @@ constraints violation"; /error_recovery clears it), a command beyond the limits 
 2.5 rad/s) trips a reflex, and changes are smoothed like libfranka's limit_rate (1 m/s^2).
 As it is, it runs and commands zero twist. Needs roslibpy and numpy.
 """
+
 import argparse
 import math
 import os
@@ -23,8 +24,20 @@ import numpy as np
 import roslibpy
 
 # the lifting law's parameters (the lab's /cooperative_lifting defaults)
-PARAMS = {"f_n_band": 5.0, "mu": 0.5, "alpha": 0.8, "k_n": 0.005, "k_t": 0.1, "k_w": 1.0, "moment_deadband": 0.1,
-          "f_contact": 1.0, "v_max": 0.5, "w_max": 1.0, "filter_hz": 10.0, "plate_offset": 0.02}
+PARAMS = {
+    "f_n_band": 5.0,
+    "mu": 0.5,
+    "alpha": 0.8,
+    "k_n": 0.005,
+    "k_t": 0.1,
+    "k_w": 1.0,
+    "moment_deadband": 0.1,
+    "f_contact": 1.0,
+    "v_max": 0.5,
+    "w_max": 1.0,
+    "filter_hz": 10.0,
+    "plate_offset": 0.02,
+}
 lifting = {"running": False, "f_n_min": 0.0}  # set by the start/stop services below
 
 
@@ -63,10 +76,12 @@ class LiftingNode:
         self.filtered, self.stamp = None, None
         self.command = roslibpy.Topic(ros, "/cartesian_velocity_controller/command", "geometry_msgs/Twist")
         self.command.advertise()
-        roslibpy.Topic(ros, "/franka_state_controller/franka_states", "hri_lab/FrankaState",
-                       throttle_rate=20).subscribe(self.on_state)  # the pose changes slowly: 50 Hz
-        roslibpy.Topic(ros, "/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped",
-                       throttle_rate=period_ms).subscribe(self.on_wrench)
+        roslibpy.Topic(
+            ros, "/franka_state_controller/franka_states", "hri_lab/FrankaState", throttle_rate=20
+        ).subscribe(self.on_state)  # the pose changes slowly: 50 Hz
+        roslibpy.Topic(
+            ros, "/franka_state_controller/F_ext", "geometry_msgs/WrenchStamped", throttle_rate=period_ms
+        ).subscribe(self.on_wrench)
 
     def on_state(self, message):
         self.rotation = np.array(message["O_T_EE"]).reshape(4, 4).T[:3, :3]  # column-major 4x4
@@ -75,8 +90,9 @@ class LiftingNode:
         if self.rotation is None:
             return
         w = message["wrench"]
-        wrench = np.array([w["force"]["x"], w["force"]["y"], w["force"]["z"],
-                           w["torque"]["x"], w["torque"]["y"], w["torque"]["z"]])
+        wrench = np.array(
+            [w["force"]["x"], w["force"]["y"], w["force"]["z"], w["torque"]["x"], w["torque"]["y"], w["torque"]["z"]]
+        )
         stamp = message["header"]["stamp"]
         t = stamp["sec"] + stamp["nanosec"] * 1e-9
         # first-order low-pass against the sensor noise: w_f += a (w - w_f), a = dt / (1/(2 pi f_c) + dt)

@@ -8,6 +8,7 @@ the commands stop), and it provides the start/stop services.
 
 As it is, it runs and commands zero twist. Units: N, Nm, m/s, rad/s.
 """
+
 import math
 
 import numpy as np
@@ -27,9 +28,20 @@ def lifting_law(wrench_ee, f_n_min, p):
 class Lifting(Node):
     def __init__(self):
         super().__init__("cooperative_lifting")
-        for name, value in {"f_n_band": 5.0, "mu": 0.5, "alpha": 0.8, "k_n": 0.005, "k_t": 0.1, "k_w": 1.0,
-                            "moment_deadband": 0.1, "f_contact": 1.0, "v_max": 0.5, "w_max": 1.0, "filter_hz": 10.0,
-                            "plate_offset": 0.02}.items():
+        for name, value in {
+            "f_n_band": 5.0,
+            "mu": 0.5,
+            "alpha": 0.8,
+            "k_n": 0.005,
+            "k_t": 0.1,
+            "k_w": 1.0,
+            "moment_deadband": 0.1,
+            "f_contact": 1.0,
+            "v_max": 0.5,
+            "w_max": 1.0,
+            "filter_hz": 10.0,
+            "plate_offset": 0.02,
+        }.items():
             self.declare_parameter(name, value)  # `hri-lab param set /cooperative_lifting k_n 0.01` while it runs
         self.running, self.f_n_min = False, 0.0
         self.rotation, self.filtered, self.stamp = None, None, None

@@ -10,6 +10,7 @@ for a failed call (then fill response["error"] with the reason). The lab checks 
 against the service's .srv (`hri-lab service show /divide_ints`). When this node stops, its services
 go with it. Units: N, Nm, rad. Needs roslibpy (pip install roslibpy).
 """
+
 import argparse
 import os
 import time

@@ -9,11 +9,22 @@
 Each callback fills the response and returns it; an exception fails the call (and ends spin, as in
 rclpy). `hri-lab service show /divide_ints` prints a service's .srv. Units: N, Nm, rad.
 """
+
 import numpy as np
 import rclpy
 from hri_lab.msg import FrankaState
-from hri_lab.srv import (AddTwoInts, ComputeTorques, ComputeWrench, DivideInts, Echo, Login, MultiplyThree,
-                         PlanarTorques, StartCooperativeLifting, StopCooperativeLifting)
+from hri_lab.srv import (
+    AddTwoInts,
+    ComputeTorques,
+    ComputeWrench,
+    DivideInts,
+    Echo,
+    Login,
+    MultiplyThree,
+    PlanarTorques,
+    StartCooperativeLifting,
+    StopCooperativeLifting,
+)
 from rclpy.node import Node
 
 
@@ -22,11 +33,18 @@ class Services(Node):
         super().__init__("services_node")
         self.jacobian = None  # the latest franka_states O_Jac_EE: np.array(msg.O_Jac_EE).reshape(7, 6).T
         self.create_subscription(FrankaState, "/franka_state_controller/franka_states", self.on_state, 1)
-        for name, kind in (("add_two_ints", AddTwoInts), ("divide_ints", DivideInts),
-                           ("multiply_three", MultiplyThree), ("echo", Echo), ("login", Login),
-                           ("planar_torques", PlanarTorques), ("compute_torques", ComputeTorques),
-                           ("compute_wrench", ComputeWrench), ("start_cooperative_lifting", StartCooperativeLifting),
-                           ("stop_cooperative_lifting", StopCooperativeLifting)):
+        for name, kind in (
+            ("add_two_ints", AddTwoInts),
+            ("divide_ints", DivideInts),
+            ("multiply_three", MultiplyThree),
+            ("echo", Echo),
+            ("login", Login),
+            ("planar_torques", PlanarTorques),
+            ("compute_torques", ComputeTorques),
+            ("compute_wrench", ComputeWrench),
+            ("start_cooperative_lifting", StartCooperativeLifting),
+            ("stop_cooperative_lifting", StopCooperativeLifting),
+        ):
             self.create_service(kind, name, getattr(self, name))
         self.get_logger().info("node ready: the handout's services")
 

@@ -11,11 +11,23 @@ Each handler gets the request and returns the response (rospy also takes a tuple
 the value of a one-field response); raise rospy.ServiceException("reason") for a failed call.
 `hri-lab service show /divide_ints` prints a service's .srv. Units: N, Nm, rad.
 """
+
 import numpy as np
 import rospy
 from hri_lab.msg import FrankaState
-from hri_lab.srv import (AddTwoInts, AddTwoIntsResponse, ComputeTorques, ComputeWrench, DivideInts, Echo, Login,
-                         MultiplyThree, PlanarTorques, StartCooperativeLifting, StopCooperativeLifting)
+from hri_lab.srv import (
+    AddTwoInts,
+    AddTwoIntsResponse,
+    ComputeTorques,
+    ComputeWrench,
+    DivideInts,
+    Echo,
+    Login,
+    MultiplyThree,
+    PlanarTorques,
+    StartCooperativeLifting,
+    StopCooperativeLifting,
+)
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 robot = {"O_Jac_EE": None}  # the latest franka_states Jacobian (42 numbers, 6x7 column-major)
@@ -84,13 +96,18 @@ def on_state(msg):
 if __name__ == "__main__":
     rospy.init_node("services_node")
     rospy.Subscriber("/franka_state_controller/franka_states", FrankaState, on_state, queue_size=1)
-    for name, kind, handler in (("add_two_ints", AddTwoInts, add_two_ints), ("divide_ints", DivideInts, divide_ints),
-                                ("multiply_three", MultiplyThree, multiply_three), ("echo", Echo, echo),
-                                ("login", Login, login), ("planar_torques", PlanarTorques, planar_torques),
-                                ("compute_torques", ComputeTorques, compute_torques),
-                                ("compute_wrench", ComputeWrench, compute_wrench),
-                                ("start_cooperative_lifting", StartCooperativeLifting, start_cooperative_lifting),
-                                ("stop_cooperative_lifting", StopCooperativeLifting, stop_cooperative_lifting)):
+    for name, kind, handler in (
+        ("add_two_ints", AddTwoInts, add_two_ints),
+        ("divide_ints", DivideInts, divide_ints),
+        ("multiply_three", MultiplyThree, multiply_three),
+        ("echo", Echo, echo),
+        ("login", Login, login),
+        ("planar_torques", PlanarTorques, planar_torques),
+        ("compute_torques", ComputeTorques, compute_torques),
+        ("compute_wrench", ComputeWrench, compute_wrench),
+        ("start_cooperative_lifting", StartCooperativeLifting, start_cooperative_lifting),
+        ("stop_cooperative_lifting", StopCooperativeLifting, stop_cooperative_lifting),
+    ):
         rospy.Service(name, kind, handler)
     rospy.loginfo("node ready: the handout's services")
     rospy.spin()

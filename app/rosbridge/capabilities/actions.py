@@ -1,6 +1,7 @@
 """send_action_goal (feedback when asked) / cancel_action_goal on the lab's ActionServer, answered
 with action_feedback and action_result (status as action_msgs/GoalStatus), as rosbridge_suite's
 ROS 2 action ops."""
+
 from __future__ import annotations
 
 import asyncio
@@ -60,7 +61,9 @@ async def _follow(session: Any, name: str, id_: Any, handle, feedback: bool) -> 
 
 
 async def _result(session: Any, name: str, id_: Any, code: int, ok: bool, values: Any) -> None:
-    await session.send({"op": "action_result", "id": id_, "action": name, "values": values, "status": code, "result": ok})
+    await session.send(
+        {"op": "action_result", "id": id_, "action": name, "values": values, "status": code, "result": ok}
+    )
 
 
 async def cancel_action_goal(session: Any, message: dict, id_: Any) -> None:
@@ -70,5 +73,7 @@ async def cancel_action_goal(session: Any, message: dict, id_: Any) -> None:
     session.bridge.actions.cancel(handle)
 
 
-OPS = {"send_action_goal": Op(send_action_goal, mutating=True),
-       "cancel_action_goal": Op(cancel_action_goal, mutating=True)}
+OPS = {
+    "send_action_goal": Op(send_action_goal, mutating=True),
+    "cancel_action_goal": Op(cancel_action_goal, mutating=True),
+}

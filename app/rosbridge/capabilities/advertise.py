@@ -1,5 +1,6 @@
 """advertise / unadvertise: a client announces the topics it publishes (the lab's own topics are the
 lab's; the command topic and /rosout may be published by any client)."""
+
 from __future__ import annotations
 
 from typing import Any
@@ -18,7 +19,9 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
     known = bridge.topic_types().get(topic)
     if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
         if type_name not in rosout.TYPES:
-            raise BadFrame(f"advertise: topic {topic} is of type {rosout.TYPE} (or {rosout.ROS1_TYPE}), not {type_name}")
+            raise BadFrame(
+                f"advertise: topic {topic} is of type {rosout.TYPE} (or {rosout.ROS1_TYPE}), not {type_name}"
+            )
         session.state["rosout_type"] = type_name
         session.publishing.add(topic)
         return

@@ -1,6 +1,7 @@
 """The action provider's ops (rosbridge_suite's ROS 2 action family): advertise_action /
 unadvertise_action, and the provider's answers to the goals the lab sends it, action_feedback and
 action_result (app/rosbridge/internal/node_actions.py has the goal's life)."""
+
 from __future__ import annotations
 
 from typing import Any
@@ -45,7 +46,9 @@ async def action_result(session: Any, message: dict, id_: Any) -> None:
         raise BadFrame(f"action_result: {refused}") from None
 
 
-OPS = {"advertise_action": Op(advertise_action, mutating=True),
-       "unadvertise_action": Op(unadvertise_action, mutating=True),
-       "action_feedback": Op(action_feedback, mutating=True),
-       "action_result": Op(action_result, mutating=True)}
+OPS = {
+    "advertise_action": Op(advertise_action, mutating=True),
+    "unadvertise_action": Op(unadvertise_action, mutating=True),
+    "action_feedback": Op(action_feedback, mutating=True),
+    "action_result": Op(action_result, mutating=True),
+}

@@ -1,5 +1,6 @@
 """advertise_service / unadvertise_service: a client provides a service
 (app/rosbridge/internal/node_services.py); every caller reaches it through the lab's registry."""
+
 from __future__ import annotations
 
 from typing import Any
@@ -29,5 +30,7 @@ async def unadvertise_service(session: Any, message: dict, id_: Any) -> None:
     session.services.discard(name)
 
 
-OPS = {"advertise_service": Op(advertise_service, mutating=True),
-       "unadvertise_service": Op(unadvertise_service, mutating=True)}
+OPS = {
+    "advertise_service": Op(advertise_service, mutating=True),
+    "unadvertise_service": Op(unadvertise_service, mutating=True),
+}

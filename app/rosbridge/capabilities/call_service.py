@@ -2,6 +2,7 @@
 republisher's), answered
 with service_response {values, result}; a failed call is `result: false` with the reason as its
 values (and an error status)."""
+
 from __future__ import annotations
 
 import asyncio
@@ -24,8 +25,9 @@ async def call_service(session: Any, message: dict, id_: Any) -> None:
         raise BadFrame("call_service: field 'args' must be an object (or a list of the request's fields in order)")
     if name in rosapi.WRITING or (name not in READ_ONLY and not name.startswith("/rosapi/")):
         if not session.authorized:
-            raise BadFrame(f"call_service {name}: this lab needs a token for changes (op auth, or the "
-                           f"Authorization header)")
+            raise BadFrame(
+                f"call_service {name}: this lab needs a token for changes (op auth, or the Authorization header)"
+            )
     if session.in_flight >= MAX_CALLS_IN_FLIGHT:
         raise BadFrame(f"call_service: {MAX_CALLS_IN_FLIGHT} calls of this client are already in flight")
     session.in_flight += 1
@@ -50,7 +52,9 @@ async def serve(session: Any, name: str, args: Any) -> tuple[bool, Any]:
     bridge = session.bridge
     try:
         if name.startswith("/rosapi/"):
-            return True, await asyncio.to_thread(rosapi.call, bridge, session, name, args if isinstance(args, dict) else {})
+            return True, await asyncio.to_thread(
+                rosapi.call, bridge, session, name, args if isinstance(args, dict) else {}
+            )
         if name == tf_republisher.SERVICE:
             return True, tf_republisher.republish(session, args if isinstance(args, dict) else {})
         service = bridge.services.get(name)

@@ -1,5 +1,6 @@
 """The connection's own ops: auth (rosauth's, with the lab's token as the mac), set_level; the
 ops this lab does not support (fragment, png) refused with the reason."""
+
 from __future__ import annotations
 
 from typing import Any

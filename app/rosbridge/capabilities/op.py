@@ -1,8 +1,10 @@
 """One op of the protocol as a capability module declares it."""
+
 from __future__ import annotations
 
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import Any, Awaitable, Callable
+from typing import Any
 
 # handler(session, message, id_): session is the client's (app/rosbridge/session.py), message the
 # parsed frame, id_ its "id" when that is a string or an integer (else None)

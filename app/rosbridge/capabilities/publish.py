@@ -1,6 +1,7 @@
 """publish: a node's message to the other subscribers of its topic; a geometry_msgs/Twist on the
 command topic drives the robot (commands.external_twist, through the lab's one door); a log line
 on /rosout joins the lab's log (app/ros/rosout.py)."""
+
 from __future__ import annotations
 
 import asyncio
@@ -92,8 +93,10 @@ def twist_values(msg: dict) -> list[float]:
         for axis in "xyz":
             value = vector.get(axis, 0.0)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise BadFrame(f"publish {COMMAND_TOPIC}: field 'msg.{part}.{axis}' must be a finite number, "
-                               f"got {json.dumps(value)[:40]}")
+                raise BadFrame(
+                    f"publish {COMMAND_TOPIC}: field 'msg.{part}.{axis}' must be a finite number, "
+                    f"got {json.dumps(value)[:40]}"
+                )
             values.append(float(value))
     extra = set(msg) - {"linear", "angular"}
     if extra:

@@ -3,6 +3,7 @@ the lowest throttle and longest queue of its subscriptions, as rosbridge does. T
 are sampled from its snapshot (newest first; what a slow client cannot take is dropped, the
 simulation never waits); node topics are relayed from their publishers; /rosout carries each
 log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
+
 from __future__ import annotations
 
 import asyncio
@@ -49,13 +50,17 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
         stream.tasks.append(asyncio.ensure_future(stream.deliver()))
         if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
             loop = asyncio.get_running_loop()
-            stream.on_stop.append(session.lab.rosout.listen(
-                lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))))
+            stream.on_stop.append(
+                session.lab.rosout.listen(
+                    lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))
+                )
+            )
         elif topic == F_EXT:  # every step's sample, not only the newest when we look
             stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
         elif lab_topic is not None:
-            stream.tasks.append(asyncio.ensure_future(sample(session.lab, stream, lab_topic,
-                                                             bridge.min_period_s.get(topic, 0.0))))
+            stream.tasks.append(
+                asyncio.ensure_future(sample(session.lab, stream, lab_topic, bridge.min_period_s.get(topic, 0.0)))
+            )
         else:
             entry = bridge.node_topics.setdefault(topic, NodeTopic(normalise_type(type_name or known)))
             entry.subscriptions.add(stream)

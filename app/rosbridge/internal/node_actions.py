@@ -17,6 +17,7 @@ The provider that unadvertises or disconnects takes its actions with it: its goa
 Goals, feedback and results are checked against the action type's models when the lab knows the
 type (its own actions'); a type it does not know passes them through as JSON objects.
 """
+
 from __future__ import annotations
 
 import asyncio
@@ -67,11 +68,25 @@ class NodeActions:
             if current is not None and current is not session:
                 raise ValueError(f"action {name} is already provided by node {current.name}")
             goal, result, feedback = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage, OpenMessage))
-            unknown = "" if goal is not OpenMessage else (f"; type {type_name} is unknown to the lab: goal, feedback and "
-                                                          f"result pass through as JSON objects")
+            unknown = (
+                ""
+                if goal is not OpenMessage
+                else (
+                    f"; type {type_name} is unknown to the lab: goal, feedback and result pass through as JSON objects"
+                )
+            )
             self.server.remove(name)
-            self.server.add(Action(name, type_name, goal, result, feedback, self._execute(name),
-                                   f"provided by node {session.name}{unknown}"))
+            self.server.add(
+                Action(
+                    name,
+                    type_name,
+                    goal,
+                    result,
+                    feedback,
+                    self._execute(name),
+                    f"provided by node {session.name}{unknown}",
+                )
+            )
             self.providers[name] = session
 
     def unadvertise(self, name: str, session: Any) -> bool:
@@ -101,8 +116,17 @@ class NodeActions:
                 goal_id = f"action_goal:{name}:{next(self._ids)}"
                 pending = self.pending[goal_id] = Pending(session, action, handle)
             try:
-                self._send(session, {"op": "send_action_goal", "id": goal_id, "action": name, "action_type": action.type,
-                                     "args": goal.model_dump(by_alias=True), "feedback": True})
+                self._send(
+                    session,
+                    {
+                        "op": "send_action_goal",
+                        "id": goal_id,
+                        "action": name,
+                        "action_type": action.type,
+                        "args": goal.model_dump(by_alias=True),
+                        "feedback": True,
+                    },
+                )
                 canceling = False
                 while True:
                     try:
@@ -116,13 +140,16 @@ class NodeActions:
                 with self._lock:
                     self.pending.pop(goal_id, None)
             if not ok or status == ABORTED:
-                raise GoalFailure(f"aborted by node {session.name}" + (f": {values}" if values not in (None, {}) else ""))
+                raise GoalFailure(
+                    f"aborted by node {session.name}" + (f": {values}" if values not in (None, {}) else "")
+                )
             result = _model(action.result, values, f"the node's result is not a {action.type} result")
             if status == CANCELED:
                 raise GoalPreempted(result, f"canceled by node {session.name}")
             if status != SUCCEEDED:
-                raise GoalFailure(f"node {session.name} ended the goal with status {status} (4 succeeded, 5 canceled, "
-                                  f"6 aborted)")
+                raise GoalFailure(
+                    f"node {session.name} ended the goal with status {status} (4 succeeded, 5 canceled, 6 aborted)"
+                )
             return result
 
         return execute
@@ -144,8 +171,9 @@ class NodeActions:
     def feedback(self, session: Any, goal_id: Any, name: str, values: Any) -> None:
         """A node's action_feedback; ValueError naming what is wrong."""
         pending = self._pending(session, goal_id, name)
-        pending.handle.feedback(_model(pending.action.feedback, values, f"not a {pending.action.type} feedback",
-                                       error=ValueError))
+        pending.handle.feedback(
+            _model(pending.action.feedback, values, f"not a {pending.action.type} feedback", error=ValueError)
+        )
 
     def result(self, session: Any, goal_id: Any, name: str, values: Any, status: int, ok: bool) -> None:
         """A node's action_result; ValueError when no goal of this node waits for it."""

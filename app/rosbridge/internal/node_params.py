@@ -14,6 +14,7 @@ with rcl_interfaces/ParameterType's codes. A node is listed once it provides lis
 and get_parameters; set and describe are asked when used. A refused set reports the node's
 SetParametersResult.reason as it is.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,12 +27,29 @@ from app.rosbridge.internal.node_services import NodeServices, OpenMessage
 # rcl_interfaces/msg/ParameterType
 NOT_SET, BOOL, INTEGER, DOUBLE, STRING = 0, 1, 2, 3, 4
 BYTE_ARRAY, BOOL_ARRAY, INTEGER_ARRAY, DOUBLE_ARRAY, STRING_ARRAY = 5, 6, 7, 8, 9
-FIELDS = {BOOL: "bool_value", INTEGER: "integer_value", DOUBLE: "double_value", STRING: "string_value",
-          BYTE_ARRAY: "byte_array_value", BOOL_ARRAY: "bool_array_value", INTEGER_ARRAY: "integer_array_value",
-          DOUBLE_ARRAY: "double_array_value", STRING_ARRAY: "string_array_value"}
-TYPE_NAMES = {NOT_SET: "not set", BOOL: "bool", INTEGER: "integer", DOUBLE: "double", STRING: "string",
-              BYTE_ARRAY: "byte_array", BOOL_ARRAY: "bool_array", INTEGER_ARRAY: "integer_array",
-              DOUBLE_ARRAY: "double_array", STRING_ARRAY: "string_array"}
+FIELDS = {
+    BOOL: "bool_value",
+    INTEGER: "integer_value",
+    DOUBLE: "double_value",
+    STRING: "string_value",
+    BYTE_ARRAY: "byte_array_value",
+    BOOL_ARRAY: "bool_array_value",
+    INTEGER_ARRAY: "integer_array_value",
+    DOUBLE_ARRAY: "double_array_value",
+    STRING_ARRAY: "string_array_value",
+}
+TYPE_NAMES = {
+    NOT_SET: "not set",
+    BOOL: "bool",
+    INTEGER: "integer",
+    DOUBLE: "double",
+    STRING: "string",
+    BYTE_ARRAY: "byte_array",
+    BOOL_ARRAY: "bool_array",
+    INTEGER_ARRAY: "integer_array",
+    DOUBLE_ARRAY: "double_array",
+    STRING_ARRAY: "string_array",
+}
 SERVICES = ("list_parameters", "get_parameters", "set_parameters", "describe_parameters")
 
 
@@ -58,13 +76,20 @@ def from_json(value: Any, kind: int | None = None) -> dict:
         code = STRING
     elif isinstance(value, list) and value and all(isinstance(x, type(value[0])) for x in value):
         first = value[0]
-        code = {bool: BOOL_ARRAY, int: DOUBLE_ARRAY if kind == DOUBLE_ARRAY else INTEGER_ARRAY, float: DOUBLE_ARRAY,
-                str: STRING_ARRAY}.get(type(first), NOT_SET)
+        code = {
+            bool: BOOL_ARRAY,
+            int: DOUBLE_ARRAY if kind == DOUBLE_ARRAY else INTEGER_ARRAY,
+            float: DOUBLE_ARRAY,
+            str: STRING_ARRAY,
+        }.get(type(first), NOT_SET)
         if code == NOT_SET:
-            raise ParameterRefused(f"a parameter array holds bools, integers, doubles or strings, not {type_name(first)}")
+            raise ParameterRefused(
+                f"a parameter array holds bools, integers, doubles or strings, not {type_name(first)}"
+            )
     else:
-        raise ParameterRefused(f"a parameter value is a bool, integer, double, string or an array of one of them, "
-                               f"not {type_name(value)}")
+        raise ParameterRefused(
+            f"a parameter value is a bool, integer, double, string or an array of one of them, not {type_name(value)}"
+        )
     if code == DOUBLE:
         value = float(value)
     elif code == DOUBLE_ARRAY:
@@ -111,8 +136,9 @@ class NodeParameters:
     def get(self, node: str, names: list[str]) -> list[Any]:
         values = self._call(node, "get_parameters", {"names": names}).get("values")
         if not isinstance(values, list) or len(values) != len(names):
-            raise ParameterRefused(f"node /{node}: get_parameters answered {len(values or [])} values for "
-                                   f"{len(names)} names", 502)
+            raise ParameterRefused(
+                f"node /{node}: get_parameters answered {len(values or [])} values for {len(names)} names", 502
+            )
         return [to_json(v) for v in values]
 
     def _descriptor(self, node: str, name: str) -> dict:
@@ -125,8 +151,9 @@ class NodeParameters:
         kind = None
         if self.services.provided_by(f"/{node}/describe_parameters") is not None:
             kind = self._descriptor(node, name).get("type")
-        results = self._call(node, "set_parameters",
-                             {"parameters": [{"name": name, "value": from_json(value, kind)}]}).get("results")
+        results = self._call(
+            node, "set_parameters", {"parameters": [{"name": name, "value": from_json(value, kind)}]}
+        ).get("results")
         if not isinstance(results, list) or len(results) != 1 or not isinstance(results[0], dict):
             raise ParameterRefused(f"node /{node}: set_parameters answered no result", 502)
         if not results[0].get("successful", False):
@@ -136,10 +163,14 @@ class NodeParameters:
         """The node's descriptor in Parameter.describe()'s shape (type, description, read_only,
         the range when the node declares one)."""
         descriptor = self._descriptor(node, name)
-        out = {"node": node, "name": descriptor.get("name") or name,
-               "type": TYPE_NAMES.get(descriptor.get("type", NOT_SET), str(descriptor.get("type"))),
-               "description": descriptor.get("description", ""), "read_only": bool(descriptor.get("read_only", False)),
-               "default": None}
+        out = {
+            "node": node,
+            "name": descriptor.get("name") or name,
+            "type": TYPE_NAMES.get(descriptor.get("type", NOT_SET), str(descriptor.get("type"))),
+            "description": descriptor.get("description", ""),
+            "read_only": bool(descriptor.get("read_only", False)),
+            "default": None,
+        }
         if descriptor.get("additional_constraints"):
             out["additional_constraints"] = descriptor["additional_constraints"]
         for key in ("floating_point_range", "integer_range"):

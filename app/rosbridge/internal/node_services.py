@@ -15,6 +15,7 @@ request to the node and waits for its `service_response`.
   start/stop_cooperative_lifting also applies its effect to the lab (the band the person
   expects, the running flag), as the lab's own service does.
 """
+
 from __future__ import annotations
 
 import asyncio
@@ -72,8 +73,9 @@ class Provider:
 
 
 class NodeServices:
-    def __init__(self, base: ServiceRegistry, lab: Any, exercises: tuple[str, ...] = (),
-                 timeout: float = NODE_SERVICE_TIMEOUT) -> None:
+    def __init__(
+        self, base: ServiceRegistry, lab: Any, exercises: tuple[str, ...] = (), timeout: float = NODE_SERVICE_TIMEOUT
+    ) -> None:
         self.lab = lab
         self.timeout = timeout
         self.slots = {name for name in exercises if base.get(name) is not None}
@@ -98,8 +100,14 @@ class NodeServices:
             return own(lab, request)
 
         note = " Left to the students: a node provides it." if own is None else ""
-        return Service(name, service.type, service.request, service.response, self._logged(name, handler),
-                       service.description + note)
+        return Service(
+            name,
+            service.type,
+            service.request,
+            service.response,
+            self._logged(name, handler),
+            service.description + note,
+        )
 
     def _handler(self, name: str):
         def handler(lab, request: RosMessage) -> RosMessage:
@@ -133,11 +141,22 @@ class NodeServices:
             if name not in self.declared:
                 request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
                 self.registry.remove(name)
-                self.registry.add(Service(name, type_name, request, response, self._handler(name),
-                                          f"provided by node {session.name}"
-                                          + ("" if request is not OpenMessage else
-                                             f"; type {type_name} is unknown to the lab: request and response are "
-                                             f"passed through as JSON objects")))
+                self.registry.add(
+                    Service(
+                        name,
+                        type_name,
+                        request,
+                        response,
+                        self._handler(name),
+                        f"provided by node {session.name}"
+                        + (
+                            ""
+                            if request is not OpenMessage
+                            else f"; type {type_name} is unknown to the lab: request and response are "
+                            f"passed through as JSON objects"
+                        ),
+                    )
+                )
 
     def unadvertise(self, name: str, session: Any) -> bool:
         with self._lock:
@@ -192,8 +211,9 @@ class NodeServices:
         try:
             yield provider, message, future
         except TimeoutError:  # concurrent.futures' and asyncio's are this one
-            raise NodeTimeout(f"service {name}: node {provider.session.name} did not answer within "
-                              f"{self.timeout:g} s") from None
+            raise NodeTimeout(
+                f"service {name}: node {provider.session.name} did not answer within {self.timeout:g} s"
+            ) from None
         finally:
             with self._lock:
                 self._pending.pop(call_id, None)

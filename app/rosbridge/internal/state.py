@@ -1,6 +1,7 @@
 """The bridge's shared state: the lab, its registries, the services and topics nodes provide,
 the connected sessions. Every session (app/rosbridge/session.py) reads and changes it; it imports
 no session."""
+
 from __future__ import annotations
 
 import threading

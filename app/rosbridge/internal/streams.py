@@ -1,10 +1,12 @@
 """A topic as one client receives it (rosbridge_suite's subscribers' queue)."""
+
 from __future__ import annotations
 
 import asyncio
 import math
 from collections import deque
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 
 class Stream:

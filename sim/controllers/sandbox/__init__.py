@@ -15,6 +15,7 @@ The names other code uses are importable from here (`from sim.controllers.sandbo
 SandboxedController, SandboxBudget, sandbox_unavailable`); they are loaded on first use, so that
 the child, which imports this package too, loads nothing of the parent's side.
 """
+
 from __future__ import annotations
 
 import importlib

@@ -1,4 +1,5 @@
 """What a sandboxed controller may use (sim/controllers/sandbox/parent.py enforces it)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -8,6 +8,7 @@ The student's file arrives as text in the first message: nothing else of the gra
 needs to be visible.
     python -m sim.controllers.sandbox.child MEMORY_BYTES CPU_SECONDS CLASS_NAME
 """
+
 from __future__ import annotations
 
 import linecache
@@ -70,7 +71,9 @@ class ChildEnd:
 
     def _error(self, seq: int, exc: BaseException) -> None:
         trace = "".join(traceback.format_exception(exc))
-        self._send(seq, b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[:wire.MAX_TEXT].encode("utf-8", errors="replace"))
+        self._send(
+            seq, b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[: wire.MAX_TEXT].encode("utf-8", errors="replace")
+        )
 
     def serve(self, class_name: str) -> int:
         message = self._receive()
@@ -117,8 +120,12 @@ class ChildEnd:
     def _step(self, instance, seq: int) -> None:
         """One step: the inputs copied out of the slot (the student's code keeps no view of it)."""
         values = self.slot.step_in.tolist()
-        raw = instance.step(np.array(values[:6]), np.array(values[6:22]).reshape(4, 4),
-                            wire.params_from_floats(values[22:-1]), values[-1])
+        raw = instance.step(
+            np.array(values[:6]),
+            np.array(values[6:22]).reshape(4, 4),
+            wire.params_from_floats(values[22:-1]),
+            values[-1],
+        )
         try:
             twist = np.asarray(raw, dtype=np.float64)
         except (TypeError, ValueError):
@@ -135,9 +142,11 @@ class ChildEnd:
             instance.reset()
             return b"k", b""
         values = struct.unpack(f"<{len(payload) // 8}d", payload)
-        params = wire.params_from_floats(values[:len(wire.PARAM_FIELDS)])
+        params = wire.params_from_floats(values[: len(wire.PARAM_FIELDS)])
         message = instance.start(params, float(values[-1])) if op == b"A" else instance.stop(params)
-        return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[:wire.MAX_TEXT].encode("utf-8", "replace")
+        return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[: wire.MAX_TEXT].encode(
+            "utf-8", "replace"
+        )
 
 
 def main(argv: list[str]) -> int:

@@ -4,22 +4,31 @@
 Python needs (/usr, the interpreter, the virtual environment, the `sim` package), a private /tmp;
 the child (child.py) sets its own memory and CPU-time limits before the student's code runs.
 """
+
 from __future__ import annotations
 
 import os
 import shutil
 import subprocess
 import sys
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import sim
 from sim.controllers.sandbox.budget import SandboxBudget
 
 CHILD_MODULE = "sim.controllers.sandbox.child"
-CHILD_ENV = {"PATH": "/usr/bin:/bin", "HOME": "/tmp", "LANG": "C.UTF-8", "PYTHONDONTWRITEBYTECODE": "1",
-             "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-             "NUMBA_NUM_THREADS": "1"}
+CHILD_ENV = {
+    "PATH": "/usr/bin:/bin",
+    "HOME": "/tmp",
+    "LANG": "C.UTF-8",
+    "PYTHONDONTWRITEBYTECODE": "1",
+    "PYTHONHASHSEED": "0",
+    "OPENBLAS_NUM_THREADS": "1",
+    "OMP_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "NUMBA_NUM_THREADS": "1",
+}
 
 
 def _readable_roots() -> list[str]:
@@ -32,8 +41,23 @@ def _readable_roots() -> list[str]:
 
 def bwrap_command(child: list[str]) -> list[str]:
     bwrap = shutil.which("bwrap") or "bwrap"
-    argv = [bwrap, "--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
-            "--ro-bind", "/usr", "/usr", "--tmpfs", "/tmp", "--proc", "/proc", "--dev", "/dev"]
+    argv = [
+        bwrap,
+        "--unshare-all",
+        "--die-with-parent",
+        "--new-session",
+        "--cap-drop",
+        "ALL",
+        "--ro-bind",
+        "/usr",
+        "/usr",
+        "--tmpfs",
+        "/tmp",
+        "--proc",
+        "/proc",
+        "--dev",
+        "/dev",
+    ]
     for top in ("/bin", "/sbin", "/lib", "/lib32", "/lib64"):
         if os.path.islink(top):
             argv += ["--symlink", os.readlink(top), top]
@@ -48,7 +72,7 @@ def child_command(budget: SandboxBudget, class_name: str) -> list[str]:
     return [sys.executable, "-m", CHILD_MODULE, str(budget.memory_bytes), str(budget.cpu_seconds), class_name]
 
 
-@lru_cache(maxsize=None)
+@cache
 def sandbox_unavailable() -> str | None:
     """None when bubblewrap can run here, else why not (for `hri-lab grade`'s refusal)."""
     if shutil.which("bwrap") is None:

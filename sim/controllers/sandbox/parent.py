@@ -18,6 +18,7 @@ Parent and child take turns (one runs while the other waits), so the child is ke
 parent runs on (re-checked every `check_every` steps): waking it on another CPU costs both
 processes CPU time (bench/grade_time.py measures a step's CPU with the cores idle and busy).
 """
+
 from __future__ import annotations
 
 import fcntl
@@ -38,7 +39,9 @@ from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command, child_command
 class SandboxedController:
     """The Controller protocol, answered by the student's class in a sandboxed child process."""
 
-    def __init__(self, path: Path, class_name: str, budget: SandboxBudget = SandboxBudget(), sandboxed: bool = True) -> None:
+    def __init__(
+        self, path: Path, class_name: str, budget: SandboxBudget = SandboxBudget(), sandboxed: bool = True
+    ) -> None:
         self.path, self.class_name, self.budget, self.sandboxed = Path(path), class_name, budget, sandboxed
         self.source = self.path.read_text(encoding="utf-8", errors="replace")
         self.name = class_name
@@ -58,7 +61,9 @@ class SandboxedController:
         if self._alive():
             self._call(b"R", b"", "reset")
 
-    def step(self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float) -> np.ndarray:
+    def step(
+        self, wrench_ee: np.ndarray, transform_ee_to_base: np.ndarray, params: LiftingParams, dt: float
+    ) -> np.ndarray:
         self._ensure()
         request = self._slot.step_in
         request[:6] = np.ravel(wrench_ee)[:6]
@@ -92,7 +97,11 @@ class SandboxedController:
     def close(self) -> None:
         """End the child (the end of its input, then SIGKILL if it lingers)."""
         pid, self.pid = self.pid, None
-        for fd in (getattr(self, "_to_child", None), getattr(self, "_from_child", None), getattr(self, "_errors", None)):
+        for fd in (
+            getattr(self, "_to_child", None),
+            getattr(self, "_from_child", None),
+            getattr(self, "_errors", None),
+        ):
             if fd is not None:
                 try:
                     os.close(fd)
@@ -116,7 +125,7 @@ class SandboxedController:
         state.update(pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0)
         return state
 
-    def load(self) -> "SandboxedController":
+    def load(self) -> SandboxedController:
         """Start the child and import the file now (a file that cannot be loaded fails here)."""
         self._ensure()
         return self
@@ -162,16 +171,25 @@ class SandboxedController:
         from_child_r, from_child_w = os.pipe()
         errors_r, errors_w = os.pipe()
         # what the child gets, above the numbers it gets them as (a dup2 onto 3 must not clobber a source)
-        slot_fd, to_child_r, from_child_w, errors_w = (_above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w))
+        slot_fd, to_child_r, from_child_w, errors_w = (
+            _above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w)
+        )
         try:
-            self.pid = os.posix_spawn(argv[0], argv, CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV}, file_actions=[
-                (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
-                (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
-                (os.POSIX_SPAWN_DUP2, errors_w, 2),
-                (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
-                (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
-                (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
-            ], setsid=True, scheduler=(os.SCHED_OTHER, os.sched_param(0)))
+            self.pid = os.posix_spawn(
+                argv[0],
+                argv,
+                CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV},
+                file_actions=[
+                    (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
+                    (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
+                    (os.POSIX_SPAWN_DUP2, errors_w, 2),
+                    (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
+                    (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
+                    (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
+                ],
+                setsid=True,
+                scheduler=(os.SCHED_OTHER, os.sched_param(0)),
+            )
         except OSError as exc:
             for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
                 os.close(fd)
@@ -230,7 +248,11 @@ class SandboxedController:
             except BlockingIOError:  # woken for nothing
                 continue
             if not woken:
-                self._fault(f"importing {self.path} failed: {self._death()}" if what == "load" else f"{self.name}.{what}: {self._death()}")
+                self._fault(
+                    f"importing {self.path} failed: {self._death()}"
+                    if what == "load"
+                    else f"{self.name}.{what}: {self._death()}"
+                )
             answered, kind, size = self._slot.answer()
             if answered == seq:
                 return kind, size
@@ -241,10 +263,18 @@ class SandboxedController:
         count = len(wire.PARAM_FIELDS) * 8
         new = np.frombuffer(reply[:count], dtype=np.float64) if len(reply) >= count else np.array([np.nan])
         fields = dict(zip(wire.PARAM_FIELDS, new.tolist()))
-        f_n_min, f_n_band, running = fields.get("f_n_min", np.nan), fields.get("f_n_band", np.nan), fields.get("running", np.nan)
-        if not (np.isfinite(f_n_min) and np.isfinite(f_n_band) and running in (0.0, 1.0) and f_n_min >= 0 and f_n_band >= 0):
-            self._fault(f"{self.name}.{what} left f_n_min = {f_n_min}, f_n_band = {f_n_band}, running = {running}: "
-                        "expected finite forces >= 0 and running True or False")
+        f_n_min, f_n_band, running = (
+            fields.get("f_n_min", np.nan),
+            fields.get("f_n_band", np.nan),
+            fields.get("running", np.nan),
+        )
+        if not (
+            np.isfinite(f_n_min) and np.isfinite(f_n_band) and running in (0.0, 1.0) and f_n_min >= 0 and f_n_band >= 0
+        ):
+            self._fault(
+                f"{self.name}.{what} left f_n_min = {f_n_min}, f_n_band = {f_n_band}, running = {running}: "
+                "expected finite forces >= 0 and running True or False"
+            )
         # only what the services own changes; the other fields belong to the parameter server
         params.f_n_min, params.f_n_band, params.running = f_n_min, f_n_band, bool(running)
         return wire.text(reply[count:])
@@ -267,8 +297,10 @@ class SandboxedController:
         tree = self._tree()
         tasks = watch.count_tasks(tree)
         if tasks > self._tasks:
-            self._fault(f"{self.name} started a thread or a process ({tasks - self._tasks} more): a controller runs "
-                        "in its one thread, each step returns the twist")
+            self._fault(
+                f"{self.name} started a thread or a process ({tasks - self._tasks} more): a controller runs "
+                "in its one thread, each step returns the twist"
+            )
         # between two steps the child blocks once, reading the next request; any other voluntary
         # context switch is a sleep or blocking I/O inside step() (being preempted is involuntary)
         switches = watch.voluntary_switches(tree)
@@ -276,16 +308,20 @@ class SandboxedController:
         if self._steps % budget.check_every == 0:
             self._switch_mark, self._switch_steps = switches, self._steps
         if extra > budget.max_sleeps:
-            self._fault(f"{self.name}.step sleeps or blocks: {extra} times within {budget.check_every} steps "
-                        f"(at most {budget.max_sleeps}; the loop runs at 1 kHz, a step must return, not wait); "
-                        f"last step {wall * 1e3:.1f} ms")
+            self._fault(
+                f"{self.name}.step sleeps or blocks: {extra} times within {budget.check_every} steps "
+                f"(at most {budget.max_sleeps}; the loop runs at 1 kHz, a step must return, not wait); "
+                f"last step {wall * 1e3:.1f} ms"
+            )
         steps, cpu = self._cpu_mark
         if self._steps - steps >= budget.window:
             used = watch.cpu_time(tree) - cpu
             mean = used / (self._steps - steps)
             if mean > budget.mean_cpu:
-                self._fault(f"{self.name}.step used {mean * 1e3:.2f} ms of CPU per step over {self._steps - steps} steps "
-                            f"(budget {budget.mean_cpu * 1e3:g} ms)")
+                self._fault(
+                    f"{self.name}.step used {mean * 1e3:.2f} ms of CPU per step over {self._steps - steps} steps "
+                    f"(budget {budget.mean_cpu * 1e3:g} ms)"
+                )
             self._cpu_mark = (self._steps, used + cpu)
 
     def _death(self) -> str:

@@ -1,5 +1,6 @@
 """The child seen from outside: its processes and threads, CPU time and context switches (/proc),
 the CPU it is kept on, reaping it and saying why it ended."""
+
 from __future__ import annotations
 
 import ctypes
@@ -54,6 +55,7 @@ def count_tasks(pids: list[int]) -> int:
 
 def voluntary_switches(pids: list[int]) -> int:
     """The processes' voluntary context switches (/proc/PID/status)."""
+
     def switches(pid: int) -> int:
         with open(f"/proc/{pid}/status") as handle:
             return sum(int(line.split()[1]) for line in handle if line.startswith("voluntary_ctxt_switches"))
@@ -63,6 +65,7 @@ def voluntary_switches(pids: list[int]) -> int:
 
 def cpu_time(pids: list[int]) -> float:
     """s of CPU used by the processes (all threads): utime + stime from /proc."""
+
     def ticks(pid: int) -> int:
         with open(f"/proc/{pid}/stat") as handle:
             rest = handle.read().rpartition(")")[2].split()
@@ -107,7 +110,10 @@ def why_ended(status: int | None) -> str:
         return "the controller's process is gone"
     if os.WIFSIGNALED(status):
         sig = os.WTERMSIG(status)
-        hint = {signal.SIGXCPU: " (CPU-time limit)", signal.SIGKILL: " (killed: memory or time limit)",
-                signal.SIGSEGV: " (a crash)"}.get(sig, "")
+        hint = {
+            signal.SIGXCPU: " (CPU-time limit)",
+            signal.SIGKILL: " (killed: memory or time limit)",
+            signal.SIGSEGV: " (a crash)",
+        }.get(sig, "")
         return f"the controller's process was killed by {signal.Signals(sig).name}{hint}"
     return f"the controller's process exited with code {os.WEXITSTATUS(status)} (os._exit or sys.exit)"

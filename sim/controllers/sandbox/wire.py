@@ -26,6 +26,7 @@ P = the fields of LiftingParams in declaration order (`running` as 0/1).
 The child finds the slot on fd SLOT_FD, its wake-up on WAKE_CHILD_FD (the end of input: the
 parent is done), and wakes the parent on WAKE_PARENT_FD (its end: the parent sees the child gone).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -64,11 +65,11 @@ class Slot:
         self.memory = mmap.mmap(fd, size)
         self.answer_at = PAYLOAD_AT + self.capacity
         everything = np.frombuffer(self.memory, dtype=np.float64)
-        self.step_in = everything[PAYLOAD_AT // 8:PAYLOAD_AT // 8 + STEP_FLOATS]  # the step's request
-        self.twist_out = everything[self.answer_at // 8:self.answer_at // 8 + 6]  # the step's answer
+        self.step_in = everything[PAYLOAD_AT // 8 : PAYLOAD_AT // 8 + STEP_FLOATS]  # the step's request
+        self.twist_out = everything[self.answer_at // 8 : self.answer_at // 8 + 6]  # the step's answer
 
     def put_request(self, seq: int, op: bytes, payload: bytes = b"") -> None:
-        self.memory[PAYLOAD_AT:PAYLOAD_AT + len(payload)] = payload
+        self.memory[PAYLOAD_AT : PAYLOAD_AT + len(payload)] = payload
         HEADER.pack_into(self.memory, REQUEST_AT, seq, op, len(payload))
 
     def request(self) -> tuple[int, bytes, int]:
@@ -76,11 +77,11 @@ class Slot:
         return HEADER.unpack_from(self.memory, REQUEST_AT)
 
     def request_payload(self, size: int) -> bytes:
-        return self.memory[PAYLOAD_AT:PAYLOAD_AT + min(max(size, 0), self.capacity)]
+        return self.memory[PAYLOAD_AT : PAYLOAD_AT + min(max(size, 0), self.capacity)]
 
     def put_answer(self, seq: int, kind: bytes, payload: bytes = b"") -> None:
         payload = payload[:MAX_REPLY]
-        self.memory[self.answer_at:self.answer_at + len(payload)] = payload
+        self.memory[self.answer_at : self.answer_at + len(payload)] = payload
         HEADER.pack_into(self.memory, ANSWER_AT, seq, kind, len(payload))
 
     def answer(self) -> tuple[int, bytes, int]:
@@ -88,7 +89,7 @@ class Slot:
         return HEADER.unpack_from(self.memory, ANSWER_AT)
 
     def answer_payload(self, size: int) -> bytes:
-        return self.memory[self.answer_at:self.answer_at + size]
+        return self.memory[self.answer_at : self.answer_at + size]
 
     def close(self) -> None:
         self.step_in = self.twist_out = None  # the views first: an exported buffer keeps the map open

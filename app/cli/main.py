@@ -19,6 +19,7 @@ from sim.person.participants import PARTICIPANTS
 
 from app.cli import bag
 from app.cli import client as client_cli
+from app.cli import urdf as urdf_cli
 
 
 def _command(module: str):
@@ -182,6 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     client_cli.add_parsers(sub)
     bag.add_parsers(sub)
+    urdf_cli.add_parsers(sub)
     return parser
 
 

@@ -94,6 +94,7 @@ E2E_FILES = {
     "test_workers.py",
     "test_cli_files.py",
     "test_exercise_services.py",
+    "test_urdf_view.py",
 }
 
 

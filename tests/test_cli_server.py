@@ -77,6 +77,17 @@ def test_param_cli(server, tmp_path):
     assert "/cooperative_lifting:\n  f_n_min" in cli(url, "param", "list").stdout
 
 
+def test_param_get_of_a_ros1_name_is_rosparam_get(server):
+    """One name: ROS 1's parameter server, as `rosparam get /robot_description` prints it."""
+    from sim.robot.assets import panda_urdf
+
+    url, _ = server
+    out = cli(url, "param", "get", "/robot_description")
+    assert out.returncode == 0 and out.stdout == panda_urdf().read_text(encoding="utf-8"), out.stderr
+    missing = cli(url, "param", "get", "/no_such_param")
+    assert missing.returncode == 1 and missing.stderr.strip() == "ERROR: Parameter [/no_such_param] is not set"
+
+
 def test_topic_cli(server):
     url, _ = server
     assert "/franka_state_controller/F_ext [geometry_msgs/WrenchStamped]" in cli(url, "topic", "list", "-t").stdout

@@ -54,6 +54,8 @@ def test_rosapi_and_parameters(ros, lab):
     assert "/hri_lab" in ros.get_nodes()
     assert "/cooperative_lifting:mu" in ros.get_params()
     assert ros.get_param("/cooperative_lifting:mu") == 0.5
+    panda = roslibpy.Param(ros, "/robot_description").get(timeout=30)  # the Panda's URDF, as ROS holds it
+    assert panda.startswith("<?xml") and '<robot name="panda"' in panda
     ros.set_param("/cooperative_lifting:mu", 0.6)
     assert httpx.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.6  # the same parameter server
     with pytest.raises(roslibpy.core.ServiceException, match=r"Wrong parameter type, parameter \{mu\}"):

@@ -47,7 +47,11 @@ def test_the_model_holds_the_files_limits():
 @pytest.mark.parametrize(
     ("name", "line", "words"),
     [
-        ("bad_parent.urdf", 36, "its parent link 'pan_lnk' does not exist: expected one of base_link, pan_link, tilt_link"),
+        (
+            "bad_parent.urdf",
+            36,
+            "its parent link 'pan_lnk' does not exist: expected one of base_link, pan_link, tilt_link",
+        ),
         ("bad_limit.urdf", 41, "lower=0.79 is above upper=-0.79: expected lower <= upper"),
         ("nan_limit.urdf", 33, "joint 'pan_joint' <limit>: upper=\"pi\" is not a number"),
         ("no_limit.urdf", 36, "joint 'tilt_joint' is revolute but has no <limit>"),
@@ -76,14 +80,38 @@ def test_a_broken_file_names_its_line_and_exits_1(capsys, name, line, words):
         ("<robot/>", "<robot> has no name"),
         ('<robot name="r"/>', "no <link> in the robot"),
         ('<robot name="r"><link/></robot>', "<link> has no name"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="hinge"><parent link="a"/><child link="b"/></joint></robot>', 'unknown type "hinge"'),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/></joint></robot>', "has no child link"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="0" upper="1" velocity="1"/></joint></robot>', "has no effort"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0"/></joint></robot>', 'xyz="0 0" is not three numbers'),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="nan" upper="1" effort="1" velocity="1"/></joint></robot>', "not a finite number"),
-        ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint><joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint></robot>', "joint 'j' is not unique"),
-        ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint><joint name="k" type="fixed"><parent link="b"/><child link="c"/></joint></robot>', "link 'c' has two parents"),
-        ('<!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"><link name="a"/></robot>', "external entity"),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="hinge"><parent link="a"/><child link="b"/></joint></robot>',
+            'unknown type "hinge"',
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/></joint></robot>',
+            "has no child link",
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="0" upper="1" velocity="1"/></joint></robot>',
+            "has no effort",
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0"/></joint></robot>',
+            'xyz="0 0" is not three numbers',
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="nan" upper="1" effort="1" velocity="1"/></joint></robot>',
+            "not a finite number",
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint><joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint></robot>',
+            "joint 'j' is not unique",
+        ),
+        (
+            '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint><joint name="k" type="fixed"><parent link="b"/><child link="c"/></joint></robot>',
+            "link 'c' has two parents",
+        ),
+        (
+            '<!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"><link name="a"/></robot>',
+            "external entity",
+        ),
     ],
 )
 def test_urdfdoms_rules(text, words):

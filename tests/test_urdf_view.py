@@ -118,7 +118,17 @@ def test_the_command_serves_and_stops():
         wait_for(lambda: _answers(f"http://127.0.0.1:{port}/"))
         assert httpx.get(view_url, timeout=30).status_code == 200
         echo = subprocess.run(
-            [sys.executable, "-m", "app.cli", "topic", "echo", "/joint_states", "--once", "--url", f"http://127.0.0.1:{port}"],
+            [
+                sys.executable,
+                "-m",
+                "app.cli",
+                "topic",
+                "echo",
+                "/joint_states",
+                "--once",
+                "--url",
+                f"http://127.0.0.1:{port}",
+            ],
             capture_output=True,
             text=True,
             timeout=60,

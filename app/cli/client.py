@@ -7,6 +7,7 @@ import sys
 
 import httpx
 import yaml
+from websockets.exceptions import WebSocketException
 from websockets.sync.client import connect
 
 from app.ros.names import absolute, node_name
@@ -118,6 +119,8 @@ def param(args) -> int:
                 print(f"/{current}:")
             print(f"  {p['name']}")
         return 0
+    if args.action == "get" and args.name is None:  # one name: ROS 1's parameter server (rosparam get)
+        return _ros1_param(args, args.node)
     if args.action == "get":
         response = _request(args, "GET", f"/params/{node}/{args.name}")
         if response.status_code != 200:
@@ -175,6 +178,33 @@ def param(args) -> int:
             )
         return 0 if body["successful"] else 1
     raise CliError(f"unknown param action {args.action}")
+
+
+def _ros1_param(args, name: str) -> int:
+    """`rosparam get NAME`: the value of a ROS 1 parameter (e.g. /robot_description), asked of the
+    lab's rosapi over its rosbridge endpoint, as rospy's get_param does; a string printed as is."""
+    ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://").rstrip("/") + "/"
+    request = {"op": "call_service", "id": "param_get", "service": "/rosapi/get_param", "args": {"name": name}}
+    try:
+        with connect(ws_url, open_timeout=10, max_size=2**24) as ws:
+            ws.send(json.dumps(request))
+            while True:
+                answer = json.loads(ws.recv(timeout=10))
+                if answer.get("op") == "service_response" and answer.get("id") == "param_get":
+                    break
+    except (OSError, TimeoutError, ValueError, WebSocketException) as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+    if not answer.get("result"):
+        raise CliError(f"cannot get {name}: {answer.get('values')}")
+    value = json.loads(answer["values"]["value"])
+    if value is None:
+        print(f"ERROR: Parameter [{absolute(name)}] is not set", file=sys.stderr)
+        return 1
+    print(
+        value if isinstance(value, str) else _dump(value),
+        end="" if isinstance(value, str) and value.endswith("\n") else "\n",
+    )
+    return 0
 
 
 # --- topic ------------------------------------------------------------------------------------
@@ -282,10 +312,14 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     prm = sub.add_parser("param", help="parameters (like ros2 param)")
     prm_sub = prm.add_subparsers(dest="action", required=True)
     prm_sub.add_parser("list", parents=[url]).add_argument("node", nargs="?")
-    for verb in ("get", "describe"):
-        p = prm_sub.add_parser(verb, parents=[url])
-        p.add_argument("node")
-        p.add_argument("name")
+    p = prm_sub.add_parser(
+        "get", parents=[url], help="a node's parameter (ros2 param get NODE NAME), or a ROS 1 one (rosparam get NAME)"
+    )
+    p.add_argument("node", help="the node, e.g. /cooperative_lifting; alone: a ROS 1 name, e.g. /robot_description")
+    p.add_argument("name", nargs="?", help="the parameter, e.g. mu")
+    p = prm_sub.add_parser("describe", parents=[url])
+    p.add_argument("node")
+    p.add_argument("name")
     p = prm_sub.add_parser("set", parents=[url])
     p.add_argument("node")
     p.add_argument("name")

@@ -5,13 +5,18 @@ app/view/urdf_view.py, its /joint_states and /robot_description served by app/vi
 from __future__ import annotations
 
 import argparse
-
-from sim.robot.urdf_check import UrdfError, UrdfModel, joints_text, parse_urdf_file, tree_text
+from typing import TYPE_CHECKING
 
 from app.cli.client import CliError
 
+if TYPE_CHECKING:
+    from sim.robot.urdf_check import UrdfModel
+
 
 def _checked(path: str) -> UrdfModel:
+    """The checked model (lxml imported here: the client commands start without it)."""
+    from sim.robot.urdf_check import UrdfError, parse_urdf_file
+
     try:
         return parse_urdf_file(path)
     except UrdfError as error:
@@ -19,6 +24,8 @@ def _checked(path: str) -> UrdfModel:
 
 
 def check(args) -> int:
+    from sim.robot.urdf_check import joints_text, tree_text
+
     model = _checked(args.file)
     print(tree_text(model), end="")
     if not args.tree_only:

@@ -13,6 +13,7 @@ from sim.world import Snapshot, World, WorldConfig
 from app.lab.events import LAB_NODE, LabEvents
 from app.lab.params import LAB_PARAMETERS
 from app.lab.recorder import DEFAULT_DIR, LiveRecorder
+from app.lab.robot_description import ROBOT_DESCRIPTION, ROBOT_DESCRIPTION_WHY, robot_description_text
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
@@ -32,7 +33,9 @@ class Lab:
         self.rosout = Rosout()  # /rosout: the lab's log lines and every node's
         self.events = LabEvents(self)  # logs reflexes, trials and restarts as they happen
         self.params = ParameterServer(LAB_PARAMETERS, self)  # the declared ROS 2 node parameters
-        self.param_tree = ParameterTree()  # ROS 1's parameter server: any name (rosapi, rospy)
+        self.param_tree = ParameterTree(  # ROS 1's parameter server: any name (rosapi, rospy)
+            read_only={ROBOT_DESCRIPTION: (robot_description_text(), ROBOT_DESCRIPTION_WHY)}
+        )
         self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
         self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
         self.recorder: LiveRecorder | None = None  # the live recording (app/lab/recorder.py), one at a time

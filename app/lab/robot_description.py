@@ -1,8 +1,20 @@
-"""The Panda's links and joints with their limits, as `check_urdf` shows them (served at GET /robot)."""
+"""The Panda's URDF: its text, the ROS parameter `/robot_description` (as robot_state_publisher's
+launch files set it; GET /robot/description), and its links and joints with their limits, as
+`check_urdf` shows them (GET /robot)."""
 
 import xml.etree.ElementTree as ElementTree
+from functools import cache
 
 from sim.robot.assets import panda_urdf
+
+ROBOT_DESCRIPTION = "/robot_description"
+ROBOT_DESCRIPTION_WHY = "the lab's robot, the Panda's URDF; `hri-lab urdf view FILE.urdf` serves your own"
+
+
+@cache
+def robot_description_text() -> str:
+    """The URDF the simulation loads, as its file has it."""
+    return panda_urdf().read_text(encoding="utf-8")
 
 
 def robot_description() -> dict:

@@ -7,7 +7,9 @@ It stands beside the lab's declared ROS 2 parameters (app/ros/params.py), which 
 and ranges: a ROS 1 name `/node/param` that a declared parameter has is that parameter (read and
 set through its declaration), so `rospy.get_param('/cooperative_lifting/mu')` reads the lab's.
 Limits keep a client from filling the server: MAX_ENTRIES leaves, values checked like a parameter
-file (app/ros/params.py's limits)."""
+file (app/ros/params.py's limits). A name given as `read_only` (the lab's `/robot_description`) is
+read like any other; setting or deleting it (or a namespace over it, or a name under it) is refused
+with `read_only`'s reason; setting or deleting the root keeps it."""
 
 from __future__ import annotations
 
@@ -55,9 +57,31 @@ def _leaves(prefix: str, value: Any) -> list[str]:
 class ParameterTree:
     """The tree: nested dicts under "/". Thread-safe (HTTP, rosapi and the CLI call it at once)."""
 
-    def __init__(self) -> None:
+    def __init__(self, read_only: dict[str, tuple[Any, str]] | None = None) -> None:
+        """read_only: name -> (value, why it is read-only: the refusal's reason)."""
         self._root: dict[str, Any] = {}
         self._lock = threading.Lock()
+        self._read_only = {canonical(name): entry for name, entry in (read_only or {}).items()}
+        for value, _ in self._read_only.values():
+            _check_value(value)
+        self._keep_read_only(self._root)
+
+    def _refuse_read_only(self, name: str, verb: str) -> None:
+        target = canonical(name)
+        for fixed, (_, why) in self._read_only.items():
+            if target == fixed or fixed.startswith(target.rstrip("/") + "/") or target.startswith(fixed + "/"):
+                raise ParamError(f"cannot {verb} {target}: {fixed} is read-only ({why})")
+
+    def _keep_read_only(self, root: dict) -> None:
+        """The read-only names put back into a new root (under the lock)."""
+        for name, (value, _) in self._read_only.items():
+            node = root
+            parts = self._parts(name)
+            for part in parts[:-1]:
+                if not isinstance(node.get(part), dict):
+                    node[part] = {}
+                node = node[part]
+            node[parts[-1]] = copy.deepcopy(value)
 
     @staticmethod
     def _parts(name: str) -> list[str]:
@@ -66,11 +90,14 @@ class ParameterTree:
     def set(self, name: str, value: Any) -> None:
         _check_value(value)
         parts = self._parts(name)
+        if parts:
+            self._refuse_read_only(name, "set")
         with self._lock:
             if not parts:  # the root: the whole tree (a dict), as the master allows
                 if not isinstance(value, dict):
                     raise ParamError("the root namespace / can only be set to a dict")
                 candidate = copy.deepcopy(value)
+                self._keep_read_only(candidate)
                 self._fits(candidate)
                 self._root = candidate
                 return
@@ -112,9 +139,12 @@ class ParameterTree:
     def delete(self, name: str) -> bool:
         """Delete a name (a namespace: all under it); False when it was not set."""
         parts = self._parts(name)
+        if parts:
+            self._refuse_read_only(name, "delete")
         with self._lock:
             if not parts:
                 self._root = {}
+                self._keep_read_only(self._root)
                 return True
             node: Any = self._root
             for part in parts[:-1]:

@@ -119,14 +119,18 @@ async def _rosbridge(websocket: WebSocket, states: JointStates, rosapi: _Rosapi)
                     service = name_field(message, "service")
                     args = field(message, "args", (dict, list), {})
                     values = rosapi.call(service, args if isinstance(args, dict) else {})
-                    await send({"op": "service_response", "service": service, "id": id_, "values": values, "result": True})
+                    await send(
+                        {"op": "service_response", "service": service, "id": id_, "values": values, "result": True}
+                    )
                 elif op in ("advertise", "unadvertise", "publish"):
                     raise BadFrame(f"{op}: the URDF view only publishes {JOINT_STATES} (from its sliders)")
                 else:
                     raise BadFrame(f"op '{op}' is not served by the URDF view (subscribe, unsubscribe, call_service)")
             except BadFrame as bad:
                 if service is not None:  # a call gets its answer (a failed one), as rosbridge answers
-                    await send({"op": "service_response", "service": service, "id": id_, "values": str(bad), "result": False})
+                    await send(
+                        {"op": "service_response", "service": service, "id": id_, "values": str(bad), "result": False}
+                    )
                 else:
                     await send(status("error", str(bad), id_))
     except (WebSocketDisconnect, RuntimeError):

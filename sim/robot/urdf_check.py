@@ -93,9 +93,9 @@ def _float(element, attribute: str, what: str, default: float | None = None) -> 
     try:
         value = float(text)
     except ValueError:
-        raise UrdfError(f"{what}: {attribute}=\"{text}\" is not a number", _line(element)) from None
+        raise UrdfError(f'{what}: {attribute}="{text}" is not a number', _line(element)) from None
     if not math.isfinite(value):
-        raise UrdfError(f"{what}: {attribute}=\"{text}\" is not a finite number", _line(element))
+        raise UrdfError(f'{what}: {attribute}="{text}" is not a finite number', _line(element))
     return value
 
 
@@ -110,7 +110,7 @@ def _vector(element, attribute: str, what: str) -> tuple[float, float, float] | 
         values = ()
     if len(values) != 3 or not all(math.isfinite(v) for v in values):
         raise UrdfError(f'{what}: {attribute}="{text}" is not three numbers like "0 0 1"', _line(element))
-    return values  # type: ignore[return-value]
+    return values[0], values[1], values[2]
 
 
 def _name(element, kind: str) -> str:
@@ -126,9 +126,9 @@ def _joint(element) -> Joint:
     line = _line(element)
     joint_type = element.get("type")
     if joint_type is None:
-        raise UrdfError(f"{what} has no type: expected type=\"{'|'.join(JOINT_TYPES)}\"", line)
+        raise UrdfError(f'{what} has no type: expected type="{"|".join(JOINT_TYPES)}"', line)
     if joint_type not in JOINT_TYPES:
-        raise UrdfError(f"{what} has unknown type \"{joint_type}\": expected one of {', '.join(JOINT_TYPES)}", line)
+        raise UrdfError(f'{what} has unknown type "{joint_type}": expected one of {", ".join(JOINT_TYPES)}', line)
     links = {}
     for end in ("parent", "child"):
         tag = element.find(end)
@@ -144,7 +144,9 @@ def _joint(element) -> Joint:
     if axis_tag is not None and joint_type not in ("fixed", "floating"):
         axis = _vector(axis_tag, "xyz", f"{what} <axis>") or axis
         if not any(axis):
-            raise UrdfError(f'{what} <axis>: xyz="0 0 0" has no direction: expected a unit vector like "0 0 1"', _line(axis_tag))
+            raise UrdfError(
+                f'{what} <axis>: xyz="0 0 0" has no direction: expected a unit vector like "0 0 1"', _line(axis_tag)
+            )
     lower = upper = None
     limit = element.find("limit")
     if limit is None and joint_type in ("revolute", "prismatic"):
@@ -158,11 +160,11 @@ def _joint(element) -> Joint:
         upper = _float(limit, "upper", where, 0.0)
         for required in ("effort", "velocity"):
             if limit.get(required) is None:
-                raise UrdfError(f"{where} has no {required}: expected {required}=\"...\" (a number)", _line(limit))
+                raise UrdfError(f'{where} has no {required}: expected {required}="..." (a number)', _line(limit))
             _float(limit, required, where)
         if joint_type in ("revolute", "prismatic") and lower is not None and upper is not None and lower > upper:
             raise UrdfError(f"{where}: lower={lower:g} is above upper={upper:g}: expected lower <= upper", _line(limit))
-    return Joint(name, joint_type, links["parent"], links["child"], line, lower, upper, axis)  # type: ignore[arg-type]
+    return Joint(name, joint_type, links["parent"], links["child"], line, lower, upper, axis)
 
 
 def parse_urdf(text: str | bytes) -> UrdfModel:
@@ -176,7 +178,7 @@ def parse_urdf(text: str | bytes) -> UrdfModel:
     except etree.XMLSyntaxError as exc:
         raise UrdfError(f"not XML: {exc.msg}", exc.lineno or None) from None
     if root.tag != "robot":
-        raise UrdfError(f"the root element is <{root.tag}>: expected <robot name=\"...\">", _line(root))
+        raise UrdfError(f'the root element is <{root.tag}>: expected <robot name="...">', _line(root))
     robot_name = (root.get("name") or "").strip()
     if not robot_name:
         raise UrdfError('<robot> has no name: expected <robot name="...">', _line(root))
@@ -195,7 +197,9 @@ def parse_urdf(text: str | bytes) -> UrdfModel:
     for element in root.iterfind("joint"):
         joint = _joint(element)
         if joint.name in joints:
-            raise UrdfError(f"joint '{joint.name}' is not unique: it is also at line {joints[joint.name].line}", joint.line)
+            raise UrdfError(
+                f"joint '{joint.name}' is not unique: it is also at line {joints[joint.name].line}", joint.line
+            )
         for end, link in (("parent", joint.parent), ("child", joint.child)):
             if link not in links:
                 raise UrdfError(

@@ -54,9 +54,9 @@ def test_param_namespaces_search_and_has(ros):
     assert rosapi(ros, "search_param", name="robot")["global_name"] == "/robot"
     assert rosapi(ros, "search_param", name="nowhere")["global_name"] == ""
     roslibpy.Param(ros, "/robot").set({"a": {"b": [1, 2]}}, timeout=30)  # a dict replaces the subtree
-    assert [n for n in ros.get_params() if n.startswith("/robot")] == ["/robot/a/b"]
+    assert [n for n in ros.get_params() if n.startswith("/robot/")] == ["/robot/a/b"]
     roslibpy.Param(ros, "/robot").delete(timeout=30)
-    assert not [n for n in ros.get_params() if n.startswith("/robot")]
+    assert not [n for n in ros.get_params() if n.startswith("/robot/")]
 
 
 def test_param_ros1_name_of_a_declared_parameter_is_that_parameter(ros, lab):

@@ -79,6 +79,17 @@ def test_moving_a_slider_reaches_joint_states(view, ros):
     assert view.states.positions() == [0.0, 0.0]
 
 
+def test_a_value_outside_the_range_is_kept_in_it(view):
+    tilt = view.sliders["tilt_joint"]
+    try:
+        tilt.value = 5.0  # what a forged page message could send
+        assert (tilt.value, view.states.position("tilt_joint")) == (0.79, 0.79)
+        tilt.value = float("nan")
+        assert (tilt.value, view.states.position("tilt_joint")) == (0.79, 0.79)
+    finally:
+        view.centre()
+
+
 def test_frames_on_request_sit_where_the_file_puts_them(view):
     tilt_frame = view._frames["tilt_link"]
     assert not tilt_frame.visible

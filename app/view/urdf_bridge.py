@@ -133,7 +133,7 @@ async def _rosbridge(websocket: WebSocket, states: JointStates, rosapi: _Rosapi)
                     )
                 else:
                     await send(status("error", str(bad), id_))
-    except (WebSocketDisconnect, RuntimeError):
+    except Exception:  # noqa: BLE001 - a broken connection (or a binary frame) ends this session only
         pass
     finally:
         for task in streams.values():

@@ -11,6 +11,7 @@ joint); app/view/urdf_bridge.py serves it over rosbridge and HTTP.
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from functools import partial
@@ -45,6 +46,10 @@ class JointStates:
         with self._lock:
             self._positions[name] = float(position)
             self.version += 1
+
+    def position(self, name: str) -> float:
+        with self._lock:
+            return self._positions[name]
 
     def positions(self) -> list[float]:
         with self._lock:
@@ -124,7 +129,14 @@ class UrdfView:
         self.show_frames.on_update(lambda _: self._update())
 
     def _moved(self, name: str, event) -> None:
-        self.states.set(name, float(event.target.value))
+        """A slider moved: its value, kept in the joint's range (a page can send any number)."""
+        low, high = self.ranges[name]
+        value = float(event.target.value)
+        kept = min(max(value, low), high) if math.isfinite(value) else self.states.position(name)
+        if kept != value:
+            event.target.value = kept  # calls back with the kept value
+            return
+        self.states.set(name, kept)
         self._update()
 
     def centre(self) -> None:

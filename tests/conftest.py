@@ -72,7 +72,7 @@ LONG_FILES_FIRST = (
 
 # Markers by file (`make test-fast` runs neither): `browser`, the files that drive Chromium; `e2e`, the
 # files that run other programs: real servers, nodes, students' programs, sandboxed controllers, the CLI.
-BROWSER_FILES = {"test_browser.py", "test_browser_cross_site.py", "test_replay.py"}
+BROWSER_FILES = {"test_browser.py", "test_browser_cross_site.py", "test_replay.py", "test_urdf_browser.py"}
 E2E_FILES = {
     "test_cli_server.py",
     "test_examples.py",

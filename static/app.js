@@ -65,6 +65,14 @@ function hint(name, prop) {
   if (kind === "number") return prop.minimum !== undefined && prop.maximum !== undefined ? `${prop.minimum} to ${prop.maximum}` : "float64";
   return kind;
 }
+// The fields of a nested message field ({"x": ..., "y": ...}; [{...}] for an array of them), or null.
+function nestedFields(schema, prop) {
+  const ref = prop.$ref || (prop.items && prop.items.$ref);
+  const def = ref && schema.$defs && schema.$defs[ref.split("/").pop()];
+  if (!def) return null;
+  const inner = `{${Object.keys(def.properties || {}).map((f) => `"${f}": ...`).join(", ")}}`;
+  return prop.$ref ? inner : `[${inner}, ...]`;
+}
 // A form, one input per field; its body is JSON text built from what was typed, so an int64 such
 // as 9223372036854775807 reaches the server exactly (a JS number would round it).
 function schemaForm(schema, submitLabel, onSubmit) {
@@ -72,9 +80,12 @@ function schemaForm(schema, submitLabel, onSubmit) {
   const inputs = {};
   const form = $("form", { onsubmit: (e) => { e.preventDefault(); onSubmit({ json: collect() }); } });
   for (const [name, prop] of Object.entries(props)) {
-    const kind = kindOf(prop);
-    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder: hint(name, prop) });
-    if (kind === "array" && prop.minItems >= 4) input.classList.add("wide");
+    // a nested message (a node's own .srv: app/ros/interface_models.py) is typed as JSON, its fields named
+    const nested = nestedFields(schema, prop);
+    const kind = nested ? "json" : kindOf(prop);
+    const placeholder = nested ? `${nested} (JSON)` : hint(name, prop);
+    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder });
+    if ((kind === "array" && prop.minItems >= 4) || kind === "json") input.classList.add("wide");
     if (prop.default !== undefined && kind !== "boolean") input.value = prop.default;
     inputs[name] = { input, kind };
     form.append($("label", {}, `${name} `, input));
@@ -94,6 +105,7 @@ function schemaForm(schema, submitLabel, onSubmit) {
       let value;
       if (kind === "boolean") value = String(input.checked);
       else if (v === "") continue;
+      else if (kind === "json") value = v;  // the server names a field that is wrong
       else if (kind === "integer" || kind === "number") value = literal(v);
       else if (kind === "array") value = `[${v.replace(/^\[|\]$/g, "").split(",").map((x) => literal(x.trim())).join(", ")}]`;
       else value = JSON.stringify(v);

@@ -201,36 +201,63 @@ async function renderTopics() {
 }
 
 // One block per goal: its own progress bar and log; a refusal goes to its own line, never into
-// another goal's output.
+// another goal's output. The goal's stream (WebSocket) sends its feedback and its end; a stream that
+// closes before the end (a busy server, a dropped connection) is followed up over HTTP (long-poll
+// from the feedback already shown), so no update is lost and none is shown twice.
+const GOAL_ENDS = ["succeeded", "aborted", "preempted", "rejected"];
 function goalBlock(name, goalId, onResult) {
   const bar = $("progress", { max: "1", value: "0", hidden: "" });
   const label = $("span", { class: "goal-status", text: "pending" });
   const log = $("pre", { class: "feedback" });
   const block = $("div", { class: "goal", "data-goal": goalId }, $("div", {}, `goal ${goalId.slice(0, 8)} `, label, " ", bar), log);
-  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
-  label.textContent = "active";
-  ws.onmessage = (e) => {
-    const m = JSON.parse(e.data);
-    if (m.feedback) {
-      const fb = m.feedback;
-      const fraction = "progress" in fb ? fb.progress : "of" in fb && fb.of > 0 ? fb.trial / fb.of : null;
-      if (fraction !== null) { bar.hidden = false; bar.value = fraction; bar.title = `${Math.round(fraction * 100)} %`; }
-      if (!("progress" in fb)) log.textContent += `feedback: ${Object.entries(fb).map(([k, v]) => `${k}=${typeof v === "number" ? num(v) : v}`).join(" ")}\n`;
-      return;
-    }
+  let seen = 0, ended = false;
+  const feedback = (fb) => {
+    seen += 1;
+    const fraction = "progress" in fb ? fb.progress : "of" in fb && fb.of > 0 ? fb.trial / fb.of : null;
+    if (fraction !== null) { bar.hidden = false; bar.value = fraction; bar.title = `${Math.round(fraction * 100)} %`; }
+    if (!("progress" in fb)) log.textContent += `feedback: ${Object.entries(fb).map(([k, v]) => `${k}=${typeof v === "number" ? num(v) : v}`).join(" ")}\n`;
+  };
+  const end = (m) => {
+    if (ended) return;
+    ended = true;
     label.textContent = m.status;
     label.className = `goal-status ${m.status === "succeeded" ? "ok" : "refused"}`;
     if (m.status === "succeeded") { bar.hidden = false; bar.value = 1; }
     log.textContent += `${m.status}: ${m.message || ""}\n${Object.entries(m.result || {}).map(([k, v]) => (typeof v === "string" && v.includes("\n") ? `${k}:\n${v}` : `${k}: ${JSON.stringify(v)}`)).join("\n")}\n`;
     onResult(m);
   };
+  const follow = async () => {
+    while (!ended) {
+      let r;
+      try { r = await api("GET", `/actions${name}/goals/${goalId}?after=${seen}&wait=10`); } catch { await new Promise((ok) => setTimeout(ok, 2000)); continue; }
+      if (r.status === 404) { end({ status: "aborted", message: refusal(r.data) }); return; }  // its node took it away
+      if (r.status !== 200) { await new Promise((ok) => setTimeout(ok, 2000)); continue; }
+      r.data.feedback.forEach(feedback);
+      if (GOAL_ENDS.includes(r.data.status)) end(r.data); else label.textContent = r.data.status;
+    }
+  };
+  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
+  label.textContent = "active";
+  ws.onmessage = (e) => {
+    const m = JSON.parse(e.data);
+    if (m.feedback) feedback(m.feedback); else end(m);
+  };
+  ws.onclose = () => { if (!ended) follow(); };
   return block;
 }
 
 // the lab's actions and those nodes provide: kept in step with GET /actions (a node's action comes
 // and goes with its node)
 const shownActions = new Map();  // name -> its item
-async function renderActions() {
+// One update at a time: runs that overlapped (the 2 s timer while a slow one still waits) could
+// let an older list, fetched before a node advertised its action, remove the newer item (and the
+// goal running in it) that a later run had made.
+let actionsUpdate = null;
+function renderActions() {
+  if (!actionsUpdate) actionsUpdate = updateActions().finally(() => { actionsUpdate = null; });
+  return actionsUpdate;
+}
+async function updateActions() {
   const root = byId("actions");
   const list = (await api("GET", "/actions")).data;
   if (!Array.isArray(list)) return;

@@ -79,13 +79,19 @@ def test_a_programs_own_srv_travels_with_the_service_it_types(lab):
     server = run(lab.url, "multiply_divide_server_rclpy.py")
     try:
         server.wait_for_line("calculator ready")
-        info = wait_for(lambda: (i := httpx.get(f"{lab.url}/services/multiply_three").json())["type"] != "hri_lab/MultiplyThree" and i)
+        info = wait_for(
+            lambda: (
+                (i := httpx.get(f"{lab.url}/services/multiply_three").json())["type"] != "hri_lab/MultiplyThree" and i
+            )
+        )
         assert info["type"] == "cpp_package/srv/MultiplyThree"
         assert info["srv"] == (PROGRAMS / "cpp_package/srv/MultiplyThree.srv").read_text().strip()
         assert _fields(info) == {"a": "int64", "b": "int64", "c": "int64"}
         shown = subprocess.run(
             [sys.executable, "-m", "app.cli", "service", "show", "/multiply_three", "--url", lab.url],
-            capture_output=True, text=True, timeout=60,
+            capture_output=True,
+            text=True,
+            timeout=60,
         )
         assert shown.stdout.strip() == info["srv"], shown.stderr
         assert _refused_naming(call(lab, "multiply_three", {"a": 2, "b": 3}), "c")  # missing

@@ -180,7 +180,10 @@ class NodeServices:
         declared = self._declarations[name]
         if models is None:
             return None
-        same = all(_lines(definition(d)) == _lines(definition(m)) for d, m in zip((declared.request, declared.response), models))
+        same = all(
+            _lines(definition(d)) == _lines(definition(m))
+            for d, m in zip((declared.request, declared.response), models)
+        )
         if not same:
             return (
                 f"{name} is declared by the lab as {declared.type}; its requests are checked against that "

@@ -275,3 +275,48 @@ def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
     finally:
         node.close()
     counting.wait_for(state="detached")
+
+
+def test_an_action_list_answered_late_never_takes_a_nodes_action_and_its_goal_away(page, server):
+    """The race behind a flaky goal on a loaded machine: a GET /actions answered late, with the list
+    from before a node advertised /counting, must not remove the /counting item (and the goal running
+    in it) that a later update made. The list is held here until the node has advertised and two
+    update periods (2 s) have passed; a goal sent from whatever item the page shows then reaches its
+    end on the page."""
+    from tests.test_rosbridge_ros_system import CountingServer
+
+    held = []
+
+    def hold_first_list(route):
+        if not held and route.request.method == "GET":
+            held.append(route)
+        else:
+            route.continue_()
+
+    def send_goal():
+        counting.locator("input[name=json]").fill('{"target": 2}')
+        counting.locator("button[type=submit]").click()
+
+    page.route(lambda url: url.endswith("/actions"), hold_first_list)
+    page.locator("nav button[data-tab=actions]").click()
+    counting = page.locator(".action[data-name='/counting']")
+    deadline = time.monotonic() + 90
+    while not held and time.monotonic() < deadline:
+        page.wait_for_timeout(100)  # lets playwright run the route handler
+    assert held, "the page asked for no action list"
+    early = held[0].fetch()  # the list now: without /counting
+    node = CountingServer(int(server.rsplit(":", 1)[1]))
+    try:
+        page.wait_for_timeout(5000)  # two update periods: room for an overlapping update (none may come)
+        sent = counting.count() > 0
+        if sent:
+            send_goal()
+        held[0].fulfill(response=early)
+        if not sent:
+            counting.wait_for()
+            send_goal()
+        wait_text(page, ".action[data-name='/counting'] .goal", "succeeded")
+        assert "current=2" in text_of(page, ".action[data-name='/counting'] .goal")
+    finally:
+        page.unroute_all()
+        node.close()

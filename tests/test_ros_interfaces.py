@@ -164,10 +164,11 @@ def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interface
     assert "MSG: geometry_msgs/Point" in text and "MSG: cpp_package/Note" in text
     assert own_text(text) == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
     request, response = service_models("cpp_package/srv/ScalePoint", text)
-    ok = request.model_validate({"point": {"x": 1, "y": 2.5, "z": 0}, "factor": 2})
+    ok = request.model_validate({"point": {"x": 1, "y": 2.5}, "factor": 2})
     assert ok.model_dump(by_alias=True) == {"point": {"x": 1.0, "y": 2.5, "z": 0.0}, "factor": 2.0, "digits": 2}
     for body, field in [
-        ({"point": {"x": 1, "y": 2}, "factor": 2}, ("point", "z")),  # missing in the nested message
+        ({"point": {"x": 1, "y": 2}}, ("factor",)),  # missing (a nested message's field takes its default)
+        ({"point": {"x": "one"}, "factor": 2}, ("point", "x")),  # a nested field of the wrong type
         ({"point": {"x": 1, "y": 2, "z": 3}, "factor": "2"}, ("factor",)),  # a string is not a number
         ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "digits": 256}, ("digits",)),  # uint8
         ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "unit": "m"}, ("unit",)),  # not in the .srv
@@ -184,6 +185,8 @@ def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interface
     assert echo.model_validate({"in": "a", "xyz": [1, 2, 3], "data": "AAE="}).model_dump(by_alias=True)["in"] == "a"
     with pytest.raises(ValidationError, match="xyz"):
         echo.model_validate({"in": "a", "xyz": [1, 2], "data": []})
+    with pytest.raises(ValidationError, match="in\n"):
+        echo.model_validate({"xyz": [1, 2, 3], "data": []})
     with pytest.raises(BadDefinition, match="line 2: expected 'TYPE NAME'"):
         service_models("pkg/Bad", "int64 a\nint64\n---\n")
     with pytest.raises(BadDefinition, match="expected 2 sections"):

@@ -106,7 +106,7 @@ def test_a_programs_own_srv_travels_with_the_service_it_types(lab):
 def test_a_service_the_lab_does_not_declare_is_checked_against_the_programs_srv(lab):
     """ScalePoint.srv (nested geometry_msgs/Point, the package's own Note, a default): the lab knows
     the type only from the text the program carried, refuses a bad request naming the field before
-    it reaches the program, and the program answers a good one (the default filled in)."""
+    it reaches the program, and the program answers a good one (the defaults filled in)."""
     server = run(lab.url, "scale_point_server_rospy.py")
     try:
         server.wait_for_line("Ready to scale points.")
@@ -117,13 +117,14 @@ def test_a_service_the_lab_does_not_declare_is_checked_against_the_programs_srv(
         assert {f["name"]: f.get("default") for f in info["request_fields"]}["digits"] == 2
         assert [f["type"] for f in info["response_fields"]] == ["geometry_msgs/Point", "cpp_package/Note"]
         point = {"x": 1.0, "y": 2.0, "z": 0.5}
-        assert _refused_naming(call(lab, "scale_point", {"point": {"x": 1.0, "y": 2.0}, "factor": 2}), "point.z")
+        assert _refused_naming(call(lab, "scale_point", {"point": point}), "factor")  # missing
+        assert _refused_naming(call(lab, "scale_point", {"point": {"x": "one"}, "factor": 2}), "point.x")
         assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": "two"}), "factor")
         assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": 2, "digits": 300}), "digits")
         assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": 2, "scale": 1}), "scale")
-        answer = call(lab, "scale_point", {"point": point, "factor": 1 / 3})
+        answer = call(lab, "scale_point", {"point": {"x": 1.0, "y": 2.0}, "factor": 1 / 3})  # z: its default
         assert answer.json() == {
-            "scaled": {"x": 0.33, "y": 0.67, "z": 0.17},
+            "scaled": {"x": 0.33, "y": 0.67, "z": 0.0},
             "note": {"text": "scaled by 0.333333", "level": 1},
         }, answer.text
     finally:

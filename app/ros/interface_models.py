@@ -6,8 +6,10 @@ checks its own services' (a refusal names the field) and shows the text and fiel
 The text is parsed as the program parsed it (app/rosclient/interfaces.py: one parser); each field
 becomes a strict pydantic field of its ROS type: integers in their type's range (3.0 is 3, as
 JSON Schema says), finite floats, bools, strings (a bounded string's bound), nested messages,
-arrays with their fixed length or bound (uint8/char arrays also as rosbridge's base64 text). A field
-with a default in the text may be left out; any other is required, as in the lab's own services.
+arrays with their fixed length or bound (uint8/char arrays also as rosbridge's base64 text). A
+request must give each of its fields that has no default in the text, as the lab's own services ask;
+inside a nested message a field left out takes its ROS default (as `ros2 service call` and
+rosbridge_suite fill a message).
 """
 
 from __future__ import annotations
@@ -47,19 +49,39 @@ def own_text(text: str) -> str:
     return text.split(SEPARATOR)[0].strip("\n")
 
 
-def _model(cls: Any, made: dict[str, type[RosMessage]]) -> type[RosMessage]:
-    """The pydantic model of a parsed message class (nested ones made once)."""
-    if cls._type in made:
+def _model(cls: Any, made: dict[str, type[RosMessage]], nested: bool = False) -> type[RosMessage]:
+    """The pydantic model of a parsed message class: the request/response itself (a field without a
+    default in the text is required), or a nested message (made once; a field left out takes its
+    ROS default, as `ros2 service call` and rosbridge_suite fill a message)."""
+    if nested and cls._type in made:
         return made[cls._type]
     fields: dict[str, Any] = {}
     for f in cls._fields:
         annotation = _annotation(f, made)
         attr = f.name + "_" if keyword.iskeyword(f.name) or hasattr(BaseModel, f.name) else f.name
-        default = ... if f.default is None else f.default
-        fields[attr] = (annotation, Field(default, alias=f.name) if attr != f.name else default)
+        alias: dict[str, Any] = {"alias": f.name} if attr != f.name else {}
+        if f.default is not None:
+            default = Field(f.default, **alias)
+        elif nested:
+            default = Field(default_factory=_zero(f, made), **alias)
+        else:
+            default = Field(..., **alias)
+        fields[attr] = (annotation, default)
     model = create_model(cls._type.replace("/", "__"), __base__=RosMessage, **fields)
-    made[cls._type] = model
+    if nested:
+        made[cls._type] = model
     return model
+
+
+def _zero(f: Any, made: dict[str, type[RosMessage]]):
+    """A factory of a field's ROS default: 0, 0.0, False, '', [], n zeros, a nested message's."""
+    if f.array is not None and (f.array is True or f.bound):
+        return list
+    if f.msg_class is not None:
+        model = _model(f.msg_class, made, nested=True)
+        return (lambda: [model() for _ in range(f.array)]) if f.array is not None else model
+    scalar = f._scalar_zero()
+    return (lambda: [scalar] * f.array) if f.array is not None else (lambda: scalar)
 
 
 def _annotation(f: Any, made: dict[str, type[RosMessage]]) -> Any:
@@ -76,7 +98,7 @@ def _annotation(f: Any, made: dict[str, type[RosMessage]]) -> Any:
 
 def _scalar(f: Any, made: dict[str, type[RosMessage]]) -> Any:
     if f.msg_class is not None:
-        return _model(f.msg_class, made)
+        return _model(f.msg_class, made, nested=True)
     base, _, bound = f.base.partition("<=")
     if base in INTEGERS:
         low, high = INTEGERS[base]

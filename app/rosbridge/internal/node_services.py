@@ -149,34 +149,44 @@ class NodeServices:
                 raise ServiceFailure(f"service {name} is already provided by node {current.session.name}")
             self.providers[name] = Provider(session, type_name)
             if name in self.declared:
-                return self._serve_declared(name, type_name, models, text)
-            if models is not None:
-                (request, response), note = models, ""
+                warning = self._serve_declared(name, type_name, models, text)
             else:
-                request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
-                note = (
-                    ""
-                    if request is not OpenMessage
-                    else f"; type {type_name} is unknown to the lab: request and response are passed through as JSON objects"
-                )
-            self.registry.remove(name)
-            self.registry.add(
-                Service(
-                    name,
-                    type_name,
-                    request,
-                    response,
-                    self._handler(name),
-                    f"provided by node {session.name}{note}",
-                    text=own_text(text or ""),
-                )
+                warning = None
+                self._serve_undeclared(name, type_name, models, text, session)
+        if warning:
+            self.lab.rosout.log("service", warning, "WARN")  # the console; a status for a node that asks for warnings
+        return warning
+
+    def _serve_undeclared(
+        self, name: str, type_name: str, models: tuple | None, text: str | None, session: Any
+    ) -> None:
+        """A name the lab does not declare: typed by the node's carried text, or by its type's name."""
+        if models is not None:
+            (request, response), note = models, ""
+        else:
+            request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
+            note = (
+                ""
+                if request is not OpenMessage
+                else f"; type {type_name} is unknown to the lab: request and response are passed through as JSON objects"
             )
-        return None
+        self.registry.remove(name)
+        self.registry.add(
+            Service(
+                name,
+                type_name,
+                request,
+                response,
+                self._handler(name),
+                f"provided by node {session.name}{note}",
+                text=own_text(text or ""),
+            )
+        )
 
     def _serve_declared(self, name: str, type_name: str, models: tuple | None, text: str | None) -> str | None:
         """A node serves a name the lab declares: the lab's type checks the requests (its typed
         route); the node's own text is shown while it provides the name when its fields are the
-        declared ones, else the node hears that the lab checks against its own type."""
+        declared ones, else a warning (on /rosout, and to the node) says the lab checks against its own."""
         declared = self._declarations[name]
         if models is None:
             return None
@@ -185,9 +195,10 @@ class NodeServices:
             for d, m in zip((declared.request, declared.response), models)
         )
         if not same:
+            self.registry.put(declared)
             return (
-                f"{name} is declared by the lab as {declared.type}; its requests are checked against that "
-                f"definition, not {type_name}'s:\n{declared.srv}"
+                f"{name} is declared by the lab as {declared.type}; its requests and answers are checked "
+                f"against that definition, not {type_name}'s:\n{declared.srv}"
             )
         self.registry.put(replace(declared, type=type_name, text=own_text(text or "")))
         return None

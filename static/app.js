@@ -117,23 +117,53 @@ function schemaForm(schema, submitLabel, onSubmit) {
 }
 
 // --- services, parameters, topics, actions ------------------------------------------------------
-async function renderServices() {
+// the registry's services, kept in step with GET /services every 2 s: a node's service comes and
+// goes with its node, and a node that serves a declared name with its own type (its own .srv) shows
+// that type's text and form. One update at a time (as the actions'); a shown item is left alone
+// (what is typed into it stays) unless its service's type changed.
+const shownServices = new Map();  // name -> { item, type }
+let servicesUpdate = null;
+function renderServices() {
+  if (!servicesUpdate) servicesUpdate = updateServices().finally(() => { servicesUpdate = null; });
+  return servicesUpdate;
+}
+async function updateServices() {
   const root = byId("services");
   const list = (await api("GET", "/services")).data;
-  const infos = await Promise.all(list.map(({ name }) => api("GET", `/services${name}`)));
-  for (const { data: info } of infos) {
-    const name = info.name;
-    const out = $("pre", { class: "response" });
-    const form = schemaForm(info.request_schema, "call", async (body) => {
-      const r = await api("POST", `/services${name}`, body);
-      out.className = r.status === 200 ? "response ok" : "response refused";
-      out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
-    });
-    root.append($("div", { class: "item service", "data-name": name },
-      $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),
-      $("p", { class: "description", text: info.description }),
-      $("pre", { class: "srv", text: info.srv }), form, out));
+  if (!Array.isArray(list)) return;
+  const types = new Map(list.map((s) => [s.name, s.type]));
+  let changed = false;
+  for (const [name, shown] of shownServices) {
+    if (types.get(name) !== shown.type) { shown.item.remove(); shownServices.delete(name); changed = true; }
   }
+  const fresh = list.filter(({ name }) => !shownServices.has(name));
+  const infos = await Promise.all(fresh.map(({ name }) => api("GET", `/services${name}`)));
+  for (const { status, data: info } of infos) {
+    if (status !== 200 || shownServices.has(info.name)) continue;
+    shownServices.set(info.name, { item: serviceItem(info), type: info.type });
+    changed = true;
+  }
+  if (!changed) return;
+  let cursor = root.firstChild;  // in the registry's order, moving only what is not in its place
+  for (const { name } of list) {
+    const shown = shownServices.get(name);
+    if (!shown) continue;
+    if (shown.item !== cursor) root.insertBefore(shown.item, cursor);
+    cursor = shown.item.nextSibling;
+  }
+}
+function serviceItem(info) {
+  const name = info.name;
+  const out = $("pre", { class: "response" });
+  const form = schemaForm(info.request_schema, "call", async (body) => {
+    const r = await api("POST", `/services${name}`, body);
+    out.className = r.status === 200 ? "response ok" : "response refused";
+    out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
+  });
+  return $("div", { class: "item service", "data-name": name },
+    $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),
+    $("p", { class: "description", text: info.description }),
+    $("pre", { class: "srv", text: info.srv }), form, out);
 }
 
 async function renderParams() {
@@ -547,3 +577,4 @@ renderConsole();
 pollSlow();
 setInterval(pollSlow, 2000);
 setInterval(renderActions, 2000);
+setInterval(renderServices, 2000);

@@ -320,3 +320,32 @@ def test_an_action_list_answered_late_never_takes_a_nodes_action_and_its_goal_aw
     finally:
         page.unroute_all()
         node.close()
+
+
+def test_a_programs_own_srv_shows_its_fields_and_is_called_from_the_page(page, server):
+    """A rospy program (hri-lab run) serving its workspace's ScalePoint.srv: the services tab shows
+    its text and a call form of its fields (the nested Point as JSON, the text's default filled in)
+    while it runs; a bad value is refused naming the field, a good call is answered by the program."""
+    from tests.ros_running import run
+
+    program = run(server, "scale_point_server_rospy.py")
+    try:
+        program.wait_for_line("Ready to scale points.")
+        page.locator("nav button[data-tab=services]").click()
+        scale = page.locator(".service[data-name='/scale_point']")
+        scale.wait_for()  # the list follows the registry: no reload
+        assert "uint8 digits 2" in scale.locator("pre.srv").inner_text()
+        assert scale.locator("input[name=digits]").input_value() == "2"
+        assert '"z"' in scale.locator("input[name=point]").get_attribute("placeholder")
+        scale.locator("input[name=point]").fill('{"x": 1, "y": 2, "z": 4}')
+        scale.locator("input[name=factor]").fill("two")
+        scale.locator("button[type=submit]").click()
+        wait_text(page, ".service[data-name='/scale_point'] pre.response", "422: factor")
+        scale.locator("input[name=factor]").fill("0.5")
+        scale.locator("button[type=submit]").click()
+        wait_text(page, ".service[data-name='/scale_point'] pre.response", '"scaled"')
+        answer = text_of(page, ".service[data-name='/scale_point'] pre.response")
+        assert '"x":0.5' in answer.replace(" ", "") and '"z":2.0' in answer.replace(" ", ""), answer
+    finally:
+        assert program.interrupt() == 0, program.output
+    page.locator(".service[data-name='/scale_point']").wait_for(state="detached")  # it went with its program

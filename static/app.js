@@ -65,6 +65,14 @@ function hint(name, prop) {
   if (kind === "number") return prop.minimum !== undefined && prop.maximum !== undefined ? `${prop.minimum} to ${prop.maximum}` : "float64";
   return kind;
 }
+// The fields of a nested message field ({"x": ..., "y": ...}; [{...}] for an array of them), or null.
+function nestedFields(schema, prop) {
+  const ref = prop.$ref || (prop.items && prop.items.$ref);
+  const def = ref && schema.$defs && schema.$defs[ref.split("/").pop()];
+  if (!def) return null;
+  const inner = `{${Object.keys(def.properties || {}).map((f) => `"${f}": ...`).join(", ")}}`;
+  return prop.$ref ? inner : `[${inner}, ...]`;
+}
 // A form, one input per field; its body is JSON text built from what was typed, so an int64 such
 // as 9223372036854775807 reaches the server exactly (a JS number would round it).
 function schemaForm(schema, submitLabel, onSubmit) {
@@ -72,9 +80,12 @@ function schemaForm(schema, submitLabel, onSubmit) {
   const inputs = {};
   const form = $("form", { onsubmit: (e) => { e.preventDefault(); onSubmit({ json: collect() }); } });
   for (const [name, prop] of Object.entries(props)) {
-    const kind = kindOf(prop);
-    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder: hint(name, prop) });
-    if (kind === "array" && prop.minItems >= 4) input.classList.add("wide");
+    // a nested message (a node's own .srv: app/ros/interface_models.py) is typed as JSON, its fields named
+    const nested = nestedFields(schema, prop);
+    const kind = nested ? "json" : kindOf(prop);
+    const placeholder = nested ? `${nested} (JSON)` : hint(name, prop);
+    const input = kind === "boolean" ? $("input", { type: "checkbox", name }) : $("input", { type: "text", name, placeholder });
+    if ((kind === "array" && prop.minItems >= 4) || kind === "json") input.classList.add("wide");
     if (prop.default !== undefined && kind !== "boolean") input.value = prop.default;
     inputs[name] = { input, kind };
     form.append($("label", {}, `${name} `, input));
@@ -94,6 +105,7 @@ function schemaForm(schema, submitLabel, onSubmit) {
       let value;
       if (kind === "boolean") value = String(input.checked);
       else if (v === "") continue;
+      else if (kind === "json") value = v;  // the server names a field that is wrong
       else if (kind === "integer" || kind === "number") value = literal(v);
       else if (kind === "array") value = `[${v.replace(/^\[|\]$/g, "").split(",").map((x) => literal(x.trim())).join(", ")}]`;
       else value = JSON.stringify(v);
@@ -105,23 +117,53 @@ function schemaForm(schema, submitLabel, onSubmit) {
 }
 
 // --- services, parameters, topics, actions ------------------------------------------------------
-async function renderServices() {
+// the registry's services, kept in step with GET /services every 2 s: a node's service comes and
+// goes with its node, and a node that serves a declared name with its own type (its own .srv) shows
+// that type's text and form. One update at a time (as the actions'); a shown item is left alone
+// (what is typed into it stays) unless its service's type changed.
+const shownServices = new Map();  // name -> { item, type }
+let servicesUpdate = null;
+function renderServices() {
+  if (!servicesUpdate) servicesUpdate = updateServices().finally(() => { servicesUpdate = null; });
+  return servicesUpdate;
+}
+async function updateServices() {
   const root = byId("services");
   const list = (await api("GET", "/services")).data;
-  const infos = await Promise.all(list.map(({ name }) => api("GET", `/services${name}`)));
-  for (const { data: info } of infos) {
-    const name = info.name;
-    const out = $("pre", { class: "response" });
-    const form = schemaForm(info.request_schema, "call", async (body) => {
-      const r = await api("POST", `/services${name}`, body);
-      out.className = r.status === 200 ? "response ok" : "response refused";
-      out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
-    });
-    root.append($("div", { class: "item service", "data-name": name },
-      $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),
-      $("p", { class: "description", text: info.description }),
-      $("pre", { class: "srv", text: info.srv }), form, out));
+  if (!Array.isArray(list)) return;
+  const types = new Map(list.map((s) => [s.name, s.type]));
+  let changed = false;
+  for (const [name, shown] of shownServices) {
+    if (types.get(name) !== shown.type) { shown.item.remove(); shownServices.delete(name); changed = true; }
   }
+  const fresh = list.filter(({ name }) => !shownServices.has(name));
+  const infos = await Promise.all(fresh.map(({ name }) => api("GET", `/services${name}`)));
+  for (const { status, data: info } of infos) {
+    if (status !== 200 || shownServices.has(info.name)) continue;
+    shownServices.set(info.name, { item: serviceItem(info), type: info.type });
+    changed = true;
+  }
+  if (!changed) return;
+  let cursor = root.firstChild;  // in the registry's order, moving only what is not in its place
+  for (const { name } of list) {
+    const shown = shownServices.get(name);
+    if (!shown) continue;
+    if (shown.item !== cursor) root.insertBefore(shown.item, cursor);
+    cursor = shown.item.nextSibling;
+  }
+}
+function serviceItem(info) {
+  const name = info.name;
+  const out = $("pre", { class: "response" });
+  const form = schemaForm(info.request_schema, "call", async (body) => {
+    const r = await api("POST", `/services${name}`, body);
+    out.className = r.status === 200 ? "response ok" : "response refused";
+    out.textContent = r.status === 200 ? r.text : `${r.status}: ${refusal(r.data)}`;
+  });
+  return $("div", { class: "item service", "data-name": name },
+    $("h3", {}, name, " ", $("span", { class: "type", text: `[${info.type}]` })),
+    $("p", { class: "description", text: info.description }),
+    $("pre", { class: "srv", text: info.srv }), form, out);
 }
 
 async function renderParams() {
@@ -189,36 +231,63 @@ async function renderTopics() {
 }
 
 // One block per goal: its own progress bar and log; a refusal goes to its own line, never into
-// another goal's output.
+// another goal's output. The goal's stream (WebSocket) sends its feedback and its end; a stream that
+// closes before the end (a busy server, a dropped connection) is followed up over HTTP (long-poll
+// from the feedback already shown), so no update is lost and none is shown twice.
+const GOAL_ENDS = ["succeeded", "aborted", "preempted", "rejected"];
 function goalBlock(name, goalId, onResult) {
   const bar = $("progress", { max: "1", value: "0", hidden: "" });
   const label = $("span", { class: "goal-status", text: "pending" });
   const log = $("pre", { class: "feedback" });
   const block = $("div", { class: "goal", "data-goal": goalId }, $("div", {}, `goal ${goalId.slice(0, 8)} `, label, " ", bar), log);
-  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
-  label.textContent = "active";
-  ws.onmessage = (e) => {
-    const m = JSON.parse(e.data);
-    if (m.feedback) {
-      const fb = m.feedback;
-      const fraction = "progress" in fb ? fb.progress : "of" in fb && fb.of > 0 ? fb.trial / fb.of : null;
-      if (fraction !== null) { bar.hidden = false; bar.value = fraction; bar.title = `${Math.round(fraction * 100)} %`; }
-      if (!("progress" in fb)) log.textContent += `feedback: ${Object.entries(fb).map(([k, v]) => `${k}=${typeof v === "number" ? num(v) : v}`).join(" ")}\n`;
-      return;
-    }
+  let seen = 0, ended = false;
+  const feedback = (fb) => {
+    seen += 1;
+    const fraction = "progress" in fb ? fb.progress : "of" in fb && fb.of > 0 ? fb.trial / fb.of : null;
+    if (fraction !== null) { bar.hidden = false; bar.value = fraction; bar.title = `${Math.round(fraction * 100)} %`; }
+    if (!("progress" in fb)) log.textContent += `feedback: ${Object.entries(fb).map(([k, v]) => `${k}=${typeof v === "number" ? num(v) : v}`).join(" ")}\n`;
+  };
+  const end = (m) => {
+    if (ended) return;
+    ended = true;
     label.textContent = m.status;
     label.className = `goal-status ${m.status === "succeeded" ? "ok" : "refused"}`;
     if (m.status === "succeeded") { bar.hidden = false; bar.value = 1; }
     log.textContent += `${m.status}: ${m.message || ""}\n${Object.entries(m.result || {}).map(([k, v]) => (typeof v === "string" && v.includes("\n") ? `${k}:\n${v}` : `${k}: ${JSON.stringify(v)}`)).join("\n")}\n`;
     onResult(m);
   };
+  const follow = async () => {
+    while (!ended) {
+      let r;
+      try { r = await api("GET", `/actions${name}/goals/${goalId}?after=${seen}&wait=10`); } catch { await new Promise((ok) => setTimeout(ok, 2000)); continue; }
+      if (r.status === 404) { end({ status: "aborted", message: refusal(r.data) }); return; }  // its node took it away
+      if (r.status !== 200) { await new Promise((ok) => setTimeout(ok, 2000)); continue; }
+      r.data.feedback.forEach(feedback);
+      if (GOAL_ENDS.includes(r.data.status)) end(r.data); else label.textContent = r.data.status;
+    }
+  };
+  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
+  label.textContent = "active";
+  ws.onmessage = (e) => {
+    const m = JSON.parse(e.data);
+    if (m.feedback) feedback(m.feedback); else end(m);
+  };
+  ws.onclose = () => { if (!ended) follow(); };
   return block;
 }
 
 // the lab's actions and those nodes provide: kept in step with GET /actions (a node's action comes
 // and goes with its node)
 const shownActions = new Map();  // name -> its item
-async function renderActions() {
+// One update at a time: runs that overlapped (the 2 s timer while a slow one still waits) could
+// let an older list, fetched before a node advertised its action, remove the newer item (and the
+// goal running in it) that a later run had made.
+let actionsUpdate = null;
+function renderActions() {
+  if (!actionsUpdate) actionsUpdate = updateActions().finally(() => { actionsUpdate = null; });
+  return actionsUpdate;
+}
+async function updateActions() {
   const root = byId("actions");
   const list = (await api("GET", "/actions")).data;
   if (!Array.isArray(list)) return;
@@ -508,3 +577,4 @@ renderConsole();
 pollSlow();
 setInterval(pollSlow, 2000);
 setInterval(renderActions, 2000);
+setInterval(renderServices, 2000);

@@ -275,3 +275,77 @@ def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
     finally:
         node.close()
     counting.wait_for(state="detached")
+
+
+def test_an_action_list_answered_late_never_takes_a_nodes_action_and_its_goal_away(page, server):
+    """The race behind a flaky goal on a loaded machine: a GET /actions answered late, with the list
+    from before a node advertised /counting, must not remove the /counting item (and the goal running
+    in it) that a later update made. The list is held here until the node has advertised and two
+    update periods (2 s) have passed; a goal sent from whatever item the page shows then reaches its
+    end on the page."""
+    from tests.test_rosbridge_ros_system import CountingServer
+
+    held = []
+
+    def hold_first_list(route):
+        if not held and route.request.method == "GET":
+            held.append(route)
+        else:
+            route.continue_()
+
+    def send_goal():
+        counting.locator("input[name=json]").fill('{"target": 2}')
+        counting.locator("button[type=submit]").click()
+
+    page.route(lambda url: url.endswith("/actions"), hold_first_list)
+    page.locator("nav button[data-tab=actions]").click()
+    counting = page.locator(".action[data-name='/counting']")
+    deadline = time.monotonic() + 90
+    while not held and time.monotonic() < deadline:
+        page.wait_for_timeout(100)  # lets playwright run the route handler
+    assert held, "the page asked for no action list"
+    early = held[0].fetch()  # the list now: without /counting
+    node = CountingServer(int(server.rsplit(":", 1)[1]))
+    try:
+        page.wait_for_timeout(5000)  # two update periods: room for an overlapping update (none may come)
+        sent = counting.count() > 0
+        if sent:
+            send_goal()
+        held[0].fulfill(response=early)
+        if not sent:
+            counting.wait_for()
+            send_goal()
+        wait_text(page, ".action[data-name='/counting'] .goal", "succeeded")
+        assert "current=2" in text_of(page, ".action[data-name='/counting'] .goal")
+    finally:
+        page.unroute_all()
+        node.close()
+
+
+def test_a_programs_own_srv_shows_its_fields_and_is_called_from_the_page(page, server):
+    """A rospy program (hri-lab run) serving its workspace's ScalePoint.srv: the services tab shows
+    its text and a call form of its fields (the nested Point as JSON, the text's default filled in)
+    while it runs; a bad value is refused naming the field, a good call is answered by the program."""
+    from tests.ros_running import run
+
+    program = run(server, "scale_point_server_rospy.py")
+    try:
+        program.wait_for_line("Ready to scale points.")
+        page.locator("nav button[data-tab=services]").click()
+        scale = page.locator(".service[data-name='/scale_point']")
+        scale.wait_for()  # the list follows the registry: no reload
+        assert "uint8 digits 2" in scale.locator("pre.srv").inner_text()
+        assert scale.locator("input[name=digits]").input_value() == "2"
+        assert '"z"' in scale.locator("input[name=point]").get_attribute("placeholder")
+        scale.locator("input[name=point]").fill('{"x": 1, "y": 2, "z": 4}')
+        scale.locator("input[name=factor]").fill("two")
+        scale.locator("button[type=submit]").click()
+        wait_text(page, ".service[data-name='/scale_point'] pre.response", "422: factor")
+        scale.locator("input[name=factor]").fill("0.5")
+        scale.locator("button[type=submit]").click()
+        wait_text(page, ".service[data-name='/scale_point'] pre.response", '"scaled"')
+        answer = text_of(page, ".service[data-name='/scale_point'] pre.response")
+        assert '"x":0.5' in answer.replace(" ", "") and '"z":2.0' in answer.replace(" ", ""), answer
+    finally:
+        assert program.interrupt() == 0, program.output
+    page.locator(".service[data-name='/scale_point']").wait_for(state="detached")  # it went with its program

@@ -149,3 +149,45 @@ def test_cv_bridge_converts_images_as_cv_bridge_does():
             m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs", "builtin_interfaces")
         ]:
             del sys.modules[name]
+
+
+def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interfaces):
+    """What a program's advertise_service carries (full_text: the .srv, then each nested message's
+    text) is all the lab needs: its models check a request as the program's type says, naming the
+    field, with the text's defaults, ranges, array lengths and nested messages."""
+    from pydantic import ValidationError
+
+    from app.ros.interface_models import BadDefinition, fields, own_text, service_models
+    from app.rosclient.interfaces import full_text
+
+    text = full_text(interfaces.get("cpp_package", "srv", "ScalePoint"))
+    assert "MSG: geometry_msgs/Point" in text and "MSG: cpp_package/Note" in text
+    assert own_text(text) == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
+    request, response = service_models("cpp_package/srv/ScalePoint", text)
+    ok = request.model_validate({"point": {"x": 1, "y": 2.5}, "factor": 2})
+    assert ok.model_dump(by_alias=True) == {"point": {"x": 1.0, "y": 2.5, "z": 0.0}, "factor": 2.0, "digits": 2}
+    for body, field in [
+        ({"point": {"x": 1, "y": 2}}, ("factor",)),  # missing (a nested message's field takes its default)
+        ({"point": {"x": "one"}, "factor": 2}, ("point", "x")),  # a nested field of the wrong type
+        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": "2"}, ("factor",)),  # a string is not a number
+        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "digits": 256}, ("digits",)),  # uint8
+        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "unit": "m"}, ("unit",)),  # not in the .srv
+    ]:
+        with pytest.raises(ValidationError) as refused:
+            request.model_validate(body)
+        assert [e["loc"] for e in refused.value.errors()] == [field]
+    assert fields(response) == [
+        {"name": "scaled", "type": "geometry_msgs/Point"},
+        {"name": "note", "type": "cpp_package/Note"},
+    ]
+    # keywords and arrays: `in` keeps its wire name; a fixed array its length
+    echo, _ = service_models("pkg/Echo", "string in\nfloat64[3] xyz\nuint8[] data\n---\n")
+    assert echo.model_validate({"in": "a", "xyz": [1, 2, 3], "data": "AAE="}).model_dump(by_alias=True)["in"] == "a"
+    with pytest.raises(ValidationError, match="xyz"):
+        echo.model_validate({"in": "a", "xyz": [1, 2], "data": []})
+    with pytest.raises(ValidationError, match="in\n"):
+        echo.model_validate({"xyz": [1, 2, 3], "data": []})
+    with pytest.raises(BadDefinition, match="line 2: expected 'TYPE NAME'"):
+        service_models("pkg/Bad", "int64 a\nint64\n---\n")
+    with pytest.raises(BadDefinition, match="expected 2 sections"):
+        service_models("pkg/Bad", "int64 a\n")

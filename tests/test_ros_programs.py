@@ -64,6 +64,76 @@ def test_a_workspace_srv_types_the_programs_services(lab):
     assert "calculator stopped by Ctrl+C" in server.output  # KeyboardInterrupt out of rclpy.spin, as in rclpy
 
 
+def _fields(response) -> dict[str, str]:
+    return {f["name"]: f["type"] for f in response["request_fields"]}
+
+
+def _refused_naming(response, field: str) -> bool:
+    return response.status_code == 422 and any(field in ".".join(map(str, e["loc"])) for e in response.json()["detail"])
+
+
+def test_a_programs_own_srv_travels_with_the_service_it_types(lab):
+    """MultiplyThree.srv of the program's workspace: the lab shows its text and type (HTTP, CLI) while
+    the program serves /multiply_three, checks requests before they reach the program, and shows its
+    own declaration again when the program ends."""
+    server = run(lab.url, "multiply_divide_server_rclpy.py")
+    try:
+        server.wait_for_line("calculator ready")
+        info = wait_for(
+            lambda: (
+                (i := httpx.get(f"{lab.url}/services/multiply_three").json())["type"] != "hri_lab/MultiplyThree" and i
+            )
+        )
+        assert info["type"] == "cpp_package/srv/MultiplyThree"
+        assert info["srv"] == (PROGRAMS / "cpp_package/srv/MultiplyThree.srv").read_text().strip()
+        assert _fields(info) == {"a": "int64", "b": "int64", "c": "int64"}
+        shown = subprocess.run(
+            [sys.executable, "-m", "app.cli", "service", "show", "/multiply_three", "--url", lab.url],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert shown.stdout.strip() == info["srv"], shown.stderr
+        assert _refused_naming(call(lab, "multiply_three", {"a": 2, "b": 3}), "c")  # missing
+        assert _refused_naming(call(lab, "multiply_three", {"a": 2, "b": 3, "c": 7, "d": 1}), "d")  # unknown
+        assert _refused_naming(call(lab, "multiply_three", {"a": 2, "b": "three", "c": 7}), "b")  # wrong type
+        assert call(lab, "multiply_three", {"a": 2, "b": 3, "c": 7}).json() == {"product": 42}
+    finally:
+        assert server.interrupt() == 0, server.output
+    assert httpx.get(f"{lab.url}/services/multiply_three").json()["type"] == "hri_lab/MultiplyThree"
+
+
+def test_a_service_the_lab_does_not_declare_is_checked_against_the_programs_srv(lab):
+    """ScalePoint.srv (nested geometry_msgs/Point, the package's own Note, a default): the lab knows
+    the type only from the text the program carried, refuses a bad request naming the field before
+    it reaches the program, and the program answers a good one (the defaults filled in)."""
+    server = run(lab.url, "scale_point_server_rospy.py")
+    try:
+        server.wait_for_line("Ready to scale points.")
+        info = wait_for(lambda: (r := httpx.get(f"{lab.url}/services/scale_point")).status_code == 200 and r.json())
+        assert info["type"] == "cpp_package/ScalePoint"
+        assert info["srv"] == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
+        assert _fields(info) == {"point": "geometry_msgs/Point", "factor": "float64", "digits": "uint8"}
+        assert {f["name"]: f.get("default") for f in info["request_fields"]}["digits"] == 2
+        assert [f["type"] for f in info["response_fields"]] == ["geometry_msgs/Point", "cpp_package/Note"]
+        point = {"x": 1.0, "y": 2.0, "z": 0.5}
+        assert _refused_naming(call(lab, "scale_point", {"point": point}), "factor")  # missing
+        assert _refused_naming(call(lab, "scale_point", {"point": {"x": "one"}, "factor": 2}), "point.x")
+        assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": "two"}), "factor")
+        assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": 2, "digits": 300}), "digits")
+        assert _refused_naming(call(lab, "scale_point", {"point": point, "factor": 2, "scale": 1}), "scale")
+        answer = call(lab, "scale_point", {"point": {"x": 1.0, "y": 2.0}, "factor": 1 / 3})  # z: its default
+        assert answer.json() == {
+            "scaled": {"x": 0.33, "y": 0.67, "z": 0.0},
+            "note": {"text": "scaled by 0.333333", "level": 1},
+        }, answer.text
+    finally:
+        assert server.interrupt() == 0, server.output
+    assert [line for line in server.lines if "scaled (" in line] == [
+        next(line for line in server.lines if "scaled (" in line)
+    ]  # one request reached the program: the refused ones did not
+
+
 def test_a_call_to_a_missing_service_times_out_with_ros_exception(lab):
     client = run(lab.url, "missing_service_client_rospy.py")
     assert client.wait() != 0

@@ -10,7 +10,7 @@ from starlette.websockets import WebSocketDisconnect
 
 from app.api.app import create_app
 from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME
-from tests.waiting import within
+from tests.waiting import wait_for, within
 
 
 @pytest.fixture(scope="module")
@@ -63,6 +63,11 @@ def call(ws, service, args, id_="c"):
         ),
         ({"op": "publish", "topic": "/chatter", "msg": {"data": "hi"}}, "advertise /chatter first"),
         ({"op": "advertise_service", "service": "/x"}, "advertise_service: field 'type' is required"),
+        (
+            {"op": "advertise_service", "service": "/x", "type": "pkg/X", "definition": "int64 a\nint64\n---\n"},
+            "the definition of pkg/X cannot be read: <the definition of pkg/srv/X it carried>, line 2: expected 'TYPE NAME'",
+        ),
+        ({"op": "advertise_service", "service": "/x", "type": "pkg/X", "definition": 3}, "must be a string"),
         ({"op": "call_service", "service": "/add_two_ints", "args": 3}, "field 'args' must be an object"),
         ({"op": "send_action_goal", "action": "/nope", "action_type": "x/Y"}, "action /nope does not exist"),
         ({"op": "cancel_action_goal", "id": "g1", "action": "/count"}, 'no goal with id "g1"'),
@@ -184,3 +189,22 @@ def test_with_a_token_changes_need_it_reading_does_not():
             assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}
         with c.websocket_connect("/", headers={"Authorization": "Bearer s3cret-0123456789abcdef"}) as ws:
             assert call(ws, "/add_two_ints", {"a": 1, "b": 2})["values"] == {"sum": 3}
+
+
+def test_a_definition_other_than_the_declared_one_is_a_warning_and_the_declaration_stays(client):
+    """A node that serves a name the lab declares with a .srv of other fields: the lab keeps its
+    declaration (type, text, checks) and says so on /rosout and to the node (at level warning); with
+    the declared fields, the node's own type and text are shown while it serves the name."""
+    with client.websocket_connect("/") as ws:
+        ws.send_json({"op": "set_level", "level": "warning"})
+        other = {"op": "advertise_service", "service": "/echo", "type": "mine/Echo", "definition": "int64 n\n---\n"}
+        ws.send_json(other)
+        warning = ws.receive_json()
+        assert warning["level"] == "warning" and "/echo is declared by the lab as hri_lab/Echo" in warning["msg"]
+        assert client.get("/services/echo").json()["type"] == "hri_lab/Echo"
+        assert any("checked against that definition, not mine/Echo's" in e["msg"] for e in client.get("/log").json())
+        same = {**other, "type": "mine/srv/Echo", "definition": "# mine\nstring in\n---\nstring out\n"}
+        ws.send_json(same)
+        info = wait_for(lambda: (i := client.get("/services/echo").json())["type"] == "mine/srv/Echo" and i)
+        assert info["srv"] == "# mine\nstring in\n---\nstring out"
+    assert wait_for(lambda: client.get("/services/echo").json()["type"] == "hri_lab/Echo")  # it left: the lab's again

@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
+from app.ros.interface_models import fields
 from app.ros.messages import RosMessage, definition
 from app.ros.names import absolute
 
@@ -48,10 +49,13 @@ class Service:
     response: builtins.type[RosMessage]
     handler: Callable[[Any, Any], RosMessage]  # (lab, request) -> response
     description: str = ""
+    text: str = ""  # the .srv as its node carried it (app/ros/interface_models.py); '' = made from the models
 
     @property
     def srv(self) -> str:
-        """The .srv text: request `---` response."""
+        """The .srv text: request `---` response (a node's own text as it wrote it)."""
+        if self.text:
+            return self.text
         request, response = definition(self.request), definition(self.response)
         return "\n".join(part for part in (request, "---", response) if part)
 
@@ -61,6 +65,8 @@ class Service:
             "type": self.type,
             "srv": self.srv,
             "description": self.description,
+            "request_fields": fields(self.request),
+            "response_fields": fields(self.response),
             "request_schema": self.request.model_json_schema(by_alias=True),
             "response_schema": self.response.model_json_schema(by_alias=True),
         }
@@ -75,6 +81,10 @@ class ServiceRegistry:
     def add(self, service: Service) -> None:
         if service.name in self._services:
             raise ValueError(f"service {service.name} declared twice")
+        self._services[service.name] = service
+
+    def put(self, service: Service) -> None:
+        """Replace a service's declaration in its place (a node's own .srv text while it serves it)."""
         self._services[service.name] = service
 
     def remove(self, name: str) -> Service | None:

@@ -124,9 +124,16 @@ class Connection:
         self.send({"op": "call_service", "id": call_id, "service": name, "args": args})
         return future
 
-    def advertise_service(self, name: str, type_name: str, handler: Callable[[dict], None]) -> None:
+    def advertise_service(
+        self, name: str, type_name: str, handler: Callable[[dict], None], definition: str | None = None
+    ) -> None:
+        """Provide `name`; `definition` is the .srv text with its nested messages' (interfaces.full_text),
+        which the lab shows and checks requests against (an extra field rosbridge_suite ignores)."""
         self.service_handlers[name] = handler
-        self.send({"op": "advertise_service", "service": name, "type": type_name})
+        message = {"op": "advertise_service", "service": name, "type": type_name}
+        if definition is not None:
+            message["definition"] = definition
+        self.send(message)
 
     def service_response(self, call_id: Any, name: str, values: Any, ok: bool) -> None:
         self.send({"op": "service_response", "id": call_id, "service": name, "values": values, "result": ok})

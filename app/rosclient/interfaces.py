@@ -349,8 +349,9 @@ def _literal(scalar: str, text: str, where: str, package: str) -> Any:
 class Interfaces:
     """The interface packages of the search roots, loaded on demand (thread-safe, cached)."""
 
-    def __init__(self, roots: list[Path]) -> None:
+    def __init__(self, roots: list[Path], texts: dict[tuple[str, str, str], str] | None = None) -> None:
         self.roots = [Path(r) for r in roots] + [SHARE]
+        self.texts = dict(texts or {})  # (package, kind, name) -> text carried by a client: before the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
         self._lock = threading.RLock()
 
@@ -358,9 +359,11 @@ class Interfaces:
         return [r / package for r in self.roots if any((r / package / k).is_dir() for k in KINDS)]
 
     def is_package(self, package: str) -> bool:
-        return package == LAB_PACKAGE or bool(self.package_dirs(package))
+        return package == LAB_PACKAGE or any(p == package for p, _, _ in self.texts) or bool(self.package_dirs(package))
 
     def find(self, package: str, kind: str, name: str) -> Path | None:
+        if (package, kind, name) in self.texts:
+            return Path(f"<the definition of {package}/{kind}/{name} it carried>")
         for directory in self.package_dirs(package):
             candidate = directory / kind / f"{name}.{kind}"
             if candidate.is_file():
@@ -398,7 +401,12 @@ class Interfaces:
         return self.get(parts[0], "msg", parts[-1])
 
     def _make(self, package: str, kind: str, name: str, path: Path) -> Any:
-        text = lab_definitions()[kind][name] if str(path).startswith("<") else path.read_text(encoding="utf-8")
+        if (package, kind, name) in self.texts:
+            text = self.texts[package, kind, name]
+        elif str(path).startswith("<"):
+            text = lab_definitions()[kind][name]
+        else:
+            text = path.read_text(encoding="utf-8")
         sections = _sections(text)
         wanted = {"msg": 1, "srv": 2, "action": 3}[kind]
         if len(sections) != wanted:
@@ -487,6 +495,45 @@ def _sections(text: str) -> list[tuple[str, int]]:
             current.append(line)
     sections.append(("\n".join(current), first))
     return sections
+
+
+# --- carried definitions (a service's text travels with its advertise_service) -------------------
+SEPARATOR = "=" * 80
+_MSG_HEADER = re.compile(r"^=+[ \t]*\n+MSG:[ \t]*(\S+)[ \t]*$", re.MULTILINE)
+
+
+def full_text(interface: Any) -> str:
+    """The definition of a service/action/message class with every nested message's after it, in
+    the format of ROS 1's message_definition and bag files (`====...` then `MSG: pkg/Name`)."""
+    parts, seen = [interface._definition.rstrip("\n")], set()
+    pending = [getattr(interface, attr) for attr in ("_request_class", "_response_class") if hasattr(interface, attr)]
+    pending += [interface] if hasattr(interface, "_fields") else []
+    pending += [getattr(interface, s) for s in ("Goal", "Result", "Feedback") if hasattr(interface, s)]
+    while pending:
+        for f in pending.pop(0)._fields:
+            nested = f.msg_class
+            if nested is not None and nested._type not in seen:
+                seen.add(nested._type)
+                parts.append(f"{SEPARATOR}\nMSG: {nested._type}\n{nested._definition.rstrip(chr(10))}")
+                pending.append(nested)
+    return "\n".join(parts) + "\n"
+
+
+def carried(type_name: str, kind: str, text: str) -> tuple[Interfaces, tuple[str, str]]:
+    """Interfaces that know a client's carried `text` (from `full_text`) for `type_name` of `kind`,
+    and (package, name) of the type: `.get(package, kind, name)` makes its classes."""
+    parts = type_name.strip("/").split("/")
+    if len(parts) not in (2, 3) or not all(re.fullmatch(r"[A-Za-z]\w*", p) for p in parts):
+        raise DefinitionError(f"not a type name: {type_name!r} (expected PACKAGE/Name or PACKAGE/{kind}/Name)")
+    package, name = parts[0], parts[-1]
+    pieces = _MSG_HEADER.split(text)
+    texts = {(package, kind, name): pieces[0]}
+    for nested, body in zip(pieces[1::2], pieces[2::2]):
+        nested_parts = nested.strip("/").split("/")
+        if len(nested_parts) not in (2, 3):
+            raise DefinitionError(f"{type_name}: 'MSG: {nested}' is not a message type name (expected PACKAGE/Name)")
+        texts[nested_parts[0], "msg", nested_parts[-1]] = body.strip("\n")
+    return Interfaces([], texts), (package, name)
 
 
 # --- imports ------------------------------------------------------------------------------------

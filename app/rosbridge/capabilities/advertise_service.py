@@ -13,14 +13,17 @@ from app.rosbridge.protocol import BadFrame, field, name_field
 async def advertise_service(session: Any, message: dict, id_: Any) -> None:
     name = name_field(message, "service")
     type_name = field(message, "type", str)
+    text = field(message, "definition", str, None)  # the lab's own client carries the .srv text (not rosbridge_suite's)
     if name.startswith("/rosapi/"):
         raise BadFrame(f"advertise_service: {name} is the lab's")
     try:
-        session.bridge.nodes.advertise(name, type_name, session)
+        warning = session.bridge.nodes.advertise(name, type_name, session, text)
     except ServiceFailure as failure:
         raise BadFrame(f"advertise_service: {failure}") from None
     session.services.add(name)
     await session.report("info", f"advertise_service: {name} [{type_name}] is provided by {session.name}", id_)
+    if warning:
+        await session.report("warning", f"advertise_service: {warning}", id_)
 
 
 async def unadvertise_service(session: Any, message: dict, id_: Any) -> None:

@@ -23,13 +23,14 @@ import itertools
 import threading
 from concurrent.futures import Future
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from pydantic import ConfigDict, ValidationError
 
 from app.lab import commands as cmd
-from app.ros.messages import Bool, Empty, RosMessage, String, validation_reason
+from app.ros.interface_models import BadDefinition, own_text, service_models
+from app.ros.messages import Bool, Empty, RosMessage, String, definition, validation_reason
 from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
 
 NODE_SERVICE_TIMEOUT = 2.0  # s a node has to answer a call
@@ -81,6 +82,7 @@ class NodeServices:
         self.slots = {name for name in exercises if base.get(name) is not None}
         self.declared = {s.name for s in base}
         self.registry = ServiceRegistry([self._declared(s) for s in base])
+        self._declarations = {s.name: s for s in self.registry}  # restored when a node stops serving one
         self.types = service_types(base)
         self.providers: dict[str, Provider] = {}
         self._pending: dict[str, tuple[Future, Any]] = {}
@@ -131,32 +133,75 @@ class NodeServices:
 
         return logged
 
-    def advertise(self, name: str, type_name: str, session: Any) -> None:
-        """A node provides `name`; raises ServiceFailure with the reason it cannot."""
+    def advertise(self, name: str, type_name: str, session: Any, text: str | None = None) -> str | None:
+        """A node provides `name`, typed by its carried .srv `text` when it sent one (else by the
+        type's name); raises ServiceFailure with the reason it cannot. Returns a warning for the
+        node, or None."""
+        models = None
+        if text is not None:
+            try:
+                models = service_models(type_name, text)
+            except BadDefinition as exc:
+                raise ServiceFailure(f"the definition of {type_name} cannot be read: {exc}") from None
         with self._lock:
             current = self.providers.get(name)
             if current is not None and current.session is not session:
                 raise ServiceFailure(f"service {name} is already provided by node {current.session.name}")
             self.providers[name] = Provider(session, type_name)
-            if name not in self.declared:
-                request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
-                self.registry.remove(name)
-                self.registry.add(
-                    Service(
-                        name,
-                        type_name,
-                        request,
-                        response,
-                        self._handler(name),
-                        f"provided by node {session.name}"
-                        + (
-                            ""
-                            if request is not OpenMessage
-                            else f"; type {type_name} is unknown to the lab: request and response are "
-                            f"passed through as JSON objects"
-                        ),
-                    )
-                )
+            if name in self.declared:
+                warning = self._serve_declared(name, type_name, models, text)
+            else:
+                warning = None
+                self._serve_undeclared(name, type_name, models, text, session)
+        if warning:
+            self.lab.rosout.log("service", warning, "WARN")  # the console; a status for a node that asks for warnings
+        return warning
+
+    def _serve_undeclared(
+        self, name: str, type_name: str, models: tuple | None, text: str | None, session: Any
+    ) -> None:
+        """A name the lab does not declare: typed by the node's carried text, or by its type's name."""
+        if models is not None:
+            (request, response), note = models, ""
+        else:
+            request, response = self.types.get(normalise_type(type_name), (OpenMessage, OpenMessage))
+            note = (
+                ""
+                if request is not OpenMessage
+                else f"; type {type_name} is unknown to the lab: request and response are passed through as JSON objects"
+            )
+        self.registry.remove(name)
+        self.registry.add(
+            Service(
+                name,
+                type_name,
+                request,
+                response,
+                self._handler(name),
+                f"provided by node {session.name}{note}",
+                text=own_text(text or ""),
+            )
+        )
+
+    def _serve_declared(self, name: str, type_name: str, models: tuple | None, text: str | None) -> str | None:
+        """A node serves a name the lab declares: the lab's type checks the requests (its typed
+        route); the node's own text is shown while it provides the name when its fields are the
+        declared ones, else a warning (on /rosout, and to the node) says the lab checks against its own."""
+        declared = self._declarations[name]
+        if models is None:
+            return None
+        same = all(
+            _lines(definition(d)) == _lines(definition(m))
+            for d, m in zip((declared.request, declared.response), models)
+        )
+        if not same:
+            self.registry.put(declared)
+            return (
+                f"{name} is declared by the lab as {declared.type}; its requests and answers are checked "
+                f"against that definition, not {type_name}'s:\n{declared.srv}"
+            )
+        self.registry.put(replace(declared, type=type_name, text=own_text(text or "")))
+        return None
 
     def unadvertise(self, name: str, session: Any) -> bool:
         with self._lock:
@@ -164,7 +209,9 @@ class NodeServices:
             if provider is None or provider.session is not session:
                 return False
             del self.providers[name]
-            if name not in self.declared:
+            if name in self.declared:
+                self.registry.put(self._declarations[name])
+            else:
                 self.registry.remove(name)
             failed = [f for f, s in self._pending.values() if s is session]
         for future in failed:  # its calls in flight fail now, not after the timeout
@@ -276,6 +323,11 @@ class NodeServices:
             self.lab.call(cmd.lifting_effect, True, request.force)
         elif name == "/stop_cooperative_lifting":
             self.lab.call(cmd.lifting_effect, False)
+
+
+def _lines(text: str) -> list[str]:
+    """A definition's `type name` lines, comments and blanks left out."""
+    return [line.split("#")[0].strip() for line in text.splitlines() if line.split("#")[0].strip()]
 
 
 def _fail(future: Future, error: Exception) -> None:

@@ -16,7 +16,7 @@ from collections import deque
 from typing import Any, Callable
 
 from app.rosclient import process
-from app.rosclient.interfaces import Message
+from app.rosclient.interfaces import Message, full_text
 from rclpy import executors
 from rclpy.clock import Clock
 from rclpy.exceptions import (
@@ -111,7 +111,9 @@ class Service:
             raise TypeError(f"create_service: srv_type must be a service type, got {srv_type!r}")
         self.node, self.srv_type, self.callback = node, srv_type, callback
         self.service_name = node.resolve_service_name(name)
-        process.connection().advertise_service(self.service_name, _type_name(srv_type, "srv"), self._on_call)
+        process.connection().advertise_service(
+            self.service_name, _type_name(srv_type, "srv"), self._on_call, full_text(srv_type)
+        )
 
     def _on_call(self, message: dict) -> None:
         executors.post(self.node, lambda: self._serve(message))

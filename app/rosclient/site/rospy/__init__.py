@@ -20,7 +20,7 @@ from typing import Any, Callable
 
 from app.rosclient import process
 from app.rosclient.connection import RosbridgeError
-from app.rosclient.interfaces import Message
+from app.rosclient.interfaces import Message, full_text
 
 __all__ = ["init_node", "Service", "ServiceProxy", "wait_for_service", "Publisher", "Subscriber", "spin", "Rate",
            "sleep", "is_shutdown", "signal_shutdown", "on_shutdown", "get_time", "Time", "Duration", "loginfo",
@@ -616,7 +616,9 @@ class Service:
         self.service_class = _service_class(service_class, "rospy.Service")
         self.resolved_name = process.resolve(name, get_name())
         self.handler = handler
-        process.connection().advertise_service(self.resolved_name, service_class._type, self._on_call)
+        process.connection().advertise_service(
+            self.resolved_name, service_class._type, self._on_call, full_text(service_class)
+        )
 
     def _on_call(self, message: dict) -> None:
         threading.Thread(target=self._serve, args=(message,), daemon=True, name="rospy-service").start()

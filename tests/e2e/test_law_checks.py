@@ -23,7 +23,7 @@ from sim.procedures.grading import (
 from sim.procedures.law_checks import LawWatch
 from sim.procedures.situations import MidCarryStop
 
-sys.path.insert(0, str(Path(__file__).parent / "controllers"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import followers  # noqa: E402
 import mutants  # noqa: E402
 import probe_detectors  # noqa: E402

@@ -83,7 +83,7 @@ def test_a_recording_is_finished_on_shutdown(tmp_path):
 
 
 def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
-    from tests.test_api_actions import wait_terminal
+    from tests.app.api.test_actions import wait_terminal
 
     lab.figures_dir = tmp_path
     goal = client.post(

@@ -123,7 +123,7 @@ def test_move_to_start_is_refused_up_front_while_lifting_or_in_error(client, lab
     assert view["message"] == "cooperative lifting is running: call /stop_cooperative_lifting first"
     assert "Error" not in view["message"]  # no exception name leaks
     client.post("/services/stop_cooperative_lifting")
-    from tests.test_api_services import _too_fast
+    from tests.app.api.test_services import _too_fast
 
     lab.call(_too_fast)
     response = client.post("/actions/move_to_start/goals")

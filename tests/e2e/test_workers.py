@@ -13,7 +13,7 @@ import pytest
 
 from app.cli.launch import ServerProcess
 
-CONTROLLER = Path(__file__).resolve().parent / "controllers" / "reference_sp.py"
+CONTROLLER = Path(__file__).resolve().parents[1] / "controllers" / "reference_sp.py"
 
 
 def descendants(pid: int) -> set[int]:

@@ -10,7 +10,7 @@ import numpy as np
 
 from app.cli.launch import running_server
 from tests.ros_running import run
-from tests.test_lifting_node import palm_in_box, position
+from tests.e2e.test_lifting_node import palm_in_box, position
 
 
 def test_the_rospy_lifting_node_carries_the_box():

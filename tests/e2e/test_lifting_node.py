@@ -14,7 +14,7 @@ import numpy as np
 
 from app.cli.launch import running_server
 
-NODE = Path(__file__).parent / "nodes" / "lifting_solution.py"
+NODE = Path(__file__).resolve().parents[1] / "nodes" / "lifting_solution.py"
 
 
 def position(url, topic):

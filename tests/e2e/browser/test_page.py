@@ -13,7 +13,7 @@ from sim.controllers.interface import LiftingParams
 from app.cli.launch import free_port, running_server
 from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, round_trips
 
-SCREENSHOTS = Path(__file__).resolve().parent.parent / "build" / "screenshots"
+SCREENSHOTS = Path(__file__).resolve().parents[3] / "build" / "screenshots"
 
 
 VIEW = os.environ.get("HRI_LAB_TEST_VIEW", "light")  # "full" for the full-mesh screenshot of the docs
@@ -258,7 +258,7 @@ def test_console_shows_rosout_filtered_by_node_and_level(page, server):
 def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
     """An action a rosbridge client provides shows on the actions tab while it is provided; a goal
     typed as JSON (its type is the student's own) runs to its result; it goes with its node."""
-    from tests.test_rosbridge_ros_system import CountingServer
+    from tests.e2e.test_rosbridge_ros_system import CountingServer
 
     node = CountingServer(int(server.rsplit(":", 1)[1]))
     try:

@@ -15,11 +15,11 @@ from sim.procedures.experiment import Trial
 from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, new_report, probe_items
 from sim.procedures.report import Item, summary_csv
 
-sys.path.insert(0, str(Path(__file__).parent / "controllers"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import mutants  # noqa: E402
 import template_filled  # noqa: E402
 
-CONTROLLERS = Path(__file__).parent / "controllers"
+CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 REFERENCE = str(CONTROLLERS / "reference_sp.py")
 ALL_PROBES = {name for name, _ in PROBES}
 CONE = {

@@ -16,7 +16,7 @@ from sim.controllers.sandbox import SandboxBudget
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
 
-CONTROLLERS = Path(__file__).parent / "controllers"
+CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 FAULTS = CONTROLLERS / "faults.py"
 
 

@@ -9,7 +9,7 @@ import httpx
 import pytest
 
 from app.cli.launch import running_server
-from tests.test_browser import ARGS, CHROMIUM
+from tests.e2e.browser.test_page import ARGS, CHROMIUM
 
 ATTACK = """<!doctype html><title>evil</title>
 <form id=f method=post action="{lab}/services/reset_simulation" enctype="text/plain" target=sink>

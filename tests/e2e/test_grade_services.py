@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from app.cli.grade_services import grade_services
+from sim.procedures.services_grading import grade_services
 from app.cli.launch import running_server
 from tests.waiting import start_node, stop_node
 

@@ -1,7 +1,7 @@
 """Exercise 16 in the live lab: the lifting node from the template (filled in with the SP law)
 carries the calm participant's box, driving the robot only through rosbridge (F_ext in, Twist
 commands out). Real time: ~20 s. The command period is raised to 5 s here: the test machine is
-shared, and a starved node is not what this test is about (tests/test_external_command.py and
+shared, and a starved node is not what this test is about (tests/sim/controllers/test_external.py and
 test_rosbridge_roslibpy.py test the 100 ms watchdog)."""
 
 import subprocess

@@ -1,6 +1,6 @@
 """Exercise 16 in the live lab with a rospy program under `hri-lab run`: the lifting node
 (tests/ros_programs/lifting_node_rospy.py) carries the calm participant's box, driving the robot
-only through rosbridge (F_ext in, Twist commands out). As tests/test_lifting_node.py (the roslibpy
+only through rosbridge (F_ext in, Twist commands out). As tests/e2e/test_lifting_node.py (the roslibpy
 node), the command period is raised to 5 s: the test machine is shared."""
 
 import time

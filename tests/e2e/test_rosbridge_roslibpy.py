@@ -1,6 +1,6 @@
 """roslibpy (unchanged) against `hri-lab serve --exercises`: rosapi, parameters, lab services, a
 service a node advertises answering HTTP and CLI calls (the students' services node from the
-template: tests/test_grade_services.py), topics at their stated rate, commands and the watchdog,
+template: tests/e2e/test_grade_services.py), topics at their stated rate, commands and the watchdog,
 actions with feedback and cancel. Real server process, real client, loopback."""
 
 import json

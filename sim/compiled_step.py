@@ -24,12 +24,12 @@ import numpy as np
 from numba import njit
 
 from sim.controllers.compiled_law import lifting_law_step
+from sim.monitor import monitor_update
 from sim.person import human as h
 from sim.person.human import hand_wrench, human_step
 from sim.physics.box import box_step
 from sim.physics.contact import patch_step
 from sim.physics.sensor import measure_into, wrench_at_ee_into
-from sim.monitor import monitor_update
 from sim.robot.cartesian_velocity import ERROR, TRANSFORM, TWIST_BASE, arm_command_twist
 
 

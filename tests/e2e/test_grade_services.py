@@ -10,16 +10,13 @@ import sys
 import pytest
 
 from sim.procedures.services_grading import grade_services
-from app.cli.launch import running_server
+
 from tests.waiting import start_node, stop_node
 
 TORQUES = "/compute_torques: tau = J(q)^T F of the Panda at the lab's q (Exercise 8)"
 
 
-@pytest.fixture(scope="module")
-def lab():
-    with running_server("--view", "none", "--exercises") as server:
-        yield server
+LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
 
 
 def grade(lab, *args, seed="5"):

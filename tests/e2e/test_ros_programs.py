@@ -10,15 +10,12 @@ import httpx
 import pytest
 
 from sim.procedures.services_grading import grade_services
+
 from app.cli.launch import running_server
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
 
-
-@pytest.fixture(scope="module")
-def lab():
-    with running_server("--view", "none", "--exercises") as server:
-        yield server
+LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
 
 
 def call(lab, name, body):

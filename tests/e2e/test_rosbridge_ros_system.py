@@ -10,23 +10,7 @@ import httpx
 import pytest
 import roslibpy
 
-from app.cli.launch import running_server
 from tests.waiting import wait_for
-
-
-@pytest.fixture(scope="module")
-def lab():
-    with running_server("--view", "none") as server:
-        yield server
-
-
-@pytest.fixture(scope="module")
-def ros(lab):
-    client = roslibpy.Ros("127.0.0.1", lab.port, transport="asyncio")
-    client.run()
-    yield client
-    client.close()
-    client.terminate()
 
 
 def rosapi(ros, service, **args):

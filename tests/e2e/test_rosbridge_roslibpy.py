@@ -16,23 +16,9 @@ import pytest
 import roslibpy
 import websockets.sync.client
 
-from app.cli.launch import running_server
 from tests.waiting import stop_node, wait_for
 
-
-@pytest.fixture(scope="module")
-def lab():
-    with running_server("--view", "none", "--exercises") as server:
-        yield server
-
-
-@pytest.fixture(scope="module")
-def ros(lab):
-    client = roslibpy.Ros("127.0.0.1", lab.port, transport="asyncio")
-    client.run()
-    yield client
-    client.close()
-    client.terminate()
+LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
 
 
 def cli(url, *args):

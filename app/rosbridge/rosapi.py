@@ -74,7 +74,7 @@ def message_typedefs(type_name: str, sample: dict) -> list[dict]:
         if name in seen:
             return
         seen.add(name)
-        typedef = {
+        typedef: dict[str, Any] = {
             "type": name,
             "fieldnames": [],
             "fieldtypes": [],
@@ -117,7 +117,7 @@ def full_text(typedefs: list[dict]) -> str:
 
 def model_typedefs(type_name: str, model) -> list[dict]:
     """TypeDefs of a request/response model from its ROS field types."""
-    typedef = {
+    typedef: dict[str, Any] = {
         "type": type_name,
         "fieldnames": [],
         "fieldtypes": [],

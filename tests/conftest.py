@@ -63,6 +63,8 @@ LONG_FILES_FIRST = (
     "e2e/browser/test_page.py",
     "sim/controllers/test_tilt.py",
     "e2e/test_cli_server.py",
+    "e2e/test_experiment_actions.py",
+    "e2e/test_cli_experiment.py",
     "sim/test_world.py",
     "e2e/test_lifting_node.py",
     "e2e/test_ros_lifting_node.py",

@@ -1,9 +1,5 @@
 """The assembled lab: sensor sign and noise, move to start, human, controller failures, end to end."""
 
-import json
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -11,7 +7,7 @@ from sim.controllers.interface import LiftingParams
 from sim.person.human import HandPath, PickAndPlace
 from sim.person.participants import PARTICIPANTS
 from sim.physics.sensor import SensorParams, WrenchSensor
-from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
+from sim.procedures.experiment import Setup, Trial, TrialRules, plan, run_experiment
 from sim.robot.panda import READY_Q, SIDE_Q
 from sim.signals import minimum_jerk
 from sim.world import World, WorldConfig
@@ -195,102 +191,6 @@ def test_experiment_is_deterministic_per_seed():
     assert [(p.name, attempt) for _, p, attempt, _ in plan(9)] == [
         (name, k) for name in ("calm", "average", "hasty") for k in (1, 2, 3)
     ]
-
-
-def test_cli_experiment_json():
-    out = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "app.cli",
-            "experiment",
-            "--trials",
-            "1",
-            "--participant",
-            "hasty",
-            "--seed",
-            "3",
-            "--set",
-            "alpha=0.8",
-            "--json",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
-        check=True,
-        timeout=300,
-    )
-    data = json.loads(out.stdout)
-    assert data["summary"]["trials"] == 1
-    trial = data["trials"][0]
-    assert set(trial) >= {"success", "duration", "f_n_min", "f_n_max", "max_friction_ratio", "slip", "reason"}
-    table = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "app.cli",
-            "experiment",
-            "--trials",
-            "1",
-            "--participant",
-            "hasty",
-            "--seed",
-            "3",
-            "--set",
-            "alpha=0.8",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
-        check=True,
-        timeout=300,
-    ).stdout
-    assert "participant" in table and "hasty" in table and "success: " in table
-    bad = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True
-    )
-    assert bad.returncode == 2 and "--trials" in bad.stderr
-
-
-def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller():
-    out = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "app.cli",
-            "experiment",
-            "--compare",
-            "sp,patch",
-            "--trials",
-            "1",
-            "--participant",
-            "hasty",
-            "--seed",
-            "3",
-            "--set",
-            "alpha=0.8",
-            "--json",
-            "--jobs",
-            "2",
-        ],  # short trials: dropped at ~3 s
-        capture_output=True,
-        text=True,
-        check=True,
-        timeout=300,
-    )
-    data = json.loads(out.stdout)
-    title_asked = f"seed 3; parameters: alpha = 0.8 (default {LiftingParams().alpha:g})"
-    assert data["set"] == {"alpha": 0.8} and data["seed"] == 3
-    data = data["results"]
-    assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["hasty"]
-    (sp,), (patch,) = data["sp"]["hasty"], data["patch"]["hasty"]
-    assert sp["seed"] == patch["seed"] == plan(1, "hasty", 3)[0][3]
-    # the table the CLI prints without --json, from these results
-    results = {name: {"hasty": [TrialResult(**r) for r in data[name]["hasty"]]} for name in data}
-    title, header, _, _, row, _, total = format_comparison(results, title_asked).splitlines()
-    assert title == title_asked
-    assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("hasty")
-    assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"
 
 
 def _sim_ends():

@@ -80,21 +80,3 @@ def test_a_recording_is_finished_on_shutdown(tmp_path):
         wait_sim(client, 0.2)
     bag = reader.info(tmp_path / "shutdown.mcap")  # the server stopped without /stop_recording
     assert bag.complete and bag.messages > 0
-
-
-def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
-    from tests.app.api.test_actions import wait_terminal
-
-    lab.figures_dir = tmp_path
-    goal = client.post(
-        "/actions/run_experiment/goals", json={"trials": 1, "participant": "hasty", "plots": True, "set": "alpha=0.8"}
-    )  # the short trial: at the wider margin alpha 0.8 the hasty participant's box drops at ~3 s
-    view = wait_terminal(client, "run_experiment", goal.json()["goal_id"], timeout=120)
-    assert view["status"] == "succeeded"
-    figures = view["result"]["figures"]
-    run = goal.json()["goal_id"]
-    assert figures == [f"/figures/{run}/summary.png", f"/figures/{run}/trial01_hasty_1.png"]
-    for url in figures:
-        png = client.get(url)
-        assert png.status_code == 200 and png.headers["content-type"] == "image/png" and png.content[:4] == b"\x89PNG"
-    assert client.get(f"/figures/{run}/trial01_hasty_1.svg").headers["content-type"].startswith("image/svg+xml")

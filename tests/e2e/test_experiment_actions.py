@@ -10,12 +10,6 @@ from sim.procedures.experiment import Setup, format_comparison, run_comparison
 from tests.waiting import wait_sim, wait_terminal
 
 
-@pytest.fixture
-def lab(client):
-    """The app's Lab (tests/conftest.py's `lab`), not tests/e2e/conftest.py's server process."""
-    return client.app.state.lab
-
-
 def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     client.post("/services/stop_cooperative_lifting")
     client.post("/services/reset_simulation")

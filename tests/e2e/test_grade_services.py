@@ -11,12 +11,13 @@ import pytest
 
 from sim.procedures.services_grading import grade_services
 
+from tests.e2e.serving import served_lab
 from tests.waiting import start_node, stop_node
 
 TORQUES = "/compute_torques: tau = J(q)^T F of the Panda at the lab's q (Exercise 8)"
 
 
-LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
+lab = served_lab("--exercises")  # the lab with its exercise services
 
 
 def grade(lab, *args, seed="5"):

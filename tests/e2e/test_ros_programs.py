@@ -12,10 +12,11 @@ import pytest
 from sim.procedures.services_grading import grade_services
 
 from app.cli.launch import running_server
+from tests.e2e.serving import served_lab
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
 
-LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
+lab = served_lab("--exercises")  # the lab with its exercise services
 
 
 def call(lab, name, body):

@@ -10,7 +10,10 @@ import httpx
 import pytest
 import roslibpy
 
+from tests.e2e.serving import served_lab
 from tests.waiting import wait_for
+
+lab = served_lab()
 
 
 def rosapi(ros, service, **args):

@@ -16,9 +16,10 @@ import pytest
 import roslibpy
 import websockets.sync.client
 
+from tests.e2e.serving import served_lab
 from tests.waiting import stop_node, wait_for
 
-LAB_ARGS = ("--view", "none", "--exercises")  # the lab's exercise services (tests/e2e/conftest.py: lab)
+lab = served_lab("--exercises")  # the lab with its exercise services
 
 
 def cli(url, *args):

@@ -22,7 +22,7 @@ $(DEV): $(STAMP)
 # again whenever a file of sim/ changed (sim/kernel_cache.py then drops the caches built from the old sources)
 KERNELS := $(shell find sim -name '*.py')
 $(VENV)/.kernels: $(STAMP) $(KERNELS)
-	$(BIN)/python -c "from sim.compiled_step import warm_up; warm_up()"
+	$(BIN)/python -c "from sim.warm_up import warm_up; warm_up()"
 	touch $@
 
 run: $(STAMP) $(VENV)/.kernels bubblewrap

@@ -2,7 +2,7 @@
 operation, each validated with all of schemathesis' checks (no 5xx, status codes, content types
 and bodies as documented, invalid data refused, valid data accepted, ...) and ours (every refusal
 a 422 naming a field, or a parameter reason). `make test` runs a bounded number of cases
-(tests/test_fuzz.py); this is the longer run.
+(tests/e2e/test_fuzz.py); this is the longer run.
 
     .venv/bin/python -m bench.fuzz [--examples 200]
 """

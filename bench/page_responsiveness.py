@@ -5,7 +5,7 @@ page (the Services tab's /divide_ints form), p50 and max, with full and light me
 
     .venv/bin/python -m bench.page_responsiveness [--clicks 20] [--view full light]
 
-The browser test (tests/test_browser.py) drives the page with the same functions.
+The browser test (tests/e2e/browser/test_page.py) drives the page with the same functions.
 """
 
 from __future__ import annotations

@@ -24,12 +24,12 @@ import numpy as np
 from numba import njit
 
 from sim.controllers.compiled_law import lifting_law_step
+from sim.monitor import monitor_update
 from sim.person import human as h
 from sim.person.human import hand_wrench, human_step
 from sim.physics.box import box_step
 from sim.physics.contact import patch_step
 from sim.physics.sensor import measure_into, wrench_at_ee_into
-from sim.procedures.monitor import monitor_update
 from sim.robot.cartesian_velocity import ERROR, TRANSFORM, TWIST_BASE, arm_command_twist
 
 
@@ -322,30 +322,3 @@ def world_step_builtin(
         twist_command,
     )
     return kind, j, value, box_steps, event
-
-
-def warm_up() -> None:
-    """Compile (or load) every kernel the lab runs, as `make .venv/.kernels` does at set-up: a
-    step with each built-in controller, with a controller in Python, a joint motion, with a
-    patched component, and the components' own methods."""
-    from sim.controllers.interface import LiftingParams, ZeroController
-    from sim.controllers.patch import PatchController
-    from sim.world import World
-
-    for controller in (None, PatchController(), ZeroController()):
-        world = World() if controller is None else World(controller=controller)
-        world.start_lifting(10.0)
-        world.run(0.005)
-        world.move_to_start()
-        world.run(0.003)
-        world.human.step(1e-3, 0.0, 0.0, 0.0, None, np.eye(3))
-        world.human.hand_wrench(world.box.pose(), 1.0)
-        world.human.tilted_level()
-        world.plate_contact.step(np.eye(3), np.zeros(3), np.zeros(3), np.zeros(3), world.box.pose(), 1e-3)
-        world.box.step(np.zeros(3), np.zeros(3), 1e-3)
-        world.sensor.measure(np.zeros(6), 1e-3)
-        world.arm.command_twist(np.zeros(6), 1e-3)
-        world.controller.step(np.zeros(6), np.eye(4), LiftingParams(running=True), 1e-3)
-        world.human.step = world.human.step  # type: ignore[method-assign]  # a patched component: the rest through Python methods
-        world.run(0.002)
-        del world.human.step

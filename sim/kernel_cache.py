@@ -5,8 +5,8 @@ that module's own file: a kernel that calls kernels of other modules (sim/compil
 nearly all of them), or reads their constants (the state layouts), would keep running their old
 code after they change. So every source of sim/ is hashed; when the hash differs from the one the
 caches were built with, every kernel cache under sim/ is dropped (they compile again, once, at
-their first call). `make .venv/.kernels` compiles them all at set-up (`warm_up` in
-sim/compiled_step.py), again whenever a file of sim/ changed.
+their first call). `make .venv/.kernels` compiles them all at set-up (sim/warm_up.py), again
+whenever a file of sim/ changed.
 """
 
 from __future__ import annotations

@@ -95,7 +95,7 @@ def lifting_state(s: Snapshot) -> dict:
 
 
 def trial_outcome(s: Snapshot) -> dict:
-    """The scripted participant's trial (sim/procedures/monitor.py): state none, running,
+    """The scripted participant's trial (sim/monitor.py): state none, running,
     succeeded, failed or abandoned; the figures of the experiment's table (N, m, s)."""
     t = s.trial
     return {

@@ -34,7 +34,7 @@ def rotation_log(rotation: np.ndarray) -> np.ndarray:
 
 def exp3(w):
     """exp([w]x) (pinocchio's exp3 as plain code that the kernels compile: sim/person/human.py;
-    tests/test_spatial.py) = I + sin(t)/t [w]x + (1 - cos t)/t^2 [w]x^2, t = |w| (Taylor terms near t = 0)."""
+    tests/sim/test_spatial.py) = I + sin(t)/t [w]x + (1 - cos t)/t^2 [w]x^2, t = |w| (Taylor terms near t = 0)."""
     t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
     t = math.sqrt(t2)
     if t < 1e-4:

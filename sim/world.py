@@ -21,12 +21,12 @@ from sim.controllers.external import COMMAND_PERIOD
 from sim.controllers.interface import Controller, ControllerFault, LiftingParams, lifting_vector
 from sim.controllers.lifting_law import LiftingLawController
 from sim.controllers.sp import SPController
+from sim.monitor import NONE, TrialMonitor, TrialOutcome
 from sim.person.human import HumanParams, PickAndPlace, VirtualHuman
 from sim.person.participants import PARTICIPANTS, Participant
 from sim.physics.box import GRAVITY, Box, BoxParams
 from sim.physics.contact import ContactParams, ContactResult, PatchContact, PatchGeometry, result_of
 from sim.physics.sensor import SensorParams, WrenchSensor, wrench_at_ee
-from sim.procedures.monitor import NONE, TrialMonitor, TrialOutcome
 from sim.robot.cartesian_velocity import OK, CartesianVelocityInterface, Reflex
 from sim.robot.joint_trajectory import BrakeThenMove, JointBrake, JointTrajectory
 from sim.robot.panda import SIDE_Q, PandaModel
@@ -311,7 +311,7 @@ class World:
                 event = None
         self.time += dt
         if event is None:
-            trial.update(self)  # the trial's success rule (sim/procedures/monitor.py)
+            trial.update(self)  # the trial's success rule (sim/monitor.py)
         elif event != NONE:
             trial.conclude(event, self)
 

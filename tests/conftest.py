@@ -51,61 +51,49 @@ def _tree_outputs() -> set[Path]:
     return {f for folder in TREE_OUTPUTS if folder.is_dir() for f in folder.iterdir()}
 
 
+TESTS = Path(__file__).resolve().parent
+
 # `make test` runs two workers and hands out whole files in collection order (--dist loadfile
 # --no-loadscope-reorder): the longest files go first, so that the run never ends with one worker
-# still on a long file while the other has nothing left (longest processing time first).
+# still on a long file while the other has nothing left (longest processing time first). Paths from tests/.
 LONG_FILES_FIRST = (
-    "test_grading.py",
-    "test_ros_programs.py",
-    "test_law_checks.py",
-    "test_browser.py",
-    "test_tilt.py",
-    "test_cli_server.py",
-    "test_world.py",
-    "test_lifting_node.py",
-    "test_ros_lifting_node.py",
-    "test_api_actions.py",
-    "test_replay.py",
-    "test_recording_live.py",
+    "e2e/test_grading.py",
+    "e2e/test_ros_programs.py",
+    "e2e/test_law_checks.py",
+    "e2e/browser/test_page.py",
+    "sim/controllers/test_tilt.py",
+    "e2e/test_cli_server.py",
+    "e2e/test_experiment_actions.py",
+    "e2e/test_cli_experiment.py",
+    "sim/test_world.py",
+    "e2e/test_lifting_node.py",
+    "e2e/test_ros_lifting_node.py",
+    "app/api/test_actions.py",
+    "e2e/browser/test_replay.py",
+    "app/lab/test_recorder.py",
 )
 
 
-# Markers by file (`make test-fast` runs neither): `browser`, the files that drive Chromium; `e2e`, the
-# files that run other programs: real servers, nodes, students' programs, sandboxed controllers, the CLI.
-BROWSER_FILES = {"test_browser.py", "test_browser_cross_site.py", "test_replay.py", "test_urdf_browser.py"}
-E2E_FILES = {
-    "test_cli_server.py",
-    "test_examples.py",
-    "test_experiment_params.py",
-    "test_fuzz.py",
-    "test_grade_services.py",
-    "test_grading.py",
-    "test_hardening.py",
-    "test_lifting_node.py",
-    "test_limits.py",
-    "test_recording.py",
-    "test_ros_lifting_node.py",
-    "test_ros_programs.py",
-    "test_law_checks.py",
-    "test_rosbridge_ros_system.py",
-    "test_rosbridge_roslibpy.py",
-    "test_runtime.py",
-    "test_sandbox.py",
-    "test_workers.py",
-    "test_cli_files.py",
-    "test_exercise_services.py",
-    "test_urdf_view.py",
-}
+# Markers by folder (`make test-fast` runs neither; tests/README.md): `e2e`, the files under tests/e2e/
+# (and tests/grading/, the instructors' suite) that run other programs: real servers, nodes, students'
+# programs, sandboxed controllers, the CLI; `browser`, the files under tests/e2e/browser/ that drive Chromium.
+E2E_FOLDERS = ("e2e", "grading")
+BROWSER_FOLDER = ("e2e", "browser")
 
 
 def pytest_collection_modifyitems(items) -> None:
     rank = {name: i for i, name in enumerate(LONG_FILES_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: each file's order stays
+
+    def where(item) -> str:
+        return item.path.resolve().relative_to(TESTS).as_posix()
+
+    items.sort(key=lambda item: rank.get(where(item), len(rank)))  # stable: each file's order stays
     for item in items:
-        if item.path.name in BROWSER_FILES:
-            item.add_marker(pytest.mark.browser)
-        if item.path.name in E2E_FILES:
+        parts = item.path.resolve().relative_to(TESTS).parts
+        if parts[0] in E2E_FOLDERS:
             item.add_marker(pytest.mark.e2e)
+        if parts[:2] == BROWSER_FOLDER:
+            item.add_marker(pytest.mark.browser)
 
 
 @pytest.fixture(scope="session", autouse=True)

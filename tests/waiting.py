@@ -87,3 +87,13 @@ def within(call, timeout: float = 30.0, what: str = "a call"):
     if not box:
         raise AssertionError(f"{what}: no answer within {timeout} s")
     return box[0]
+
+
+def wait_terminal(client, action, goal_id, timeout=30.0):
+    """An action goal's view once it ended (succeeded, aborted, preempted, rejected), over HTTP."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        view = client.get(f"/actions/{action}/goals/{goal_id}", params={"wait": 1.0, "after": 0}).json()
+        if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
+            return view
+    raise AssertionError("goal did not finish")

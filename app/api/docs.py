@@ -22,7 +22,7 @@ def add_offline_docs(app: FastAPI) -> None:
     @app.get("/docs", include_in_schema=False)
     def swagger() -> HTMLResponse:
         return get_swagger_ui_html(
-            openapi_url=app.openapi_url,
+            openapi_url=str(app.openapi_url),
             title=f"{app.title} - API docs",
             swagger_js_url=f"{ASSETS_URL}/swagger-ui-bundle.js",
             swagger_css_url=f"{ASSETS_URL}/swagger-ui.css",
@@ -40,7 +40,7 @@ def add_offline_docs(app: FastAPI) -> None:
     @app.get("/redoc", include_in_schema=False)
     def redoc() -> HTMLResponse:
         return get_redoc_html(
-            openapi_url=app.openapi_url,
+            openapi_url=str(app.openapi_url),
             title=f"{app.title} - API reference",
             redoc_js_url="/redoc.js",
             redoc_favicon_url=f"{ASSETS_URL}/favicon.png",

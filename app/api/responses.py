@@ -40,6 +40,6 @@ def json_safe(value, depth: int = 0):
             out["..."] = f"{len(items) - ECHO_ITEMS} more"
         return out
     if isinstance(value, (list, tuple)):
-        out = [json_safe(v, depth + 1) for v in value[:ECHO_ITEMS]]
-        return out + [f"... {len(value) - ECHO_ITEMS} more"] if len(value) > ECHO_ITEMS else out
+        listed = [json_safe(v, depth + 1) for v in value[:ECHO_ITEMS]]
+        return listed + [f"... {len(value) - ECHO_ITEMS} more"] if len(value) > ECHO_ITEMS else listed
     return json_safe(repr(value))

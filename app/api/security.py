@@ -74,9 +74,9 @@ def host_refusal(host_header: str | None, names: set[str], server: tuple[str, in
     host, port = authority
     server_host, server_port = (server[0].lower(), server[1]) if server else (None, None)
     if host not in names and host != server_host:
-        return f"Host '{_short(host_header)}' is not this server (a foreign name pointing at it is refused)"
+        return f"Host '{_short(host_header or '')}' is not this server (a foreign name pointing at it is refused)"
     if server_port is not None and (port or default_port) != server_port:
-        return f"Host '{_short(host_header)}' names another port"
+        return f"Host '{_short(host_header or '')}' names another port"
     return None
 
 
@@ -128,7 +128,7 @@ class SiteGuard:
     async def __call__(self, scope, receive, send) -> None:
         if scope["type"] not in ("http", "websocket"):
             return await self.app(scope, receive, send)
-        headers = {}
+        headers: dict[str, str] = {}
         for key, value in scope["headers"]:
             headers.setdefault(key.decode("latin-1"), value.decode("latin-1"))
         host = headers.get("host")

@@ -19,11 +19,13 @@ def with_body(model: type[BaseModel], handle: Callable[..., Any], name: str, **d
     def endpoint(body: BaseModel | None = None, **resolved: Any):
         return handle(body if body is not None else model(), **resolved)
 
-    examples = {"example": {"summary": "an accepted request", "value": example_of(model)}}  # what /docs pre-fills
+    examples: dict[str, Any] = {
+        "example": {"summary": "an accepted request", "value": example_of(model)}
+    }  # what /docs pre-fills
     default = Body(..., openapi_examples=examples) if has_fields else Body(None, openapi_examples=examples)
     annotation = model if has_fields else model | None
     parameters = [inspect.Parameter("body", inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)]
     parameters += [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, annotation=a) for n, a in dependencies.items()]
-    endpoint.__signature__ = inspect.Signature(parameters)
+    endpoint.__signature__ = inspect.Signature(parameters)  # type: ignore[attr-defined]  # what FastAPI reads the parameters from
     endpoint.__name__ = name
     return endpoint

@@ -28,7 +28,7 @@ from app.ros.params import ParameterRefused, read_parameter_file
 
 def _overrides(args: argparse.Namespace) -> list:
     """--params FILE.yaml, then --set NAME=VALUE (validated as the parameter server does)."""
-    found = []
+    found: list = []
     if args.params:
         try:
             found, ignored = overrides.parse_file(read_parameter_file(args.params))
@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     if points and args.json:
         print(json.dumps({"controller": controller, "seed": args.seed, "set": changed, **sweep_json(rows)}, indent=2))
     elif points:
-        swept = " x ".join(p.name for p, _ in axes)
+        swept = " x ".join(p.name for p, _ in axes or [])
         print(format_sweep(rows, f"sweep of {swept}, controller {controller}, seed {args.seed}; {title}"))
     elif args.json:
         print(

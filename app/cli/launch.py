@@ -40,6 +40,7 @@ class ServerProcess:
         lines: list[str] = []
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
+            assert self.proc.stdout is not None  # started with stdout=PIPE
             line = self.proc.stdout.readline()
             lines.append(line)
             if "Press Ctrl+C" in line:

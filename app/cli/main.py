@@ -220,7 +220,9 @@ def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
 
 def _template(args: argparse.Namespace) -> int:
     if args.kind == "controller":
-        path = Path(importlib.util.find_spec("sim.controllers.template").origin)
+        spec = importlib.util.find_spec("sim.controllers.template")
+        assert spec is not None and spec.origin is not None  # a module of this package
+        path = Path(spec.origin)
     else:
         names = {
             ("services", "roslibpy"): "services_node.py",

@@ -97,7 +97,7 @@ class TimedHttpProtocol(HttpToolsProtocol):
     read_timeout_s = READ_TIMEOUT_S
     _read_timer: asyncio.TimerHandle | None = None
 
-    def connection_made(self, transport: asyncio.Transport) -> None:
+    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]  # uvicorn's own signature
         super().connection_made(transport)
         self._read_timer = self.loop.call_later(self.read_timeout_s, self._read_timed_out)
 
@@ -139,7 +139,7 @@ class AnnouncingServer(uvicorn.Server):
         await super().startup(sockets)
         if self.started:
             base = f"http://{self.config.host}:{self.config.port}"
-            view = self.config.app.state.view
+            view = self.config.app.state.view  # type: ignore[union-attr]  # our FastAPI app, not an import string
             print(
                 f"hri-lab is running: open {base}/\n"
                 f"  API       {base}/services  {base}/params  {base}/topics  {base}/actions\n"

@@ -30,13 +30,13 @@ from app.ros.messages import (
     Empty,
     Float64,
     Int32,
+    Int32Array,
     Int64,
     RosMessage,
     RosType,
     String,
-    int32_array,
+    StringArray,
     integral,
-    string_array,
 )
 from app.ros.params import ParameterRefused
 
@@ -140,7 +140,7 @@ class ExperimentResult(RosMessage):
     trials: Int32
     successes: Int32
     table: String
-    figures: string_array() = []  # URLs (GET /figures/RUN/NAME.png), the summary first
+    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first
 
 
 def _figures_of(lab, handle: GoalHandle):
@@ -237,11 +237,11 @@ class CompareGoal(RosMessage):
 
 
 class CompareResult(RosMessage):
-    controllers: string_array()
-    successes: int32_array()  # per controller
-    trials: int32_array()  # per controller
+    controllers: StringArray
+    successes: Int32Array  # per controller
+    trials: Int32Array  # per controller
     table: String
-    figures: string_array() = []  # URLs (GET /figures/RUN/NAME.png), the summary first
+    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first
 
 
 class CompareFeedback(RosMessage):

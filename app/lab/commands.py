@@ -116,6 +116,7 @@ def external_twist(world: World, twist_base: np.ndarray) -> None:
     into the simulation): the first one selects the external-command controller."""
     if not isinstance(world.controller, ExternalCommand):
         world.set_controller(ExternalCommand(get_command_period(world)))
+    assert isinstance(world.controller, ExternalCommand)
     world.controller.command(twist_base)
 
 

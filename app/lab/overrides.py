@@ -95,6 +95,7 @@ def setup_of(overrides: list[Override], base: Setup | None = None) -> Setup:
     """The Setup with every override applied, in order."""
     setup = base or Setup()
     for param, value in overrides:
+        assert param.offline is not None  # an override is made only of a parameter that has one
         setup = param.offline(setup, value)
     return setup
 

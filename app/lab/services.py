@@ -21,12 +21,12 @@ from app.ros.messages import (
     Bool,
     Empty,
     Float64,
+    Float64Array,
     Int32,
     Int64,
     RosMessage,
     RosType,
     String,
-    float64_array,
 )
 from app.ros.services import Service, ServiceFailure, ServiceRegistry
 
@@ -75,11 +75,11 @@ def stop(lab, request: Empty) -> Message:
 
 # --- exercises ------------------------------------------------------------------------------
 class WrenchRequest(RosMessage):
-    force: float64_array(6, 6)
+    force: Annotated[Float64Array, Field(min_length=6, max_length=6)]
 
 
 class Torques(RosMessage):
-    torques: float64_array()
+    torques: Float64Array
 
 
 def _finite(values: np.ndarray, what: str) -> list[float]:
@@ -96,11 +96,11 @@ def compute_torques(lab, request: WrenchRequest) -> Torques:
 
 
 class TorquesRequest(RosMessage):
-    torques: float64_array(7, 7)
+    torques: Annotated[Float64Array, Field(min_length=7, max_length=7)]
 
 
 class WrenchResponse(RosMessage):
-    force: float64_array()
+    force: Float64Array
     message: String
 
 
@@ -114,13 +114,13 @@ def compute_wrench(lab, request: TorquesRequest) -> WrenchResponse:
 
 
 class PlanarRequest(RosMessage):
-    q: float64_array(3, 3)
-    force: float64_array(2, 3)
+    q: Annotated[Float64Array, Field(min_length=3, max_length=3)]
+    force: Annotated[Float64Array, Field(min_length=2, max_length=3)]
 
 
 def planar_torques(lab, request: PlanarRequest) -> Torques:
     """3-DoF planar arm, links of 1 m: tau = J(q)^T [fx, fy(, mz)]."""
-    return Torques(torques=_finite(planar_arm.torques(request.q, request.force), "tau = J^T F"))
+    return Torques(torques=_finite(planar_arm.torques(np.array(request.q), np.array(request.force)), "tau = J^T F"))
 
 
 class TwoInts(RosMessage):

@@ -36,21 +36,14 @@ String = Annotated[str, Field(max_length=10_000), RosType("string")]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 
 
-def float64_array(min_length: int | None = None, max_length: int | None = None):
-    """float64[] with an optional length range (e.g. a wrench has exactly 6)."""
-    return Annotated[list[FiniteFloat], Field(min_length=min_length, max_length=max_length), RosType("float64[]")]
-
-
-def int32_array():
-    return Annotated[
-        list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral)]],
-        Field(max_length=10_000),
-        RosType("int32[]"),
-    ]
-
-
-def string_array():
-    return Annotated[list[Annotated[str, Field(max_length=10_000)]], Field(max_length=10_000), RosType("string[]")]
+# arrays; a length range is added where a field is declared: Annotated[Float64Array, Field(min_length=6, max_length=6)]
+Float64Array = Annotated[list[FiniteFloat], RosType("float64[]")]
+Int32Array = Annotated[
+    list[Annotated[int, Field(ge=INT32_MIN, le=INT32_MAX), BeforeValidator(integral)]],
+    Field(max_length=10_000),
+    RosType("int32[]"),
+]
+StringArray = Annotated[list[Annotated[str, Field(max_length=10_000)]], Field(max_length=10_000), RosType("string[]")]
 
 
 class RosMessage(BaseModel):

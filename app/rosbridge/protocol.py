@@ -41,7 +41,7 @@ def depth(value: Any) -> int:
     while stack:
         item, level = stack.pop()
         if isinstance(item, dict):
-            items = item.values()
+            items = list(item.values())
         elif isinstance(item, list):
             items = item
         else:

@@ -65,6 +65,20 @@ def _scalar(value: Any) -> str:
     return {bool: "bool", int: "int32", float: "float64", str: "string"}.get(type(value), "string")
 
 
+def _typedef(type_name: str) -> dict[str, Any]:
+    """An empty rosapi TypeDef (rosapi_msgs/TypeDef): its fields are added by _add_field."""
+    keys = ("fieldnames", "fieldtypes", "fieldarraylen", "examples", "constnames", "constvalues")
+    return {"type": type_name} | {key: [] for key in keys}
+
+
+def _add_field(typedef: dict[str, Any], name: str, type_name: str, array: bool, example: str) -> None:
+    """One field: fieldarraylen 0 for an unbounded array, -1 for a single value."""
+    typedef["fieldnames"].append(name)
+    typedef["fieldtypes"].append(type_name)
+    typedef["fieldarraylen"].append(0 if array else -1)
+    typedef["examples"].append(example)
+
+
 def message_typedefs(type_name: str, sample: dict) -> list[dict]:
     """rosapi TypeDefs of a message, its nested types after it (inferred from a sample message)."""
     out: list[dict] = []
@@ -74,15 +88,7 @@ def message_typedefs(type_name: str, sample: dict) -> list[dict]:
         if name in seen:
             return
         seen.add(name)
-        typedef = {
-            "type": name,
-            "fieldnames": [],
-            "fieldtypes": [],
-            "fieldarraylen": [],
-            "examples": [],
-            "constnames": [],
-            "constvalues": [],
-        }
+        typedef = _typedef(name)
         out.append(typedef)
         nested = []
         for key, value in message.items():
@@ -91,10 +97,8 @@ def message_typedefs(type_name: str, sample: dict) -> list[dict]:
             kind = NESTED.get(key, f"{name}_{key}") if isinstance(item, dict) else _scalar(item)
             if isinstance(item, dict):
                 nested.append((kind, item))
-            typedef["fieldnames"].append(key)
-            typedef["fieldtypes"].append(kind)
-            typedef["fieldarraylen"].append(0 if array else -1)
-            typedef["examples"].append("{}" if isinstance(item, dict) else ("[]" if array else json.dumps(item)))
+            example = "{}" if isinstance(item, dict) else ("[]" if array else json.dumps(item))
+            _add_field(typedef, key, kind, array, example)
         for kind, item in nested:
             visit(kind, item)
 
@@ -117,22 +121,11 @@ def full_text(typedefs: list[dict]) -> str:
 
 def model_typedefs(type_name: str, model) -> list[dict]:
     """TypeDefs of a request/response model from its ROS field types."""
-    typedef = {
-        "type": type_name,
-        "fieldnames": [],
-        "fieldtypes": [],
-        "fieldarraylen": [],
-        "examples": [],
-        "constnames": [],
-        "constvalues": [],
-    }
+    typedef = _typedef(type_name)
     for name, info in model.model_fields.items():
         ros = next((m for m in info.metadata if isinstance(m, RosType)), RosType("string"))
         array = ros.name.endswith("[]")
-        typedef["fieldnames"].append(info.alias or name)
-        typedef["fieldtypes"].append(ros.name.removesuffix("[]"))
-        typedef["fieldarraylen"].append(0 if array else -1)
-        typedef["examples"].append("[]" if array else "")
+        _add_field(typedef, info.alias or name, ros.name.removesuffix("[]"), array, "[]" if array else "")
     return [typedef]
 
 

@@ -103,7 +103,7 @@ class ReplayView(SceneView):
             self.time = min(max(0.0, t), self.playback.duration)
             self._setting = True
             try:
-                self.slider.value = round(self.time, 3)
+                self.slider.value = round(self.time, 3)  # type: ignore[misc]  # viser's handles take a value
             finally:
                 self._setting = False
         self.draw(self.time)

@@ -57,11 +57,11 @@ def guarded_websocket_server(bound_host: str):
 
         return original(handler, *args, process_request=check, **kwargs)
 
-    websockets.asyncio.server.serve = serve
+    websockets.asyncio.server.serve = serve  # type: ignore[misc, assignment]  # wrapped while the view starts
     try:
         yield
     finally:
-        websockets.asyncio.server.serve = original
+        websockets.asyncio.server.serve = original  # type: ignore[misc]
 
 
 CAMERA_POSITION = (0.2, 1.6, 0.9)  # m, base frame: the robot and the box in view, from the person's side
@@ -138,7 +138,7 @@ def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
 
     mesh = trimesh.load(str(mesh_path), force="scene")
     mesh.apply_scale(np.asarray(scale))
-    data = mesh.export(file_type="glb")
+    data = mesh.export(file_type="glb")  # type: ignore[call-arg]  # a scene's export: file_obj defaults to None
     try:  # best effort: a read-only home only costs the conversion next time
         cached.parent.mkdir(parents=True, exist_ok=True)
         partial = cached.with_suffix(f".{os.getpid()}.tmp")
@@ -235,6 +235,9 @@ class SceneView:
         self.robot = RobotMeshes(server, light)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=thread_name, daemon=True)
+
+    def _run(self) -> None:  # the subclass's loop
+        raise NotImplementedError
 
     @property
     def url(self) -> str:
@@ -393,7 +396,7 @@ class LabView(SceneView):
             self.status.content = content
         if self.controls and self.take_over.value != (s.human_phase == "manual"):
             self._syncing = True
-            self.take_over.value = s.human_phase == "manual"
+            self.take_over.value = s.human_phase == "manual"  # type: ignore[misc]  # viser's handles take a value
             self._syncing = False
 
     def _call(self, name: str, **request) -> None:

@@ -4,7 +4,7 @@ step (sim/compiled_step.py) runs for a built-in controller, in one call with the
 The laws of record are the Python classes a student reads and subclasses (sim/controllers/sp.py,
 patch.py, lifting_law.py: a sandboxed plug-in imports them, and never numba). This module is the
 same law written for numba, on the controller's state array (`LiftingLawController.state`) and the
-parameter vector `lifting_vector(params)`; tests/test_compiled_law.py runs both, step after step,
+parameter vector `lifting_vector(params)`; tests/sim/controllers/test_compiled_law.py runs both, step after step,
 at many random wrenches, poses and parameters, and fails if they differ.
 """
 

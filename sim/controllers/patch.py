@@ -45,7 +45,7 @@ Why the kern and not "inside the plate shrunk by a margin": holding the centre o
 the plate then touched the box along its upper edge, and the squeeze f_n along the tilted face
 normal showed up in the plate frame as "less friction" (f_t,plate = f_t,face - f_n sin(tilt), about
 1.5-2 N), so the robot followed the person later and the person's palm, already near its friction
-cone, carried that extra drag and slipped (see tests/test_tilt.py for the tilting case).
+cone, carried that extra drag and slipped (see tests/sim/controllers/test_tilt.py for the tilting case).
 """
 
 from __future__ import annotations

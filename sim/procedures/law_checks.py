@@ -20,6 +20,7 @@ are measured (bench/law_margins.py prints the figures they come from; the page g
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -150,66 +151,56 @@ class LawWatch:
         def at(time: float) -> int:  # the step at that time
             return min(int(np.searchsorted(s["t"], time - 1e-9)), len(s["t"]) - 1)
 
-        value, time = m["stick"]
-        if value > STICK_MOVE:
-            i = at(time)
-            found.append(
-                Finding(
-                    "stick",
-                    time,
-                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, inside "
+        def ratio(i: int) -> str:  # the friction at step i, as a share of mu f_n
+            return f"{s['ratio'][i] * p.alpha:.2f} of mu f_n"
+
+        # each behaviour: is its measure a breach, and the words for it at step i (time, measure value)
+        rules: dict[str, tuple[Callable[[float], bool], Callable[[float, int, float], str]]] = {
+            "stick": (
+                lambda value: value > STICK_MOVE,
+                lambda time, i, value: (
+                    f"at {time:.1f} s the friction was {ratio(i)}, inside "
                     f"your margin alpha = {p.alpha:g}, yet the plate moved {value * 1000:.1f} mm along it in "
-                    f"{WINDOW:g} s (at most {STICK_MOVE * 1000:g} mm)",
-                )
-            )
-        value, time = m["band"]
-        if value > BAND_MOVE:
-            i = at(time)
-            found.append(
-                Finding(
-                    "band",
-                    time,
+                    f"{WINDOW:g} s (at most {STICK_MOVE * 1000:g} mm)"
+                ),
+            ),
+            "band": (
+                lambda value: value > BAND_MOVE,
+                lambda time, i, value: (
                     f"at {time:.1f} s f_n was {s['f_n'][i]:.1f} N, inside the band [{p.f_n_min:g}, "
                     f"{p.f_n_max:g}] N, yet the plate moved {value * 1000:.1f} mm along its normal in {WINDOW:g} s "
-                    f"(at most {BAND_MOVE * 1000:g} mm)",
-                )
-            )
-        value, time = m["follow"]
-        if value < FOLLOW_COS:
-            i = at(time)
-            found.append(
-                Finding(
-                    "follow",
-                    time,
-                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
+                    f"(at most {BAND_MOVE * 1000:g} mm)"
+                ),
+            ),
+            "follow": (
+                lambda value: value < FOLLOW_COS,
+                lambda time, i, value: (
+                    f"at {time:.1f} s the friction was {ratio(i)}, beyond "
                     f"your margin alpha = {p.alpha:g}, yet for {WRONG_TIME:g} s the plate did not follow against "
-                    f"f_t (tangential speed {np.linalg.norm(s['v_t'][i]) * 1000:.1f} mm/s)",
-                )
-            )
-        value, time = m["grip"]
-        if value < GRIP_SPEED:
-            i = at(time)
-            found.append(
-                Finding(
-                    "grip",
-                    time,
-                    f"at {time:.1f} s the friction was {s['ratio'][i] * p.alpha:.2f} of mu f_n, beyond "
+                    f"f_t (tangential speed {np.linalg.norm(s['v_t'][i]) * 1000:.1f} mm/s)"
+                ),
+            ),
+            "grip": (
+                lambda value: value < GRIP_SPEED,
+                lambda time, i, value: (
+                    f"at {time:.1f} s the friction was {ratio(i)}, beyond "
                     f"your margin, at f_n = {s['f_n'][i]:.1f} N < f_n_max = {p.f_n_max:g} N, yet for "
-                    f"{WRONG_TIME:g} s the grip was not raised (v_n = {s['v_n'][i] * 1000:.1f} mm/s)",
-                )
-            )
-        value, time = m["moment"]
-        if value < MOMENT_COS:
-            i = at(time)
-            found.append(
-                Finding(
-                    "moment",
-                    time,
+                    f"{WRONG_TIME:g} s the grip was not raised (v_n = {s['v_n'][i] * 1000:.1f} mm/s)"
+                ),
+            ),
+            "moment": (
+                lambda value: value < MOMENT_COS,
+                lambda time, i, value: (
                     f"at {time:.1f} s the moment at the plate was "
                     f"{np.linalg.norm(s['m_c'][i]):.2f} Nm, yet for {WRONG_TIME:g} s the plate did not turn "
-                    f"with it (|w| = {np.linalg.norm(s['w'][i]):.3f} rad/s)",
-                )
-            )
+                    f"with it (|w| = {np.linalg.norm(s['w'][i]):.3f} rad/s)"
+                ),
+            ),
+        }
+        for behaviour, (broken, words) in rules.items():
+            value, time = m[behaviour]
+            if broken(value):
+                found.append(Finding(behaviour, time, words(time, at(time), value)))
         return sorted(found, key=lambda f: f.time)
 
 

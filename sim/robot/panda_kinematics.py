@@ -9,7 +9,7 @@ are read out of `PandaModel.model` into arrays; the hot path (the 1 kHz step) th
     J[:3, i] = (R_i a_i) x (p_ee - p_i),  J[3:, i] = R_i a_i  (flange origin, base-aligned axes)
 
 which is pinocchio's `framesForwardKinematics` and `computeFrameJacobian(..., LOCAL_WORLD_ALIGNED)`
-for a serial chain of revolute joints. tests/test_kinematics.py checks both against pinocchio at
+for a serial chain of revolute joints. tests/sim/robot/test_kinematics.py checks both against pinocchio at
 many random configurations.
 """
 

@@ -1,5 +1,5 @@
 """Controllers that carry the box without being SP (load as followers.py:ClassName). Each must
-FAIL the battery; docs/grading-battery.md says which items each loses (tests/test_law_checks.py)."""
+FAIL the battery; docs/grading-battery.md says which items each loses (tests/e2e/test_law_checks.py)."""
 
 import numpy as np
 

@@ -1,6 +1,6 @@
 """Files written to beat a grader: the issue's follower (band on f_n, v_t = -0.05 f_t, no cone, no
 moment compliance) that switches to the SP law when it believes it is being probed. Each keys on
-something a probe might give away; each must FAIL the battery (tests/test_law_checks.py)."""
+something a probe might give away; each must FAIL the battery (tests/e2e/test_law_checks.py)."""
 
 import numpy as np
 

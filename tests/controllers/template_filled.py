@@ -1,5 +1,5 @@
 """The controller template (sim/controllers/template.py) with every TODO filled in as a student
-would from its hints and the SP description (docs/method.md) (tests/test_grading.py grades it).
+would from its hints and the SP description (docs/method.md) (tests/e2e/test_grading.py grades it).
 
 cooperative_lifting.py — the lab's exercise: implement the Single Point (SP) method.
 

@@ -117,7 +117,8 @@ class Need:
     """How often this subscription needs a fresh snapshot (Lab.needs), kept to its current period."""
 
     def __init__(self, lab: Any) -> None:
-        self.lab, self.period, self._held = lab, None, ExitStack()
+        self.period: float | None = None
+        self.lab, self._held = lab, ExitStack()
 
     def every(self, period: float) -> None:
         if period != self.period:

@@ -91,7 +91,8 @@ class NodeActions:
 
     def unadvertise(self, name: str, session: Any) -> bool:
         with self._lock:
-            if self.providers.get(name) is not session:
+            provider: Any = self.providers.get(name)
+            if provider is not session:
                 return False
             del self.providers[name]
             self.server.remove(name)

@@ -1,0 +1,86 @@
+"""`hri-lab grade-services`: a lab started with --exercises, the student's node from the services
+template (tests/nodes/services_solution.py, right and with mistakes), graded over HTTP with the
+controller grader's report formats. (The lab's own answers, the reference: tests/grading.)"""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from sim.procedures.services_grading import grade_services
+
+from tests.e2e.serving import served_lab
+from tests.waiting import start_node, stop_node
+
+TORQUES = "/compute_torques: tau = J(q)^T F of the Panda at the lab's q (Exercise 8)"
+
+
+lab = served_lab("--exercises")  # the lab with its exercise services
+
+
+def grade(lab, *args, seed="5"):
+    env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_GRADE_SEED")}
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade-services", "--url", lab.url, "--seed", seed, *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+    )
+
+
+def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path):
+    node = start_node(lab, "services_solution.py")
+    try:
+        result = grade(lab, "--format", "gradescope", "--out", str(tmp_path))
+    finally:
+        stop_node(node)
+    assert result.returncode == 0, result.stdout + result.stderr
+    gradescope = json.loads(result.stdout)
+    assert gradescope["score"] == 15 and len(gradescope["tests"]) == 10
+    assert all(t["score"] == t["max_score"] > 0 for t in gradescope["tests"])
+    assert {p.name for p in tmp_path.iterdir()} == {"services.txt", "services.json", "results.json", "summary.csv"}
+    assert "PASS" in (tmp_path / "services.txt").read_text()
+    assert "    ok  /compute_wrench" in result.stderr  # progress, one line per item
+
+
+@pytest.mark.parametrize("mistake", ["--wrong-torques", "--torques-as-force"])
+def test_wrong_torques_lose_exactly_the_torque_item(lab, mistake):
+    node = start_node(lab, "services_solution.py", mistake)
+    try:
+        report = grade_services(lab.url, seed=5)
+    finally:
+        stop_node(node)
+    failed = {item.name: item.detail for item in report.items if item.points < item.max_points}
+    assert set(failed) == {TORQUES}, failed
+    assert "expected" in failed[TORQUES]  # the case and the independent answer
+
+
+def test_the_untouched_template_fails_and_the_seed_draws_the_cases(lab):
+    node = start_node(lab, "../../app/cli/templates/services_node.py")
+    try:
+        first, again, other = (grade_services(lab.url, seed) for seed in (5, 5, 6))
+    finally:
+        stop_node(node)
+    assert first.passed is False and first.points == 1  # only the done example, add_two_ints
+    assert first.json() == again.json()  # the same seed, the same report
+    details = [{i.name: i.detail for i in r.items}[TORQUES] for r in (first, other)]
+    assert details[0] != details[1]  # another seed, other wrenches
+
+
+def test_no_node_every_exercise_is_not_provided(lab):
+    result = grade(lab)
+    assert result.returncode == 1
+    assert result.stdout.count("not provided yet") == 10 and "score: 0/15" in result.stdout
+
+
+def test_a_lab_that_cannot_be_reached_is_said_so():
+    result = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade-services", "--url", "http://127.0.0.1:9"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode == 2 and "cannot reach the lab at http://127.0.0.1:9" in result.stderr

@@ -1,0 +1,187 @@
+"""A student's controller runs in a sandboxed process: what it does wrong costs its items with the
+reason, never the grader; it cannot reach the grader, the world, the network or the files."""
+
+import os
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sim.controllers.interface import ControllerFault, LiftingParams
+from sim.controllers.plugin import PluginError, PluginFactory
+from sim.controllers.sandbox import SandboxBudget
+from sim.person.participants import PARTICIPANTS
+from sim.procedures.experiment import Trial
+
+CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
+FAULTS = CONTROLLERS / "faults.py"
+
+
+def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 3000) -> str:
+    controller = PluginFactory(f"{FAULTS}:{name}", budget)()
+    params = LiftingParams()
+    controller.start(params, 10.0)
+    try:
+        with pytest.raises(ControllerFault) as fault:
+            for _ in range(steps):
+                controller.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)
+    finally:
+        controller.close()
+    return str(fault.value)
+
+
+@pytest.mark.parametrize(
+    "name, budget, reason",
+    [
+        ("SleepsForever", SandboxBudget(step_timeout=1.0), "did not answer within 1 s (wall clock)"),
+        ("Sleeps50ms", SandboxBudget(), "step sleeps or blocks"),
+        ("StartsThread", SandboxBudget(), "started a thread or a process"),
+        ("Forks", SandboxBudget(), "started a thread or a process"),
+        ("MemoryBomb", SandboxBudget(memory_bytes=400 << 20), "MemoryError"),
+        ("ExitsInStep", SandboxBudget(), "the controller's process exited with code 0"),
+    ],
+)
+def test_each_fault_stops_the_controller_with_its_reason(name, budget, reason):
+    assert reason in fault_of(name, budget)
+
+
+def test_exit_at_import_is_a_load_error():
+    with pytest.raises(PluginError, match="failed: SystemExit: 0"):
+        PluginFactory(str(CONTROLLERS / "exits_at_import.py"))()
+
+
+def test_no_files_no_network_outside_the_sandbox():
+    reason = fault_of("ReadsSecrets")
+    assert "/etc/passwd: FileNotFoundError" in reason and "root:" not in reason
+    assert f"{FAULTS}: FileNotFoundError" in reason  # not even its own file: it arrives as text
+    assert "connect: OSError" in reason  # no network (a socket it listens on is in its own namespace)
+
+
+def test_patching_the_grader_in_the_child_changes_nothing_here():
+    import sim.procedures.report as report_module
+
+    passed = report_module.Report.__dict__["passed"]
+    controller = PluginFactory(str(CONTROLLERS / "patches_grader.py"))()  # its class body patched the child's grader
+    twist = controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+    controller.close()
+    assert twist.tolist() == [0.0] * 6
+    assert report_module.Report.__dict__["passed"] is passed
+    empty = report_module.Report("x", "controller", 0)
+    assert empty.passed is False and empty.score == 0.0  # the patch would say True, 100
+
+
+def test_the_child_never_runs_at_the_loops_realtime_priority():
+    """Spawned from a SCHED_FIFO thread (as the live loop is), the child runs SCHED_OTHER."""
+    seen = {}
+
+    def spawn_from_fifo() -> None:
+        try:
+            os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(1))
+        except PermissionError:
+            seen["skip"] = True
+        controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+        seen["policies"] = [os.sched_getscheduler(pid) for pid in controller._tree()]
+        controller.close()
+
+    thread = threading.Thread(target=spawn_from_fifo)
+    thread.start()
+    thread.join()
+    if seen.get("skip"):
+        pytest.skip("this machine does not allow SCHED_FIFO (no CAP_SYS_NICE): nothing to reset")
+    assert seen["policies"] and all(p == os.SCHED_OTHER for p in seen["policies"])
+
+
+def test_the_child_follows_the_parent_to_its_cpu():
+    """Parent and child take turns: the child is moved to whichever CPU the stepping thread is on."""
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2:
+        pytest.skip("one CPU: nowhere else to follow the parent to")
+    seen = {}
+
+    def step_on(controller, cpu: int) -> set[int]:
+        os.sched_setaffinity(0, {cpu})  # this thread only
+        for _ in range(controller.budget.check_every):
+            controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+        return {cpu for pid in controller._tree() for cpu in os.sched_getaffinity(pid)}
+
+    def run() -> None:
+        controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+        try:
+            seen["first"], seen["then"] = step_on(controller, cpus[-1]), step_on(controller, cpus[0])
+        finally:
+            controller.close()
+
+    thread = threading.Thread(target=run)  # its own thread: the test run's affinity stays as it was
+    thread.start()
+    thread.join()
+    assert seen == {"first": {cpus[-1]}, "then": {cpus[0]}}
+
+
+def test_the_childs_own_code_loads_no_robot_model():
+    """The child's side of the sandbox (and the interface a student's file imports) loads neither
+    pinocchio nor numba: every item of a grade starts a child, so its start-up is paid many times."""
+    probe = (
+        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
+        "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "[]", out.stdout + out.stderr
+
+
+def test_a_trial_is_judged_by_the_world_not_by_the_person_phase():
+    """In-process (no sandbox), a controller that marks the person done gains nothing."""
+    sys.path.insert(0, str(CONTROLLERS))
+    from faults import ReachesTheWorld
+
+    result = Trial(PARTICIPANTS["calm"], 1, ReachesTheWorld()).run()
+    assert not result.success and result.reason.startswith("not carried")
+
+
+def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
+    env = {**os.environ, "PATH": str(tmp_path)}  # no bwrap on PATH
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade", str(CONTROLLERS / "reference_sp.py")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
+    assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
+    assert run.stdout == ""
+
+
+def test_the_shared_slot_cannot_be_shrunk_under_the_parent():
+    """The slot is sealed: the child's ftruncate fails in the child (unsealed, this process would
+    die of SIGBUS at its next step)."""
+    assert "PermissionError" in fault_of("ShrinksTheSlot")
+
+
+def test_a_stale_answer_in_the_slot_is_not_taken_for_the_answer():
+    """Each answer carries its request's number: a NaN twist under the previous number, with a
+    wake-up, is passed over and the step's own answer is returned."""
+    controller = PluginFactory(f"{FAULTS}:AnswersEarly")()
+    reference = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+    params = LiftingParams()
+    try:
+        for controller_ in (controller, reference):
+            controller_.start(params, 10.0)
+        for _ in range(5):
+            inputs = (np.array([0.3, -0.2, 4.0, 0.01, 0, 0]), np.eye(4), params, 1e-3)
+            assert np.allclose(controller.step(*inputs), reference.step(*inputs))
+    finally:
+        controller.close()
+        reference.close()
+
+
+def test_a_file_built_on_the_lab_sp_loads_no_robot_model_in_its_child():
+    """A student's file that subclasses the lab's SP (as the reference does) imports sim.controllers.sp
+    in its child for every graded item: that loads no pinocchio (0.3 s of start-up each)."""
+    probe = (
+        "import sys, sim.controllers.sp; "
+        "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "[]", out.stdout + out.stderr

@@ -21,8 +21,11 @@ def main() -> None:
         raise SystemExit(2)
     program = Path(sys.argv[1])
     from app.rosclient import interfaces, process
+    from app.rosclient.lab_package import lab_definitions
 
-    interfaces.install(interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None))
+    interfaces.install(
+        interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None), lab_definitions
+    )
     sys.path[0:0] = [str(program.resolve().parent), str(SITE)]
     sys.argv = [str(program), *sys.argv[2:]]
     try:

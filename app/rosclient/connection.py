@@ -63,6 +63,9 @@ class Connection:
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
         self.status_handler: Callable[[dict], None] = _print_status
+        self.rosout_refused: Callable[[str], None] = lambda reason: (
+            None
+        )  # the lab refused a /rosout line (process.py keeps it)
         self._reader = threading.Thread(target=self._read, name="rosbridge-reader", daemon=True)
         self._reader.start()
 
@@ -222,9 +225,7 @@ class Connection:
             id_ = str(message.get("id", ""))
             if id_ == "rosout":
                 if message.get("level") == "error":
-                    from app.rosclient import process
-
-                    process.rosout_refused(str(message.get("msg")))
+                    self.rosout_refused(str(message.get("msg")))
             elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
                 self.status_handler(message)
 

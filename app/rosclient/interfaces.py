@@ -25,6 +25,7 @@ import re
 import sys
 import threading
 import types
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -54,24 +55,7 @@ BYTES = ("uint8", "byte", "char")  # arrays of these travel as base64 text in ro
 _FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
 
-LAB_PACKAGE = "hri_lab"  # its .srv/.action texts are the lab's own declarations (app/lab)
-
-
-def lab_definitions() -> dict[str, dict[str, str]]:
-    """kind -> name -> text of the lab's services and actions, from their declarations."""
-    if not _LAB:
-        from app.lab.actions import ACTIONS
-        from app.lab.services import SERVICES
-
-        _LAB.update(
-            msg={},
-            srv={s.type.split("/")[-1]: s.srv for s in SERVICES if s.type.startswith(LAB_PACKAGE + "/")},
-            action={a.type.split("/")[-1]: a.definition for a in ACTIONS if a.type.startswith(LAB_PACKAGE + "/")},
-        )
-    return _LAB
-
-
-_LAB: dict[str, dict[str, str]] = {}
+LAB_PACKAGE = "hri_lab"  # its .srv/.action texts are the lab's own declarations (app/rosclient/lab_package.py)
 
 
 class DefinitionError(ImportError):
@@ -349,17 +333,34 @@ def _literal(scalar: str, text: str, where: str, package: str) -> Any:
 class Interfaces:
     """The interface packages of the search roots, loaded on demand (thread-safe, cached)."""
 
-    def __init__(self, roots: list[Path], texts: dict[tuple[str, str, str], str] | None = None) -> None:
+    def __init__(
+        self,
+        roots: list[Path],
+        texts: dict[tuple[str, str, str], str] | None = None,
+        lab: Callable[[], dict[str, dict[str, str]]] | None = None,
+    ) -> None:
         self.roots = [Path(r) for r in roots] + [SHARE]
         self.texts = dict(texts or {})  # (package, kind, name) -> text carried by a client: before the roots
+        self._lab_source, self._lab = lab, None  # the lab's own package, LAB_PACKAGE: after the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
         self._lock = threading.RLock()
+
+    @property
+    def lab(self) -> dict[str, dict[str, str]]:
+        """kind -> name -> text of the lab's own package, read when first asked for (it imports the lab's declarations)."""
+        if self._lab is None:
+            self._lab = self._lab_source() if self._lab_source else {}
+        return self._lab
 
     def package_dirs(self, package: str) -> list[Path]:
         return [r / package for r in self.roots if any((r / package / k).is_dir() for k in KINDS)]
 
     def is_package(self, package: str) -> bool:
-        return package == LAB_PACKAGE or any(p == package for p, _, _ in self.texts) or bool(self.package_dirs(package))
+        return (
+            (package == LAB_PACKAGE and self._lab_source is not None)
+            or any(p == package for p, _, _ in self.texts)
+            or bool(self.package_dirs(package))
+        )
 
     def find(self, package: str, kind: str, name: str) -> Path | None:
         if (package, kind, name) in self.texts:
@@ -368,12 +369,12 @@ class Interfaces:
             candidate = directory / kind / f"{name}.{kind}"
             if candidate.is_file():
                 return candidate
-        if package == LAB_PACKAGE and name in lab_definitions()[kind]:
+        if package == LAB_PACKAGE and name in self.lab.get(kind, {}):
             return Path(f"<the lab's declaration of {LAB_PACKAGE}/{kind}/{name}>")
         return None
 
     def names(self, package: str, kind: str) -> list[str]:
-        found = set(lab_definitions()[kind]) if package == LAB_PACKAGE else set()
+        found = set(self.lab.get(kind, {})) if package == LAB_PACKAGE else set()
         for directory in self.package_dirs(package):
             found.update(p.stem for p in (directory / kind).glob(f"*.{kind}"))
         return sorted(found)
@@ -404,7 +405,7 @@ class Interfaces:
         if (package, kind, name) in self.texts:
             text = self.texts[package, kind, name]
         elif str(path).startswith("<"):
-            text = lab_definitions()[kind][name]
+            text = self.lab[kind][name]
         else:
             text = path.read_text(encoding="utf-8")
         sections = _sections(text)
@@ -599,9 +600,10 @@ class Finder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return None
 
 
-def install(roots: list[Path]) -> Interfaces:
-    """Put the interface finder first on sys.meta_path (the program's process only)."""
-    interfaces = Interfaces(roots)
+def install(roots: list[Path], lab: Callable[[], dict[str, dict[str, str]]] | None = None) -> Interfaces:
+    """Put the interface finder first on sys.meta_path (the program's process only); `lab`: the lab's own
+    package's texts (app/rosclient/lab_package.py), read on first use."""
+    interfaces = Interfaces(roots, lab=lab)
     sys.meta_path.insert(0, Finder(interfaces))
     return interfaces
 

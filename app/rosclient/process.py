@@ -30,15 +30,20 @@ _advertised: set[str] = set()
 def ensure_interfaces() -> None:
     """The interface finder, when the program was not started by boot.py (plain `python FILE`)."""
     from app.rosclient import interfaces
+    from app.rosclient.lab_package import lab_definitions
 
     if not any(isinstance(f, interfaces.Finder) for f in sys.meta_path):
-        interfaces.install(interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE")))
+        interfaces.install(
+            interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE")), lab_definitions
+        )
 
 
 def connection() -> Connection:
     with _lock:
         if not _connection:
-            _connection.append(Connection())
+            made = Connection()
+            made.rosout_refused = rosout_refused
+            _connection.append(made)
         return _connection[0]
 
 

@@ -111,10 +111,11 @@ class UrdfView:
     def _build_gui(self, names: list[str]) -> None:
         gui = self.server.gui
         gui.add_markdown(f"**{self.model.name}** — `{self.path.name}`")
-        self.sliders: dict[str, viser.GuiInputHandle] = {}
+        self.sliders: dict[str, viser.GuiInputHandle[float]] = {}
         with gui.add_folder("Joints"):
             for name in names:
                 low, high = self.ranges[name]
+                slider: viser.GuiInputHandle[float]
                 if high > low:
                     slider = gui.add_slider(
                         name, min=low, max=high, step=(high - low) / SLIDER_STEPS, initial_value=self.start[name]
@@ -134,14 +135,14 @@ class UrdfView:
         value = float(event.target.value)
         kept = min(max(value, low), high) if math.isfinite(value) else self.states.position(name)
         if kept != value:
-            event.target.value = kept  # calls back with the kept value
+            self.sliders[name].value = kept  # type: ignore[misc]  # calls back with the kept value; viser 1.1.1 defines the setter apart from its getter: mypy reads it as read-only
             return
         self.states.set(name, kept)
         self._update()
 
     def centre(self) -> None:
         for name, slider in self.sliders.items():
-            slider.value = self.start[name]
+            slider.value = self.start[name]  # type: ignore[misc]  # as above
 
     def _update(self) -> None:
         """The robot (and the frames, when shown) at the sliders' positions."""

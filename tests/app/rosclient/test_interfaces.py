@@ -3,13 +3,14 @@
 
 import pytest
 
-from app.rosclient.interfaces import DefinitionError, Interfaces, lab_definitions
+from app.rosclient.interfaces import DefinitionError, Interfaces
+from app.rosclient.lab_package import lab_definitions
 from tests.ros_running import PROGRAMS
 
 
 @pytest.fixture()
 def interfaces(tmp_path):
-    return Interfaces([tmp_path, PROGRAMS])
+    return Interfaces([tmp_path, PROGRAMS], lab=lab_definitions)
 
 
 def test_a_workspace_service_has_rclpy_and_rospy_classes_with_ros_defaults(interfaces):
@@ -105,7 +106,7 @@ def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
 
     from app.rosclient.interfaces import Finder
 
-    finder = Finder(Interfaces([PROGRAMS]))
+    finder = Finder(Interfaces([PROGRAMS], lab=lab_definitions))
     sys.meta_path.insert(0, finder)
     try:
         msg = importlib.import_module("cpp_package.msg")

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Setup, format_comparison, run_comparison
+from sim.procedures.experiment import run_comparison
+from sim.procedures.tables import format_comparison
+from sim.procedures.trial import Setup
 from sim.robot.panda import SIDE_Q
 
 from tests.waiting import wait_for, wait_sim

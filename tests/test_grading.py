@@ -11,7 +11,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Trial
+from sim.procedures.trial import Trial
 from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, new_report, probe_items
 from sim.procedures.report import Item, summary_csv
 

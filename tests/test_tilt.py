@@ -35,7 +35,8 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.patch import PatchController
 from sim.controllers.sp import SPController
-from sim.procedures.experiment import Trial, plan
+from sim.procedures.experiment import plan
+from sim.procedures.trial import Trial
 from sim.robot.plate import Plate
 from sim.spatial import rotation_log
 

@@ -11,7 +11,10 @@ from sim.controllers.interface import LiftingParams
 from sim.person.human import HandPath, PickAndPlace
 from sim.person.participants import PARTICIPANTS
 from sim.physics.sensor import SensorParams, WrenchSensor
-from sim.procedures.experiment import Setup, Trial, TrialResult, TrialRules, format_comparison, plan, run_experiment
+from sim.procedures.experiment import plan, run_experiment
+from sim.procedures.monitor import TrialRules
+from sim.procedures.tables import format_comparison
+from sim.procedures.trial import Setup, Trial, TrialResult
 from sim.robot.panda import READY_Q, SIDE_Q
 from sim.signals import minimum_jerk
 from sim.world import World, WorldConfig
@@ -317,7 +320,7 @@ def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
     """Grip and release at the ends of the ranges: the box stays where the hands hold it (an
     unstable integration blows it away within a few steps: a 0.05 kg box without substeps did
     at the 12th)."""
-    from sim.procedures.experiment import make_trial
+    from sim.procedures.trial import make_trial
 
     from app.lab.overrides import setup_of
 

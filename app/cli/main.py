@@ -17,6 +17,8 @@ from pathlib import Path
 
 from sim.person.participants import PARTICIPANTS
 
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
+
 from app.cli import bag
 from app.cli import client as client_cli
 
@@ -68,6 +70,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the same trials at each value (twice: a grid of two parameters); one table",
     )
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
+    _scheduler_option(exp, "every trial (and sweep point)")
     add_output_options(exp)
     exp.set_defaults(func=_command("app.cli.experiment"))
 
@@ -140,6 +143,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run",
     )
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
+    grd.add_argument(
+        "--only",
+        action="append",
+        choices=SECTIONS,
+        metavar="|".join(SECTIONS),
+        help="grade only this part of the battery (again for another; default all): a quick check, not a grade",
+    )
+    grd.add_argument(
+        "--force",
+        action="store_true",
+        help="with --out: grade every file again (default: skip a file whose report there is for the same seed and file)",
+    )
+    _scheduler_option(grd, "every item of every file")
     add_output_options(grd)
     grd.set_defaults(func=_command("app.cli.grade"))
 
@@ -190,6 +206,17 @@ def add_output_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
     parser.add_argument(
         "--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)"
+    )
+
+
+def _scheduler_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """--scheduler: a Dask cluster instead of --jobs (docs/course-scale.md)."""
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:8786",
+        default=os.environ.get("HRI_LAB_SCHEDULER"),
+        help=f"run {what} as a task on this Dask cluster instead of --jobs processes here "
+        "(default $HRI_LAB_SCHEDULER; the same results)",
     )
 
 

@@ -34,9 +34,9 @@ import numpy as np
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import controller_factory
 from sim.procedures.experiment import SweepRow, plan, run_sweep
+from sim.procedures.runner import worker_pool
 from sim.procedures.tables import format_sweep
 from sim.procedures.trial import make_trial
-from sim.procedures.runner import worker_pool
 
 from app.lab import overrides
 

@@ -92,6 +92,8 @@ E2E_FILES = {
     "test_runtime.py",
     "test_sandbox.py",
     "test_workers.py",
+    "test_course_scale.py",
+    "test_autograder.py",
     "test_cli_files.py",
     "test_exercise_services.py",
 }

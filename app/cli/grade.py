@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
             report.error = str(exc)
             continue
         to_load.append((report, factory))
-    if skipped and not args.quiet:
+    if skipped:
         print(f"hri-lab grade: skipped {skipped} up to date (--force grades them again)", file=sys.stderr)
     checks = [
         Job(report, load_check, (factory, sandboxed), lost=lambda why: Loaded(error=f"{LOST}{why}"))
@@ -120,8 +120,10 @@ def run(args: argparse.Namespace) -> int:
     for report in reports:
         if out is not None and report.error:
             write_report(report, out, args.format == "gradescope", len(reports) == 1)
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
     _grade(jobs, reports, args, out, scheduler)
-    return emit(reports, args)
+    return emit(reports, args, written=True)
 
 
 def _grade(jobs: list[Items], reports: list[Report], args: argparse.Namespace, out: Path | None, scheduler) -> None:

@@ -17,10 +17,10 @@ from pathlib import Path
 
 from sim.person.participants import PARTICIPANTS
 
-SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
-
 from app.cli import bag
 from app.cli import client as client_cli
+
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
 
 
 def _command(module: str):
@@ -172,6 +172,23 @@ def build_parser() -> argparse.ArgumentParser:
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
+
+    agr = sub.add_parser(
+        "autograder", help="write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab"
+    )
+    agr.add_argument("-o", "--output", default="autograder.zip", metavar="ZIP", help="default %(default)s")
+    agr.add_argument(
+        "--seed",
+        type=int,
+        default=os.environ.get("HRI_LAB_GRADE_SEED", "0"),
+        help="seed of the probe values and trials (default $HRI_LAB_GRADE_SEED or 0: a course's private seed)",
+    )
+    agr.add_argument(
+        "--hide-until-due",
+        action="store_true",
+        help="show the tests (their seed-drawn numbers) only after the due date; the score at once",
+    )
+    agr.set_defaults(func=_command("app.cli.autograder"))
 
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
     run.add_argument(

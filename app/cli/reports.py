@@ -42,9 +42,12 @@ def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
     _write(out / "summary.csv", summary_csv(reports))
 
 
-def emit(reports: list[Report], args: argparse.Namespace) -> int:
-    """The reports written (--out, --json) and printed (--format); the exit status: 0 all passed."""
-    if args.out:
+def emit(reports: list[Report], args: argparse.Namespace, written: bool = False) -> int:
+    """The reports written (--out, --json; written: the reports are in --out already, only
+    summary.csv is left) and printed (--format); the exit status: 0 all passed."""
+    if args.out and written:
+        _write(Path(args.out) / "summary.csv", summary_csv(reports))
+    elif args.out:
         write_outputs(reports, Path(args.out), args.format == "gradescope")
     if len(reports) == 1:
         report = reports[0]

@@ -16,7 +16,6 @@ from typing import Any
 import yaml
 
 from sim.procedures.experiment import SweepPoint
-
 from sim.procedures.trial import Setup
 
 from app.lab.params import LAB_PARAMETERS

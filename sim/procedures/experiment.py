@@ -106,7 +106,7 @@ def run_sweep(
     ]
     results = run_jobs(work, jobs, _each(on_result), scheduler=scheduler)
     return [
-        SweepRow(dict(values), [r for job, r in zip(work, results) if job.key == k])
+        SweepRow(dict(values), [r for job, r in zip(work, results) if job.key == k and r is not None])
         for k, (values, _) in enumerate(points)
     ]
 
@@ -180,5 +180,3 @@ def run_comparison(
         if result is not None:
             results[item.controller].setdefault(item.participant.name, []).append(result)
     return results
-
-

@@ -192,5 +192,3 @@ def make_trial(
         index=index,
         attempt=attempt,
     )
-
-

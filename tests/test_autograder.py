@@ -79,13 +79,9 @@ def test_a_passing_submission(tmp_path, bundle):
 
 
 def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):
-    raising = (
-        "class CooperativeLifting:\n    def reset(self):\n        pass\n\n"
-        "    def step(self, wrench_ee, transform_ee_to_base, params, dt):\n        raise ZeroDivisionError('a bug')\n"
-    )
     # no bwrap on the PATH: as in a container where it cannot create namespaces
-    results = gradescope(tmp_path, bundle, raising, {"PATH": "/nonexistent"})
+    results = gradescope(tmp_path, bundle, "class CooperativeLifting(:\n", {"PATH": "/nonexistent"})
     valid(results)
-    assert results["score"] < 60 and "FAIL" in results["output"]
+    assert results["score"] == 0.0 and results["tests"] == []
     assert "bubblewrap cannot run in this container" in results["output"]
-    assert any("ZeroDivisionError: a bug" in t["output"] for t in results["tests"])
+    assert "SyntaxError" in results["output"]

@@ -1,6 +1,6 @@
 """The person tilts the box on the plate: what each controller does with the plate contact.
 
-Scenario: the handout's trial (sim/procedures/experiment.py: approach, grip in the band, let go, pick and
+Scenario: the handout's trial (sim/procedures/trial.py: approach, grip in the band, let go, pick and
 place) with the *tilting* participant made to tilt the box 45 deg (instead of 15 deg) about the
 carry direction while carrying it; the carry direction (base -x) lies in the plate plane, so the
 tilt is a tipping rotation for the plate. Fixed seed (the second tilting trial of the comparison).

@@ -83,13 +83,14 @@ def run(args: argparse.Namespace) -> int:
         return 2
     out = Path(args.out) if args.out else None
     sections = tuple(s for s in SECTION_OF if s in (args.only or SECTION_OF))
-    reports, to_load, skipped = [], [], 0
+    reports: list[Report] = []
+    to_load, kept = [], []  # kept: the reports up to date in --out
     for spec in specs:
         report = new_report(spec, args.seed)
         report.sha256 = file_sha256(spec)
         if not args.force and (old := up_to_date(report, out, sections)) is not None:
             reports.append(old)
-            skipped += 1
+            kept.append(old)
             continue
         reports.append(report)
         try:  # the file's text goes with the jobs: a worker elsewhere has no copy of it
@@ -98,8 +99,8 @@ def run(args: argparse.Namespace) -> int:
             report.error = str(exc)
             continue
         to_load.append((report, factory))
-    if skipped:
-        print(f"hri-lab grade: skipped {skipped} up to date (--force grades them again)", file=sys.stderr)
+    if kept:
+        print(f"hri-lab grade: skipped {len(kept)} up to date (--force grades them again)", file=sys.stderr)
     checks = [
         Job(report, load_check, (factory, sandboxed), lost=lambda why: Loaded(error=f"{LOST}{why}"))
         for report, factory in to_load
@@ -118,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
             outputs = replace(outputs, prefix=f"{split_spec(report.subject)[0].stem}_")
         jobs += battery(factory, args.seed, sections, outputs=outputs, key=report)
     for report in reports:
-        if out is not None and report.error:
+        if out is not None and report.error and not any(report is k for k in kept):
             write_report(report, out, args.format == "gradescope", len(reports) == 1)
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)

@@ -144,3 +144,11 @@ def test_a_batch_resumes_and_regrades_only_what_changed(tmp_path):
     forced = cli(*grade, "--seed", "1", "--force", check_status=1)
     assert "skipped" not in forced.stderr
     assert all((out / n).stat().st_mtime_ns != stamps[n] for n in ("first.json", "syntax.json"))
+
+
+def test_a_scheduler_address_that_is_none_is_refused_with_its_reason():
+    run = cli("grade", str(CONTROLLERS / "reference_sp.py"), "--scheduler", "not an address")
+    assert (
+        run.returncode == 2 and "argument --scheduler: 'not an address' is not a Dask scheduler's address" in run.stderr
+    )
+    assert "Traceback" not in run.stderr

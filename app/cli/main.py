@@ -12,7 +12,9 @@ import importlib
 import importlib.util
 import multiprocessing
 import os
+import re
 import signal
+import sys
 from pathlib import Path
 
 from sim.person.participants import PARTICIPANTS
@@ -27,7 +29,13 @@ def _command(module: str):
     """The command `module.run(args)`, its module imported when the command runs."""
 
     def run(args: argparse.Namespace) -> int:
-        return importlib.import_module(module).run(args)
+        from sim.procedures.runner import ClusterUnreachable
+
+        try:
+            return importlib.import_module(module).run(args)
+        except ClusterUnreachable as exc:  # --scheduler names no cluster: one line, exit 1
+            print(f"hri-lab {args.command}: {exc}", file=sys.stderr)
+            return 1
 
     return run
 
@@ -231,6 +239,7 @@ def _scheduler_option(parser: argparse.ArgumentParser, what: str) -> None:
     parser.add_argument(
         "--scheduler",
         metavar="tcp://HOST:8786",
+        type=_scheduler_address,
         default=os.environ.get("HRI_LAB_SCHEDULER"),
         help=f"run {what} as a task on this Dask cluster instead of --jobs processes here "
         "(default $HRI_LAB_SCHEDULER; the same results)",
@@ -275,6 +284,15 @@ def _template(args: argparse.Namespace) -> int:
         path = Path(__file__).parent / "templates" / names[args.kind, args.api]
     print(path.read_text(encoding="utf-8"), end="")
     return 0
+
+
+def _scheduler_address(text: str) -> str | None:
+    """A Dask scheduler's address: [tcp|tls://]HOST:PORT ("" = none)."""
+    if not text:
+        return None
+    if not re.fullmatch(r"((tcp|tls)://)?[A-Za-z0-9._\-\[\]:]+:\d{1,5}", text):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a Dask scheduler's address, e.g. tcp://HOST:8786")
+    return text
 
 
 def _positive_int(text: str) -> int:

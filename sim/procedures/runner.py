@@ -21,7 +21,7 @@ import os
 import signal
 import sys
 import uuid
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
@@ -31,6 +31,10 @@ from typing import Any, Generic, TypeVar
 T = TypeVar("T")
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 RETRIES = 1  # times a job whose worker died is run again before it counts as lost
+
+
+class ClusterUnreachable(RuntimeError):
+    """No Dask scheduler answers at the address given (the message says which and why)."""
 
 
 class JobLost(RuntimeError):
@@ -45,7 +49,7 @@ class Job(Generic[T]):
     others (the long ones, so that workers end together); `lost(reason)`: the result that stands in
     for the job when its worker died on every try (None: the batch fails with JobLost)."""
 
-    key: Hashable
+    key: object
     fn: Callable[..., T]
     args: tuple[Any, ...] = ()
     size: int = 1
@@ -183,7 +187,11 @@ def _on_cluster(
 
     results: list[T | None] = [None] * len(work)
     batch = uuid.uuid4().hex[:8]
-    with Client(scheduler, set_as_default=False) as client:
+    try:
+        client = Client(scheduler, set_as_default=False, timeout="20s")
+    except (OSError, ValueError, TypeError) as exc:  # a timeout, a refused connection, a malformed address
+        raise ClusterUnreachable(f"no Dask scheduler answers at {scheduler}: {exc}") from None
+    with client:
         futures = {
             client.submit(
                 work[i].fn,

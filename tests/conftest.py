@@ -58,6 +58,8 @@ LONG_FILES_FIRST = (
     "test_grading.py",
     "test_ros_programs.py",
     "test_law_checks.py",
+    "test_course_scale.py",
+    "test_autograder.py",
     "test_browser.py",
     "test_tilt.py",
     "test_cli_server.py",

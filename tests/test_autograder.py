@@ -30,7 +30,9 @@ def bundle(tmp_path_factory) -> Path:
     return out
 
 
-def gradescope(tmp_path: Path, bundle: Path, submission: str, env: dict | None = None) -> dict:
+def gradescope(
+    tmp_path: Path, bundle: Path, submission: str, env: dict | None = None, files: dict[str, str] | None = None
+) -> dict:
     """/autograder as Gradescope lays it out (source, run_autograder, submission/), then run_autograder."""
     root = tmp_path / "autograder"
     with zipfile.ZipFile(bundle) as z:
@@ -38,6 +40,8 @@ def gradescope(tmp_path: Path, bundle: Path, submission: str, env: dict | None =
     shutil.copy(root / "source" / "run_autograder", root / "run_autograder")
     (root / "submission").mkdir()
     (root / "submission" / "cooperative_lifting.py").write_text(submission)
+    for name, text in (files or {}).items():
+        (root / "submission" / name).write_text(text)
     run = subprocess.run(
         [shutil.which("bash") or "/bin/bash", str(root / "run_autograder")],
         capture_output=True,
@@ -85,3 +89,19 @@ def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):
     assert results["score"] == 0.0 and results["tests"] == []
     assert "bubblewrap cannot run in this container" in results["output"]
     assert "SyntaxError" in results["output"]
+
+
+def test_the_services_exercises_with_services(tmp_path):
+    """--services: the submission's services node against a lab started in the container."""
+    out = tmp_path / "services.zip"
+    subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services"], check=True, timeout=120
+    )
+    node = (Path(__file__).parent / "nodes" / "services_solution.py").read_text()
+    root = tmp_path / "gs"
+    root.mkdir()
+    results = gradescope(root, out, "class CooperativeLifting(:\n", files={"services_node.py": node})
+    valid(results)
+    services = [t for t in results["tests"] if t["name"].startswith("services")]
+    assert len(services) == 10 and all(t["score"] == t["max_score"] > 0 for t in services), services
+    assert results["score"] == 15.0 and "SyntaxError" in results["output"]  # the controller file: not loaded

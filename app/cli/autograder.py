@@ -7,7 +7,9 @@ that writes /autograder/results/results.json. Ours:
 - setup.sh installs bubblewrap (apt) and this very lab (its source is in the bundle, pip
   installs it with its pinned dependencies) into a virtual environment /autograder/hri-lab;
 - run_autograder runs `python -m app.cli.autograder` (`grade_submission` below): the battery
-  of `hri-lab grade` on the submission's controller file, with the bundle's seed, each item a test.
+  of `hri-lab grade` on the submission's controller file, with the bundle's seed, each item a test;
+  with --services also the services exercises (`hri-lab grade-services`) of the submission's
+  services_node.py, run against a lab started in the container with `serve --exercises`.
   Where bubblewrap cannot create its namespaces (Gradescope's container may forbid them) the file
   runs with the child-process limits alone, and the output says so: the container is the sandbox.
 $HRI_LAB_GRADESCOPE_ROOT (default /autograder) moves the whole layout (the tests use it);
@@ -19,7 +21,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
+import subprocess
 import sys
+import threading
+import time
 import zipfile
 from pathlib import Path
 
@@ -32,6 +38,8 @@ from sim.procedures.report import Report
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
 SOURCE = "hri-lab"  # the lab's source in the bundle (pip installs it)
 TEMPLATE_NAME = "cooperative_lifting.py"  # the name `hri-lab template` suggests for the file
+SERVICES_NAME = "services_node.py"  # the name `hri-lab template services` suggests for the node (docs/students.md)
+NODE_READY_TIMEOUT = 60.0  # s the student's node has to say "node ready" (both templates print it)
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, in its Ubuntu image: bubblewrap (the sandbox) and this lab,
@@ -79,7 +87,12 @@ def build(args: argparse.Namespace) -> int:
     if not files[0][0].is_file():
         print("hri-lab autograder: the lab's source (pyproject.toml) is not beside its packages", file=sys.stderr)
         return 2
-    config = {"seed": args.seed, "hide_until_due": args.hide_until_due, "version": version()}
+    config = {
+        "seed": args.seed,
+        "hide_until_due": args.hide_until_due,
+        "services": args.services,
+        "version": version(),
+    }
     with zipfile.ZipFile(args.output, "w", zipfile.ZIP_DEFLATED) as bundle:
         for name, text in (
             ("setup.sh", SETUP_SH.format(version=config["version"], source=SOURCE)),
@@ -108,14 +121,18 @@ def submission_file(folder: Path) -> Path | None:
     return named[0] if named else files[0] if len(files) == 1 else None
 
 
-def results_json(report: Report, notes: list[str], hide_until_due: bool) -> dict:
-    """Gradescope's results.json of a report: the score, one test per item; with hide_until_due
+def results_json(reports: list[Report], notes: list[str], hide_until_due: bool) -> dict:
+    """Gradescope's results.json of the reports: the score, one test per item; with hide_until_due
     the tests (their seed-drawn numbers) are shown only after the due date, the score at once."""
-    results = report.gradescope()
+    parts = [report.gradescope() for report in reports]
+    results = {
+        "score": float(sum(part["score"] for part in parts)),
+        "output": "\n".join([*notes, *(part["output"] for part in parts)]),
+        "tests": [test for part in parts for test in part["tests"]],
+    }
     visibility = "after_due_date" if hide_until_due else "visible"
     for test in results["tests"]:
         test["visibility"] = visibility
-    results["output"] = "\n".join([*notes, results["output"]])
     results["visibility"] = "visible"
     results["stdout_visibility"] = "hidden"
     return results
@@ -146,11 +163,65 @@ def grade_submission(root: Path, config: dict) -> dict:
             report.error = str(exc)
         if not report.error:
             report.items = run_items(battery(factory, seed), os.cpu_count() or 1)
-    results = results_json(report, notes, bool(config.get("hide_until_due")))
+    reports = [report]
+    if config.get("services"):
+        reports.append(services_report(root / "submission", seed))
+    results = results_json(reports, notes, bool(config.get("hide_until_due")))
     out = root / "results"
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.json").write_text(json.dumps(results, indent=2), encoding="utf-8")
     return results
+
+
+def services_report(folder: Path, seed: int) -> Report:
+    """The services exercises of folder's services_node.py: a lab started here with --exercises,
+    the node connected to it (a rospy/rclpy program through `hri-lab run`, else run with --port,
+    as the roslibpy template is), graded over HTTP once it says "node ready" (or after
+    NODE_READY_TIMEOUT s: what it does not serve then is not provided)."""
+    from app.cli.grade_services import grade_services
+    from app.cli.launch import running_server
+
+    found = sorted(folder.rglob(SERVICES_NAME))
+    if not found:
+        report = Report("services", "services", seed)
+        report.error = f"no {SERVICES_NAME} in the submission (start from `hri-lab template services`)"
+        return report
+    node_file = found[0]
+    text = node_file.read_text(encoding="utf-8", errors="replace")
+    with running_server("--view", "none", "--exercises") as server:
+        if "rospy" in text or "rclpy" in text:
+            argv = [sys.executable, "-m", "app.cli", "run", "--url", server.url, str(node_file)]
+        else:
+            argv = [sys.executable, str(node_file), "--port", str(server.port)]
+        node = subprocess.Popen(
+            argv,
+            cwd=node_file.parent,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            start_new_session=True,
+        )
+        ready = threading.Event()
+
+        def watch() -> None:
+            for line in node.stdout or ():
+                if "node ready" in line:
+                    ready.set()
+
+        threading.Thread(target=watch, daemon=True).start()
+        try:
+            deadline = time.monotonic() + NODE_READY_TIMEOUT
+            while not ready.is_set() and node.poll() is None and time.monotonic() < deadline:
+                ready.wait(0.2)
+            report = grade_services(server.url, seed)
+            report.subject = node_file.name
+        finally:
+            try:
+                os.killpg(node.pid, signal.SIGKILL)
+            except OSError:
+                pass
+            node.wait(timeout=10)
+    return report
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -192,6 +192,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="seed of the probe values and trials (default $HRI_LAB_GRADE_SEED or 0: a course's private seed)",
     )
     agr.add_argument(
+        "--services",
+        action="store_true",
+        help="also grade the services exercises of the submission's services_node.py (a lab started in the container)",
+    )
+    agr.add_argument(
         "--hide-until-due",
         action="store_true",
         help="show the tests (their seed-drawn numbers) only after the due date; the score at once",

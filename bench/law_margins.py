@@ -45,7 +45,7 @@ def factory(name: str):
 def measure(job: tuple) -> tuple:
     """(controller, item, carried, reason, measures) of one watched trial."""
     from sim.procedures import grading
-    from sim.procedures.experiment import make_trial, trial_seed
+    from sim.procedures.trial import make_trial, trial_seed
 
     name, kind, index, person, attempt, seed, root_seed = job
     make = factory(name)
@@ -63,7 +63,7 @@ def main() -> None:
     from sim.procedures.experiment import plan
     from sim.procedures.grading import ROBUSTNESS
     from sim.procedures.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
-    from sim.procedures.workers import worker_pool
+    from sim.procedures.runner import worker_pool
 
     parser = argparse.ArgumentParser()
     parser.add_argument("--seed", type=int, default=0)

@@ -33,8 +33,10 @@ import numpy as np
 
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import controller_factory
-from sim.procedures.experiment import SweepRow, format_sweep, make_trial, plan, run_sweep
-from sim.procedures.workers import worker_pool
+from sim.procedures.experiment import SweepRow, plan, run_sweep
+from sim.procedures.runner import worker_pool
+from sim.procedures.tables import format_sweep
+from sim.procedures.trial import make_trial
 
 from app.lab import overrides
 

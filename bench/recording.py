@@ -45,7 +45,8 @@ def loop_cost(seconds: float, repeats: int, folder: Path) -> None:
 
 
 def trial_cost(folder: Path) -> None:
-    from sim.procedures.experiment import plan, run_trial
+    from sim.procedures.experiment import plan
+    from sim.procedures.trial import run_trial
     from sim.recording.figures import save_trial_figure
     from sim.recording.trial import TrialOutputs
 
@@ -56,7 +57,7 @@ def trial_cost(folder: Path) -> None:
         f"trial recording: {size / 1024:.0f} KiB for {result.duration:.1f} s simulated = "
         f"{size / result.duration / 1024:.0f} KiB/s"
     )
-    from sim.procedures.experiment import Trial
+    from sim.procedures.trial import Trial
     from sim.recording.trial import TrialObserver
 
     index, person, attempt, seed = item

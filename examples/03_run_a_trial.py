@@ -6,7 +6,7 @@ No server needed: python examples/03_run_a_trial.py
 
 from sim.controllers.sp import SPController
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Trial
+from sim.procedures.trial import Trial
 
 trial = Trial(PARTICIPANTS["calm"], seed=0, controller=SPController())
 result = trial.run()

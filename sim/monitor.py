@@ -1,5 +1,5 @@
 """A trial's outcome, watched step by step: the success rule of the lab's experiment, for the
-headless trials (sim/procedures/experiment.py) and for the live world's scripted participant.
+headless trials (sim/procedures/trial.py) and for the live world's scripted participant.
 
 A trial starts when lifting starts while the person still grasps the box (or when a headless
 trial begins it). Success is judged by the world's own state, never by what a controller

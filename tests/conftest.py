@@ -60,6 +60,8 @@ LONG_FILES_FIRST = (
     "e2e/test_grading.py",
     "e2e/test_ros_programs.py",
     "e2e/test_law_checks.py",
+    "e2e/test_course_scale.py",
+    "e2e/test_autograder.py",
     "e2e/browser/test_page.py",
     "sim/controllers/test_tilt.py",
     "e2e/test_cli_server.py",

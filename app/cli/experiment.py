@@ -8,17 +8,9 @@ import sys
 
 from tqdm import tqdm
 
-from sim.procedures.experiment import (
-    format_comparison,
-    format_sweep,
-    format_table,
-    plan,
-    run_comparison,
-    run_experiment,
-    run_sweep,
-    summary,
-    sweep_json,
-)
+from sim.controllers.plugin import PluginFactory
+from sim.procedures.experiment import plan, run_comparison, run_experiment, run_sweep
+from sim.procedures.tables import format_comparison, format_sweep, format_table, summary, sweep_json
 
 from app.cli.controllers import loaded_factory
 from app.cli.outputs import summary_figure, trial_outputs
@@ -42,6 +34,13 @@ def _overrides(args: argparse.Namespace) -> list:
     return found + overrides.parse_set(args.set or [])
 
 
+def _factory(args: argparse.Namespace, spec: str | None):
+    """--controller's factory; a student's file read here and carried along to a cluster's
+    workers (they have no copy of it)."""
+    factory = loaded_factory(spec)
+    return factory.carrying() if args.scheduler and isinstance(factory, PluginFactory) else factory
+
+
 def _progress_bar(args: argparse.Namespace, total: int):
     return tqdm(total=total, desc="trials", unit="trial", file=sys.stderr, disable=args.quiet)
 
@@ -60,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
             print("hri-lab: --sweep runs one controller (pick it with --controller), not --compare", file=sys.stderr)
             return 2
         return _compare(args, overrides.setup_of(found), title, changed)
-    factory = loaded_factory(args.controller)
+    factory = _factory(args, args.controller)
     trials = len(plan(args.trials, args.participant, args.seed))
     points = overrides.sweep_points(axes, found) if axes else None
     with _progress_bar(args, trials * len(points or [None])) as bar:
@@ -70,7 +69,9 @@ def run(args: argparse.Namespace) -> int:
             bar.update(1)
 
         if points:
-            rows = run_sweep(points, args.trials, args.participant, args.seed, factory, progress, args.jobs)
+            rows = run_sweep(
+                points, args.trials, args.participant, args.seed, factory, progress, args.jobs, scheduler=args.scheduler
+            )
         else:
             results = run_experiment(
                 args.trials,
@@ -81,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
                 jobs=args.jobs,
                 setup=overrides.setup_of(found),
                 outputs=trial_outputs(args),
+                scheduler=args.scheduler,
             )
     controller = args.controller or "sp"
     if not points:
@@ -111,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
 def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
     """The same participants and seeds with each controller, side by side."""
     names = [n.strip() for n in args.compare.split(",") if n.strip()]
-    factories = {name: loaded_factory(name) for name in names}
+    factories = {name: _factory(args, name) for name in names}
     people = [args.participant] if args.participant else None
     results = run_comparison(
         names,
@@ -122,6 +124,7 @@ def _compare(args: argparse.Namespace, setup, title: str, changed: dict) -> int:
         jobs=args.jobs,
         setup=setup,
         outputs=trial_outputs(args),
+        scheduler=args.scheduler,
     )
     summary_figure(args, {name: [r for rs in by.values() for r in rs] for name, by in results.items()})
     if args.json:

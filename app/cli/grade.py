@@ -1,4 +1,12 @@
-"""`hri-lab grade FILES_OR_DIRS...`: one file or a batch, sandboxed, all items over the cores.
+"""`hri-lab grade FILES_OR_DIRS...`: one file or a batch, sandboxed, all items over the cores or a
+Dask cluster (docs/course-scale.md).
+
+Every file is first loaded once where it will be graded (a file that cannot be loaded gets a
+report saying why), then its battery's jobs (sim/procedures/grading.py) run with every other
+file's: here, in `--jobs` processes, or one task per job on the cluster at `--scheduler` (or
+$HRI_LAB_SCHEDULER). With --out, a file's report is written as soon as its last item is in, and
+a file whose report there is for the same seed and the same file (its sha256) is skipped
+(--force grades it again): a batch cut off resumes where it stopped.
 
 Exit status: 0 all passed, 1 some failed (or could not be loaded), 2 refused (no sandbox, no
 file); never 0 before every report is written.
@@ -7,6 +15,8 @@ file); never 0 before every report is written.
 from __future__ import annotations
 
 import argparse
+import hashlib
+import json
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -15,10 +25,12 @@ from tqdm import tqdm
 
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import battery, job_items, new_report, run_items
+from sim.procedures.grading import LOST, Items, Loaded, battery, load_check, new_report
+from sim.procedures.report import Item, Report
+from sim.procedures.runner import Job, run_jobs
 
 from app.cli.outputs import trial_outputs
-from app.cli.reports import emit
+from app.cli.reports import emit, report_stem, write_report
 
 
 def expand(specs: list[str]) -> list[str]:
@@ -33,43 +45,117 @@ def expand(specs: list[str]) -> list[str]:
     return found
 
 
+def file_sha256(spec: str) -> str:
+    """sha256 of the controller file's bytes ("" when it cannot be read)."""
+    try:
+        return hashlib.sha256(split_spec(spec)[0].read_bytes()).hexdigest()
+    except OSError:
+        return ""
+
+
+SECTION_OF = {"probe": "probe", "trial": "experiment", "robustness": "robustness"}  # --only -> the items' section
+
+
+def up_to_date(report: Report, out: Path | None, sections: tuple[str, ...]) -> Report | None:
+    """The report written in `out` for the same file, seed, file bytes and parts of the battery,
+    if any (and no item lost in it to a worker that died)."""
+    if out is None or not report.sha256:
+        return None
+    try:
+        old = Report.from_dict(json.loads((out / f"{report_stem(report)}.json").read_text(encoding="utf-8")))
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    same = (old.subject, old.kind, old.seed, old.sha256) == (report.subject, report.kind, report.seed, report.sha256)
+    parts = {i.section for i in old.items}
+    same = same and (old.error != "" or parts == {SECTION_OF[s] for s in sections})
+    return old if same and not any(i.detail.startswith(LOST) for i in old.items) else None
+
+
 def run(args: argparse.Namespace) -> int:
     """Grade every file, write and print the reports; the exit status (module docstring)."""
     sandboxed = not args.unsandboxed
-    if sandboxed and (reason := sandbox_unavailable()):
-        print(
-            f"hri-lab grade: refusing to run students' code without a sandbox: {reason}\n"
-            "(--unsandboxed runs it in processes of their own but with your privileges)",
-            file=sys.stderr,
-        )
-        return 2
+    scheduler = args.scheduler or None
+    if sandboxed and not scheduler and (reason := sandbox_unavailable()):
+        return _refuse(reason)
     specs = expand(args.controllers)
     if not specs:
         print("hri-lab grade: no .py file to grade", file=sys.stderr)
         return 2
-    reports, jobs, owners = [], [], []
+    out = Path(args.out) if args.out else None
+    sections = tuple(s for s in SECTION_OF if s in (args.only or SECTION_OF))
+    reports: list[Report] = []
+    to_load, kept = [], []  # kept: the reports up to date in --out
     for spec in specs:
         report = new_report(spec, args.seed)
+        report.sha256 = file_sha256(spec)
+        if not args.force and (old := up_to_date(report, out, sections)) is not None:
+            reports.append(old)
+            kept.append(old)
+            continue
         reports.append(report)
-        factory = PluginFactory(spec, sandboxed=sandboxed)
-        try:
-            factory().close()  # loads in the sandbox: a file that cannot be loaded is reported, not graded
+        try:  # the file's text goes with the jobs: a worker elsewhere has no copy of it
+            factory = PluginFactory(spec, sandboxed=sandboxed).carrying()
         except PluginError as exc:
             report.error = str(exc)
             continue
+        to_load.append((report, factory))
+    if kept:
+        print(f"hri-lab grade: skipped {len(kept)} up to date (--force grades them again)", file=sys.stderr)
+    checks = [
+        Job(report, load_check, (factory, sandboxed), lost=lambda why: Loaded(error=f"{LOST}{why}"))
+        for report, factory in to_load
+    ]
+    loaded = run_jobs(checks, args.jobs, scheduler=scheduler)
+    jobs: list[Items] = []
+    for (report, factory), check in zip(to_load, loaded):
+        assert check is not None
+        if check.refused:
+            return _refuse(check.refused)
+        if check.error:
+            report.error = check.error
+            continue
         outputs = trial_outputs(args)  # recordings and figures of this file's trials, named after it
         if outputs is not None:
-            outputs = replace(outputs, prefix=f"{split_spec(spec)[0].stem}_")
-        for job in battery(factory, args.seed, outputs=outputs):
-            jobs.append(job)
-            owners += [report] * job_items(job)
-    with tqdm(total=len(owners), desc="grading", unit="item", file=sys.stderr, disable=args.quiet) as bar:
+            outputs = replace(outputs, prefix=f"{split_spec(report.subject)[0].stem}_")
+        jobs += battery(factory, args.seed, sections, outputs=outputs, key=report)
+    for report in reports:
+        if out is not None and report.error and not any(report is k for k in kept):
+            write_report(report, out, args.format == "gradescope", len(reports) == 1)
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    _grade(jobs, reports, args, out, scheduler)
+    return emit(reports, args, written=True)
 
-        def progress(item) -> None:
-            bar.set_postfix_str(f"{item.name[:40]}: {item.mark}")
-            bar.update(1)
 
-        items = run_items(jobs, args.jobs, progress)
-    for report, item in zip(owners, items):
-        report.items.append(item)
-    return emit(reports, args)
+def _grade(jobs: list[Items], reports: list[Report], args: argparse.Namespace, out: Path | None, scheduler) -> None:
+    """Run the jobs; each report gets its items in battery order and is written once complete."""
+    results: dict[int, list[Item]] = {}
+    left: dict[int, int] = {}
+    for job in jobs:
+        left[id(job.key)] = left.get(id(job.key), 0) + 1
+    with tqdm(
+        total=sum(job.size for job in jobs), desc="grading", unit="item", file=sys.stderr, disable=args.quiet
+    ) as bar:
+
+        def done(job: Items, items: list[Item]) -> None:
+            results[id(job)] = items
+            if items:
+                bar.set_postfix_str(f"{items[-1].name[:40]}: {items[-1].mark}")
+            bar.update(len(items))
+            left[id(job.key)] -= 1
+            if left[id(job.key)] == 0:
+                report: Report = job.key  # type: ignore[assignment]
+                report.items = [i for j in jobs if j.key is report for i in results[id(j)]]
+                if out is not None:
+                    write_report(report, out, args.format == "gradescope", len(reports) == 1)
+
+        run_jobs(jobs, args.jobs, done, scheduler=scheduler)
+
+
+def _refuse(reason: str) -> int:
+    print(
+        f"hri-lab grade: refusing to run students' code without a sandbox: {reason}\n"
+        "(--unsandboxed runs it in processes of their own but with your privileges)",
+        file=sys.stderr,
+    )
+    return 2

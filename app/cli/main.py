@@ -12,7 +12,9 @@ import importlib
 import importlib.util
 import multiprocessing
 import os
+import re
 import signal
+import sys
 from pathlib import Path
 
 from sim.person.participants import PARTICIPANTS
@@ -21,12 +23,20 @@ from app.cli import bag
 from app.cli import client as client_cli
 from app.cli import urdf as urdf_cli
 
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
+
 
 def _command(module: str):
     """The command `module.run(args)`, its module imported when the command runs."""
 
     def run(args: argparse.Namespace) -> int:
-        return importlib.import_module(module).run(args)
+        from sim.procedures.runner import ClusterUnreachable
+
+        try:
+            return importlib.import_module(module).run(args)
+        except ClusterUnreachable as exc:  # --scheduler names no cluster: one line, exit 1
+            print(f"hri-lab {args.command}: {exc}", file=sys.stderr)
+            return 1
 
     return run
 
@@ -69,6 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the same trials at each value (twice: a grid of two parameters); one table",
     )
     exp.add_argument("--quiet", action="store_true", help="no progress bar")
+    _scheduler_option(exp, "every trial (and sweep point)")
     add_output_options(exp)
     exp.set_defaults(func=_command("app.cli.experiment"))
 
@@ -141,6 +152,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run",
     )
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
+    grd.add_argument(
+        "--only",
+        action="append",
+        choices=SECTIONS,
+        metavar="|".join(SECTIONS),
+        help="grade only this part of the battery (again for another; default all): a quick check, not a grade",
+    )
+    grd.add_argument(
+        "--force",
+        action="store_true",
+        help="with --out: grade every file again (default: skip a file whose report there is for the same seed and file)",
+    )
+    _scheduler_option(grd, "every item of every file")
     add_output_options(grd)
     grd.set_defaults(func=_command("app.cli.grade"))
 
@@ -157,6 +181,28 @@ def build_parser() -> argparse.ArgumentParser:
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
+
+    agr = sub.add_parser(
+        "autograder", help="write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab"
+    )
+    agr.add_argument("-o", "--output", default="autograder.zip", metavar="ZIP", help="default %(default)s")
+    agr.add_argument(
+        "--seed",
+        type=int,
+        default=os.environ.get("HRI_LAB_GRADE_SEED", "0"),
+        help="seed of the probe values and trials (default $HRI_LAB_GRADE_SEED or 0: a course's private seed)",
+    )
+    agr.add_argument(
+        "--services",
+        action="store_true",
+        help="also grade the services exercises of the submission's services_node.py (a lab started in the container)",
+    )
+    agr.add_argument(
+        "--hide-until-due",
+        action="store_true",
+        help="show the tests (their seed-drawn numbers) only after the due date; the score at once",
+    )
+    agr.set_defaults(func=_command("app.cli.autograder"))
 
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
     run.add_argument(
@@ -192,6 +238,18 @@ def add_output_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
     parser.add_argument(
         "--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)"
+    )
+
+
+def _scheduler_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """--scheduler: a Dask cluster instead of --jobs (docs/course-scale.md)."""
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:8786",
+        type=_scheduler_address,
+        default=os.environ.get("HRI_LAB_SCHEDULER"),
+        help=f"run {what} as a task on this Dask cluster instead of --jobs processes here "
+        "(default $HRI_LAB_SCHEDULER; the same results)",
     )
 
 
@@ -235,6 +293,15 @@ def _template(args: argparse.Namespace) -> int:
         path = Path(__file__).parent / "templates" / names[args.kind, args.api]
     print(path.read_text(encoding="utf-8"), end="")
     return 0
+
+
+def _scheduler_address(text: str) -> str | None:
+    """A Dask scheduler's address: [tcp|tls://]HOST:PORT ("" = none)."""
+    if not text:
+        return None
+    if not re.fullmatch(r"((tcp|tls)://)?[A-Za-z0-9._\-\[\]:]+:\d{1,5}", text):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a Dask scheduler's address, e.g. tcp://HOST:8786")
+    return text
 
 
 def _positive_int(text: str) -> int:

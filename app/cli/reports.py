@@ -17,21 +17,37 @@ def report_stem(report: Report) -> str:
     return split_spec(report.subject)[0].stem if report.kind == "controller" else report.kind
 
 
-def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
+def write_report(report: Report, out: Path, gradescope: bool, single: bool) -> None:
+    """NAME.txt, NAME.json (and Gradescope's results.json: NAME.results.json in a batch) in `out`;
+    the JSON last, each file whole (written aside, then renamed): a batch cut off mid-write
+    leaves no report that looks complete."""
     out.mkdir(parents=True, exist_ok=True)
+    stem = report_stem(report)
+    if gradescope:
+        _write(out / ("results.json" if single else f"{stem}.results.json"), json.dumps(report.gradescope(), indent=2))
+    _write(out / f"{stem}.txt", report.text() + "\n")
+    _write(out / f"{stem}.json", report.json())
+
+
+def _write(path: Path, text: str) -> None:
+    part = path.with_name(path.name + ".part")
+    part.write_text(text, encoding="utf-8")
+    part.replace(path)
+
+
+def write_outputs(reports: list[Report], out: Path, gradescope: bool) -> None:
     for report in reports:
-        stem = report_stem(report)
-        (out / f"{stem}.txt").write_text(report.text() + "\n", encoding="utf-8")
-        (out / f"{stem}.json").write_text(report.json(), encoding="utf-8")
-        if gradescope:
-            name = "results.json" if len(reports) == 1 else f"{stem}.results.json"
-            (out / name).write_text(json.dumps(report.gradescope(), indent=2), encoding="utf-8")
-    (out / "summary.csv").write_text(summary_csv(reports), encoding="utf-8")
+        write_report(report, out, gradescope, len(reports) == 1)
+    out.mkdir(parents=True, exist_ok=True)
+    _write(out / "summary.csv", summary_csv(reports))
 
 
-def emit(reports: list[Report], args: argparse.Namespace) -> int:
-    """The reports written (--out, --json) and printed (--format); the exit status: 0 all passed."""
-    if args.out:
+def emit(reports: list[Report], args: argparse.Namespace, written: bool = False) -> int:
+    """The reports written (--out, --json; written: the reports are in --out already, only
+    summary.csv is left) and printed (--format); the exit status: 0 all passed."""
+    if args.out and written:
+        _write(Path(args.out) / "summary.csv", summary_csv(reports))
+    elif args.out:
         write_outputs(reports, Path(args.out), args.format == "gradescope")
     if len(reports) == 1:
         report = reports[0]

@@ -8,18 +8,11 @@ from pydantic import BeforeValidator, Field
 
 from sim.controllers.builtin import BUILTIN
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import (
-    COMPARISON_PARTICIPANTS,
-    ComparedTrial,
-    TrialResult,
-    format_comparison,
-    format_table,
-    run_comparison,
-)
-from sim.procedures.experiment import (
-    run_experiment as run_trials,
-)
-from sim.procedures.workers import worker_pool
+from sim.procedures.experiment import COMPARISON_PARTICIPANTS, ComparedTrial, run_comparison
+from sim.procedures.experiment import run_experiment as run_trials
+from sim.procedures.runner import worker_pool
+from sim.procedures.tables import format_comparison, format_table
+from sim.procedures.trial import TrialResult
 from sim.recording.trial import TrialOutputs
 
 from app.lab import commands as cmd

@@ -15,7 +15,8 @@ from typing import Any
 
 import yaml
 
-from sim.procedures.experiment import Setup, SweepPoint
+from sim.procedures.experiment import SweepPoint
+from sim.procedures.trial import Setup
 
 from app.lab.params import LAB_PARAMETERS
 from app.ros.params import Parameter, ParameterRefused, ParameterServer, parse_parameter_file

@@ -9,7 +9,8 @@ The file is never imported here: it runs in a sandboxed process (sim/controllers
 from __future__ import annotations
 
 import codecs
-from dataclasses import dataclass
+import copy
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from sim.controllers.builtin import BUILTIN, BuiltinFactory
@@ -72,11 +73,23 @@ class PluginFactory:
     budget: SandboxBudget = SandboxBudget()
     sandboxed: bool = True
     eager: bool = True  # load now (False: at the first call, in the process that steps it)
+    carried: SandboxedController | None = None  # the file read where the factory was made (carrying())
+
+    def carrying(self) -> PluginFactory:
+        """This factory with the file's text read now and carried along: it makes the same
+        controllers on a machine that has no copy of the file (a Dask worker). PluginError when
+        the file cannot be a controller file (check_file)."""
+        path, name = split_spec(self.spec)
+        check_file(path)
+        return replace(self, carried=SandboxedController(path, name, self.budget, self.sandboxed))
 
     def __call__(self) -> SandboxedController:
         path, name = split_spec(self.spec)
-        check_file(path)
-        controller = SandboxedController(path, name, self.budget, self.sandboxed)
+        if self.carried is not None:  # a copy starts a child of its own (SandboxedController.__getstate__)
+            controller = copy.copy(self.carried)
+        else:
+            check_file(path)
+            controller = SandboxedController(path, name, self.budget, self.sandboxed)
         if self.eager:
             try:
                 controller.load()

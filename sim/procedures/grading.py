@@ -10,7 +10,7 @@
    in the plate's plane and one about its normal -> comply. Wrenches, times, noise and
    start/stop's force are drawn from the seed (a course's private seed gives numbers students
    never saw).
-2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/experiment.py)
+2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/trial.py)
    with the lab's default parameters; the participants in COUNTED_PARTICIPANTS count (all three: at
    the default margin alpha 0.5 the reference SP carries each of them). A trial's points need the
    box carried (the world's own state) AND its whole stream within the SP law, judged from the
@@ -22,26 +22,31 @@
 PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself).
 A plug-in runs sandboxed (sim/controllers/sandbox/): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
+The battery is a list of jobs (sim/procedures/runner.py): the probes' stream, each trial, each
+robustness trial; they run here, in a local pool or on a Dask cluster, with the same report.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from concurrent.futures import as_completed
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
 from sim.controllers.interface import Controller, ControllerFault, LiftingParams, start_lifting, stop_lifting
-from sim.person.participants import PARTICIPANTS
+from sim.controllers.plugin import PluginError
+from sim.controllers.sandbox import sandbox_unavailable
+from sim.monitor import TrialRules
+from sim.person.participants import PARTICIPANTS, Participant
 from sim.physics.sensor import SensorParams, WrenchSensor
-from sim.procedures.experiment import Trial, TrialResult, make_trial, plan, trial_seed
+from sim.procedures.experiment import plan
 from sim.procedures.law_checks import BEHAVIOURS, LawWatch
-from sim.procedures.monitor import TrialRules
 from sim.procedures.report import Item, Report
+from sim.procedures.runner import Job, run_jobs
 from sim.procedures.situations import MidCarryStop
-from sim.procedures.workers import worker_pool
-from sim.recording.trial import TrialObserver
+from sim.procedures.trial import Trial, TrialResult, make_trial, trial_seed
+from sim.recording.trial import TrialObserver, TrialOutputs
 from sim.robot.panda import PandaModel
 from sim.spatial import rotation_exp
 from sim.world import WorldConfig
@@ -410,36 +415,116 @@ def _judged(section: str, name: str, worth: float, result: TrialResult, watch: L
     return Item(section, name, worth if result.success and not findings else 0.0, worth, detail)
 
 
-def _job(job: tuple) -> Item | list[Item]:
-    """The item(s) of one job of the battery (runs in a worker process): ("probes", factory, seed) -> the
-    probes' items,
-    ("trial", index, person, attempt, trial seed, factory, outputs) or ("robustness", index, factory, seed, outputs)."""
-    kind = job[0]
-    if kind == "probes":
-        _, factory, seed = job
-        return probe_items(factory, seed)
-    if kind == "trial":
-        _, index, person, attempt, seed, factory, outputs = job
-        worth = TRIAL_POINTS if person.name in COUNTED_PARTICIPANTS else 0.0
-        name = f"trial {index + 1}: {person.name} #{attempt}"
-        trial = None
-        try:
-            trial = make_trial(index, person, attempt, seed, controller_factory=factory)
-            return _judged("experiment", name, worth, *_run(trial, outputs))
-        except Exception as exc:  # noqa: BLE001
-            return Item("experiment", name, 0.0, worth, f"not run: {exc}")
-        finally:
-            getattr(getattr(trial, "controller", None), "close", lambda: None)()
-    _, index, factory, seed, outputs = job
+def trial_items(
+    index: int,
+    person: Participant,
+    attempt: int,
+    seed: int,
+    factory: Callable[[], Controller],
+    outputs: TrialOutputs | None = None,
+) -> list[Item]:
+    """The item of trial `index` of the experiment (a job of the battery: it runs in a worker)."""
+    worth = TRIAL_POINTS if person.name in COUNTED_PARTICIPANTS else 0.0
+    name = f"trial {index + 1}: {person.name} #{attempt}"
+    trial = None
+    try:
+        trial = make_trial(index, person, attempt, seed, controller_factory=factory)
+        return [_judged("experiment", name, worth, *_run(trial, outputs))]
+    except Exception as exc:  # noqa: BLE001
+        return [Item("experiment", name, 0.0, worth, f"not run: {exc}")]
+    finally:
+        getattr(getattr(trial, "controller", None), "close", lambda: None)()
+
+
+def robustness_items(
+    index: int, factory: Callable[[], Controller], seed: int, outputs: TrialOutputs | None = None
+) -> list[Item]:
+    """The item of robustness trial `index` (a job of the battery: it runs in a worker)."""
     name, run = ROBUSTNESS[index]
     controller = None
     try:
         controller = factory()
-        return _judged("robustness", name, ROBUSTNESS_POINTS, *run(controller, trial_seed(seed, 100 + index), outputs))
+        return [
+            _judged("robustness", name, ROBUSTNESS_POINTS, *run(controller, trial_seed(seed, 100 + index), outputs))
+        ]
     except Exception as exc:  # noqa: BLE001
-        return Item("robustness", name, 0.0, ROBUSTNESS_POINTS, f"not run: {exc}")
+        return [Item("robustness", name, 0.0, ROBUSTNESS_POINTS, f"not run: {exc}")]
     finally:
         getattr(controller, "close", lambda: None)()
+
+
+LOST = "not graded: "  # how the detail of an item whose worker process died begins
+
+
+def lost_items(section: str, worths: tuple[tuple[str, float], ...], reason: str) -> list[Item]:
+    """What a job whose worker process died stands in for: its items, each at 0 points, saying so."""
+    return [Item(section, name, 0.0, worth, LOST + reason) for name, worth in worths]
+
+
+@dataclass(frozen=True)
+class Loaded:
+    """Whether a submission loads, found where its battery will run (a worker of the pool or the
+    cluster): `error` why the file cannot be loaded (its report's error), `refused` why this
+    machine cannot run it sandboxed (no usable bubblewrap: the batch is refused)."""
+
+    error: str = ""
+    refused: str = ""
+
+
+def load_check(factory: Callable[[], Controller], sandboxed: bool = True) -> Loaded:
+    """Start the controller once (in its sandbox) and close it (a job: it runs in a worker)."""
+    if sandboxed and (reason := sandbox_unavailable()):
+        return Loaded(refused=reason)
+    try:
+        getattr(factory(), "close", lambda: None)()  # loads in the sandbox: a file that cannot be loaded is reported
+    except PluginError as exc:
+        return Loaded(error=str(exc))
+    return Loaded()
+
+
+Items = Job[list[Item]]  # a job of the battery: its items
+
+
+def probes_job(factory: Callable[[], Controller], seed: int, key: object = None) -> Items:
+    worths = tuple((name, PROBE_POINTS) for name, _ in PROBES)
+    return Job(key, probe_items, (factory, seed), len(PROBES), lost=partial(lost_items, "probe", worths))
+
+
+def trial_job(
+    index: int,
+    person: Participant,
+    attempt: int,
+    seed: int,
+    factory: Callable[[], Controller],
+    outputs: TrialOutputs | None = None,
+    key: object = None,
+) -> Items:
+    worth = TRIAL_POINTS if person.name in COUNTED_PARTICIPANTS else 0.0
+    worths = ((f"trial {index + 1}: {person.name} #{attempt}", worth),)
+    return Job(
+        key,
+        trial_items,
+        (index, person, attempt, seed, factory, outputs),
+        first=True,
+        lost=partial(lost_items, "experiment", worths),
+    )
+
+
+def robustness_job(
+    index: int,
+    factory: Callable[[], Controller],
+    seed: int,
+    outputs: TrialOutputs | None = None,
+    key: object = None,
+) -> Items:
+    worths = ((ROBUSTNESS[index][0], ROBUSTNESS_POINTS),)
+    return Job(
+        key,
+        robustness_items,
+        (index, factory, seed, outputs),
+        first=True,
+        lost=partial(lost_items, "robustness", worths),
+    )
 
 
 def battery(
@@ -447,48 +532,40 @@ def battery(
     seed: int = 0,
     sections: tuple[str, ...] = ("probe", "trial", "robustness"),
     trials: int = 9,
-    outputs=None,
-) -> list[tuple]:
-    """The jobs of a grade, in report order; outputs: a TrialOutputs (sim/recording/trial.py) to
-    record and plot every trial."""
-    jobs: list[tuple] = []
+    outputs: TrialOutputs | None = None,
+    key: object = None,
+) -> list[Items]:
+    """The jobs of a grade, in report order (the trials are handed out first: they are the long
+    ones); outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial;
+    key: every job's (a batch's: the report it belongs to)."""
+    jobs: list[Items] = []
     if "probe" in sections:
-        jobs += [("probes", factory, seed)]
+        jobs.append(probes_job(factory, seed, key))
     if "trial" in sections:
         jobs += [
-            ("trial", i, person, attempt, s, factory, outputs) for i, person, attempt, s in plan(trials, seed=seed)
+            trial_job(i, person, attempt, s, factory, outputs, key) for i, person, attempt, s in plan(trials, seed=seed)
         ]
     if "robustness" in sections:
-        jobs += [("robustness", i, factory, seed, outputs) for i in range(len(ROBUSTNESS))]
+        jobs += [robustness_job(i, factory, seed, outputs, key) for i in range(len(ROBUSTNESS))]
     return jobs
 
 
-def job_items(job: tuple) -> int:
-    """How many items a job of the battery gives."""
-    return len(PROBES) if job[0] == "probes" else 1
+def run_items(
+    jobs: Sequence[Items],
+    workers: int = 1,
+    on_item: Callable[[Item], None] | None = None,
+    scheduler: str | None = None,
+) -> list[Item]:
+    """The items of `jobs` in their order (job.size each): here, in `workers` processes or on the
+    Dask cluster at `scheduler`; on_item(item) as each ends."""
 
-
-def run_items(jobs: list[tuple], workers: int = 1, on_item: Callable[[Item], None] | None = None) -> list[Item]:
-    """The items of `jobs` (in their order, job_items(job) each), in `workers` processes; on_item(item) as each ends."""
-    results: list[Item | list[Item] | None] = [None] * len(jobs)
-
-    def done(i: int, result) -> None:
-        results[i] = result
-        for item in result if isinstance(result, list) else [result]:
+    def each(job: Items, items: list[Item]) -> None:
+        for item in items:
             if on_item:
                 on_item(item)
 
-    if workers <= 1:
-        for i, job in enumerate(jobs):
-            done(i, _job(job))
-    else:
-        # the long jobs (trials) first, so that the pool ends together
-        order = sorted(range(len(jobs)), key=lambda i: jobs[i][0] == "probes")
-        with worker_pool(workers) as pool:  # its workers die with this process
-            futures = {pool.submit(_job, jobs[i]): i for i in order}
-            for future in as_completed(futures):
-                done(futures[future], future.result())
-    return [item for result in results for item in (result if isinstance(result, list) else [result])]
+    results = run_jobs(jobs, workers, each, scheduler=scheduler)
+    return [item for items in results for item in items or ()]
 
 
 def grade(
@@ -499,8 +576,9 @@ def grade(
     on_item: Callable[[Item], None] | None = None,
     sections: tuple[str, ...] = ("probe", "trial", "robustness"),
     trials: int = 9,
-    outputs=None,
+    outputs: TrialOutputs | None = None,
+    scheduler: str | None = None,
 ) -> Report:
     report = new_report(name, seed)
-    report.items = run_items(battery(factory, seed, sections, trials, outputs), jobs, on_item)
+    report.items = run_items(battery(factory, seed, sections, trials, outputs), jobs, on_item, scheduler)
     return report

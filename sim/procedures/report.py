@@ -36,6 +36,7 @@ class Report:
     items: list[Item] = field(default_factory=list)
     marks: dict[str, float] = field(default_factory=lambda: {"": 60.0})  # section ("" = all) -> pass mark %
     error: str = ""  # why nothing could be graded (a file that cannot be loaded)
+    sha256: str = ""  # of the graded file's bytes: with the seed, says whether a written report is still up to date
 
     def points_of(self, section: str = "") -> tuple[float, float]:
         items = [i for i in self.items if not section or i.section == section]
@@ -79,8 +80,25 @@ class Report:
             "pass_marks": {s or "all": m for s, m in self.marks.items()},
             "passed": self.passed,
             "error": self.error,
+            "sha256": self.sha256,
             "items": [asdict(i) | {"mark": i.mark} for i in self.items],
         }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Report:
+        """The report as_dict() wrote (a batch's report read back to resume it)."""
+        return cls(
+            subject=str(data["subject"]),
+            kind=str(data["kind"]),
+            seed=int(data["seed"]),
+            items=[
+                Item(str(i["section"]), str(i["name"]), float(i["points"]), float(i["max_points"]), str(i["detail"]))
+                for i in data["items"]
+            ],
+            marks={("" if s == "all" else s): float(m) for s, m in data["pass_marks"].items()},
+            error=str(data.get("error", "")),
+            sha256=str(data.get("sha256", "")),
+        )
 
     def json(self) -> str:
         return json.dumps(self.as_dict(), indent=2)

@@ -1,6 +1,6 @@
 """Situations of a trial where SP and a follower part ways (the grader's robustness items): the
 person stops mid-carry and holds the box still, lets the robot take more of the weight, turns it.
-Each is a perturbation called after every step of a Trial (sim/procedures/experiment.py); it
+Each is a perturbation called after every step of a Trial (sim/procedures/trial.py); it
 changes only what the person does (the hand's path, the wrist's aim), never the robot or the box.
 """
 

@@ -7,7 +7,9 @@ import subprocess
 import sys
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import TrialResult, format_comparison, plan
+from sim.procedures.experiment import plan
+from sim.procedures.tables import format_comparison
+from sim.procedures.trial import TrialResult
 
 # the short trial: at the wider margin alpha 0.8 the hasty participant's box is dropped at ~3 s
 SHORT = ("--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8")

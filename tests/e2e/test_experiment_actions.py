@@ -5,7 +5,9 @@ robot is left alone meanwhile. (The actions' protocol, refusals and quick goals:
 import pytest
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Setup, format_comparison, run_comparison
+from sim.procedures.experiment import run_comparison
+from sim.procedures.tables import format_comparison
+from sim.procedures.trial import Setup
 
 from tests.waiting import wait_sim, wait_terminal
 

@@ -12,7 +12,8 @@ import pytest
 
 from sim.person.human import PickAndPlace
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Setup, make_trial, plan, run_experiment, run_sweep
+from sim.procedures.experiment import plan, run_experiment, run_sweep
+from sim.procedures.trial import Setup, make_trial
 from sim.world import WorldConfig
 
 from app.lab import overrides
@@ -181,7 +182,7 @@ def test_cli_table_header_states_the_changed_parameters(tmp_path):
 def test_worker_pools_die_with_their_parent(tmp_path):
     """A killed CLI/server leaves no trial worker behind (PR_SET_PDEATHSIG)."""
     script = (
-        "import os, time\nfrom sim.procedures.workers import worker_pool\n"
+        "import os, time\nfrom sim.procedures.runner import worker_pool\n"
         "pool = worker_pool(1)\nprint(pool.submit(os.getpid).result(), flush=True)\ntime.sleep(60)\n"
     )
     parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)

@@ -11,9 +11,9 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Trial
 from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, new_report, probe_items
 from sim.procedures.report import Item, summary_csv
+from sim.procedures.trial import Trial
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import mutants  # noqa: E402

@@ -17,6 +17,7 @@ from sim.procedures.grading import (
     battery,
     new_report,
     probe_items,
+    robustness_job,
     run_items,
     start_transform,
 )
@@ -192,7 +193,7 @@ def stop_items():
         "no_cone": followers.NoCone,
         "moments_held": mutants.MomentsHeld,
     }
-    jobs = [("robustness", STOP, make, 0, None) for make in kinds.values()]
+    jobs = [robustness_job(STOP, make, 0) for make in kinds.values()]
     return dict(zip(kinds, run_items(jobs, workers=2)))
 
 

@@ -11,7 +11,8 @@ import pytest
 from mcap.reader import make_reader
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Trial, plan
+from sim.procedures.experiment import plan
+from sim.procedures.trial import Trial
 from sim.recording import reader
 from sim.recording.figures import PANELS, summary_figure, trial_figure
 from sim.recording.playback import Playback
@@ -125,7 +126,7 @@ def test_trial_figure_has_the_panels_and_markers(recorded):
 
 
 def test_summary_figure_counts_successes_per_participant_and_controller():
-    from sim.procedures.experiment import TrialResult
+    from sim.procedures.trial import TrialResult
 
     def r(person, ok):
         return TrialResult(0, person, 1, 0, ok, 1.0, 0, 0, 0, 0, "")

@@ -14,7 +14,7 @@ from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.controllers.sandbox import SandboxBudget
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Trial
+from sim.procedures.trial import Trial
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 FAULTS = CONTROLLERS / "faults.py"

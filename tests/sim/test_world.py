@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from sim.controllers.interface import LiftingParams
+from sim.monitor import TrialRules
 from sim.person.human import HandPath, PickAndPlace
 from sim.person.participants import PARTICIPANTS
 from sim.physics.sensor import SensorParams, WrenchSensor
-from sim.procedures.experiment import Setup, Trial, TrialRules, plan, run_experiment
+from sim.procedures.experiment import plan, run_experiment
+from sim.procedures.trial import Setup, Trial
 from sim.robot.panda import READY_Q, SIDE_Q
 from sim.signals import minimum_jerk
 from sim.world import World, WorldConfig
@@ -217,7 +219,7 @@ def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
     """Grip and release at the ends of the ranges: the box stays where the hands hold it (an
     unstable integration blows it away within a few steps: a 0.05 kg box without substeps did
     at the 12th)."""
-    from sim.procedures.experiment import make_trial
+    from sim.procedures.trial import make_trial
 
     from app.lab.overrides import setup_of
 

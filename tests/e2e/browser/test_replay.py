@@ -12,7 +12,8 @@ from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.experiment import Setup, plan, run_trial
+from sim.procedures.experiment import plan
+from sim.procedures.trial import Setup, run_trial
 from sim.recording.playback import Playback
 from sim.recording.trial import TrialOutputs
 

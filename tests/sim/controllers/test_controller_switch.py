@@ -7,7 +7,7 @@ import pytest
 from sim.controllers.builtin import builtin
 from sim.controllers.interface import LiftingParams
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.experiment import Trial
+from sim.procedures.trial import Trial
 
 
 @pytest.mark.parametrize("before, after", [("sp", "patch"), ("patch", "sp")])

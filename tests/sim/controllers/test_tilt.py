@@ -1,6 +1,6 @@
 """The person tilts the box on the plate: what each controller does with the plate contact.
 
-Scenario: the handout's trial (sim/procedures/experiment.py: approach, grip in the band, let go, pick and
+Scenario: the handout's trial (sim/procedures/trial.py: approach, grip in the band, let go, pick and
 place) with the *tilting* participant made to tilt the box 45 deg (instead of 15 deg) about the
 carry direction while carrying it; the carry direction (base -x) lies in the plate plane, so the
 tilt is a tipping rotation for the plate. Fixed seed (the second tilting trial of the comparison).
@@ -35,7 +35,8 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.patch import PatchController
 from sim.controllers.sp import SPController
-from sim.procedures.experiment import Trial, plan
+from sim.procedures.experiment import plan
+from sim.procedures.trial import Trial
 from sim.robot.plate import Plate
 from sim.spatial import rotation_log
 

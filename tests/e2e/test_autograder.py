@@ -1,0 +1,107 @@
+"""The Gradescope bundle (app/cli/autograder.py): unzipped into a folder laid out like
+Gradescope's /autograder, its run_autograder grades a passing and a failing submission and
+writes a results.json in Gradescope's format; where bubblewrap cannot run, it grades with the
+child-process limits and says so."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
+VISIBILITY = {"hidden", "after_due_date", "after_published", "visible"}
+
+
+@pytest.fixture(scope="module")
+def bundle(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("bundle") / "autograder.zip"
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--seed", "5", "--hide-until-due"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0, run.stderr
+    return out
+
+
+def gradescope(
+    tmp_path: Path, bundle: Path, submission: str, env: dict | None = None, files: dict[str, str] | None = None
+) -> dict:
+    """/autograder as Gradescope lays it out (source, run_autograder, submission/), then run_autograder."""
+    root = tmp_path / "autograder"
+    with zipfile.ZipFile(bundle) as z:
+        z.extractall(root / "source")
+    shutil.copy(root / "source" / "run_autograder", root / "run_autograder")
+    (root / "submission").mkdir()
+    (root / "submission" / "cooperative_lifting.py").write_text(submission)
+    for name, text in (files or {}).items():
+        (root / "submission" / name).write_text(text)
+    run = subprocess.run(
+        [shutil.which("bash") or "/bin/bash", str(root / "run_autograder")],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        env={**os.environ, "HRI_LAB_GRADESCOPE_ROOT": str(root), "HRI_LAB_PYTHON": sys.executable, **(env or {})},
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+    return json.loads((root / "results" / "results.json").read_text())
+
+
+def valid(results: dict) -> None:
+    """Gradescope's results.json: a score, tests with name, score, max_score, output, visibility."""
+    assert isinstance(results["score"], float) and isinstance(results["output"], str)
+    for test in results["tests"]:
+        assert set(test) == {"name", "score", "max_score", "output", "visibility"}
+        assert isinstance(test["name"], str) and test["visibility"] in VISIBILITY
+        assert 0 <= test["score"] <= test["max_score"]
+    assert results["score"] == sum(t["score"] for t in results["tests"])
+
+
+def test_the_bundle_holds_what_gradescope_runs(bundle):
+    with zipfile.ZipFile(bundle) as z:
+        names = set(z.namelist())
+        config = json.loads(z.read("hri-lab-autograder.json"))
+        setup = z.read("setup.sh").decode()
+        assert z.getinfo("run_autograder").external_attr >> 16 & 0o111
+    assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/sim/procedures/grading.py"} <= names
+    assert config["seed"] == 5 and config["hide_until_due"] is True
+    assert "bubblewrap" in setup and "pip install" in setup
+
+
+def test_a_passing_submission(tmp_path, bundle):
+    results = gradescope(tmp_path, bundle, (CONTROLLERS / "reference_sp.py").read_text())
+    valid(results)
+    assert results["score"] == 130.0 and len(results["tests"]) == 13 + 9 + 2
+    assert "PASS" in results["output"] and "bubblewrap cannot run" not in results["output"]
+    assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}  # --hide-until-due
+
+
+def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):
+    # no bwrap on the PATH: as in a container where it cannot create namespaces
+    results = gradescope(tmp_path, bundle, "class CooperativeLifting(:\n", {"PATH": "/nonexistent"})
+    valid(results)
+    assert results["score"] == 0.0 and results["tests"] == []
+    assert "bubblewrap cannot run in this container" in results["output"]
+    assert "SyntaxError" in results["output"]
+
+
+def test_the_services_exercises_with_services(tmp_path):
+    """--services: the submission's services node against a lab started in the container."""
+    out = tmp_path / "services.zip"
+    subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services"], check=True, timeout=120
+    )
+    node = (Path(__file__).resolve().parents[1] / "nodes" / "services_solution.py").read_text()
+    root = tmp_path / "gs"
+    root.mkdir()
+    results = gradescope(root, out, "class CooperativeLifting(:\n", files={"services_node.py": node})
+    valid(results)
+    services = [t for t in results["tests"] if t["name"].startswith("services")]
+    assert len(services) == 10 and all(t["score"] == t["max_score"] > 0 for t in services), services
+    assert results["score"] == 15.0 and "SyntaxError" in results["output"]  # the controller file: not loaded

@@ -65,9 +65,10 @@ def box_in_image(position_base: np.ndarray, rotation_box_to_base: np.ndarray, si
     (the projection of the box's centre lies a few px off it: perspective). ValueError when a corner
     is behind the camera."""
     signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
-    corners = np.asarray(position_base, float) + (signs * np.asarray(size, float) / 2) @ np.asarray(
-        rotation_box_to_base, float
-    ).T
+    corners = (
+        np.asarray(position_base, float)
+        + (signs * np.asarray(size, float) / 2) @ np.asarray(rotation_box_to_base, float).T
+    )
     pixels = np.array([project_exact(c) for c in corners])
     low, high = pixels.min(axis=0), pixels.max(axis=0)
     return int(round((low[0] + high[0]) / 2)), int(round((low[1] + high[1]) / 2))

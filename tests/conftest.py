@@ -60,6 +60,7 @@ LONG_FILES_FIRST = (
     "test_law_checks.py",
     "test_browser.py",
     "test_tilt.py",
+    "test_camera_e2e.py",
     "test_cli_server.py",
     "test_world.py",
     "test_lifting_node.py",
@@ -74,6 +75,7 @@ LONG_FILES_FIRST = (
 # files that run other programs: real servers, nodes, students' programs, sandboxed controllers, the CLI.
 BROWSER_FILES = {"test_browser.py", "test_browser_cross_site.py", "test_replay.py"}
 E2E_FILES = {
+    "test_camera_e2e.py",
     "test_cli_server.py",
     "test_examples.py",
     "test_experiment_params.py",

@@ -9,14 +9,17 @@ renderer's start (a second or two): the request waits for it, at most WAIT_S.
 
 from __future__ import annotations
 
+import base64
+import binascii
 import time
 from typing import Literal
 
 import cv2
-from fastapi import APIRouter, HTTPException, Query
+from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import Response
 
 from app.api.deps import LabDep
+from app.rosclient.windows import WINDOWS
 from app.runtime.camera_process import MAX_RATE_HZ
 from app.runtime.shared_frame import Frame
 
@@ -72,3 +75,36 @@ def image(
         media_type=MEDIA[kind],
         headers={"Cache-Control": "no-store", "X-Stamp": f"{frame.time:.6f}"},
     )
+
+
+@router.get("/camera/windows", summary="The windows programs opened with cv2.imshow (newest image each)")
+def windows(request: Request) -> list[dict]:
+    """One entry per window: its name (cv2.imshow's), the topic its images come on (WINDOWS + the
+    name as a ROS name) and the stamp (wall clock) of its newest image."""
+    shown = dict(request.app.state.bridge.windows)
+    return [
+        {
+            "name": msg.get("header", {}).get("frame_id", topic[len(WINDOWS) :]),
+            "topic": topic,
+            "id": topic[len(WINDOWS) :],
+            "stamp": msg.get("header", {}).get("stamp", {}),
+        }
+        for topic, msg in sorted(shown.items())
+    ]
+
+
+@router.get(
+    "/camera/windows/{window}.jpg",
+    summary="A cv2.imshow window's newest image (JPEG)",
+    response_class=Response,
+    responses={200: {"content": {"image/jpeg": {}}, "description": "the image"}},
+)
+def window_image(window: str, request: Request) -> Response:
+    msg = request.app.state.bridge.windows.get(WINDOWS + window)
+    if msg is None:
+        raise HTTPException(404, f"no window '{window}' (GET /camera/windows lists them)")
+    try:
+        data = base64.b64decode(msg.get("data", ""), validate=True)
+    except (binascii.Error, TypeError, ValueError):
+        raise HTTPException(404, f"window '{window}': its image is not base64 JPEG") from None
+    return Response(data, media_type="image/jpeg", headers={"Cache-Control": "no-store"})

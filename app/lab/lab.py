@@ -56,7 +56,9 @@ class Lab:
     def _scene_sizes(self) -> SceneSizes:
         """What the camera draws that does not move, from the world's configuration (m)."""
         cfg = self.runtime.world.config
-        return SceneSizes((cfg.plate.width, cfg.plate.height, cfg.plate.offset), tuple(cfg.box.size), tuple(cfg.palm_size))
+        return SceneSizes(
+            (cfg.plate.width, cfg.plate.height, cfg.plate.offset), tuple(cfg.box.size), tuple(cfg.palm_size)
+        )
 
     def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
         """Run fn(world, *args) in the simulation between two steps and return its result; fn is a

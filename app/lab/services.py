@@ -392,4 +392,5 @@ EXERCISES = (
     "/compute_wrench",
     "/start_cooperative_lifting",
     "/stop_cooperative_lifting",
+    "/get_target_position",
 )

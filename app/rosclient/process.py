@@ -46,13 +46,19 @@ def connected() -> bool:
     return bool(_connection)
 
 
+remaps: dict[str, str] = {}  # resolved name -> the name it is remapped to (rospy's `name:=other` arguments)
+
+
 def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
-    """A ROS name made absolute: `~x` is private to the node, `x` relative to the namespace."""
+    """A ROS name made absolute: `~x` is private to the node, `x` relative to the namespace; then
+    remapped when the program was started with `x:=y`."""
     if name.startswith("~"):
-        return "/" + "/".join(p for p in (namespace.strip("/"), node_name.strip("/"), name[1:].strip("/")) if p)
-    if name.startswith("/"):
-        return "/" + name.strip("/")
-    return "/" + "/".join(p for p in (namespace.strip("/"), name.strip("/")) if p)
+        resolved = "/" + "/".join(p for p in (namespace.strip("/"), node_name.strip("/"), name[1:].strip("/")) if p)
+    elif name.startswith("/"):
+        resolved = "/" + name.strip("/")
+    else:
+        resolved = "/" + "/".join(p for p in (namespace.strip("/"), name.strip("/")) if p)
+    return remaps.get(resolved, resolved)
 
 
 def advertise_once(topic: str, type_name: str) -> None:

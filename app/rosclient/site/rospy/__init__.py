@@ -254,10 +254,12 @@ def init_node(name: str, argv: list[str] | None = None, anonymous: bool = False,
     if not disable_signals and threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, lambda signum, frame: signal_shutdown("keyboard interrupt"))
         signal.signal(signal.SIGTERM, lambda signum, frame: signal_shutdown("terminated"))
-    for arg in remapped:  # _name:=value sets the private parameter ~name
+    for arg in remapped:  # _name:=value sets the private parameter ~name; name:=other remaps a name
         key, value = arg.split(":=", 1)
         if key.startswith("_") and not key.startswith("__"):
             set_param("~" + key[1:], process.parse_value(value))
+        elif not key.startswith("_"):
+            process.remaps[process.resolve(key, _node["name"])] = process.resolve(value, _node["name"])
 
 
 def get_name() -> str:

@@ -275,3 +275,21 @@ def test_a_nodes_action_appears_and_serves_goals_from_the_page(page, server):
     finally:
         node.close()
     counting.wait_for(state="detached")
+
+
+def test_the_camera_panel_shows_the_image_and_a_programs_imshow_window(page, server):
+    """'live' shows /image_raw; a program's cv2.imshow window appears beside it, with its image,
+    and goes with the program."""
+    from tests.ros_running import run
+
+    page.check("#camera-live")
+    page.wait_for_function("() => document.querySelector('#camera-image').naturalWidth === 640")
+    program = run(server, "object_detector_rospy.py", "get_target_position:=detected_target_position")
+    try:
+        program.wait_for_line("detector ready")
+        page.wait_for_function("() => document.querySelector('img[data-window=\"detection\"]')?.naturalWidth === 640")
+        assert "cv2.imshow: detection" in text_of(page, "#camera-images")
+    finally:
+        assert program.interrupt() == 0, program.output
+    page.wait_for_function("() => !document.querySelector('img[data-window=\"detection\"]')")
+    page.uncheck("#camera-live")

@@ -98,3 +98,28 @@ def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
         png = client.get(url)
         assert png.status_code == 200 and png.headers["content-type"] == "image/png" and png.content[:4] == b"\x89PNG"
     assert client.get(f"/figures/{run}/trial01_hasty_1.svg").headers["content-type"].startswith("image/svg+xml")
+
+
+def test_a_live_recording_has_the_cameras_images_in_foxgloves_schema(client, lab, tmp_path):
+    import base64
+
+    import cv2
+    import numpy as np
+
+    from sim.recording.writer import IMAGE_TOPIC
+    from tests.waiting import wait_for
+
+    lab.recordings_dir = tmp_path
+    assert client.post("/services/start_recording", json={"name": "camera"}).status_code == 200
+    first = lab.camera.number
+    wait_for(lambda: lab.camera.number >= first + 3, timeout=120)  # the recording wants images
+    stopped = client.post("/services/stop_recording", json={}).json()
+    assert stopped["success"]
+    with open(tmp_path / "camera.mcap", "rb") as handle:
+        summary = make_reader(handle).get_summary()
+    channel = next(c for c in summary.channels.values() if c.topic == IMAGE_TOPIC)
+    assert summary.schemas[channel.schema_id].name == "foxglove.CompressedImage"
+    images = list(reader.messages(tmp_path / "camera.mcap", [IMAGE_TOPIC]))
+    assert images and images[0].data["format"] == "jpeg" and images[0].data["frame_id"] == "camera_optical"
+    picture = cv2.imdecode(np.frombuffer(base64.b64decode(images[0].data["data"]), np.uint8), cv2.IMREAD_COLOR)
+    assert picture.shape == (480, 640, 3)

@@ -107,6 +107,7 @@ def test_a_live_recording_has_the_cameras_images_in_foxgloves_schema(client, lab
     import numpy as np
 
     from sim.recording.writer import IMAGE_TOPIC
+
     from tests.waiting import wait_for
 
     lab.recordings_dir = tmp_path

@@ -14,10 +14,9 @@ so `hri-lab topic echo NAME --url URL` reads a recording as it reads the live la
 from __future__ import annotations
 
 import asyncio
+import base64
 import threading
 import time
-
-import base64
 
 import cv2
 import numpy as np

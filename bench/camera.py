@@ -1,7 +1,7 @@
 """The camera's figures: the renderer's rate (in this process, 640 x 480), and through a real
-server: the rate of /image_raw at a rosbridge subscriber (roslibpy, as a node gets it), the latency
-from an image's stamp (the simulated time of its pose) to its arrival there, and the 1 kHz loop's
-lateness without and with that subscriber.
+server: the rate of /image_raw at a node, the latency
+from an image's stamp (the simulated time of its pose) to its arrival at a rospy node run with
+`hri-lab run` (bench/ros_image_subscriber.py), and the 1 kHz loop's lateness without and with it.
 
 The stamp is simulated time; it is put on the wall clock with the offset wall - sim_time read from
 /health (the smallest of several reads: the loop runs in real time, so the offset holds).
@@ -12,17 +12,21 @@ The stamp is simulated time; it is put on the wall clock with the offset wall - 
 from __future__ import annotations
 
 import argparse
-import base64
+import json
 import statistics
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import httpx
-import roslibpy
 
 from sim.camera_render import CameraRenderer, SceneSizes
 from sim.world import World, WorldConfig
 
 from app.cli.launch import running_server
+
+NODE = Path(__file__).resolve().parent / "ros_image_subscriber.py"
 
 
 def render_rate(frames: int = 60) -> tuple[float, float]:
@@ -68,28 +72,21 @@ def main() -> None:
     with running_server("--view", "none") as server:
         httpx.post(f"{server.url}/services/start_cooperative_lifting", json={"force": 10})
         idle = lateness(server.url, 6.0)
-        client = roslibpy.Ros(host="127.0.0.1", port=server.port)
-        client.run(timeout=30)
-        arrivals: list[tuple[float, float]] = []  # (wall clock at arrival, stamp)
-
-        def received(message: dict) -> None:
-            stamp = message["header"]["stamp"]
-            base64.b64decode(message["data"])  # as a node's cv_bridge would read it
-            arrivals.append((time.time(), stamp["sec"] + stamp["nanosec"] * 1e-9))
-
-        topic = roslibpy.Topic(client, "/image_raw", "sensor_msgs/Image")
-        topic.subscribe(received)
-        while not arrivals:
-            time.sleep(0.05)  # the renderer's start (a second or two)
-        arrivals.clear()
+        node = subprocess.Popen(
+            [sys.executable, "-m", "app.cli", "run", "--url", server.url, str(NODE), str(args.seconds)],
+            stdout=subprocess.PIPE,
+            text=True,
+        )
         offset = sim_offset(server.url)
-        watched = lateness(server.url, args.seconds)
+        watched = lateness(server.url, args.seconds * 0.8)  # while the node receives
+        out, _ = node.communicate(timeout=args.seconds + 120)
         offset = min(offset, sim_offset(server.url))
-        topic.unsubscribe()
-        client.terminate()
+    arrivals = json.loads(out.strip().splitlines()[-1])["arrivals"]
     latencies = sorted((arrived - (stamp + offset)) * 1e3 for arrived, stamp in arrivals)
     span = arrivals[-1][0] - arrivals[0][0]
-    print(f"/image_raw at a roslibpy subscriber over {span:.1f} s: {(len(arrivals) - 1) / span:.1f} images/s")
+    print(
+        f"/image_raw at a rospy node (hri-lab run, cv_bridge) over {span:.1f} s: {(len(arrivals) - 1) / span:.1f} images/s"
+    )
     print(
         f"  latency stamp -> arrival: median {statistics.median(latencies):.0f} ms, "
         f"p90 {latencies[int(0.9 * (len(latencies) - 1))]:.0f} ms"

@@ -18,6 +18,7 @@ import os
 from dataclasses import dataclass
 from importlib.metadata import version
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -134,7 +135,7 @@ def link_arrays(mesh_path: Path, scale) -> np.ndarray:
         pass
     import trimesh
 
-    scene = trimesh.load(str(mesh_path), force="scene")
+    scene: Any = trimesh.load(str(mesh_path), force="scene")
     parts = []
     for node in scene.graph.nodes_geometry:
         transform, name = scene.graph[node]
@@ -166,10 +167,11 @@ class CameraRenderer:
     def __init__(self, sizes: SceneSizes) -> None:
         import moderngl
 
+        gl: Any = moderngl  # its stubs lag its API (backend=, uniforms by name)
         self.width, self.height = camera.CAMERA_SIZE
-        self.context = moderngl.create_standalone_context(backend="egl")
+        self.context = gl.create_standalone_context(backend="egl")
         ctx = self.context
-        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.program: Any = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         self.framebuffer = ctx.simple_framebuffer((self.width, self.height), components=4)
         light = LIGHT_DIRECTION / np.linalg.norm(LIGHT_DIRECTION)
         self.program["light"].value = tuple(light)
@@ -210,7 +212,8 @@ class CameraRenderer:
 
         fb = self.framebuffer
         fb.use()
-        fb.clear(*(np.asarray(BACKGROUND_BGR[::-1]) / 255.0), 1.0, depth=1.0)
+        red, green, blue = (channel / 255.0 for channel in BACKGROUND_BGR[::-1])
+        fb.clear(red=red, green=green, blue=blue, alpha=1.0, depth=1.0)
         self.context.enable(moderngl.DEPTH_TEST)
         pin.framesForwardKinematics(self.model.model, self.model.data, s.q)
         pin.updateGeometryPlacements(self.model.model, self.model.data, self.geometry, self.geometry_data)

@@ -61,8 +61,8 @@ def test_the_image_over_http_is_the_cameras_png_and_the_info_its_intrinsics(lab)
 
 
 def test_image_raw_over_rosbridge_is_base64_bgr8_stamped_with_sim_time(lab):
-    client = roslibpy.Ros(host="127.0.0.1", port=lab.port)
-    client.run(timeout=30)
+    client = roslibpy.Ros("127.0.0.1", lab.port, transport="asyncio")  # the transport the other tests use
+    client.run()
     got = []
     topic = roslibpy.Topic(client, "/image_raw", "sensor_msgs/Image", throttle_rate=100)
     topic.subscribe(got.append)
@@ -70,6 +70,7 @@ def test_image_raw_over_rosbridge_is_base64_bgr8_stamped_with_sim_time(lab):
         wait_for(lambda: len(got) >= 2, timeout=60)
     finally:
         topic.unsubscribe()
+        client.close()
         client.terminate()
     first, second = got[0], got[1]
     image = np.frombuffer(base64.b64decode(first["data"]), np.uint8).reshape(480, 640, 3)

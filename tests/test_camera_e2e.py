@@ -119,3 +119,20 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
     finally:
         assert program.interrupt() == 0, program.output
     wait_for(lambda: httpx.get(f"{lab.url}/camera/windows", timeout=30).json() == [])  # gone with its program
+
+
+def test_an_rclpy_detection_node_answers_as_the_lab_does(lab):
+    program = run(lab.url, "object_detector_rclpy.py", "--ros-args", "-r", f"get_target_position:={DETECTED}_rclpy")
+    try:
+        program.wait_for_line("detector ready")
+
+        def detected():
+            answer = httpx.post(f"{lab.url}/services/{DETECTED}_rclpy", json={"get": True}, timeout=30)
+            pixel = (answer.json()["x"], answer.json()["y"]) if answer.status_code == 200 else (0, 0)
+            return pixel if any(pixel) else None
+
+        wait_for(detected, timeout=90)  # its first images came
+        httpx.post(f"{lab.url}/services/reset_simulation", timeout=30)
+        wait_for(lambda: np.abs(np.array(detected()) - lab_pixel(lab)).max() <= TOLERANCE_PX, timeout=60)
+    finally:
+        assert program.interrupt() == 0, program.output

@@ -60,6 +60,18 @@ def test_the_image_over_http_is_the_cameras_png_and_the_info_its_intrinsics(lab)
     assert refused.status_code == 422 and "kind" in refused.text
 
 
+def test_image_raw_streams_over_the_http_websocket(lab):
+    import json
+
+    from websockets.sync.client import connect
+
+    with connect(f"ws://127.0.0.1:{lab.port}/topics/image_raw/stream?rate=5", max_size=None, open_timeout=30) as ws:
+        first, second = json.loads(ws.recv(timeout=60)), json.loads(ws.recv(timeout=60))
+    stamps = [m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] * 1e-9 for m in (first, second)]
+    assert first["encoding"] == "bgr8" and len(base64.b64decode(second["data"])) == 480 * 640 * 3
+    assert stamps[1] - stamps[0] >= 0.2 - 0.0005  # at most 5 a second of simulated time
+
+
 def test_image_raw_over_rosbridge_is_base64_bgr8_stamped_with_sim_time(lab):
     client = roslibpy.Ros("127.0.0.1", lab.port, transport="asyncio")  # the transport the other tests use
     client.run()

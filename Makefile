@@ -34,7 +34,7 @@ chromium:
 
 # the camera renders offscreen with OpenGL through EGL (Mesa's software renderer, llvmpipe, without a GPU)
 egl:
-	@ldconfig -p | grep -q 'libEGL_mesa.so.0' || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libegl-mesa0 libgl1-mesa-dri >/dev/null; }
+	@{ ldconfig -p | grep -q 'libEGL_mesa.so.0' && ldconfig -p | grep -q 'libGL.so.1'; } || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri >/dev/null; }
 
 # students' controllers run sandboxed in bubblewrap (hri-lab grade, serve/experiment --controller FILE)
 bubblewrap:

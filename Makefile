@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test test-fast experiment bench clean chromium bubblewrap docs lint
+.PHONY: run test test-fast experiment bench clean chromium bubblewrap egl docs lint
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -25,22 +25,26 @@ $(VENV)/.kernels: $(STAMP) $(KERNELS)
 	$(BIN)/python -c "from sim.warm_up import warm_up; warm_up()"
 	touch $@
 
-run: $(STAMP) $(VENV)/.kernels bubblewrap
+run: $(STAMP) $(VENV)/.kernels bubblewrap egl
 	$(BIN)/hri-lab serve
 
 # the browser test drives Debian's chromium (playwright cannot download browsers here)
 chromium:
 	@command -v chromium >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
 
+# the camera renders offscreen with OpenGL through EGL (Mesa's software renderer, llvmpipe, without a GPU)
+egl:
+	@{ ldconfig -p | grep -q 'libEGL_mesa.so.0' && ldconfig -p | grep -q 'libGL.so.1'; } || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri >/dev/null; }
+
 # students' controllers run sandboxed in bubblewrap (hri-lab grade, serve/experiment --controller FILE)
 bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
-test: $(STAMP) $(VENV)/.kernels chromium bubblewrap
+test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
 
 # the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything
-test-fast: $(STAMP) $(VENV)/.kernels
+test-fast: $(STAMP) $(VENV)/.kernels egl
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not e2e and not browser"
 
 # the documentation site (mkdocs.yml) in site/; its reference pages are generated from the code (docs/hooks/)
@@ -57,7 +61,7 @@ lint: $(DEV) $(VENV)/.kernels
 experiment: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab experiment
 
-bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap
+bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
 	@command -v wrk >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; }
 	$(BIN)/python -m bench.sim_speed
 	$(BIN)/python -m bench.startup
@@ -69,6 +73,7 @@ bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap
 	$(BIN)/python -m bench.recording
 	$(BIN)/python -m bench.grade_time
 	$(BIN)/python -m bench.margin_sweep
+	$(BIN)/python -m bench.camera
 
 clean:
 	rm -rf $(VENV) *.egg-info site

@@ -2,12 +2,14 @@
 builder(snapshot) -> dict shaped like the ROS message it mirrors). The live server serves them
 (app/lab/topics.py, app/api/topics.py) and recordings store them (sim/recording)."""
 
+import base64
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
+from sim import camera
 from sim.robot.panda import ARM_JOINTS
 from sim.world import Snapshot
 
@@ -109,6 +111,44 @@ def trial_outcome(s: Snapshot) -> dict:
         "slip": t.slip,
         "reason": t.reason,
     }
+
+
+def image(time: float, bgr: np.ndarray) -> dict:
+    """sensor_msgs/Image of a BGR uint8 image (height x width x 3) at `time` (s), in the camera's
+    optical frame; `data` as rosbridge's JSON carries uint8[]: base64 text."""
+    height, width = bgr.shape[:2]
+    return {
+        "header": header_at(time, camera.OPTICAL_FRAME),
+        "height": height,
+        "width": width,
+        "encoding": "bgr8",
+        "is_bigendian": 0,
+        "step": width * 3,
+        "data": base64.b64encode(np.ascontiguousarray(bgr, np.uint8).tobytes()).decode("ascii"),
+    }
+
+
+def camera_info_at(time: float) -> dict:
+    """sensor_msgs/CameraInfo of the lab's camera (sim/camera.py): K, no distortion, P = [K | 0]."""
+    width, height = camera.CAMERA_SIZE
+    k = camera.intrinsics()
+    return {
+        "header": header_at(time, camera.OPTICAL_FRAME),
+        "height": height,
+        "width": width,
+        "distortion_model": "plumb_bob",
+        "d": [0.0] * 5,
+        "k": k.flatten().tolist(),
+        "r": np.eye(3).flatten().tolist(),
+        "p": np.hstack((k, np.zeros((3, 1)))).flatten().tolist(),
+        "binning_x": 0,
+        "binning_y": 0,
+        "roi": {"x_offset": 0, "y_offset": 0, "height": 0, "width": 0, "do_rectify": False},
+    }
+
+
+def camera_info(s: Snapshot) -> dict:
+    return camera_info_at(s.time)
 
 
 @dataclass(frozen=True)

@@ -560,6 +560,40 @@ function renderConsole() {
   setInterval(poll, 1000);
 }
 
+// the camera (GET /camera/image.jpg while "live" is on: the lab renders while it is asked) and
+// the windows programs open with cv2.imshow (GET /camera/windows), each a figure with its newest image
+function refreshing(img, url, pause, keepGoing) {
+  const next = () => { if (keepGoing()) img.src = `${url()}${url().includes("?") ? "&" : "?"}t=${Date.now()}`; };
+  img.onload = () => setTimeout(next, pause);
+  img.onerror = () => setTimeout(next, 1000);
+  next();
+}
+
+function renderCamera() {
+  const live = byId("camera-live"), figure = byId("camera-figure"), img = byId("camera-image");
+  live.addEventListener("change", () => {
+    figure.hidden = !live.checked;
+    if (live.checked) refreshing(img, () => "/camera/image.jpg?quality=80", 30, () => live.checked);
+  });
+  const shown = new Map();  // window id -> figure
+  const poll = async () => {
+    const { data } = await api("GET", "/camera/windows");
+    if (!Array.isArray(data)) return;
+    const ids = new Set(data.map((w) => w.id));
+    for (const [id, fig] of shown) if (!ids.has(id)) { fig.remove(); shown.delete(id); }
+    for (const w of data) {
+      if (shown.has(w.id)) continue;
+      const img = $("img", { alt: `window ${w.name}`, width: 320, height: 240, "data-window": w.name });
+      const fig = $("figure", { class: "window" }, img, $("figcaption", { text: `cv2.imshow: ${w.name}` }));
+      byId("camera-images").append(fig);
+      shown.set(w.id, fig);
+      refreshing(img, () => `/camera/windows/${encodeURIComponent(w.id)}.jpg`, 60, () => shown.get(w.id) === fig);
+    }
+  };
+  poll();
+  setInterval(poll, 1000);
+}
+
 for (const button of document.querySelectorAll("nav button")) {
   button.addEventListener("click", () => {
     for (const b of document.querySelectorAll("nav button")) b.classList.toggle("active", b === button);
@@ -574,6 +608,7 @@ renderParams();
 renderTopics();
 renderActions();
 renderConsole();
+renderCamera();
 pollSlow();
 setInterval(pollSlow, 2000);
 setInterval(renderActions, 2000);

@@ -64,6 +64,7 @@ LONG_FILES_FIRST = (
     "e2e/test_autograder.py",
     "e2e/browser/test_page.py",
     "sim/controllers/test_tilt.py",
+    "e2e/test_camera.py",
     "e2e/test_cli_server.py",
     "e2e/test_experiment_actions.py",
     "e2e/test_cli_experiment.py",

@@ -11,6 +11,7 @@ from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 
 from app.api import actions as actions_api
+from app.api import camera as camera_api
 from app.api import files as files_api
 from app.api import node_services as node_services_api
 from app.api import params as params_api
@@ -116,6 +117,7 @@ def create_app(
     app.include_router(teleop_api.router)
     app.include_router(robot_api.router)
     app.include_router(files_api.router)
+    app.include_router(camera_api.router)
     app.state.bridge = Bridge(lab, nodes, app.state.actions, token)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")

@@ -13,7 +13,9 @@ from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconn
 
 from sim.messages import Topic
 
+from app.api.camera import current_frame
 from app.api.deps import LabDep
+from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.ros.names import absolute
 
@@ -39,6 +41,8 @@ def router(topics: list[Topic]) -> APIRouter:
         topic = by_name.get(absolute(name))
         if topic is None:
             raise HTTPException(404, f"topic '{absolute(name)}' does not exist")
+        if topic.name == IMAGE:  # the camera's image of the current pose (app/api/camera.py)
+            return image_message(current_frame(lab))
         return topic.build(lab.snapshot())
 
     @r.websocket("/topics/{name:path}/stream")
@@ -55,6 +59,10 @@ def router(topics: list[Topic]) -> APIRouter:
         period = 1.0 / rate
         gone = asyncio.ensure_future(client_gone(websocket))
         try:
+            if topic.name == IMAGE:
+                with lab.camera.wants(period):
+                    await _send_each_new_image(websocket, lab, period, gone)
+                return
             with lab.needs(period):
                 await _send_each_new_state(websocket, topic, lab, period, gone)
         except (WebSocketDisconnect, RuntimeError):
@@ -79,6 +87,18 @@ async def _send_each_new_state(websocket: WebSocket, topic, lab, period: float, 
             await websocket.send_json(topic.build(snapshot))
         next_send = max(next_send + period, loop.time())
         await asyncio.wait([gone], timeout=next_send - loop.time())
+
+
+async def _send_each_new_image(websocket: WebSocket, lab, period: float, gone: asyncio.Future) -> None:
+    """/image_raw: each new image of the camera, at least `period` s of simulated time apart."""
+    camera, seen, last = lab.camera, lab.camera.number, None
+    while not gone.done():
+        if camera.number != seen:
+            frame = camera.latest()
+            if frame is not None and (last is None or frame.time - last >= period - 0.0005):
+                seen, last = frame.number, frame.time
+                await websocket.send_json(image_message(frame))
+        await asyncio.wait([gone], timeout=0.005)
 
 
 async def client_gone(websocket: WebSocket) -> None:

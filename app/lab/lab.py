@@ -5,6 +5,7 @@ from concurrent.futures import Future
 from contextlib import AbstractContextManager
 from typing import Any, TypeVar
 
+from sim.camera_render import SceneSizes
 from sim.controllers.interface import Controller
 from sim.controllers.sp import SPController
 from sim.robot.panda import PandaModel
@@ -17,6 +18,7 @@ from app.lab.robot_description import ROBOT_DESCRIPTION, ROBOT_DESCRIPTION_WHY, 
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
+from app.runtime.camera_process import CameraProcess
 from app.runtime.process import SimulationProcess
 
 T = TypeVar("T")
@@ -29,6 +31,7 @@ class Lab:
         self.runtime = SimulationProcess(
             World(config or WorldConfig(), controller or SPController()), realtime=realtime
         )
+        self.camera = CameraProcess(self.runtime.snapshot, self._scene_sizes)  # /image_raw's renderer
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.rosout = Rosout()  # /rosout: the lab's log lines and every node's
         self.events = LabEvents(self)  # logs reflexes, trials and restarts as they happen
@@ -42,6 +45,7 @@ class Lab:
 
     def start(self) -> None:
         self.runtime.start()
+        self.camera.start()
         self.info(LAB_NODE, "the simulation started")
         self.events.start()
 
@@ -49,7 +53,15 @@ class Lab:
         self.events.stop()
         if self.recorder is not None:  # a recording is finished (indexed) on shutdown
             self.recorder.stop()
+        self.camera.stop()
         self.runtime.stop()
+
+    def _scene_sizes(self) -> SceneSizes:
+        """What the camera draws that does not move, from the world's configuration (m)."""
+        cfg = self.runtime.world.config
+        return SceneSizes(
+            (cfg.plate.width, cfg.plate.height, cfg.plate.offset), tuple(cfg.box.size), tuple(cfg.palm_size)
+        )
 
     def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
         """Run fn(world, *args) in the simulation between two steps and return its result; fn is a

@@ -7,6 +7,9 @@ sim.recording Recording, which keeps the topics every 10 ms (100 Hz) and /tf + /
 the messages' header stamps are the simulated time. The file is finished (index, summary) on
 stop, on the server's shutdown and when the thread fails; a size cap (max_mb) or a free-disk
 floor stops it with a message; a file cut short by a crash of the server is still readable.
+
+The camera's images go in too (/image_raw/compressed, JPEG, every IMAGE_PERIOD of simulated time):
+the recording wants them from the camera process while it runs (docs/camera.md).
 """
 
 from __future__ import annotations
@@ -16,12 +19,17 @@ import time
 import traceback
 from pathlib import Path
 
+import cv2
+
+from sim.camera import OPTICAL_FRAME
 from sim.recording.writer import MIN_FREE_BYTES, Recording
 
 from app.lab import commands
 
 POLL_PERIOD = 0.005  # s between two reads of the snapshot (every new 10 ms sample is seen)
 DEFAULT_DIR = Path("recordings")
+IMAGE_PERIOD = 0.1  # s of simulated time between two recorded images (10 Hz)
+JPEG_QUALITY = 85
 
 
 class LiveRecorder:
@@ -39,7 +47,7 @@ class LiveRecorder:
 
     def _run(self) -> None:
         try:
-            with self.lab.needs(POLL_PERIOD):
+            with self.lab.needs(POLL_PERIOD), self.lab.camera.wants(IMAGE_PERIOD):
                 self._record_each_new_state()
         except Exception as exc:  # noqa: BLE001 - the file is finished whatever went wrong
             self.failure = "recording failed: " + "".join(traceback.format_exception_only(exc)).strip()
@@ -49,7 +57,15 @@ class LiveRecorder:
 
     def _record_each_new_state(self) -> None:
         last = None
+        camera, seen_image, last_image = self.lab.camera, self.lab.camera.number, None
         while not self._stop.wait(POLL_PERIOD):
+            if camera.number != seen_image:
+                frame = camera.latest()
+                if frame is not None and (last_image is None or abs(frame.time - last_image) >= IMAGE_PERIOD - 0.0005):
+                    seen_image, last_image = frame.number, frame.time
+                    ok, jpeg = cv2.imencode(".jpg", frame.image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+                    if ok:
+                        self.recording.add_image(frame.time, jpeg.tobytes(), OPTICAL_FRAME, log_time=time.time_ns())
             snapshot = self.lab.snapshot()
             if snapshot.time == last:
                 continue

@@ -210,7 +210,8 @@ def get_target_position(lab, request: TargetRequest) -> Pixel:
         lab.info("get_target_position", "get is false: no target position computed")
         return Pixel(x=0, y=0)
     try:
-        x, y = camera.project(lab.snapshot().box_position)
+        s = lab.snapshot()
+        x, y = camera.box_in_image(s.box_position, s.box_rotation, lab.call(cmd.scene_geometry)["box"])
     except ValueError:
         raise ServiceFailure("the box is behind the camera") from None
     return Pixel(x=x, y=y)
@@ -342,7 +343,7 @@ SERVICES = ServiceRegistry(
             TargetRequest,
             Pixel,
             get_target_position,
-            "Box centre in the image of a fixed virtual 640x480 camera (get=false: 0, 0).",
+            "The box's centre in the image of the lab's 640x480 camera (/image_raw), as a detection finds it: the centre of its bounding rectangle (get=false: 0, 0).",
         ),
         Service(
             "/error_recovery",
@@ -391,4 +392,5 @@ EXERCISES = (
     "/compute_wrench",
     "/start_cooperative_lifting",
     "/stop_cooperative_lifting",
+    "/get_target_position",
 )

@@ -5,7 +5,8 @@ shows the scene live from them; roslibpy's TFClient reads them through /republis
 (app/rosbridge/tf_republisher.py).
 
 The tree: world -> panda_link0 (the robot stands at the origin) -> panda_link1 ... panda_link8
-(the flange) -> plate; panda_link0 -> box, palm. A transform is the child's pose in its parent's
+(the flange) -> plate; panda_link0 -> box, palm, camera_optical (the camera's optical frame, fixed:
+sim/camera.py; /image_raw's frame). A transform is the child's pose in its parent's
 frame. Fixed ones (world, the fixed joints, the plate) are /tf_static; the rest /tf."""
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import threading
 import numpy as np
 import pinocchio as pin
 
+from sim import camera
 from sim.messages import header
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
@@ -24,6 +26,7 @@ from app.lab.robot_description import robot_description
 WORLD = "world"
 BASE = "panda_link0"
 PLATE, BOX, PALM = "plate", "box", "palm"
+CAMERA = camera.OPTICAL_FRAME
 
 _LOCK = threading.Lock()  # pinocchio's data is not thread-safe
 _MODEL: list[PandaModel] = []
@@ -65,6 +68,7 @@ def frames_in_world(s: Snapshot) -> dict[str, np.ndarray]:
     poses[PLATE] = poses[flange] @ _pose(np.eye(3), np.array([0.0, 0.0, s.lifting.plate_offset]))
     poses[BOX] = poses[BASE] @ _pose(s.box_rotation, s.box_position)
     poses[PALM] = poses[BASE] @ _pose(s.palm_rotation, s.palm_position)
+    poses[CAMERA] = poses[BASE] @ camera.transform_optical_to_base()
     return poses
 
 
@@ -74,7 +78,14 @@ def tree() -> list[tuple[str, str, bool]]:
         with _LOCK:
             _TREE.extend(_link_tree(_model()))
     links, flange = _TREE, PandaModel.flange_name
-    return [(WORLD, BASE, True), *links, (flange, PLATE, True), (BASE, BOX, False), (BASE, PALM, False)]
+    return [
+        (WORLD, BASE, True),
+        *links,
+        (flange, PLATE, True),
+        (BASE, BOX, False),
+        (BASE, PALM, False),
+        (BASE, CAMERA, True),
+    ]
 
 
 def transform_stamped(s: Snapshot, parent: str, child: str, pose_parent: np.ndarray, pose_child: np.ndarray) -> dict:
@@ -107,6 +118,7 @@ def _fixed_links() -> dict[tuple[str, str], np.ndarray]:
             if fixed and parent in poses and child in poses:
                 _FIXED[(parent, child)] = np.linalg.solve(poses[parent], poses[child])
         _FIXED[(WORLD, BASE)] = np.eye(4)
+        _FIXED[(BASE, CAMERA)] = camera.transform_optical_to_base()
     return _FIXED
 
 
@@ -123,7 +135,7 @@ def tf(s: Snapshot) -> dict:
 
 
 def tf_static(s: Snapshot) -> dict:
-    """/tf_static: the fixed ones (world, fixed joints, the plate on the flange), stamped 0 (they
+    """/tf_static: the fixed ones (world, fixed joints, the plate on the flange, the camera), stamped 0 (they
     hold at any time), so the message changes only when they do (the plate's offset)."""
     fixed = dict(_fixed_links())
     fixed[(PandaModel.flange_name, PLATE)] = _pose(np.eye(3), np.array([0.0, 0.0, s.lifting.plate_offset]))

@@ -1,7 +1,7 @@
 """A student's program as `hri-lab run` starts it: `python -m app.rosclient.boot FILE [ARGS...]`.
 
-Only this process gets the ROS client libraries (app/rosclient/site) on sys.path and the interface
-finder on sys.meta_path; then FILE runs as `__main__` with sys.argv = [FILE, ARGS...] (its
+Only this process gets the ROS client libraries (app/rosclient/site) on sys.path, the interface
+finder and cv2's window hook (app/rosclient/windows.py) on sys.meta_path; then FILE runs as `__main__` with sys.argv = [FILE, ARGS...] (its
 `--ros-args` included, as ros2 run passes them), its folder first on sys.path like `python FILE`.
 """
 
@@ -20,9 +20,10 @@ def main() -> None:
         print("usage: python -m app.rosclient.boot FILE.py [ARGS...]", file=sys.stderr)
         raise SystemExit(2)
     program = Path(sys.argv[1])
-    from app.rosclient import interfaces, process
+    from app.rosclient import interfaces, process, windows
     from app.rosclient.lab_package import lab_definitions
 
+    windows.install()  # cv2.imshow / waitKey show on the lab's dashboard (app/rosclient/windows.py)
     interfaces.install(
         interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None), lab_definitions
     )

@@ -46,7 +46,12 @@ class Connection:
         headers = {"Authorization": f"Bearer {token}"} if token else None
         try:
             self.ws = connect(
-                websocket_url(self.url), additional_headers=headers, max_size=None, open_timeout=10, close_timeout=1
+                websocket_url(self.url),
+                additional_headers=headers,
+                max_size=None,
+                open_timeout=10,
+                close_timeout=1,
+                compression=None,  # images (/image_raw, 1.2 MB each) would be deflated and inflated at 30 Hz
             )
         except (OSError, TimeoutError) as exc:
             raise ConnectionError(

@@ -25,6 +25,9 @@ _connection: list[Connection] = []
 shutdown_event = threading.Event()
 shutdown_reason: list[str] = []
 _advertised: set[str] = set()
+CALLBACK_GRACE_S = 2.0  # s a callback in progress gets to finish when the program ends
+_callbacks = [0]  # callbacks running now (rospy's subscriber threads)
+_callbacks_done = threading.Condition()
 
 
 def ensure_interfaces() -> None:
@@ -51,13 +54,19 @@ def connected() -> bool:
     return bool(_connection)
 
 
+remaps: dict[str, str] = {}  # resolved name -> the name it is remapped to (rospy's `name:=other` arguments)
+
+
 def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
-    """A ROS name made absolute: `~x` is private to the node, `x` relative to the namespace."""
+    """A ROS name made absolute: `~x` is private to the node, `x` relative to the namespace; then
+    remapped when the program was started with `x:=y`."""
     if name.startswith("~"):
-        return "/" + "/".join(p for p in (namespace.strip("/"), node_name.strip("/"), name[1:].strip("/")) if p)
-    if name.startswith("/"):
-        return "/" + name.strip("/")
-    return "/" + "/".join(p for p in (namespace.strip("/"), name.strip("/")) if p)
+        resolved = "/" + "/".join(p for p in (namespace.strip("/"), node_name.strip("/"), name[1:].strip("/")) if p)
+    elif name.startswith("/"):
+        resolved = "/" + name.strip("/")
+    else:
+        resolved = "/" + "/".join(p for p in (namespace.strip("/"), name.strip("/")) if p)
+    return remaps.get(resolved, resolved)
 
 
 def advertise_once(topic: str, type_name: str) -> None:
@@ -134,8 +143,24 @@ def shutdown(reason: str = "") -> None:
                 wake.WAKE.notify_all()
 
 
+class running_callback:
+    """Around a callback run in a thread of the program's: the program's end waits for it (a
+    thread left inside native code, e.g. OpenCV, when the interpreter exits aborts the process)."""
+
+    def __enter__(self) -> None:
+        with _callbacks_done:
+            _callbacks[0] += 1
+
+    def __exit__(self, *exc: Any) -> None:
+        with _callbacks_done:
+            _callbacks[0] -= 1
+            _callbacks_done.notify_all()
+
+
 def close() -> None:
     shutdown("")
+    with _callbacks_done:
+        _callbacks_done.wait_for(lambda: _callbacks[0] == 0, timeout=CALLBACK_GRACE_S)
     if _connection:
         _connection[0].close()
 

@@ -240,7 +240,7 @@ def _describe_exit(code: int | None) -> str:
 
 
 # --- the child ------------------------------------------------------------------------------
-def _close_inherited_sockets(keep: int) -> None:
+def close_inherited_sockets(keep: int) -> None:
     """Close every socket this fork inherited from the server but `keep` (our pipe)."""
     for name in os.listdir("/proc/self/fd"):
         fd = int(name)
@@ -265,7 +265,7 @@ def _child_main(
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
     the supervisor is gone: the pipe ends)."""
     parent_end.close()
-    _close_inherited_sockets(conn.fileno())
+    close_inherited_sockets(conn.fileno())
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the server's to handle; it stops us
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if realtime:  # every thread of this process (they inherit it), so none holding the

@@ -14,14 +14,17 @@ so `hri-lab topic echo NAME --url URL` reads a recording as it reads the live la
 from __future__ import annotations
 
 import asyncio
+import base64
 import threading
 import time
 
+import cv2
 import numpy as np
 import viser
 from fastapi import FastAPI, HTTPException, Query, WebSocket, WebSocketDisconnect
 
 from sim.recording.playback import Playback
+from sim.recording.writer import IMAGE_TOPIC
 
 from app.view.view3d import SceneShapes, SceneView, guarded_websocket_server, wxyz
 
@@ -62,6 +65,8 @@ class ReplayView(SceneView):
             first.box_colour,
         )
         self.box_path = np.array([f.poses["box"][0] for f in self.playback.frames])
+        self.camera = None  # the recorded camera image (live recordings), in the panel
+        self._shown_image = None
 
     def draw(self, t: float) -> None:
         """Show the recording at playback time t (s)."""
@@ -84,6 +89,7 @@ class ReplayView(SceneView):
             ]
             if len(shown) >= 2:
                 shapes.path.points = np.stack((shown[:-1], shown[1:]), axis=1)
+        self._show_image(frame.time)
         contact = self.playback.message_at("/contact_state", frame.time) or {}
         lifting = self.playback.message_at("/lifting_state", frame.time) or {}
         band = (
@@ -96,6 +102,22 @@ class ReplayView(SceneView):
             f"f_n = {contact.get('normal_force', 0.0):.1f} N · person: {lifting.get('human_phase', '')}"
             + (f"\n\n**reflex:** {lifting['error']}" if lifting.get("error") else "")
         )
+
+    def _show_image(self, t: float) -> None:
+        """The camera's recorded image at t (s), when the recording has images."""
+        if IMAGE_TOPIC not in self.playback.topics:
+            return
+        message = self.playback.message_at(IMAGE_TOPIC, t)
+        if message is None or message["data"] == self._shown_image:
+            return
+        self._shown_image = message["data"]
+        bgr = cv2.imdecode(np.frombuffer(base64.b64decode(message["data"]), np.uint8), cv2.IMREAD_COLOR)
+        if bgr is None:
+            return
+        if self.camera is None:
+            self.camera = self.server.gui.add_image(bgr[:, :, ::-1], label="camera (/image_raw)", format="jpeg")
+        else:
+            self.camera.image = bgr[:, :, ::-1]
 
     def seek(self, t: float) -> None:
         """Scrub to t (s): the slider, the scene."""

@@ -25,7 +25,7 @@ import websockets.asyncio.server
 
 from sim.person.participants import PARTICIPANTS
 from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, PALM_COLOUR, PLATE_COLOUR, arrows_of, state_of
-from sim.robot.assets import panda_urdf, robot_data_share
+from sim.robot.assets import mesh_cache, panda_urdf, robot_data_share
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
 
@@ -111,13 +111,6 @@ def cone_mesh(mu: float, height: float = 0.08, segments: int = 24) -> tuple[np.n
     vertices = np.vstack(([0.0, 0.0, 0.0], ring))
     faces = np.array([[0, 1 + i, 1 + (i + 1) % segments] for i in range(segments)])
     return vertices.astype(np.float32), faces.astype(np.int32)
-
-
-def mesh_cache() -> Path:
-    """Where converted meshes are kept: $HRI_LAB_CACHE, else $XDG_CACHE_HOME/hri-lab, else ~/.cache/hri-lab."""
-    if os.environ.get("HRI_LAB_CACHE"):
-        return Path(os.environ["HRI_LAB_CACHE"])
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "hri-lab"
 
 
 def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:

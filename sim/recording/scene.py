@@ -294,5 +294,17 @@ SCENE_UPDATE_SCHEMA = {
 }
 
 
+COMPRESSED_IMAGE_SCHEMA = {
+    "title": "foxglove.CompressedImage",
+    "type": "object",
+    "properties": {
+        "timestamp": _TIME,
+        "frame_id": {"type": "string"},
+        "data": {"type": "string", "contentEncoding": "base64"},
+        "format": {"type": "string"},
+    },
+}
+
+
 def schema_bytes(schema: dict) -> bytes:
     return json.dumps(schema).encode()

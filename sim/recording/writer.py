@@ -7,6 +7,8 @@ Channels (JSON-encoded; JSON schemas):
             /franka_state_controller/F_ext (geometry_msgs/WrenchStamped), /joint_states, the command,
             /object_pose, /human_hand_pose, /contact_state, /lifting_state
   /trial_state (trials only) hri_lab/TrialState: slip in the palm, robot speed, box height
+  /image_raw/compressed (live recordings) foxglove.CompressedImage: the camera's image as JPEG
+            (`add_image`, at the recorder's image rate; docs/camera.md)
 
 Decimation: the topics every `state_period` (default 10 ms = 100 Hz) and /tf + /scene every
 `scene_period` (default 40 ms = 25 Hz) of simulated time, not every 1 ms step.
@@ -18,6 +20,7 @@ recording: `add()` then returns False and `stopped` tells why.
 
 from __future__ import annotations
 
+import base64
 import json
 import shutil
 from collections.abc import Iterable
@@ -27,7 +30,14 @@ from mcap.well_known import MessageEncoding, SchemaEncoding
 from mcap.writer import CompressionType, Writer
 
 from sim.messages import TOPICS, Topic
-from sim.recording.scene import FRAME_TRANSFORM_SCHEMA, SCENE_UPDATE_SCHEMA, SceneBuilder, schema_bytes
+from sim.recording.scene import (
+    COMPRESSED_IMAGE_SCHEMA,
+    FRAME_TRANSFORM_SCHEMA,
+    SCENE_UPDATE_SCHEMA,
+    SceneBuilder,
+    schema_bytes,
+    stamp,
+)
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot, WorldConfig
 
@@ -36,6 +46,7 @@ SCENE_PERIOD = 0.04  # s between two samples of /tf and /scene (25 Hz)
 MAX_BYTES = 1 << 30  # 1 GiB per file
 MIN_FREE_BYTES = 200 << 20  # stop when the disk has less free space than this (200 MiB)
 TRIAL_STATE = "/trial_state"
+IMAGE_TOPIC = "/image_raw/compressed"  # the camera's images (image_transport's name for JPEGs of /image_raw)
 
 
 def schema_of(example) -> dict:
@@ -165,6 +176,28 @@ class Recording:
             self._last_flush = log_time
             self._writer.flush()  # a chunk on disk: what a crash would keep
             self._check_caps()
+        return not self.closed
+
+    def add_image(self, time: float, jpeg: bytes, frame_id: str, log_time: int | None = None) -> bool:
+        """Record one camera image (JPEG bytes) of simulated time `time` (s) on IMAGE_TOPIC as
+        foxglove.CompressedImage (its bytes base64 in JSON). False once the recording has stopped."""
+        if self.closed:
+            return False
+        publish = int(round(time * 1e9))
+        message = {
+            "timestamp": stamp(time),
+            "frame_id": frame_id,
+            "data": base64.b64encode(jpeg).decode("ascii"),
+            "format": "jpeg",
+        }
+        self._write(
+            IMAGE_TOPIC,
+            "foxglove.CompressedImage",
+            message,
+            publish if log_time is None else int(log_time),
+            publish,
+            COMPRESSED_IMAGE_SCHEMA,
+        )
         return not self.closed
 
     def _check_caps(self) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.metadata
+import os
 from functools import cache
 from pathlib import Path
 
@@ -20,3 +21,10 @@ def robot_data_share() -> Path:
 def panda_urdf() -> Path:
     """Path of panda.urdf inside the installed example-robot-data wheel."""
     return robot_data_share() / "example-robot-data/robots/panda_description/urdf/panda.urdf"
+
+
+def mesh_cache() -> Path:
+    """Where converted meshes are kept: $HRI_LAB_CACHE, else $XDG_CACHE_HOME/hri-lab, else ~/.cache/hri-lab."""
+    if os.environ.get("HRI_LAB_CACHE"):
+        return Path(os.environ["HRI_LAB_CACHE"])
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "hri-lab"

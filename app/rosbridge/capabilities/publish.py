@@ -14,6 +14,7 @@ from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
+from app.rosclient.windows import WINDOWS
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 
@@ -42,6 +43,8 @@ async def publish(session: Any, message: dict, id_: Any) -> None:
     entry = bridge.node_topics.get(topic)
     if entry is None or session not in entry.publishers:
         raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
+    if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
+        bridge.windows[topic] = msg
     for stream in list(entry.subscriptions):
         stream.offer(msg)
 

@@ -12,7 +12,7 @@ from typing import Any
 
 from sim.messages import F_EXT, wrench_stamped_at
 
-from app.lab.topics import LATCHED
+from app.lab.topics import IMAGE, LATCHED, image_message
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
@@ -21,6 +21,7 @@ from app.rosbridge.internal.streams import Stream
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_QUEUE = 1000  # queue_length cap
+IMAGE_QUEUE = 2  # /image_raw: at most this many images wait for a slow client (the newest)
 
 
 async def subscribe(session: Any, message: dict, id_: Any) -> None:
@@ -45,6 +46,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
     if stream is None:
         lab_topic = bridge.topics.get(topic)
         stream = session.streams[topic] = Stream(session, topic, paced=lab_topic is None)
+        if topic == IMAGE:
+            stream.max_queue = IMAGE_QUEUE
         stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
         stream.configure()
         stream.tasks.append(asyncio.ensure_future(stream.deliver()))
@@ -57,6 +60,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
             )
         elif topic == F_EXT:  # every step's sample, not only the newest when we look
             stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
+        elif topic == IMAGE:  # the camera process's images, rendered while somebody subscribes
+            stream.tasks.append(asyncio.ensure_future(sample_images(session.lab, stream)))
         elif lab_topic is not None:
             stream.tasks.append(
                 asyncio.ensure_future(sample(session.lab, stream, lab_topic, bridge.min_period_s.get(topic, 0.0)))
@@ -111,6 +116,29 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
                     last = row[0]
                     stream.offer(wrench_stamped_at(float(row[0]), row[1:]))
             await asyncio.sleep(POLL_S)
+
+
+async def sample_images(lab: Any, stream: Stream) -> None:
+    """/image_raw: each new image of the camera (app/runtime/camera_process.py), at least
+    throttle_rate of simulation time after the last one sent; the camera renders while this runs."""
+    camera = lab.camera
+    seen, last = camera.number, None
+    with ExitStack() as held:
+        period = None
+        while True:
+            if stream.period != period:  # the camera renders as often as its most eager subscriber
+                period = stream.period
+                held.close()
+                held.enter_context(camera.wants(period))
+            if camera.number != seen:
+                frame = camera.latest()
+                if frame is not None and (last is None or frame.time - last >= period - 0.0005):
+                    seen, last = frame.number, frame.time
+                    stream.offer(image_message(frame))
+            await asyncio.sleep(IMAGE_POLL_S)
+
+
+IMAGE_POLL_S = 0.005  # s between two looks for a new image
 
 
 class Need:

@@ -35,6 +35,7 @@ class Bridge:
         self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
         self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
         self.node_topics: dict[str, NodeTopic] = {}
+        self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[Any] = []
         self._counter = 0
         # load franka_states' robot model now, not on the event loop when a node first subscribes
@@ -71,5 +72,7 @@ class Bridge:
             return
         entry.publishers.discard(publisher)
         entry.subscriptions.discard(subscription)
+        if not entry.publishers:
+            self.windows.pop(topic, None)  # the program that showed it is gone
         if not entry.publishers and not entry.subscriptions:
             del self.node_topics[topic]

@@ -25,6 +25,7 @@ class Stream:
         self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
         self.tasks: list[asyncio.Task] = []
         self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
+        self.max_queue: int | None = None  # a cap on the queue whatever was asked (images: a few MB each)
 
     @property
     def period(self) -> float:
@@ -39,6 +40,8 @@ class Stream:
         length = max(q for _, q in self.options.values())
         if length == 0:
             length = self.PASS_THROUGH if min(t for t, _ in self.options.values()) == 0 else 1
+        if self.max_queue is not None:
+            length = min(length, self.max_queue)
         if length != self.queue.maxlen:
             self.queue = deque(self.queue, maxlen=length)
 

@@ -80,3 +80,29 @@ def test_a_recording_is_finished_on_shutdown(tmp_path):
         wait_sim(client, 0.2)
     bag = reader.info(tmp_path / "shutdown.mcap")  # the server stopped without /stop_recording
     assert bag.complete and bag.messages > 0
+
+
+def test_a_live_recording_has_the_cameras_images_in_foxgloves_schema(client, lab, tmp_path):
+    import base64
+
+    import cv2
+    import numpy as np
+
+    from sim.recording.writer import IMAGE_TOPIC
+
+    from tests.waiting import wait_for
+
+    lab.recordings_dir = tmp_path
+    assert client.post("/services/start_recording", json={"name": "camera"}).status_code == 200
+    first = lab.camera.number
+    wait_for(lambda: lab.camera.number >= first + 3, timeout=120)  # the recording wants images
+    stopped = client.post("/services/stop_recording", json={}).json()
+    assert stopped["success"]
+    with open(tmp_path / "camera.mcap", "rb") as handle:
+        summary = make_reader(handle).get_summary()
+    channel = next(c for c in summary.channels.values() if c.topic == IMAGE_TOPIC)
+    assert summary.schemas[channel.schema_id].name == "foxglove.CompressedImage"
+    images = list(reader.messages(tmp_path / "camera.mcap", [IMAGE_TOPIC]))
+    assert images and images[0].data["format"] == "jpeg" and images[0].data["frame_id"] == "camera_optical"
+    picture = cv2.imdecode(np.frombuffer(base64.b64decode(images[0].data["data"]), np.uint8), cv2.IMREAD_COLOR)
+    assert picture.shape == (480, 640, 3)

@@ -37,6 +37,9 @@ def test_chains_compose_to_the_simulations_poses():
     assert np.allclose(_in_world(snapshot, "panda_link8"), snapshot.transform_ee_to_base, atol=1e-9)
     assert np.allclose(_in_world(snapshot, "box")[:3, 3], snapshot.box_position, atol=1e-9)
     assert np.allclose(_in_world(snapshot, "palm")[:3, :3], snapshot.palm_rotation, atol=1e-9)
+    from sim import camera
+
+    assert np.allclose(_in_world(snapshot, "camera_optical"), camera.transform_optical_to_base(), atol=1e-9)
     plate = _in_world(snapshot, "plate")
     assert np.allclose(plate[:3, 3], snapshot.transform_ee_to_base[:3, 3] + 0.02 * snapshot.transform_ee_to_base[:3, 2])
 

@@ -283,7 +283,7 @@ def test_an_action_list_answered_late_never_takes_a_nodes_action_and_its_goal_aw
     in it) that a later update made. The list is held here until the node has advertised and two
     update periods (2 s) have passed; a goal sent from whatever item the page shows then reaches its
     end on the page."""
-    from tests.test_rosbridge_ros_system import CountingServer
+    from tests.e2e.test_rosbridge_ros_system import CountingServer
 
     held = []
 
@@ -349,3 +349,21 @@ def test_a_programs_own_srv_shows_its_fields_and_is_called_from_the_page(page, s
     finally:
         assert program.interrupt() == 0, program.output
     page.locator(".service[data-name='/scale_point']").wait_for(state="detached")  # it went with its program
+
+
+def test_the_camera_panel_shows_the_image_and_a_programs_imshow_window(page, server):
+    """'live' shows /image_raw; a program's cv2.imshow window appears beside it, with its image,
+    and goes with the program."""
+    from tests.ros_running import run
+
+    page.check("#camera-live")
+    page.wait_for_function("() => document.querySelector('#camera-image').naturalWidth === 640")
+    program = run(server, "object_detector_rospy.py", "get_target_position:=detected_target_position")
+    try:
+        program.wait_for_line("detector ready")
+        page.wait_for_function("() => document.querySelector('img[data-window=\"detection\"]')?.naturalWidth === 640")
+        assert "cv2.imshow: detection" in text_of(page, "#camera-images")
+    finally:
+        assert program.interrupt() == 0, program.output
+    page.wait_for_function("() => !document.querySelector('img[data-window=\"detection\"]')")
+    page.uncheck("#camera-live")

@@ -18,7 +18,8 @@ _state: dict[str, Any] = {"initialized": False, "arguments": None, "executor": N
 
 
 class Arguments:
-    """What `--ros-args` says: parameter overrides (global and per node), the node's name and namespace."""
+    """What `--ros-args` says: parameter overrides (global and per node), the node's name and namespace,
+    names remapped (`-r from:=to`)."""
 
     def __init__(self, ros_args: list[str]) -> None:
         self.parameters: dict[str, dict[str, Any]] = {}  # node ('' = every node) -> name -> value
@@ -39,6 +40,8 @@ class Arguments:
                     self.remapped_name = text
                 elif key.endswith("__ns"):
                     self.namespace = text
+                else:  # a topic or service name remapped (from the default namespace)
+                    process.remaps[process.resolve(key)] = process.resolve(text)
                 i += 2
             elif flag == "--params-file" and value:
                 self._params_file(value)

@@ -254,10 +254,12 @@ def init_node(name: str, argv: list[str] | None = None, anonymous: bool = False,
     if not disable_signals and threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, lambda signum, frame: signal_shutdown("keyboard interrupt"))
         signal.signal(signal.SIGTERM, lambda signum, frame: signal_shutdown("terminated"))
-    for arg in remapped:  # _name:=value sets the private parameter ~name
+    for arg in remapped:  # _name:=value sets the private parameter ~name; name:=other remaps a name
         key, value = arg.split(":=", 1)
         if key.startswith("_") and not key.startswith("__"):
             set_param("~" + key[1:], process.parse_value(value))
+        elif not key.startswith("_"):
+            process.remaps[process.resolve(key, _node["name"])] = process.resolve(value, _node["name"])
 
 
 def get_name() -> str:
@@ -516,12 +518,15 @@ class Subscriber:
                 data = self.queue.popleft()
             if self.callback is None:
                 continue
+            if process.shutdown_event.is_set():  # the program is ending: no new callback
+                return
             try:
-                msg = self.data_class.from_json(data)
-                if self.callback_args is None:
-                    self.callback(msg)
-                else:
-                    self.callback(msg, self.callback_args)
+                with process.running_callback():
+                    msg = self.data_class.from_json(data)
+                    if self.callback_args is None:
+                        self.callback(msg)
+                    else:
+                        self.callback(msg, self.callback_args)
             except Exception:  # noqa: BLE001 - rospy logs a failing callback, the subscriber goes on
                 logerr("bad callback: %s\n%s", self.callback, traceback.format_exc())
 
@@ -624,6 +629,10 @@ class Service:
         threading.Thread(target=self._serve, args=(message,), daemon=True, name="rospy-service").start()
 
     def _serve(self, message: dict) -> None:
+        with process.running_callback():
+            self._answer(message)
+
+    def _answer(self, message: dict) -> None:
         connection = process.connection()
         try:
             request = self.service_class._request_class.from_json(message.get("args") or {})

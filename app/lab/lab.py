@@ -59,8 +59,9 @@ class Lab:
     def _scene_sizes(self) -> SceneSizes:
         """What the camera draws that does not move, from the world's configuration (m)."""
         cfg = self.runtime.world.config
+        box, palm = cfg.box.size, cfg.palm_size
         return SceneSizes(
-            (cfg.plate.width, cfg.plate.height, cfg.plate.offset), tuple(cfg.box.size), tuple(cfg.palm_size)
+            (cfg.plate.width, cfg.plate.height, cfg.plate.offset), (box[0], box[1], box[2]), (palm[0], palm[1])
         )
 
     def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:

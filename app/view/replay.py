@@ -65,7 +65,7 @@ class ReplayView(SceneView):
             first.box_colour,
         )
         self.box_path = np.array([f.poses["box"][0] for f in self.playback.frames])
-        self.camera = None  # the recorded camera image (live recordings), in the panel
+        self.camera: viser.GuiImageHandle | None = None  # the recorded camera image (live recordings), in the panel
         self._shown_image = None
 
     def draw(self, t: float) -> None:

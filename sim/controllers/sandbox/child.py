@@ -29,7 +29,13 @@ def limit(memory_bytes: int, cpu_seconds: int) -> None:
         os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
     except (OSError, AttributeError):
         pass
-    limits = [(resource.RLIMIT_RTPRIO, 0), (resource.RLIMIT_CORE, 0), (resource.RLIMIT_FSIZE, 16 << 20)]
+    # no POSIX message queue: one would outlive the item in its jail's IPC namespace (zygote.py)
+    limits = [
+        (resource.RLIMIT_RTPRIO, 0),
+        (resource.RLIMIT_CORE, 0),
+        (resource.RLIMIT_FSIZE, 16 << 20),
+        (resource.RLIMIT_MSGQUEUE, 0),
+    ]
     if memory_bytes > 0:
         limits.append((resource.RLIMIT_AS, memory_bytes))
     if cpu_seconds > 0:

@@ -31,9 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from sim.controllers.interface import ControllerFault, LiftingParams, start_lifting, stop_lifting
-from sim.controllers.sandbox import watch, wire
+from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
-from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command, child_command
 
 
 class SandboxedController:
@@ -54,6 +53,7 @@ class SandboxedController:
         self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
         self._tasks = 0
         self._cpu: int | None = None  # the CPU the child is kept on (the parent's)
+        self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
 
     # the Controller protocol
     def reset(self) -> None:
@@ -112,7 +112,7 @@ class SandboxedController:
         if slot is not None:
             slot.close()
         if pid is not None and self._owner == os.getpid():
-            watch.reap(pid, grace=0.5)
+            self._finish(grace=0.5)
 
     def __del__(self) -> None:
         try:
@@ -122,7 +122,9 @@ class SandboxedController:
 
     def __getstate__(self) -> dict:  # a copy in another process starts its own child
         state = dict(self.__dict__)
-        state.update(pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0)
+        state.update(
+            pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0, _jail=None
+        )
         return state
 
     def load(self) -> SandboxedController:
@@ -135,7 +137,8 @@ class SandboxedController:
         return self.pid is not None and self._owner == os.getpid()
 
     def _tree(self) -> list[int]:
-        return watch.process_tree(self.pid)
+        """The child's processes (this process's pids)."""
+        return self._jail.item_tree() if self._jail is not None and self._alive() else []
 
     def _cpu_time(self) -> float:
         """s of CPU used by the child's processes (all threads)."""
@@ -146,7 +149,7 @@ class SandboxedController:
             return
         if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
             raise ControllerFault(self._faulted)
-        self.pid = None  # a child of another process (fork) is not ours to talk to
+        self.pid, self._jail = None, None  # a child of another process (fork) is not ours to talk to
         self._spawn()
         kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
         reply = self._slot.answer_payload(min(size, 2))
@@ -160,8 +163,8 @@ class SandboxedController:
         self._follow_parent()
 
     def _spawn(self) -> None:
-        child = child_command(self.budget, self.class_name)
-        argv = bwrap_command(child) if self.sandboxed else child
+        """A fresh child for this controller, forked by its file's zygote (pool.py), with its own
+        slot and pipes: fd SLOT_FD, WAKE_CHILD_FD, WAKE_PARENT_FD and stderr in the child."""
         self._load_request = str(self.path).encode() + b"\0" + self.source.encode()
         slot_fd = os.memfd_create("controller-slot", os.MFD_CLOEXEC | os.MFD_ALLOW_SEALING)
         os.ftruncate(slot_fd, wire.slot_bytes(len(self._load_request)))
@@ -170,32 +173,20 @@ class SandboxedController:
         to_child_r, to_child_w = os.pipe()
         from_child_r, from_child_w = os.pipe()
         errors_r, errors_w = os.pipe()
-        # what the child gets, above the numbers it gets them as (a dup2 onto 3 must not clobber a source)
-        slot_fd, to_child_r, from_child_w, errors_w = (
-            _above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w)
-        )
         try:
-            self.pid = os.posix_spawn(
-                argv[0],
-                argv,
-                CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV},
-                file_actions=[
-                    (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
-                    (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
-                    (os.POSIX_SPAWN_DUP2, errors_w, 2),
-                    (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
-                    (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
-                    (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
-                ],
-                setsid=True,
-                scheduler=(os.SCHED_OTHER, os.sched_param(0)),
-            )
-        except OSError as exc:
+            jail = pool.take(self.budget, self.class_name, self.sandboxed)
+            self.pid = jail.fork([slot_fd, to_child_r, from_child_w, errors_w], self.budget.load_timeout)
+        except pool.JailError as exc:
             for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
                 os.close(fd)
-            raise ControllerFault(f"cannot start the controller's process: {exc}") from None
-        for fd in (to_child_r, from_child_w, errors_w):
-            os.close(fd)
+            raise ControllerFault(str(exc)) from None
+        finally:
+            for fd in (to_child_r, from_child_w, errors_w):  # the child's ends: it has its own copies
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self._jail = jail
         self._owner = os.getpid()
         self._to_child, self._from_child, self._errors = to_child_w, from_child_r, errors_r
         self._slot = wire.Slot(slot_fd)
@@ -207,6 +198,15 @@ class SandboxedController:
             os.set_blocking(fd, False)
         self._poll = select.poll()
         self._poll.register(from_child_r, select.POLLIN)
+
+    def _finish(self, grace: float) -> int | None:
+        """The child ended (its input closed: up to `grace` s, then killed) and its jail given back; its wait status."""
+        jail, self._jail = self._jail, None
+        if jail is None:
+            return None
+        status = jail.end_item(grace)
+        pool.give_back(jail)
+        return status
 
     # one request, one answer
     def _call(self, op: bytes, payload: bytes | None, what: str, timeout: float | None = None) -> tuple[bytes, int]:
@@ -326,7 +326,7 @@ class SandboxedController:
 
     def _death(self) -> str:
         """Why the child is gone (its exit code or signal), with what it said on stderr."""
-        status = watch.reap(self.pid, grace=1.0) if self._alive() else None
+        status = self._finish(grace=1.0) if self._alive() else None
         said = ""
         try:
             said = wire.text(os.read(self._errors, wire.MAX_TEXT)).strip()
@@ -339,11 +339,3 @@ class SandboxedController:
         self._faulted = reason
         raise ControllerFault(reason)
 
-
-def _above(fd: int, highest: int) -> int:
-    """fd moved to a number above `highest` (close-on-exec; posix_spawn's dup2 clears it on the copy)."""
-    if fd > highest:
-        return fd
-    moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, highest + 1)
-    os.close(fd)
-    return moved

@@ -16,6 +16,7 @@ from sim.controllers.plugin import PluginError, PluginFactory
 from sim.controllers.sandbox import SandboxBudget, pool, watch
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import Trial
+
 from tests.waiting import process_gone, wait_for
 
 CONTROLLERS = Path(__file__).parent / "controllers"

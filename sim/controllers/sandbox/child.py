@@ -125,12 +125,12 @@ class ChildEnd:
 
     def _step(self, instance, seq: int) -> None:
         """One step: the inputs copied out of the slot (the student's code keeps no view of it)."""
-        values = self.slot.step_in.tolist()
+        request = self.slot.step_in
         raw = instance.step(
-            np.array(values[:6]),
-            np.array(values[6:22]).reshape(4, 4),
-            wire.params_from_floats(values[22:-1]),
-            values[-1],
+            request[:6].copy(),  # copies: nothing the student's code holds is a view of the slot
+            request[6:22].reshape(4, 4).copy(),
+            wire.params_from_floats(request[22:-1].tolist()),
+            float(request[-1]),
         )
         try:
             twist = np.asarray(raw, dtype=np.float64)

@@ -34,9 +34,20 @@ from sim.controllers.interface import ControllerFault, LiftingParams, start_lift
 from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
 
+_HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
+
 
 class SandboxedController:
     """The Controller protocol, answered by the student's class in a sandboxed child process."""
+
+    # the live child's handles: set when it starts (_spawn), removed when it ends (close)
+    _slot: wire.Slot
+    _poll: select.poll
+    _to_child: int
+    _from_child: int
+    _errors: int
+    _seq: int
+    _load_request: bytes
 
     def __init__(
         self, path: Path, class_name: str, budget: SandboxBudget = SandboxBudget(), sandboxed: bool = True
@@ -68,7 +79,7 @@ class SandboxedController:
         request = self._slot.step_in
         request[:6] = np.ravel(wrench_ee)[:6]
         request[6:22] = np.ravel(transform_ee_to_base)[:16]
-        request[22:-1] = wire.params_to_floats(params)
+        request[22:-1] = wire.param_values(params)
         request[-1] = dt
         started = time.perf_counter()
         kind, size = self._call(b"S", None, "step")
@@ -97,18 +108,15 @@ class SandboxedController:
     def close(self) -> None:
         """End the child (the end of its input, then SIGKILL if it lingers)."""
         pid, self.pid = self.pid, None
-        for fd in (
-            getattr(self, "_to_child", None),
-            getattr(self, "_from_child", None),
-            getattr(self, "_errors", None),
-        ):
-            if fd is not None:
+        handles = self.__dict__
+        for name in _HANDLES:  # the child's pipes and slot: gone until the next child
+            handle = handles.pop(name, None)
+            if isinstance(handle, int):
                 try:
-                    os.close(fd)
+                    os.close(handle)
                 except OSError:
                     pass
-        self._to_child = self._from_child = self._errors = None
-        slot, self._slot = getattr(self, "_slot", None), None
+        slot = handles.pop("_slot", None)
         if slot is not None:
             slot.close()
         if pid is not None and self._owner == os.getpid():
@@ -122,9 +130,9 @@ class SandboxedController:
 
     def __getstate__(self) -> dict:  # a copy in another process starts its own child
         state = dict(self.__dict__)
-        state.update(
-            pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0, _jail=None
-        )
+        for name in (*_HANDLES, "_slot", "_poll"):
+            state.pop(name, None)
+        state.update(pid=None, _owner=0, _jail=None)
         return state
 
     def load(self) -> SandboxedController:
@@ -212,7 +220,7 @@ class SandboxedController:
     def _call(self, op: bytes, payload: bytes | None, what: str, timeout: float | None = None) -> tuple[bytes, int]:
         """One request (a step's floats are in the slot already: payload None) and its answer's
         (kind, payload bytes); an error answer is a fault."""
-        if op != b"L":
+        if op not in (b"L", b"S"):  # step() has made sure already
             self._ensure()
         self._seq += 1
         seq = self._seq
@@ -239,13 +247,13 @@ class SandboxedController:
     def _answer(self, seq: int, deadline: float, what: str) -> tuple[bytes, int]:
         """Wait for the answer to request `seq` (a wake-up byte, then its sequence number in the slot)."""
         while True:
-            left = deadline - time.perf_counter()
-            if left <= 0 or not self._poll.poll(left * 1e3 + 1):
-                waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
-                self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
-            try:
+            try:  # the child often answered already (it runs as soon as it is woken): no poll then
                 woken = os.read(self._from_child, 64)
-            except BlockingIOError:  # woken for nothing
+            except BlockingIOError:  # not yet
+                left = deadline - time.perf_counter()
+                if left <= 0 or not self._poll.poll(left * 1e3 + 1):
+                    waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
+                    self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
                 continue
             if not woken:
                 self._fault(
@@ -338,4 +346,3 @@ class SandboxedController:
         self.close()
         self._faulted = reason
         raise ControllerFault(reason)
-

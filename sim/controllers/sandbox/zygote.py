@@ -112,7 +112,7 @@ def clear_jail(tmp_mode: int, timeout: float = 5.0) -> None:
 
 
 def _reap_all() -> list[tuple[int, int]]:
-    ended = []
+    ended: list[tuple[int, int]] = []
     while True:
         try:
             pid, status = os.waitpid(-1, os.WNOHANG)

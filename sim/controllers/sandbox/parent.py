@@ -182,8 +182,9 @@ class SandboxedController:
         from_child_r, from_child_w = os.pipe()
         errors_r, errors_w = os.pipe()
         try:
-            jail = pool.take(self.budget, self.class_name, self.sandboxed)
-            self.pid = jail.fork([slot_fd, to_child_r, from_child_w, errors_w], self.budget.load_timeout)
+            jail, self.pid = pool.fork(
+                self.budget, self.class_name, self.sandboxed, [slot_fd, to_child_r, from_child_w, errors_w]
+            )
         except pool.JailError as exc:
             for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
                 os.close(fd)

@@ -2,7 +2,8 @@
 child needs and forks a fresh child for each controller (each graded item), one child at a time.
 
 A jail belongs to the process and the thread that started it (bubblewrap dies with that thread:
-`--die-with-parent`), for one class and one budget's limits. When its child has ended, the jail
+`--die-with-parent`; a later thread never takes it, even with the same ident), for one class and
+one budget's limits. When its child has ended, the jail
 waits IDLE_SECONDS for the next item of the same file, then it is ended; whatever is left when the
 process exits is ended too. So a grade starts one jail per worker, not one per item, and leaves
 no process behind.
@@ -11,6 +12,7 @@ no process behind.
 from __future__ import annotations
 
 import fcntl
+import itertools
 import multiprocessing.util
 import os
 import select
@@ -170,11 +172,39 @@ class Jail:
 _idle: dict[tuple, list[Jail]] = {}
 _every: list[Jail] = []  # every jail this process started and has not ended
 _lock = threading.Lock()
+_local = threading.local()
+_tokens = itertools.count(1)
 
 
-def take(budget: SandboxBudget, class_name: str, sandboxed: bool) -> Jail:
-    """An idle jail of this process and thread for this class and these limits, or a new one."""
-    key = (os.getpid(), threading.get_ident(), class_name, sandboxed, budget.memory_bytes, budget.cpu_seconds)
+def fork(budget: SandboxBudget, class_name: str, sandboxed: bool, fds: list[int]) -> tuple[Jail, int]:
+    """A fresh child for one item (fds: Jail.fork's), forked by an idle jail of this process and
+    thread for this class and these limits, or by a new one; (its jail, its pid in the jail)."""
+    jail, fresh = take(budget, class_name, sandboxed)
+    try:
+        return jail, jail.fork(fds, budget.load_timeout)
+    except JailError:
+        _end(jail)
+        if fresh:
+            raise
+    jail, _ = take(budget, class_name, sandboxed)  # the idle one went meanwhile: once more, a new one
+    try:
+        return jail, jail.fork(fds, budget.load_timeout)
+    except JailError:
+        _end(jail)
+        raise
+
+
+def _thread_token() -> int:
+    """This thread's own number (a thread's ident may be reused by a later thread; this is not)."""
+    token = getattr(_local, "token", None)
+    if token is None:
+        token = _local.token = next(_tokens)
+    return token
+
+
+def take(budget: SandboxBudget, class_name: str, sandboxed: bool) -> tuple[Jail, bool]:
+    """An idle jail of this process and thread for this class and these limits, or a new one; (it, new)."""
+    key = (os.getpid(), _thread_token(), class_name, sandboxed, budget.memory_bytes, budget.cpu_seconds)
     while True:
         with _lock:
             jail = _idle.get(key, []).pop() if _idle.get(key) else None
@@ -184,12 +214,12 @@ def take(budget: SandboxBudget, class_name: str, sandboxed: bool) -> Jail:
         if jail is None:
             break
         if jail.alive():
-            return jail
+            return jail, False
         _end(jail)
     jail = Jail(key, budget, class_name, sandboxed)
     with _lock:
         _every.append(jail)
-    return jail
+    return jail, True
 
 
 def give_back(jail: Jail) -> None:

@@ -127,7 +127,8 @@ def test_the_childs_own_code_loads_no_robot_model():
     """The child's side of the sandbox (and the interface a student's file imports) loads neither
     pinocchio nor numba: every item of a grade starts a child, so its start-up is paid many times."""
     probe = (
-        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
+        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox.zygote, sim.controllers.sandbox, "
+        "sim.controllers.interface; "
         "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)

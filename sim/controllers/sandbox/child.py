@@ -1,12 +1,11 @@
-"""What runs inside the jail (started by parent.py through jail.py): limits first, then one
-instance of the student's class served over the wire (wire.py). It imports only the wire and the
+"""What runs in a child forked by the jail's zygote (zygote.py, for parent.py): limits first, then
+one instance of the student's class served over the wire (wire.py). It imports only the wire and the
 controller interface: nothing of the parent's side, no robot model.
 
 Before the student's code runs: normal scheduling (never the loop's SCHED_FIFO), resource limits
 (memory, CPU time, file size, no real-time priority), one BLAS thread, stdout/stderr discarded.
 The student's file arrives as text in the first message: nothing else of the grader's file system
 needs to be visible.
-    python -m sim.controllers.sandbox.child MEMORY_BYTES CPU_SECONDS CLASS_NAME
 """
 
 from __future__ import annotations
@@ -153,13 +152,3 @@ class ChildEnd:
         return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[: wire.MAX_TEXT].encode(
             "utf-8", "replace"
         )
-
-
-def main(argv: list[str]) -> int:
-    memory_bytes, cpu_seconds, class_name = int(argv[0]), int(argv[1]), argv[2]
-    limit(memory_bytes, cpu_seconds)
-    return ChildEnd(wire.WAKE_CHILD_FD, wire.WAKE_PARENT_FD, wire.SLOT_FD).serve(class_name)
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))

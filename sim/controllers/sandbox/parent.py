@@ -2,8 +2,9 @@
 class in a child process inside the jail (jail.py), through the wire (wire.py): a step's inputs
 are written into the shared slot, one byte wakes the child, one byte wakes us when its twist is there.
 
-The child runs with normal scheduling (posix_spawn resets SCHED_FIFO before exec, so no student
-thread ever runs at the loop's real-time priority). The student's file is sent as text.
+The child is forked by its file's zygote (pool.py, zygote.py), which runs with normal scheduling
+(posix_spawn resets SCHED_FIFO before exec, so no student thread ever runs at the loop's real-time
+priority); it gets its own slot and pipes. The student's file is sent as text.
 
 Faults (ControllerFault, the world turns it into an error state): an exception, a twist that is
 not 6 finite numbers, no answer within `step_timeout` (a hang), the steps' wall time above

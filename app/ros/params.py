@@ -220,8 +220,9 @@ class ParameterServer:
                 except ParameterRefused:
                     continue
                 out += [
-                    (Parameter(node, name, type_name(value), None, ""), value) for name, value in zip(names, values)
-                ]  # type: ignore[arg-type]
+                    (Parameter(node, name, type_name(value), None, ""), value)  # type: ignore[arg-type]
+                    for name, value in zip(names, values)
+                ]
         return out
 
     def dump(self, node: str | None = None) -> str:

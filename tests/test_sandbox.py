@@ -264,3 +264,31 @@ def test_no_jail_is_left_after_a_grade():
     controller.close()
     assert pool._every  # idle in this process, for the next item
     wait_for(lambda: not pool._every and set(_descendants()) <= before)
+
+
+def test_a_runaway_item_is_stopped_by_its_own_cpu_limit_and_the_next_starts_afresh(tmp_path):
+    """RLIMIT_CPU is set in each forked child and counts from the fork: an item that spins is
+    killed by it, its jail's zygote lives on, and the next item from the same jail steps (its
+    clock did not inherit the spinner's CPU time)."""
+    spins = tmp_path / "spins.py"
+    spins.write_text(
+        "from sim.controllers.sp import SPController\n"
+        "class CooperativeLifting(SPController):\n"
+        "    def step(self, *args):\n"
+        "        while True:\n"
+        "            pass\n"
+    )
+    budget = SandboxBudget(cpu_seconds=1, step_timeout=120.0)  # the CPU limit, not the wall clock, must end it
+    runaway = PluginFactory(str(spins), budget)()
+    jail = runaway._jail
+    with pytest.raises(ControllerFault, match="SIGXCPU|SIGKILL"):
+        runaway.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+    runaway.close()
+    after = PluginFactory(str(CONTROLLERS / "reference_sp.py"), budget)()
+    try:
+        assert after._jail is jail  # the same zygote forked it
+        params = LiftingParams()
+        after.start(params, 10.0)
+        assert after.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)[2] > 0
+    finally:
+        after.close()

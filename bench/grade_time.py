@@ -139,8 +139,8 @@ def main() -> None:
                 )
             else:
                 print(
-                    f"  CPU counted by getrusage: {cpu:.1f} s (a jail's processes are counted when every one of "
-                    "them was waited for); --unsandboxed does the same work in plain child processes, all counted:"
+                    f"  CPU without the jails' (getrusage does not see the processes inside bubblewrap): {cpu:.1f} s; "
+                    "--unsandboxed does the same work in plain child processes, all counted:"
                 )
     with open("/proc/loadavg") as handle:
         print(f"load average while measuring: {handle.read().split()[0]} (2 cores)")

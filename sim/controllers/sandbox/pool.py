@@ -219,6 +219,9 @@ def take(budget: SandboxBudget, class_name: str, sandboxed: bool) -> tuple[Jail,
     jail = Jail(key, budget, class_name, sandboxed)
     with _lock:
         _every.append(jail)
+        if _at_exit[0] != os.getpid():  # once per process: a pool's worker starts with no finalizer
+            _at_exit[0] = os.getpid()
+            multiprocessing.util.Finalize(None, close_all, exitpriority=100)
     return jail, True
 
 
@@ -268,7 +271,10 @@ def _forget() -> None:
 
 
 os.register_at_fork(after_in_child=_forget)
-multiprocessing.util.Finalize(None, close_all, exitpriority=100)  # at exit, in workers of a pool too
+# close_all at exit (multiprocessing's finalizers run at a pool worker's exit and, through atexit,
+# at any process's): registered by the first jail of each process, since a worker clears the
+# finalizers it inherited; ended jails are waited for, so their CPU is counted (getrusage)
+_at_exit = [0]  # the process that registered it
 
 
 def _above(fd: int, highest: int) -> int:

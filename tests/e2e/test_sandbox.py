@@ -2,6 +2,7 @@
 reason, never the grader; it cannot reach the grader, the world, the network or the files."""
 
 import os
+import re
 import subprocess
 import sys
 import threading
@@ -12,9 +13,11 @@ import pytest
 
 from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
-from sim.controllers.sandbox import SandboxBudget
+from sim.controllers.sandbox import SandboxBudget, pool, watch
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.trial import Trial
+
+from tests.waiting import process_gone, wait_for
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 FAULTS = CONTROLLERS / "faults.py"
@@ -124,7 +127,8 @@ def test_the_childs_own_code_loads_no_robot_model():
     """The child's side of the sandbox (and the interface a student's file imports) loads neither
     pinocchio nor numba: every item of a grade starts a child, so its start-up is paid many times."""
     probe = (
-        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox, sim.controllers.interface; "
+        "import sys, sim.controllers.sandbox.child, sim.controllers.sandbox.zygote, sim.controllers.sandbox, "
+        "sim.controllers.interface; "
         "print(sorted(m for m in ('pinocchio', 'numba', 'sim.robot.panda') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
@@ -185,3 +189,106 @@ def test_a_file_built_on_the_lab_sp_loads_no_robot_model_in_its_child():
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr
+
+
+def _descendants() -> list[int]:
+    """Every live process below this one (the multiprocessing resource tracker aside)."""
+    from multiprocessing import resource_tracker
+
+    own = {getattr(resource_tracker._resource_tracker, "_pid", None)}
+    return [pid for pid in watch.process_tree(os.getpid())[1:] if pid not in own and not process_gone(pid)]
+
+
+def test_nothing_one_item_leaves_reaches_the_next():
+    """Every item is forked by the file's zygote before the file is imported, and the jail is
+    cleared before each fork: a module global, a file in /tmp, a process, a System V segment left
+    by one item are not there for the next; a POSIX queue cannot be made at all."""
+    factory = PluginFactory(str(CONTROLLERS / "carries_state.py"))
+    seen, jails = [], set()
+    for _ in range(3):
+        controller = factory()
+        try:
+            jails.add(id(controller._jail))
+            seen.append(controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3).tolist())
+        finally:
+            controller.close()
+    assert len(jails) == 1  # the same jail: the zygote forked each item
+    assert seen == [[0.0] * 6] * 3
+
+
+def test_a_crash_or_a_killed_zygote_costs_only_its_own_item(tmp_path):
+    """An item that crashes, or kills the zygote that forked it, faults with its reason; the next
+    item of the same class starts clean (from the same jail, or a new one) and steps."""
+    crashes = tmp_path / "crashes.py"
+    crashes.write_text(
+        "import os, signal\nfrom sim.controllers.sp import SPController\n"
+        "class CooperativeLifting(SPController):\n"
+        "    def step(self, *args):\n"
+        "        os.kill(os.getpid(), signal.SIGSEGV)\n"
+    )
+    kills = tmp_path / "kills_zygote.py"
+    kills.write_text(
+        "import os, signal\nfrom sim.controllers.sp import SPController\n"
+        "class CooperativeLifting(SPController):\n"
+        "    def step(self, *args):\n"
+        "        os.kill(os.getppid(), signal.SIGKILL)\n"
+        "        os.kill(os.getpid(), signal.SIGSEGV)\n"
+    )
+    reference = PluginFactory(str(CONTROLLERS / "reference_sp.py"))
+    for broken, reason in ((crashes, "killed by SIGSEGV (a crash)"), (kills, "the controller's process")):
+        controller = PluginFactory(str(broken))()
+        with pytest.raises(ControllerFault, match=re.escape(reason)):
+            controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+        controller.close()
+        after = reference()
+        try:
+            params = LiftingParams()
+            after.start(params, 10.0)
+            twist = after.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)
+        finally:
+            after.close()
+        assert twist[2] > 0  # below the band: presses along +n
+
+
+def test_no_jail_is_left_after_a_grade():
+    """A grade's workers end their jails when they exit; in this process an idle jail ends
+    IDLE_SECONDS after its last item: no zygote, no bubblewrap left either way."""
+    from sim.procedures.grading import grade
+
+    factory = PluginFactory(str(CONTROLLERS / "reference_sp.py"))
+    before = set(_descendants())
+    report = grade(factory, "reference", jobs=2, sections=("robustness",))
+    assert report.score == 100.0
+    wait_for(lambda: set(_descendants()) <= before)
+    controller = factory()
+    controller.close()
+    assert pool._every  # idle in this process, for the next item
+    wait_for(lambda: not pool._every and set(_descendants()) <= before)
+
+
+def test_a_runaway_item_is_stopped_by_its_own_cpu_limit_and_the_next_starts_afresh(tmp_path):
+    """RLIMIT_CPU is set in each forked child and counts from the fork: an item that spins is
+    killed by it, its jail's zygote lives on, and the next item from the same jail steps (its
+    clock did not inherit the spinner's CPU time)."""
+    spins = tmp_path / "spins.py"
+    spins.write_text(
+        "from sim.controllers.sp import SPController\n"
+        "class CooperativeLifting(SPController):\n"
+        "    def step(self, *args):\n"
+        "        while True:\n"
+        "            pass\n"
+    )
+    budget = SandboxBudget(cpu_seconds=1, step_timeout=120.0)  # the CPU limit, not the wall clock, must end it
+    runaway = PluginFactory(str(spins), budget)()
+    jail = runaway._jail
+    with pytest.raises(ControllerFault, match="SIGXCPU|SIGKILL"):
+        runaway.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+    runaway.close()
+    after = PluginFactory(str(CONTROLLERS / "reference_sp.py"), budget)()
+    try:
+        assert after._jail is jail  # the same zygote forked it
+        params = LiftingParams()
+        after.start(params, 10.0)
+        assert after.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)[2] > 0
+    finally:
+        after.close()

@@ -1,12 +1,11 @@
-"""What runs inside the jail (started by parent.py through jail.py): limits first, then one
-instance of the student's class served over the wire (wire.py). It imports only the wire and the
+"""What runs in a child forked by the jail's zygote (zygote.py, for parent.py): limits first, then
+one instance of the student's class served over the wire (wire.py). It imports only the wire and the
 controller interface: nothing of the parent's side, no robot model.
 
 Before the student's code runs: normal scheduling (never the loop's SCHED_FIFO), resource limits
 (memory, CPU time, file size, no real-time priority), one BLAS thread, stdout/stderr discarded.
 The student's file arrives as text in the first message: nothing else of the grader's file system
 needs to be visible.
-    python -m sim.controllers.sandbox.child MEMORY_BYTES CPU_SECONDS CLASS_NAME
 """
 
 from __future__ import annotations
@@ -29,7 +28,13 @@ def limit(memory_bytes: int, cpu_seconds: int) -> None:
         os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
     except (OSError, AttributeError):
         pass
-    limits = [(resource.RLIMIT_RTPRIO, 0), (resource.RLIMIT_CORE, 0), (resource.RLIMIT_FSIZE, 16 << 20)]
+    # no POSIX message queue: one would outlive the item in its jail's IPC namespace (zygote.py)
+    limits = [
+        (resource.RLIMIT_RTPRIO, 0),
+        (resource.RLIMIT_CORE, 0),
+        (resource.RLIMIT_FSIZE, 16 << 20),
+        (resource.RLIMIT_MSGQUEUE, 0),
+    ]
     if memory_bytes > 0:
         limits.append((resource.RLIMIT_AS, memory_bytes))
     if cpu_seconds > 0:
@@ -119,12 +124,12 @@ class ChildEnd:
 
     def _step(self, instance, seq: int) -> None:
         """One step: the inputs copied out of the slot (the student's code keeps no view of it)."""
-        values = self.slot.step_in.tolist()
+        request = self.slot.step_in
         raw = instance.step(
-            np.array(values[:6]),
-            np.array(values[6:22]).reshape(4, 4),
-            wire.params_from_floats(values[22:-1]),
-            values[-1],
+            request[:6].copy(),  # copies: nothing the student's code holds is a view of the slot
+            request[6:22].reshape(4, 4).copy(),
+            wire.params_from_floats(request[22:-1].tolist()),
+            float(request[-1]),
         )
         try:
             twist = np.asarray(raw, dtype=np.float64)
@@ -147,13 +152,3 @@ class ChildEnd:
         return b"p", np.asarray(wire.params_to_floats(params), float).tobytes() + str(message)[: wire.MAX_TEXT].encode(
             "utf-8", "replace"
         )
-
-
-def main(argv: list[str]) -> int:
-    memory_bytes, cpu_seconds, class_name = int(argv[0]), int(argv[1]), argv[2]
-    limit(memory_bytes, cpu_seconds)
-    return ChildEnd(wire.WAKE_CHILD_FD, wire.WAKE_PARENT_FD, wire.SLOT_FD).serve(class_name)
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))

@@ -17,7 +17,7 @@ from pathlib import Path
 import sim
 from sim.controllers.sandbox.budget import SandboxBudget
 
-CHILD_MODULE = "sim.controllers.sandbox.child"
+ZYGOTE_MODULE = "sim.controllers.sandbox.zygote"
 CHILD_ENV = {
     "PATH": "/usr/bin:/bin",
     "HOME": "/tmp",
@@ -65,11 +65,21 @@ def bwrap_command(child: list[str]) -> list[str]:
             argv += ["--ro-bind", top, top]
     for root in _readable_roots():
         argv += ["--ro-bind", root, root]
-    return argv + ["--chdir", "/tmp", "--"] + child
+    # read-only at last: /tmp is the jail's one writable file system (the zygote empties it between items)
+    return argv + ["--remount-ro", "/dev", "--remount-ro", "/", "--chdir", "/tmp", "--"] + child
 
 
-def child_command(budget: SandboxBudget, class_name: str) -> list[str]:
-    return [sys.executable, "-m", CHILD_MODULE, str(budget.memory_bytes), str(budget.cpu_seconds), class_name]
+def zygote_command(budget: SandboxBudget, class_name: str, jailed: bool) -> list[str]:
+    """The zygote's command line (zygote.py): its items' limits, the class, whether it is in a jail."""
+    return [
+        sys.executable,
+        "-m",
+        ZYGOTE_MODULE,
+        str(budget.memory_bytes),
+        str(budget.cpu_seconds),
+        class_name,
+        "1" if jailed else "0",
+    ]
 
 
 @cache

@@ -2,8 +2,9 @@
 class in a child process inside the jail (jail.py), through the wire (wire.py): a step's inputs
 are written into the shared slot, one byte wakes the child, one byte wakes us when its twist is there.
 
-The child runs with normal scheduling (posix_spawn resets SCHED_FIFO before exec, so no student
-thread ever runs at the loop's real-time priority). The student's file is sent as text.
+The child is forked by its file's zygote (pool.py, zygote.py), which runs with normal scheduling
+(posix_spawn resets SCHED_FIFO before exec, so no student thread ever runs at the loop's real-time
+priority); it gets its own slot and pipes. The student's file is sent as text.
 
 Faults (ControllerFault, the world turns it into an error state): an exception, a twist that is
 not 6 finite numbers, no answer within `step_timeout` (a hang), the steps' wall time above
@@ -31,13 +32,23 @@ from pathlib import Path
 import numpy as np
 
 from sim.controllers.interface import ControllerFault, LiftingParams, start_lifting, stop_lifting
-from sim.controllers.sandbox import watch, wire
+from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
-from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command, child_command
+
+_HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
 
 
 class SandboxedController:
     """The Controller protocol, answered by the student's class in a sandboxed child process."""
+
+    # the live child's handles: set when it starts (_spawn), removed when it ends (close)
+    _slot: wire.Slot
+    _poll: select.poll
+    _to_child: int
+    _from_child: int
+    _errors: int
+    _seq: int
+    _load_request: bytes
 
     def __init__(
         self, path: Path, class_name: str, budget: SandboxBudget = SandboxBudget(), sandboxed: bool = True
@@ -54,6 +65,7 @@ class SandboxedController:
         self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
         self._tasks = 0
         self._cpu: int | None = None  # the CPU the child is kept on (the parent's)
+        self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
 
     # the Controller protocol
     def reset(self) -> None:
@@ -68,7 +80,7 @@ class SandboxedController:
         request = self._slot.step_in
         request[:6] = np.ravel(wrench_ee)[:6]
         request[6:22] = np.ravel(transform_ee_to_base)[:16]
-        request[22:-1] = wire.params_to_floats(params)
+        request[22:-1] = wire.param_values(params)
         request[-1] = dt
         started = time.perf_counter()
         kind, size = self._call(b"S", None, "step")
@@ -97,22 +109,19 @@ class SandboxedController:
     def close(self) -> None:
         """End the child (the end of its input, then SIGKILL if it lingers)."""
         pid, self.pid = self.pid, None
-        for fd in (
-            getattr(self, "_to_child", None),
-            getattr(self, "_from_child", None),
-            getattr(self, "_errors", None),
-        ):
-            if fd is not None:
+        handles = self.__dict__
+        for name in _HANDLES:  # the child's pipes and slot: gone until the next child
+            handle = handles.pop(name, None)
+            if isinstance(handle, int):
                 try:
-                    os.close(fd)
+                    os.close(handle)
                 except OSError:
                     pass
-        self._to_child = self._from_child = self._errors = None
-        slot, self._slot = getattr(self, "_slot", None), None
+        slot = handles.pop("_slot", None)
         if slot is not None:
             slot.close()
         if pid is not None and self._owner == os.getpid():
-            watch.reap(pid, grace=0.5)
+            self._finish(grace=0.5)
 
     def __del__(self) -> None:
         try:
@@ -122,7 +131,9 @@ class SandboxedController:
 
     def __getstate__(self) -> dict:  # a copy in another process starts its own child
         state = dict(self.__dict__)
-        state.update(pid=None, _to_child=None, _from_child=None, _errors=None, _slot=None, _poll=None, _owner=0)
+        for name in (*_HANDLES, "_slot", "_poll"):
+            state.pop(name, None)
+        state.update(pid=None, _owner=0, _jail=None)
         return state
 
     def load(self) -> SandboxedController:
@@ -135,7 +146,8 @@ class SandboxedController:
         return self.pid is not None and self._owner == os.getpid()
 
     def _tree(self) -> list[int]:
-        return watch.process_tree(self.pid)
+        """The child's processes (this process's pids)."""
+        return self._jail.item_tree() if self._jail is not None and self._alive() else []
 
     def _cpu_time(self) -> float:
         """s of CPU used by the child's processes (all threads)."""
@@ -146,7 +158,7 @@ class SandboxedController:
             return
         if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
             raise ControllerFault(self._faulted)
-        self.pid = None  # a child of another process (fork) is not ours to talk to
+        self.pid, self._jail = None, None  # a child of another process (fork) is not ours to talk to
         self._spawn()
         kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
         reply = self._slot.answer_payload(min(size, 2))
@@ -160,8 +172,8 @@ class SandboxedController:
         self._follow_parent()
 
     def _spawn(self) -> None:
-        child = child_command(self.budget, self.class_name)
-        argv = bwrap_command(child) if self.sandboxed else child
+        """A fresh child for this controller, forked by its file's zygote (pool.py), with its own
+        slot and pipes: fd SLOT_FD, WAKE_CHILD_FD, WAKE_PARENT_FD and stderr in the child."""
         self._load_request = str(self.path).encode() + b"\0" + self.source.encode()
         slot_fd = os.memfd_create("controller-slot", os.MFD_CLOEXEC | os.MFD_ALLOW_SEALING)
         os.ftruncate(slot_fd, wire.slot_bytes(len(self._load_request)))
@@ -170,32 +182,21 @@ class SandboxedController:
         to_child_r, to_child_w = os.pipe()
         from_child_r, from_child_w = os.pipe()
         errors_r, errors_w = os.pipe()
-        # what the child gets, above the numbers it gets them as (a dup2 onto 3 must not clobber a source)
-        slot_fd, to_child_r, from_child_w, errors_w = (
-            _above(fd, wire.SLOT_FD) for fd in (slot_fd, to_child_r, from_child_w, errors_w)
-        )
         try:
-            self.pid = os.posix_spawn(
-                argv[0],
-                argv,
-                CHILD_ENV if self.sandboxed else {**os.environ, **CHILD_ENV},
-                file_actions=[
-                    (os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
-                    (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
-                    (os.POSIX_SPAWN_DUP2, errors_w, 2),
-                    (os.POSIX_SPAWN_DUP2, to_child_r, wire.WAKE_CHILD_FD),
-                    (os.POSIX_SPAWN_DUP2, from_child_w, wire.WAKE_PARENT_FD),
-                    (os.POSIX_SPAWN_DUP2, slot_fd, wire.SLOT_FD),
-                ],
-                setsid=True,
-                scheduler=(os.SCHED_OTHER, os.sched_param(0)),
+            jail, self.pid = pool.fork(
+                self.budget, self.class_name, self.sandboxed, [slot_fd, to_child_r, from_child_w, errors_w]
             )
-        except OSError as exc:
+        except pool.JailError as exc:
             for fd in (to_child_r, to_child_w, from_child_r, from_child_w, errors_r, errors_w, slot_fd):
                 os.close(fd)
-            raise ControllerFault(f"cannot start the controller's process: {exc}") from None
-        for fd in (to_child_r, from_child_w, errors_w):
-            os.close(fd)
+            raise ControllerFault(str(exc)) from None
+        finally:
+            for fd in (to_child_r, from_child_w, errors_w):  # the child's ends: it has its own copies
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self._jail = jail
         self._owner = os.getpid()
         self._to_child, self._from_child, self._errors = to_child_w, from_child_r, errors_r
         self._slot = wire.Slot(slot_fd)
@@ -208,11 +209,20 @@ class SandboxedController:
         self._poll = select.poll()
         self._poll.register(from_child_r, select.POLLIN)
 
+    def _finish(self, grace: float) -> int | None:
+        """The child ended (its input closed: up to `grace` s, then killed) and its jail given back; its wait status."""
+        jail, self._jail = self._jail, None
+        if jail is None:
+            return None
+        status = jail.end_item(grace)
+        pool.give_back(jail)
+        return status
+
     # one request, one answer
     def _call(self, op: bytes, payload: bytes | None, what: str, timeout: float | None = None) -> tuple[bytes, int]:
         """One request (a step's floats are in the slot already: payload None) and its answer's
         (kind, payload bytes); an error answer is a fault."""
-        if op != b"L":
+        if op not in (b"L", b"S"):  # step() has made sure already
             self._ensure()
         self._seq += 1
         seq = self._seq
@@ -239,13 +249,13 @@ class SandboxedController:
     def _answer(self, seq: int, deadline: float, what: str) -> tuple[bytes, int]:
         """Wait for the answer to request `seq` (a wake-up byte, then its sequence number in the slot)."""
         while True:
-            left = deadline - time.perf_counter()
-            if left <= 0 or not self._poll.poll(left * 1e3 + 1):
-                waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
-                self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
-            try:
+            try:  # the child often answered already (it runs as soon as it is woken): no poll then
                 woken = os.read(self._from_child, 64)
-            except BlockingIOError:  # woken for nothing
+            except BlockingIOError:  # not yet
+                left = deadline - time.perf_counter()
+                if left <= 0 or not self._poll.poll(left * 1e3 + 1):
+                    waited = self.budget.load_timeout if what == "load" else self.budget.step_timeout
+                    self._fault(f"{self.name}.{what} did not answer within {waited:g} s (wall clock): stopped")
                 continue
             if not woken:
                 self._fault(
@@ -326,7 +336,7 @@ class SandboxedController:
 
     def _death(self) -> str:
         """Why the child is gone (its exit code or signal), with what it said on stderr."""
-        status = watch.reap(self.pid, grace=1.0) if self._alive() else None
+        status = self._finish(grace=1.0) if self._alive() else None
         said = ""
         try:
             said = wire.text(os.read(self._errors, wire.MAX_TEXT)).strip()
@@ -338,12 +348,3 @@ class SandboxedController:
         self.close()
         self._faulted = reason
         raise ControllerFault(reason)
-
-
-def _above(fd: int, highest: int) -> int:
-    """fd moved to a number above `highest` (close-on-exec; posix_spawn's dup2 clears it on the copy)."""
-    if fd > highest:
-        return fd
-    moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, highest + 1)
-    os.close(fd)
-    return moved

@@ -114,6 +114,6 @@ def why_ended(status: int | None) -> str:
             signal.SIGXCPU: " (CPU-time limit)",
             signal.SIGKILL: " (killed: memory or time limit)",
             signal.SIGSEGV: " (a crash)",
-        }.get(sig, "")
+        }.get(signal.Signals(sig), "")
         return f"the controller's process was killed by {signal.Signals(sig).name}{hint}"
     return f"the controller's process exited with code {os.WEXITSTATUS(status)} (os._exit or sys.exit)"

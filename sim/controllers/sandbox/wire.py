@@ -34,6 +34,7 @@ import mmap
 import operator
 import os
 import struct
+from typing import Any
 
 import numpy as np
 
@@ -92,23 +93,24 @@ class Slot:
         return self.memory[self.answer_at : self.answer_at + size]
 
     def close(self) -> None:
-        self.step_in = self.twist_out = None  # the views first: an exported buffer keeps the map open
+        del self.step_in, self.twist_out  # the views first: an exported buffer keeps the map open
         try:
             self.memory.close()
         except BufferError:  # a view still held somewhere: the map ends with it
             pass
 
 
-_PARAM_VALUES = operator.attrgetter(*PARAM_FIELDS)
+param_values = operator.attrgetter(*PARAM_FIELDS)  # params -> its fields' values in PARAM_FIELDS order (a tuple)
 
 
 def params_to_floats(params: LiftingParams) -> list[float]:
-    return [float(value) for value in _PARAM_VALUES(params)]
+    return [float(value) for value in param_values(params)]
 
 
 def params_from_floats(values) -> LiftingParams:
     """LiftingParams from its fields' numbers (PARAM_FIELDS: the dataclass's order; `running` as 0/1)."""
-    params = LiftingParams(*map(float, values))
+    fields: list[Any] = [float(value) for value in values]
+    params = LiftingParams(*fields)
     params.running = bool(params.running)
     return params
 

@@ -149,8 +149,9 @@ def _period_wanted(period, lease_until) -> float:
 # --- the child ------------------------------------------------------------------------------
 def _child_main(snapshot, sizes, frames: SharedFrame, period, lease_until, error) -> None:
     """Render while wanted, idle otherwise, until the server is gone (or stops us)."""
-    from app.runtime.process import close_inherited_sockets
+    from app.runtime.process import close_inherited_sockets, name_this_process
 
+    name_this_process("hri-lab-camera")
     close_inherited_sockets(keep=-1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the server's to handle; it stops us
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

@@ -17,6 +17,7 @@ server's Python (HTTP, WebSockets, the 3D view) never holds the interpreter lock
 
 from __future__ import annotations
 
+import ctypes
 import itertools
 import math
 import multiprocessing
@@ -240,6 +241,16 @@ def _describe_exit(code: int | None) -> str:
 
 
 # --- the child ------------------------------------------------------------------------------
+def name_this_process(name: str) -> None:
+    """The name `ps`, `top` and /proc/PID/comm show for a forked child (Linux: at most 15 bytes),
+    so the server's two children tell apart: "hri-lab-sim" and "hri-lab-camera"."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(15, name.encode()[:15], 0, 0, 0)  # PR_SET_NAME
+    except (OSError, AttributeError):
+        pass  # a name only: nothing depends on it but what a person or a test reads
+
+
 def close_inherited_sockets(keep: int) -> None:
     """Close every socket this fork inherited from the server but `keep` (our pipe)."""
     for name in os.listdir("/proc/self/fd"):
@@ -265,6 +276,7 @@ def _child_main(
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
     the supervisor is gone: the pipe ends)."""
     parent_end.close()
+    name_this_process("hri-lab-sim")
     close_inherited_sockets(conn.fileno())
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the server's to handle; it stops us
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

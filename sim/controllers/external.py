@@ -6,7 +6,10 @@ velocity controller on `/cartesian_velocity_controller/command`), with franka's 
   cleared by error recovery), as libfranka does when the control loop misses its deadline;
 - the command is rate limited like libfranka's `limit_rate` (|dv| <= a_max dt, |dw| <= dw_max dt,
   LiftingParams), so a step in the command is followed smoothly; a command beyond the Panda's
-  velocity limits still trips the robot's reflex (the interface checks it).
+  velocity limits still trips the robot's reflex (the interface checks it);
+- the limit starts from the running command (`continue_from`, as `limit_rate` starts from the last
+  command sent): a node that takes over while the lab's controller moves the robot (its start
+  service started the lab's lifting, its first twist comes later) does not jump the command.
 The lab's `running` flag does not gate it: a node drives the robot while its commands are fresh.
 """
 
@@ -31,6 +34,10 @@ class ExternalCommand(LiftingController):
         self.twist_target = np.zeros(6)  # base frame, m/s and rad/s
         self.twist_base = np.zeros(6)  # last output (rate limited)
         self.age: float | None = None  # s since the last command; None: no command yet
+
+    def continue_from(self, twist_base: np.ndarray) -> None:
+        """Take over bumpless: the rate limit starts from the running command (base frame, m/s and rad/s)."""
+        self.twist_base = np.asarray(twist_base, dtype=float).copy()
 
     def command(self, twist_base: np.ndarray) -> None:
         """A new command (6 finite numbers, base frame); renews the watchdog."""

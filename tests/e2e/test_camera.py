@@ -109,16 +109,17 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
         assert np.abs(detected() - lab_pixel(lab)).max() <= TOLERANCE_PX, at_rest
         # the person lifts and carries the box: each answer is within 5 px of the box's path in the
         # image (the lab's answers after it and before it, back to the one before the node's
-        # previous answer: the node answers from the last image it got)
+        # answer before last: the node answers from the last image it got, which on a loaded machine
+        # can be older than its previous answer)
         start = lab_pixel(lab)
         assert httpx.post(f"{lab.url}/services/start_cooperative_lifting", json={"force": 10.0}).status_code == 200
-        seen: list[tuple[float, np.ndarray]] = [(time.monotonic(), start)] * 2
+        seen: list[tuple[float, np.ndarray]] = [(time.monotonic(), start)] * 4
         checked = 0
         end = time.monotonic() + 120
         while time.monotonic() < end and checked < 30:
             answer = detected()
             seen.append((time.monotonic(), lab_pixel(lab)))
-            path = [pixel for _, pixel in seen[-3:]]  # from before the previous answer to after this one
+            path = [pixel for _, pixel in seen[-5:]]  # from before the answer before last to after this one
             if answer is not None and np.abs(seen[-1][1] - start).max() > 10:  # the box moved in the image
                 assert distance_to_path(answer, path) <= TOLERANCE_PX, (answer, path)
                 checked += 1

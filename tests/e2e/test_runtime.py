@@ -12,12 +12,21 @@ from app.cli.launch import running_server
 from tests.waiting import wait_for
 
 
-def _children(pid: int) -> list[int]:
+def _children(pid: int, name: str = "hri-lab-sim") -> list[int]:
+    """The server's children of that name (app/runtime: the simulation, the camera)."""
     pids = []
     for tid in os.listdir(f"/proc/{pid}/task"):
         with open(f"/proc/{pid}/task/{tid}/children") as handle:
             pids += [int(p) for p in handle.read().split()]
-    return pids
+    named = []
+    for child in pids:
+        try:
+            with open(f"/proc/{child}/comm") as handle:
+                if handle.read().strip() == name:
+                    named.append(child)
+        except OSError:
+            pass  # gone meanwhile
+    return named
 
 
 def _sockets(pid: int) -> int:

@@ -32,3 +32,30 @@ def test_switching_the_controller_while_carrying_keeps_the_command_continuous(be
     assert np.linalg.norm(steps[:, :3], axis=1).max() <= limits.a_max * dt * (1 + 1e-9)
     assert np.linalg.norm(steps[:, 3:], axis=1).max() <= limits.dw_max * dt * (1 + 1e-9)
     assert type(world.controller).__name__.lower().startswith(after)
+
+
+def test_a_nodes_first_command_while_the_lab_lifts_takes_over_without_a_jump():
+    """A node whose start service started the lab's lifting (the built-in SP moves the robot) and
+    whose first twist comes only later: the external command takes over from the running command,
+    so the robot follows the node's twist within the rate limit and no reflex trips (from rest the
+    step to the node's command would be a jump)."""
+    from sim.controllers.external import ExternalCommand
+
+    trial = Trial(PARTICIPANTS["average"], seed=3)
+    world = trial.world
+    world.set_controller(builtin("sp"))
+    world.start_lifting(10.0)
+    while not (world.human.phase == "carrying" and np.linalg.norm(world.twist_command[:3]) > 0.02):
+        assert trial.step() and world.time < 30.0
+    running = world.twist_command.copy()
+    node = ExternalCommand()
+    world.set_controller(node)
+    node.command(running)  # the node asks for what the robot does now
+    commands = [running]
+    for _ in range(50):
+        trial.step()
+        commands.append(world.twist_command.copy())
+    assert world.error is None
+    limits = LiftingParams()
+    steps = np.diff(np.array(commands), axis=0)
+    assert np.linalg.norm(steps[:, :3], axis=1).max() <= limits.a_max * world.config.dt * (1 + 1e-9)

@@ -50,7 +50,7 @@ DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv pytho
 python3 -m venv /autograder/hri-lab
 /autograder/hri-lab/bin/pip install --quiet /autograder/source/{source}
 # the simulation's compiled kernels, cached now rather than by every submission's grade
-/autograder/hri-lab/bin/python -c "from sim.compiled_step import warm_up; warm_up()"
+/autograder/hri-lab/bin/python -c "from sim.warm_up import warm_up; warm_up()"
 """
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash

@@ -5,6 +5,7 @@ child-process limits and says so."""
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -72,6 +73,9 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
     assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/sim/procedures/grading.py"} <= names
     assert config["seed"] == 5 and config["hide_until_due"] is True
     assert "bubblewrap" in setup and "pip install" in setup
+    for snippet in re.findall(r'python -c "([^"]+)"', setup):  # what setup.sh runs in the lab's Python
+        done = subprocess.run([sys.executable, "-c", snippet], capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, (snippet, done.stderr[-2000:])
 
 
 def test_a_passing_submission(tmp_path, bundle):

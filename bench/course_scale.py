@@ -1,5 +1,5 @@
 """A course's grading throughput: submissions per hour with `hri-lab grade --jobs 2` and with a
-two-worker Dask LocalCluster (`--scheduler`), and the cluster's own cost per task (a trivial
+Dask LocalCluster of one and of two workers (`--scheduler`: the scaling), and the cluster's own cost per task (a trivial
 task's round trip, against the local pool's). docs/course-scale.md holds the figures.
 
     .venv/bin/python -m bench.course_scale [--submissions 2] [--tasks 200] [--only probe]
@@ -68,9 +68,13 @@ def main() -> None:
         local = grade_wall(folder, ["--jobs", "2"], only)
         print(f"--jobs 2:            {local:7.1f} s  = {3600 * args.submissions / local:6.1f} submissions/h")
         pool = per_task(args.tasks, jobs=2)
+        with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+            alone = grade_wall(folder, ["--scheduler", cluster.scheduler_address], only)
+            print(f"1-worker cluster:    {alone:7.1f} s  = {3600 * args.submissions / alone:6.1f} submissions/h")
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             remote = grade_wall(folder, ["--scheduler", cluster.scheduler_address], only)
             print(f"2-worker cluster:    {remote:7.1f} s  = {3600 * args.submissions / remote:6.1f} submissions/h")
+            print(f"scaling, 1 -> 2 workers: {alone / remote:.2f}x (2 cores)")
             per_task(10, scheduler=cluster.scheduler_address)  # the workers warm (imports)
             dask = per_task(args.tasks, scheduler=cluster.scheduler_address)
         print(f"a trivial task ({args.tasks}): local pool {pool * 1e3:.2f} ms, cluster {dask * 1e3:.2f} ms each")

@@ -10,15 +10,22 @@ from sim.person.participants import PARTICIPANTS
 from sim.procedures.trial import Trial
 
 
-@pytest.mark.parametrize("before, after", [("sp", "patch"), ("patch", "sp")])
-def test_switching_the_controller_while_carrying_keeps_the_command_continuous(before, after):
+def carrying_fast(controller: str) -> Trial:
+    """A trial carrying with the built-in `controller`, the robot following fast enough (> 2 cm/s)
+    that a restart from rest would jump the command."""
     trial = Trial(PARTICIPANTS["average"], seed=3)
     world = trial.world
-    world.set_controller(builtin(before))
+    world.set_controller(builtin(controller))
     world.start_lifting(10.0)
-    # carrying, and the robot follows fast enough that a restart from rest would jump
     while not (world.human.phase == "carrying" and np.linalg.norm(world.twist_command[:3]) > 0.02):
         assert trial.step() and world.time < 30.0
+    return trial
+
+
+@pytest.mark.parametrize("before, after", [("sp", "patch"), ("patch", "sp")])
+def test_switching_the_controller_while_carrying_keeps_the_command_continuous(before, after):
+    trial = carrying_fast(before)
+    world = trial.world
     commands = [world.twist_command.copy()]
     world.set_controller(builtin(after))
     for _ in range(500):
@@ -41,12 +48,8 @@ def test_a_nodes_first_command_while_the_lab_lifts_takes_over_without_a_jump():
     step to the node's command would be a jump)."""
     from sim.controllers.external import ExternalCommand
 
-    trial = Trial(PARTICIPANTS["average"], seed=3)
+    trial = carrying_fast("sp")
     world = trial.world
-    world.set_controller(builtin("sp"))
-    world.start_lifting(10.0)
-    while not (world.human.phase == "carrying" and np.linalg.norm(world.twist_command[:3]) > 0.02):
-        assert trial.step() and world.time < 30.0
     running = world.twist_command.copy()
     node = ExternalCommand()
     world.set_controller(node)

@@ -17,7 +17,13 @@ PROGRAMS = Path(__file__).parent / "ros_programs"
 
 class Program:
     def __init__(
-        self, url: str | None, command: str, *args: str, env: dict | None = None, terminal: bool = False
+        self,
+        url: str | None,
+        command: str,
+        *args: str,
+        env: dict | None = None,
+        terminal: bool = False,
+        sigint_ignored: bool = False,
     ) -> None:
         full_env = {k: v for k, v in os.environ.items() if k != "HRI_LAB_URL"}
         full_env.update(env or {})
@@ -30,6 +36,8 @@ class Program:
             env=full_env,
             cwd=Path(__file__).parent.parent,
             start_new_session=terminal,
+            # as a background job of a script, or a parent that ignores Ctrl+C, starts it
+            preexec_fn=(lambda: signal.signal(signal.SIGINT, signal.SIG_IGN)) if sigint_ignored else None,
         )
         self.terminal = terminal  # in a process group of its own, as a terminal's foreground job
         self.lines: list[str] = []

@@ -234,6 +234,16 @@ def test_the_lab_going_away_ends_the_program_with_a_message():
     assert "[FATAL] lost the lab" in program.output
 
 
+def test_ctrl_c_ends_an_rclpy_program_whose_parent_ignores_it(lab):
+    """rclpy.init installs its SIGINT handler whatever the program inherited (Python leaves an
+    inherited SIG_IGN alone): Ctrl+C is a KeyboardInterrupt out of spin, the program ends normally."""
+    server = run(lab.url, "add_two_ints_server_rclpy.py", sigint_ignored=True)
+    try:
+        server.wait_for_line("Ready to add two ints.")
+    finally:
+        assert server.interrupt() == 0, server.output
+
+
 def test_no_lab_to_reach_is_a_message_and_exit_1_not_a_traceback():
     from app.cli.launch import free_port
 

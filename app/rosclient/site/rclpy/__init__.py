@@ -7,7 +7,9 @@ KeyboardInterrupt out of spin, as in rclpy. Differences from ROS 2: docs/ros-pro
 """
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 from typing import Any
 
 from app.rosclient import process
@@ -98,6 +100,11 @@ def init(*, args: list[str] | None = None, context: Any = None, domain_id: int |
     _state["arguments"] = Arguments(process.program_args(sys.argv if args is None else args)[1])
     process.connection()
     _state["initialized"] = True
+    if signal_handler_options != 0 and threading.current_thread() is threading.main_thread():
+        # rclpy installs its own SIGINT handler (SignalHandlerOptions.ALL, the default), whatever the
+        # program inherited: Ctrl+C is a KeyboardInterrupt out of spin even when the program was
+        # started by a parent that ignores SIGINT (Python leaves an inherited SIG_IGN alone)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def ok(*, context: Any = None) -> bool:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import httpx
 import pytest
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 from sim.controllers.interface import LiftingParams
 
@@ -55,11 +56,19 @@ def text_of(page, selector):
 
 
 def wait_text(page, selector, needle, timeout=90_000):
-    page.wait_for_function(
-        "([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)",
-        arg=[selector, needle],
-        timeout=timeout,
-    )
+    """Until the element's text holds `needle`; failing, the message shows what the page showed there."""
+    try:
+        page.wait_for_function(
+            "([s, n]) => (document.querySelector(s)?.textContent || '').includes(n)",
+            arg=[selector, needle],
+            timeout=timeout,
+        )
+    except PlaywrightTimeout:
+        shown = page.evaluate("(s) => document.querySelector(s)?.textContent ?? '(no such element)'", selector)
+        around = page.evaluate("() => document.querySelector('main')?.innerText?.slice(0, 3000) ?? ''")
+        raise AssertionError(
+            f"{needle!r} never showed in {selector}; it showed {shown!r}; the page:\n{around}"
+        ) from None
 
 
 def test_docs_and_redoc_render_offline(server, browser):

@@ -33,6 +33,7 @@ from app.ros.actions import ActionServer
 from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
 from app.rosbridge.internal.state import Bridge
+from app.rosbridge.rosapi import LAB_NODE
 from app.runtime.process import SimulationRestarting
 from app.tokens import token_problem
 
@@ -109,7 +110,7 @@ def create_app(
         )
 
     app.include_router(system_api.router)
-    app.include_router(services_api.router(services))
+    app.include_router(services_api.router(services, lambda name: nodes.node_of(name) or LAB_NODE))
     app.include_router(node_services_api.router(nodes))  # after the typed routes: names added at run time
     app.include_router(params_api.router)
     app.include_router(topics_api.router(TOPICS))

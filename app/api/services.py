@@ -1,5 +1,7 @@
 """/services: list, describe and call the registry's services (ros2 service list / call)."""
 
+from collections.abc import Callable
+
 from fastapi import APIRouter, HTTPException
 
 from app.api.deps import LabDep
@@ -11,19 +13,20 @@ from app.ros.services import Service, ServiceFailure, ServiceRegistry
 from app.runtime.process import SimulationRestarting
 
 
-def router(registry: ServiceRegistry) -> APIRouter:
+def router(registry: ServiceRegistry, node_of: Callable[[str], str]) -> APIRouter:
+    """`node_of(name)`: the node that provides a service now (a program's, or the lab's own)."""
     r = APIRouter(tags=["services"])
 
     @r.get("/services", summary="List services with their types (ros2 service list -t)")
     def list_services() -> list[dict]:
         return [{"name": s.name, "type": s.type} for s in registry]
 
-    @r.get("/services/{name:path}", summary="Type and .srv of a service (ros2 interface show)")
+    @r.get("/services/{name:path}", summary="Type, .srv and node of a service (ros2 interface show, rosservice info)")
     def service_info(name: str) -> dict:
         service = registry.get(name)
         if service is None:
             raise HTTPException(404, f"service '{absolute(name)}' is not advertised")
-        return service.info()
+        return {**service.info(), "node": node_of(service.name)}
 
     for service in registry:
         r.add_api_route(

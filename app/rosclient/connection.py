@@ -142,6 +142,18 @@ class Connection:
         if definition is not None:
             message["definition"] = definition
         self.send(message)
+        self.sync()  # as rospy.Service returns once the master has registered it
+
+    def sync(self, timeout: float = 10.0) -> None:
+        """Return once the lab has handled every op sent before: one round trip on this connection
+        (the lab, like rosbridge_suite, handles a connection's ops in order). From the reader
+        thread (a callback) it cannot wait for the answer and returns at once."""
+        if threading.current_thread() is self._reader:
+            return
+        try:
+            self.call_service_async("/rosapi/get_time", {}).result(timeout)
+        except TimeoutError:
+            pass  # a lab this slow still takes the ops in order; the caller goes on as rosbridge would
 
     def service_response(self, call_id: Any, name: str, values: Any, ok: bool) -> None:
         self.send({"op": "service_response", "id": call_id, "service": name, "values": values, "result": ok})
@@ -178,6 +190,7 @@ class Connection:
     ) -> None:
         self.action_handlers[name] = (on_goal, on_cancel)
         self.send({"op": "advertise_action", "action": name, "type": type_name})
+        self.sync()  # the program's "ready" line comes after the lab lists the action
 
     # --- reading ----------------------------------------------------------------------------------
     def _read(self) -> None:

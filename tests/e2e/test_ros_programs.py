@@ -32,6 +32,8 @@ def test_add_two_ints_server_and_client(lab, api):
     server = run(lab.url, f"add_two_ints_server_{api}.py")
     try:
         server.wait_for_line("Ready to add two ints.")
+        # the lab has the program's service once it is created, as rospy.Service returns once it is registered
+        assert httpx.get(f"{lab.url}/services/add_two_ints").json()["node"] != "/hri_lab"
         client = run(lab.url, f"add_two_ints_client_{api}.py", "20", "22")
         assert client.wait() == 0, client.output
         assert ("20 + 22 = 42" if api == "rospy" else "for 20 + 22 = 42") in client.output

@@ -226,6 +226,11 @@ class NodeServices:
     def provided_by(self, name: str) -> Provider | None:
         return self.providers.get(name)
 
+    def node_of(self, name: str) -> str | None:
+        """The node (rosbridge client) that provides `name` now; None: nobody but the lab."""
+        provider = self.providers.get(name)
+        return provider.session.name if provider is not None else None
+
     def offered(self, name: str) -> bool:
         """Somebody answers `name` now: the lab, or a node (an exercise left to the nodes is not
         offered until one provides it, as a ROS service exists only while its server runs)."""

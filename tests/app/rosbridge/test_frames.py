@@ -208,3 +208,15 @@ def test_a_definition_other_than_the_declared_one_is_a_warning_and_the_declarati
         info = wait_for(lambda: (i := client.get("/services/echo").json())["type"] == "mine/srv/Echo" and i)
         assert info["srv"] == "# mine\nstring in\n---\nstring out"
     assert wait_for(lambda: client.get("/services/echo").json()["type"] == "hri_lab/Echo")  # it left: the lab's again
+
+
+def test_a_services_info_names_the_node_that_provides_it_now(client):
+    """`GET /services/NAME` names its node as `rosservice info` does: the lab's own, a client's
+    while it provides the name, the lab's again once it has left."""
+    assert client.get("/services/echo").json()["node"] == "/hri_lab"
+    with client.websocket_connect("/") as ws:
+        ws.send_json({"op": "advertise_service", "service": "/echo", "type": "hri_lab/Echo"})
+        call(ws, "/rosapi/get_time", {})  # ops of a connection are handled in order: advertised now
+        node = client.get("/services/echo").json()["node"]
+        assert node != "/hri_lab" and node in call(ws, "/rosapi/nodes", {})["values"]["nodes"]
+    assert wait_for(lambda: client.get("/services/echo").json()["node"] == "/hri_lab")

@@ -7,6 +7,8 @@ import time
 import httpx
 import numpy as np
 
+from tests.waiting import wait_provided
+
 
 def position(url, topic):
     p = httpx.get(f"{url}/topics/{topic}").json()["pose"]["position"]
@@ -38,8 +40,7 @@ def carry_the_box(url, answer_ends: str, timeout_s: float) -> float:
     """Starts lifting with 10 N (the node's answer ends with `answer_ends`), waits at most `timeout_s`
     for the person's path to end, and checks the box was carried 0.30 m along -x, held between plate
     and palm, with the node as the controller. Returns how far the box slid in the palm (m)."""
-    # the node provides the service: the lab's own would answer in the same words
-    assert httpx.get(f"{url}/services/start_cooperative_lifting").json()["node"] != "/hri_lab"
+    wait_provided(url, "/start_cooperative_lifting")  # by the node: the lab's own answers in the same words
     started = httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, timeout=10).json()
     assert started["message"].endswith(answer_ends)  # the node's answer
     box_start = position(url, "object_pose")

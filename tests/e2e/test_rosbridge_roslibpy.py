@@ -17,7 +17,7 @@ import roslibpy
 import websockets.sync.client
 
 from tests.e2e.serving import served_lab
-from tests.waiting import stop_node, wait_for
+from tests.waiting import stop_node, wait_for, wait_provided
 
 lab = served_lab("--exercises")  # the lab with its exercise services
 
@@ -219,6 +219,7 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path):
                 )
             )
             assert nodes[-1].stdout.readline().startswith("node ready")
+        wait_provided(lab.url, "/add_two_ints", "/divide_ints", "/start_cooperative_lifting")
         assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 3}, timeout=10).json() == {"sum": 5}
         assert (
             httpx.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200

@@ -13,7 +13,7 @@ import pytest
 
 from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
-from sim.controllers.sandbox import SandboxBudget, pool, watch
+from sim.controllers.sandbox import SandboxBudget, parent, pool, watch
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.trial import Trial
 
@@ -97,8 +97,22 @@ def test_the_child_never_runs_at_the_loops_realtime_priority():
     assert seen["policies"] and all(p == os.SCHED_OTHER for p in seen["policies"])
 
 
-def test_the_child_follows_the_parent_to_its_cpu():
-    """Parent and child take turns: the child is moved to whichever CPU the stepping thread is on."""
+def child_cpus(controller) -> set[int]:
+    return {cpu for pid in controller._tree() for cpu in os.sched_getaffinity(pid)}
+
+
+def in_a_thread(run) -> None:
+    """run() in a thread of its own: the test run's CPUs stay as they were."""
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join()
+
+
+def test_the_child_follows_the_parent_to_its_cpu(monkeypatch):
+    """Parent and child take turns: the child is moved to whichever CPU the stepping thread is on
+    (here set by the test), and the thread's own CPUs are given back when the child ends. (A pair
+    that waits for its CPU is let go: never here, whatever else runs; the next test has that.)"""
+    monkeypatch.setattr(parent, "WAIT_SHARE", float("inf"))
     cpus = sorted(os.sched_getaffinity(0))
     if len(cpus) < 2:
         pytest.skip("one CPU: nowhere else to follow the parent to")
@@ -108,7 +122,7 @@ def test_the_child_follows_the_parent_to_its_cpu():
         os.sched_setaffinity(0, {cpu})  # this thread only
         for _ in range(controller.budget.check_every):
             controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
-        return {cpu for pid in controller._tree() for cpu in os.sched_getaffinity(pid)}
+        return child_cpus(controller)
 
     def run() -> None:
         controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
@@ -116,11 +130,45 @@ def test_the_child_follows_the_parent_to_its_cpu():
             seen["first"], seen["then"] = step_on(controller, cpus[-1]), step_on(controller, cpus[0])
         finally:
             controller.close()
+        seen["after"] = os.sched_getaffinity(0)
 
-    thread = threading.Thread(target=run)  # its own thread: the test run's affinity stays as it was
-    thread.start()
-    thread.join()
-    assert seen == {"first": {cpus[-1]}, "then": {cpus[0]}}
+    in_a_thread(run)
+    assert seen == {"first": {cpus[-1]}, "then": {cpus[0]}, "after": {cpus[0]}}
+
+
+def test_the_stepping_thread_and_the_child_share_one_cpu_and_are_let_go_when_they_wait_for_it():
+    """From the child's start the stepping thread and the child are on the CPU the thread runs on
+    (a wake-up never goes to another CPU); a pair that waits for its CPU (here: a busy process on
+    every CPU) is let go to every CPU the thread had, and the thread has them back at the end."""
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2:
+        pytest.skip("one CPU: nothing to pin to")
+    seen = {}
+
+    def run() -> None:
+        controller = PluginFactory(str(CONTROLLERS / "reference_sp.py"))()
+        busy = []
+        try:
+            controller.load()
+            seen["pinned"] = (os.sched_getaffinity(0), child_cpus(controller))
+            busy = [
+                subprocess.Popen(["taskset", "-c", str(cpu), sys.executable, "-c", "while True: pass"]) for cpu in cpus
+            ]
+            for _ in range(controller.budget.check_every):  # to the next look, every CPU contended
+                controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+            seen["let go"] = (os.sched_getaffinity(0), child_cpus(controller))
+        finally:
+            for process in busy:
+                process.kill()
+                process.wait()
+            controller.close()
+        seen["after"] = os.sched_getaffinity(0)
+
+    in_a_thread(run)
+    (thread, child), everywhere = seen["pinned"], set(cpus)
+    assert len(thread) == 1 and child == thread, seen
+    assert seen["let go"] == (everywhere, everywhere), seen
+    assert seen["after"] == everywhere
 
 
 def test_the_childs_own_code_loads_no_robot_model():

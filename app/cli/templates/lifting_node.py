@@ -120,7 +120,6 @@ def main(law=lifting_law, start=start_cooperative_lifting, stop=stop_cooperative
     LiftingNode(ros, law)
     roslibpy.Service(ros, "/start_cooperative_lifting", "hri_lab/StartCooperativeLifting").advertise(start)
     roslibpy.Service(ros, "/stop_cooperative_lifting", "hri_lab/StopCooperativeLifting").advertise(stop)
-    ros.get_services()  # a round trip: the lab takes a connection's messages in order, so it has the services now
     print(f"node ready: lifting through ws://{args.host}:{args.port}/", flush=True)
     try:
         while ros.is_connected:

@@ -149,7 +149,6 @@ def main(servers=SERVERS):
     state.subscribe(lambda message: robot.update(O_Jac_EE=message["O_Jac_EE"]))
     for name, (type_name, handler) in servers.items():
         roslibpy.Service(ros, name, type_name).advertise(guarded(handler))
-    ros.get_services()  # a round trip: the lab takes a connection's messages in order, so it has the services now
     print(f"node ready: serving {', '.join(servers)} on ws://{args.host}:{args.port}/", flush=True)
     try:
         while ros.is_connected:

@@ -26,6 +26,7 @@ import fcntl
 import math
 import os
 import select
+import threading
 import time
 from pathlib import Path
 
@@ -34,6 +35,8 @@ import numpy as np
 from sim.controllers.interface import ControllerFault, LiftingParams, start_lifting, stop_lifting
 from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
+
+WAIT_SHARE = 0.25  # of the wall time between two looks: a pinned pair that waited longer for its CPU is let go
 
 _HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
 
@@ -64,7 +67,10 @@ class SandboxedController:
         self._steps = 0
         self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
         self._tasks = 0
-        self._cpu: int | None = None  # the CPU the child is kept on (the parent's)
+        self._cpu: int | None = None  # the CPU this thread and the child are kept on (_follow_parent)
+        self._affinity: set[int] | None = None  # this thread's CPUs before it was pinned
+        self._pinned_thread = 0  # the native id of the thread pinned (the one that steps)
+        self._pinned_mark = (0.0, 0.0)  # (wall s, s waited for a CPU) at the last look
         self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
 
     # the Controller protocol
@@ -120,6 +126,9 @@ class SandboxedController:
         slot = handles.pop("_slot", None)
         if slot is not None:
             slot.close()
+        if self._affinity is not None and self._pinned_thread == threading.get_native_id():
+            watch.keep_on_cpu([0], self._affinity)  # this thread as it was before the child
+        self._cpu = None
         if pid is not None and self._owner == os.getpid():
             self._finish(grace=0.5)
 
@@ -133,7 +142,7 @@ class SandboxedController:
         state = dict(self.__dict__)
         for name in (*_HANDLES, "_slot", "_poll"):
             state.pop(name, None)
-        state.update(pid=None, _owner=0, _jail=None)
+        state.update(pid=None, _owner=0, _jail=None, _cpu=None, _affinity=None, _pinned_thread=0)
         return state
 
     def load(self) -> SandboxedController:
@@ -168,7 +177,7 @@ class SandboxedController:
         self._switch_mark, self._switch_steps = watch.voluntary_switches(tree), 0
         self._tasks = watch.count_tasks(tree)
         self._cpu_mark = (0, watch.cpu_time(tree))
-        self._cpu = None
+        self._cpu, self._pinned_mark = None, (time.perf_counter(), 0.0)
         self._follow_parent()
 
     def _spawn(self) -> None:
@@ -291,12 +300,36 @@ class SandboxedController:
 
     # watching the child
     def _follow_parent(self) -> None:
-        """Keep the child's processes on the CPU this process runs on (they take turns)."""
+        """Keep this thread and the child on one CPU, the one this thread runs on now. They take
+        turns (this thread waits while the child steps), so each wake-up is a switch on that CPU,
+        never a wake-up sent to another, perhaps halted, CPU: unpinned, the scheduler wakes each side
+        on whichever CPU is idle, which on idle cores is the other one, twice a step
+        (docs/sandbox.md, "Figures"). A pair that waited for its CPU more than WAIT_SHARE of the
+        time since the last look (other work, or another pair, on that CPU) is let go, for the
+        scheduler to move it, and pinned again where it is at the next look. CPUs set on this
+        thread by anyone else are taken as its own."""
+        now, waited = time.perf_counter(), watch.own_run_delay() + watch.run_delay(self._tree())
+        last_time, last_waited = self._pinned_mark
+        self._pinned_mark = (now, waited)
+        mine = os.sched_getaffinity(0)
+        if self._cpu is not None and mine != {self._cpu}:  # another thread steps, or the CPUs were set
+            self._cpu = None
+        elif self._cpu is not None and waited - last_waited > WAIT_SHARE * (now - last_time):
+            self._let_go()
+            return
         cpu = watch.current_cpu()
         if cpu is None or cpu == self._cpu:
             return
-        watch.keep_on_cpu(self._tree(), cpu)
+        if self._cpu is None:
+            self._affinity, self._pinned_thread = mine, threading.get_native_id()
+        watch.keep_on_cpu([0, *self._tree()], {cpu})
         self._cpu = cpu
+
+    def _let_go(self) -> None:
+        """This thread and the child back on the CPUs this thread had before it was pinned."""
+        if self._affinity is not None:
+            watch.keep_on_cpu([0, *self._tree()], self._affinity)
+        self._cpu = None
 
     def _account(self, wall: float) -> None:
         budget = self.budget

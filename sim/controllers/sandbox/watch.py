@@ -74,10 +74,31 @@ def cpu_time(pids: list[int]) -> float:
     return _summed(pids, ticks) / os.sysconf("SC_CLK_TCK")
 
 
-def keep_on_cpu(pids: list[int], cpu: int) -> None:
+def run_delay(pids: list[int]) -> float:
+    """s the processes' main threads have waited on a run queue, runnable but not running
+    (/proc/PID/schedstat's second field)."""
+
+    def waited(pid: int) -> int:
+        with open(f"/proc/{pid}/schedstat") as handle:
+            return int(handle.read().split()[1])
+
+    return _summed(pids, waited) * 1e-9
+
+
+def own_run_delay() -> float:
+    """s the calling thread has waited on a run queue (/proc/thread-self/schedstat); 0 if unknown."""
+    try:
+        with open("/proc/thread-self/schedstat") as handle:
+            return int(handle.read().split()[1]) * 1e-9
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
+def keep_on_cpu(pids: list[int], cpus: set[int]) -> None:
+    """Let the processes run on `cpus` only (pid 0: the calling thread)."""
     for pid in pids:
         try:
-            os.sched_setaffinity(pid, {cpu})
+            os.sched_setaffinity(pid, cpus)
         except OSError:  # gone, or not allowed here: it runs where the scheduler puts it
             pass
 

@@ -115,11 +115,11 @@ def router(actions: list[Action]) -> APIRouter:
                 update = asyncio.ensure_future(handle.updated(sent, 5.0))
                 await asyncio.wait([gone, update], return_when=asyncio.FIRST_COMPLETED)
                 update.cancel()
-                view = handle.view(sent)
-                for fb in view["feedback"]:
+                view = handle.view(sent)  # one snapshot: its feedback and its status (a goal that ends
+                for fb in view["feedback"]:  # after it is taken ends at the next turn, with its result)
                     await websocket.send_json({"feedback": fb})
                 sent = view["feedback_count"]
-                if handle.status in TERMINAL:
+                if GoalStatus(view["status"]) in TERMINAL:
                     await websocket.send_json(
                         {"status": view["status"], "result": view["result"], "message": view["message"]}
                     )

@@ -79,6 +79,30 @@ def test_feedback_stream(client):
     ]
 
 
+def test_a_goal_that_ends_while_the_stream_sends_its_feedback_ends_with_its_result(client, monkeypatch):
+    """The stream's last message is the goal's end as it is: here the goal succeeds just after the
+    stream took the snapshot holding its last feedback (what a loaded machine's threads can do)."""
+    from app.ros.actions import GoalHandle, GoalStatus
+
+    goal_id = client.post("/actions/count/goals", json={"count": 50}).json()["goal_id"]
+    handle = client.app.state.actions.goal("count", goal_id)
+    wait_for(lambda: handle.view()["feedback_count"] >= 1)
+    taken = GoalHandle.view
+
+    def snapshot_then_the_goal_ends(self, after=0):
+        view = taken(self, after)
+        if self is handle and view["feedback"]:
+            self.set_status(GoalStatus.SUCCEEDED, "ended meanwhile", {"final_count": 7})
+        return view
+
+    monkeypatch.setattr(GoalHandle, "view", snapshot_then_the_goal_ends)
+    with client.websocket_connect(f"/actions/count/goals/{goal_id}/stream") as ws:
+        messages = [ws.receive_json()]
+        while "status" not in messages[-1]:
+            messages.append(ws.receive_json())
+    assert messages[-1] == {"status": "succeeded", "result": {"final_count": 7}, "message": "ended meanwhile"}
+
+
 def test_move_to_start_from_a_jogged_pose(client, lab):
     client.post("/services/stop_cooperative_lifting")
     client.post("/services/reset_simulation")

@@ -101,6 +101,14 @@ def main() -> None:
             sandboxed = PluginFactory(REFERENCE)()
             across = step_times(sandboxed, args.steps)
             sandboxed.close()
+            if load == "idle":  # the same, the pair left where the scheduler puts it: what pinning saves
+                unpinned = PluginFactory(REFERENCE)()
+                unpinned._follow_parent = lambda: None  # type: ignore[method-assign]
+                unpinned.load()
+                for pid in unpinned._tree():  # a forked child has its zygote's CPUs: every one here
+                    os.sched_setaffinity(pid, os.sched_getaffinity(0))
+                loose = step_times(unpinned, args.steps)
+                unpinned.close()
         finally:
             for hog in hogs:
                 hog.kill()
@@ -115,6 +123,10 @@ def main() -> None:
         print(
             f"boundary per step ({cores}):    {(np.median(across) - np.median(inside)) * 1e6:.0f} us (median difference)"
         )
+        if load == "idle":
+            print(
+                f"  not kept on one CPU (cores idle):  {(np.median(loose) - np.median(inside)) * 1e6:.0f} us (median difference)"
+            )
     idle = cpu_per_step(args.steps)
     hogs = busy_cores(os.cpu_count() or 1)
     try:

@@ -36,7 +36,8 @@ from sim.controllers.interface import ControllerFault, LiftingParams, start_lift
 from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
 
-WAIT_SHARE = 0.25  # of the wall time between two looks: a pinned pair that waited longer for its CPU is let go
+SHARED_WINDOW = 1.0  # s between two looks at what else the pinned pair's CPU does
+SHARED_SHARE = 0.25  # of that time: a pair whose CPU did others' work longer is let go (_follow_parent)
 
 _HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
 
@@ -70,7 +71,7 @@ class SandboxedController:
         self._cpu: int | None = None  # the CPU this thread and the child are kept on (_follow_parent)
         self._affinity: set[int] | None = None  # this thread's CPUs before it was pinned
         self._pinned_thread = 0  # the native id of the thread pinned (the one that steps)
-        self._pinned_mark = (0.0, 0.0)  # (wall s, s waited for a CPU) at the last look
+        self._shared_mark = (0.0, 0.0, 0.0)  # _cpu_use() when the pair was pinned or last looked at
         self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
 
     # the Controller protocol
@@ -177,7 +178,7 @@ class SandboxedController:
         self._switch_mark, self._switch_steps = watch.voluntary_switches(tree), 0
         self._tasks = watch.count_tasks(tree)
         self._cpu_mark = (0, watch.cpu_time(tree))
-        self._cpu, self._pinned_mark = None, (time.perf_counter(), 0.0)
+        self._cpu = None
         self._follow_parent()
 
     def _spawn(self) -> None:
@@ -304,17 +305,14 @@ class SandboxedController:
         turns (this thread waits while the child steps), so each wake-up is a switch on that CPU,
         never a wake-up sent to another, perhaps halted, CPU: unpinned, the scheduler wakes each side
         on whichever CPU is idle, which on idle cores is the other one, twice a step
-        (docs/sandbox.md, "Figures"). A pair that waited for its CPU more than WAIT_SHARE of the
-        time since the last look (other work, or another pair, on that CPU) is let go, for the
-        scheduler to move it, and pinned again where it is at the next look. CPUs set on this
-        thread by anyone else are taken as its own."""
-        now, waited = time.perf_counter(), watch.own_run_delay() + watch.run_delay(self._tree())
-        last_time, last_waited = self._pinned_mark
-        self._pinned_mark = (now, waited)
+        (docs/sandbox.md, "Figures"). Once a SHARED_WINDOW: a pair whose CPU spent more than
+        SHARED_SHARE of it on other work (another pair, other programs) is let go, for the scheduler
+        to move it, and pinned again where it is at the next look. CPUs set on this thread by
+        anyone else are taken as its own."""
         mine = os.sched_getaffinity(0)
         if self._cpu is not None and mine != {self._cpu}:  # another thread steps, or the CPUs were set
             self._cpu = None
-        elif self._cpu is not None and waited - last_waited > WAIT_SHARE * (now - last_time):
+        if self._cpu is not None and self._shared():
             self._let_go()
             return
         cpu = watch.current_cpu()
@@ -324,6 +322,22 @@ class SandboxedController:
             self._affinity, self._pinned_thread = mine, threading.get_native_id()
         watch.keep_on_cpu([0, *self._tree()], {cpu})
         self._cpu = cpu
+        self._shared_mark = self._cpu_use(cpu)
+
+    def _cpu_use(self, cpu: int) -> tuple[float, float, float]:
+        """(wall s, s CPU `cpu` was busy, s of CPU this thread and the child used)."""
+        return time.perf_counter(), watch.cpu_busy_time(cpu), watch.own_cpu_time() + self._cpu_time()
+
+    def _shared(self) -> bool:
+        """Whether, over the last SHARED_WINDOW at least, the pair's CPU did others' work more than
+        SHARED_SHARE of the time (/proc's clock ticks: a window of many ticks)."""
+        assert self._cpu is not None
+        wall, busy, ours = self._cpu_use(self._cpu)
+        wall0, busy0, ours0 = self._shared_mark
+        if wall - wall0 < SHARED_WINDOW:
+            return False
+        self._shared_mark = (wall, busy, ours)
+        return (busy - busy0) - (ours - ours0) > SHARED_SHARE * (wall - wall0)
 
     def _let_go(self) -> None:
         """This thread and the child back on the CPUs this thread had before it was pinned."""

@@ -74,22 +74,26 @@ def cpu_time(pids: list[int]) -> float:
     return _summed(pids, ticks) / os.sysconf("SC_CLK_TCK")
 
 
-def run_delay(pids: list[int]) -> float:
-    """s the processes' main threads have waited on a run queue, runnable but not running
-    (/proc/PID/schedstat's second field)."""
-
-    def waited(pid: int) -> int:
-        with open(f"/proc/{pid}/schedstat") as handle:
-            return int(handle.read().split()[1])
-
-    return _summed(pids, waited) * 1e-9
-
-
-def own_run_delay() -> float:
-    """s the calling thread has waited on a run queue (/proc/thread-self/schedstat); 0 if unknown."""
+def cpu_busy_time(cpu: int) -> float:
+    """s CPU `cpu` has been busy since boot, whatever ran (/proc/stat: all but idle and iowait;
+    steal, the hypervisor's other guests, counts as busy: it is not ours either); 0 if unknown."""
     try:
-        with open("/proc/thread-self/schedstat") as handle:
-            return int(handle.read().split()[1]) * 1e-9
+        with open("/proc/stat") as handle:
+            for line in handle:
+                if line.startswith(f"cpu{cpu} "):
+                    ticks = [int(x) for x in line.split()[1:9]]
+                    return (sum(ticks) - ticks[3] - ticks[4]) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError):
+        pass
+    return 0.0
+
+
+def own_cpu_time() -> float:
+    """s of CPU the calling thread has used (/proc/thread-self/stat, utime + stime); 0 if unknown."""
+    try:
+        with open("/proc/thread-self/stat") as handle:
+            rest = handle.read().rpartition(")")[2].split()
+        return (int(rest[11]) + int(rest[12])) / os.sysconf("SC_CLK_TCK")
     except (OSError, IndexError, ValueError):
         return 0.0
 

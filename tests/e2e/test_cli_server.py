@@ -141,7 +141,8 @@ def test_a_client_that_never_reads_does_not_stall_the_loop(server):
         return (t1 - t0) / (w1 - w0)
 
     baseline = advance(1.0)
-    with connect(ws_url, max_size=2**20) as ws:
+    # close_timeout: the stuck client's close frame waits behind what it never read (its own end)
+    with connect(ws_url, max_size=2**20, close_timeout=1) as ws:
         ws.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
         loaded = advance(2.0)
     # simulated seconds per wall second with the stuck client, relative to without it

@@ -40,6 +40,7 @@ SOURCE = "hri-lab"  # the lab's source in the bundle (pip installs it)
 TEMPLATE_NAME = "cooperative_lifting.py"  # the name `hri-lab template` suggests for the file
 SERVICES_NAME = "services_node.py"  # the name `hri-lab template services` suggests for the node (docs/students.md)
 NODE_READY_TIMEOUT = 60.0  # s the student's node has to say "node ready" (both templates print it)
+NODE_SETTLE_S = 5.0  # s more, after it, for the lab to have every exercise service the node advertised
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, in its Ubuntu image: bubblewrap (the sandbox) and this lab,
@@ -179,6 +180,8 @@ def services_report(folder: Path, seed: int) -> Report:
     the node connected to it (a rospy/rclpy program through `hri-lab run`, else run with --port,
     as the roslibpy template is), graded over HTTP once it says "node ready" (or after
     NODE_READY_TIMEOUT s: what it does not serve then is not provided)."""
+    from sim.procedures.services_grading import EXERCISES
+
     from app.cli.grade_services import grade_services
     from app.cli.launch import running_server
 
@@ -214,6 +217,7 @@ def services_report(folder: Path, seed: int) -> Report:
             deadline = time.monotonic() + NODE_READY_TIMEOUT
             while not ready.is_set() and node.poll() is None and time.monotonic() < deadline:
                 ready.wait(0.2)
+            provided_by_nodes(server.url, [e.service for e in EXERCISES], NODE_SETTLE_S)
             report = grade_services(server.url, seed)
             report.subject = node_file.name
         finally:
@@ -223,6 +227,23 @@ def services_report(folder: Path, seed: int) -> Report:
                 pass
             node.wait(timeout=10)
     return report
+
+
+def provided_by_nodes(url: str, services: list[str], settle_s: float) -> None:
+    """Until a node provides each of `services` (`GET /services/NAME`'s node is not the lab), or
+    `settle_s` s: a roslibpy node's "node ready" can come before the lab has the services it
+    advertised (roslibpy does not wait), and a service graded then would count as not provided."""
+    import httpx
+
+    from app.rosbridge.rosapi import LAB_NODE
+
+    end = time.monotonic() + settle_s
+    waiting = list(services)
+    with httpx.Client(base_url=url, timeout=30) as client:
+        while waiting and time.monotonic() < end:
+            waiting = [s for s in waiting if client.get(f"/services/{s.strip('/')}").json().get("node") == LAB_NODE]
+            if waiting:
+                time.sleep(0.05)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -109,3 +109,20 @@ def test_the_services_exercises_with_services(tmp_path):
     services = [t for t in results["tests"] if t["name"].startswith("services")]
     assert len(services) == 10 and all(t["score"] == t["max_score"] > 0 for t in services), services
     assert results["score"] == 15.0 and "SyntaxError" in results["output"]  # the controller file: not loaded
+
+
+def test_a_node_that_says_ready_before_the_lab_has_its_services_gets_them_graded(tmp_path):
+    """A roslibpy node's "node ready" can come before the lab has what it advertised (roslibpy's
+    advertise does not wait): here the line comes a second early. Its services are graded once the
+    lab has them, not counted as missing."""
+    out = tmp_path / "services.zip"
+    subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services"], check=True, timeout=120
+    )
+    node = (Path(__file__).resolve().parents[1] / "nodes" / "services_solution.py").read_text()
+    early = 'import time\nprint("node ready (too early)", flush=True)\ntime.sleep(1.0)\n' + node
+    root = tmp_path / "gs"
+    root.mkdir()
+    results = gradescope(root, out, "class CooperativeLifting(:\n", files={"services_node.py": early})
+    services = [t for t in results["tests"] if t["name"].startswith("services")]
+    assert len(services) == 10 and all(t["score"] == t["max_score"] > 0 for t in services), services

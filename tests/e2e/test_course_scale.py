@@ -13,6 +13,8 @@ import pytest
 
 from sim.procedures.runner import Job, run_jobs
 
+from tests.sim.procedures.test_runner import die_once  # a worker lost mid-task, as the local runner's test has it
+
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 RAISING = """class CooperativeLifting:
     def reset(self):
@@ -88,15 +90,6 @@ def test_the_environment_names_the_cluster_and_trials_run_there_as_here(schedule
     )
     assert remote.returncode == 0 and remote.stdout == local.stdout, remote.stderr
     assert "calm" in local.stdout and "0.4" in local.stdout
-
-
-def die_once(marker: str) -> str:
-    """Kills its worker process the first time (the marker file says it ran), then answers."""
-    path = Path(marker)
-    if not path.exists():
-        path.write_text("died once")
-        os._exit(3)
-    return "second try"
 
 
 def die(code: int) -> str:

@@ -241,7 +241,8 @@ def test_ctrl_c_ends_an_rclpy_program_whose_parent_ignores_it(lab):
     inherited SIG_IGN alone): Ctrl+C is a KeyboardInterrupt out of spin, the program ends normally."""
     server = run(lab.url, "add_two_ints_server_rclpy.py", sigint_ignored=True)
     try:
-        server.wait_for_line("Ready to add two ints.")
+        server.wait_for_line("Ready to add two ints.")  # printed in the node's constructor, before spin()
+        assert call(lab, "add_two_ints", {"a": 1, "b": 2}).json() == {"sum": 3}  # answered: it spins now
     finally:
         assert server.interrupt() == 0, server.output
 

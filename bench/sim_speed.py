@@ -1,7 +1,8 @@
 """Simulation speed: microseconds per 1 kHz step of the full loop (robot + contacts + box +
 human + controller + sensor), the real-time factor, the nine-trial experiment's wall time, and a
 profile of where a step's time goes; also the step with the controller in Python (what a plug-in
-or a node's command takes: compiled sense, Python control, compiled rest; docs/simulation-compiled.md).
+or a node's command takes: compiled sense, Python control, compiled robot and rest;
+docs/simulation-compiled.md).
 
     .venv/bin/python -m bench.sim_speed [--repeats 5] [--steps 5000] [--no-experiment]
 """

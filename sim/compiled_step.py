@@ -6,6 +6,7 @@ with a built-in controller is one call from Python (World.step, sim/world.py).
                        + robot (cartesian_velocity.arm_command_twist: limits, DLS, the compiled
                          Panda kinematics read out of pinocchio's model, sim/robot/panda_kinematics.py)
                        + world_rest
+    world_move_rest    = robot (arm_command_twist of a twist from Python: a plug-in's, a node's) + world_rest
     world_rest         = human (human.human_step) + physics (contact.patch_step x 2,
                          human.hand_wrench, box.box_step, sensor.wrench_at_ee_into; substeps)
                          + the trial's rule (monitor.monitor_update)
@@ -15,7 +16,8 @@ for the built-in controllers, whose Python classes are the law of record a stude
 sandboxed plug-in imports without numba (sim/controllers/compiled_law.py is tested equal to
 them); the state is the components' arrays (sim/state.py), changed in place. With any other controller (a
 student's plug-in, a node's external command) or a joint motion, World.step runs `world_sense`,
-the controller in Python, the robot, then `world_rest`: compiled sense, Python control, compiled rest.
+the controller in Python, then `world_move_rest` (the robot and world_rest): compiled sense, Python
+control, compiled robot and rest (a joint motion or a jog: the robot in Python, then world_rest).
 """
 
 from __future__ import annotations
@@ -229,6 +231,92 @@ def world_rest(
 
 
 @njit(cache=True)
+def world_move_rest(
+    arm_constants,
+    rotations,
+    translations,
+    axes,
+    flange_rotation,
+    flange_translation,
+    dt,
+    substeps,
+    plate_offset,
+    band_on,
+    band_low,
+    band_high,
+    arm,
+    human,
+    human_constants,
+    box_position,
+    box_rotation,
+    box_velocity,
+    box_omega,
+    box_half,
+    box_mass,
+    box_inertia,
+    box_inertia_inv,
+    gravity,
+    box_steps,
+    plate_points,
+    plate_bristles,
+    plate_constants,
+    palm_points,
+    palm_bristles,
+    palm_constants,
+    plate_out,
+    palm_out,
+    wrench_ee_true,
+    monitor,
+    rules,
+    time_after,
+    mu,
+    twist_command,
+):
+    """3. robot (arm_command_twist of twist_command: a plug-in's or a node's twist, set from
+    Python), then world_rest. Returns (reflex kind, joint or axis, value, box steps, the trial
+    rule's event)."""
+    kind, j, value = arm_command_twist(
+        arm, twist_command, dt, arm_constants, rotations, translations, axes, flange_rotation, flange_translation
+    )
+    box_steps, event = world_rest(
+        dt,
+        substeps,
+        plate_offset,
+        band_on,
+        band_low,
+        band_high,
+        arm,
+        human,
+        human_constants,
+        box_position,
+        box_rotation,
+        box_velocity,
+        box_omega,
+        box_half,
+        box_mass,
+        box_inertia,
+        box_inertia_inv,
+        gravity,
+        box_steps,
+        plate_points,
+        plate_bristles,
+        plate_constants,
+        palm_points,
+        palm_bristles,
+        palm_constants,
+        plate_out,
+        palm_out,
+        wrench_ee_true,
+        monitor,
+        rules,
+        time_after,
+        mu,
+        twist_command,
+    )
+    return kind, j, value, box_steps, event
+
+
+@njit(cache=True)
 def world_step_builtin(
     sensor_state,
     noise,
@@ -278,15 +366,18 @@ def world_step_builtin(
     mu,
     twist_command,
 ):
-    """A whole step with a built-in controller: sense, control, robot, then world_rest.
+    """A whole step with a built-in controller: sense, control, then world_move_rest.
     Returns (reflex kind, joint or axis, value, box steps, the trial rule's event)."""
     measure_into(wrench_ee_true, noise, scales, dt, sensor_state, wrench_ee)
     rotation = arm[TRANSFORM : TRANSFORM + 16].reshape((4, 4))[:3, :3].copy()
     lifting_law_step(law, law_state, lifting, law_constants, wrench_ee.copy(), rotation, dt, twist_command)
-    kind, j, value = arm_command_twist(
-        arm, twist_command, dt, arm_constants, rotations, translations, axes, flange_rotation, flange_translation
-    )
-    box_steps, event = world_rest(
+    return world_move_rest(
+        arm_constants,
+        rotations,
+        translations,
+        axes,
+        flange_rotation,
+        flange_translation,
         dt,
         substeps,
         plate_offset,
@@ -321,4 +412,3 @@ def world_step_builtin(
         mu,
         twist_command,
     )
-    return kind, j, value, box_steps, event

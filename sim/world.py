@@ -260,8 +260,8 @@ class World:
     # --- stepping ---------------------------------------------------------------------------
     def step(self) -> None:
         """One control period: one compiled call with a built-in controller (sim/compiled_step.py);
-        with any other controller or a joint motion, compiled sense, the controller in Python,
-        the robot, and the compiled rest."""
+        with any other controller, compiled sense, the controller in Python, one compiled call for
+        the robot and the rest; with a joint motion or a jog, the robot in Python."""
         dt = self.config.dt
         human, params, trial = self.human, self.params, self.trial
         if trial.state == "none" and params.running and human.phase == "grasping":
@@ -270,50 +270,47 @@ class World:
         law = controller.law() if isinstance(controller, LiftingLawController) else None
         jogging = self.jog is not None and not params.running
         rest_compiled = self._components_plain()
-        if (
-            isinstance(controller, LiftingLawController)
-            and law is not None
-            and self.motion is None
-            and not jogging
-            and rest_compiled
-        ):
+        sensor, kind = self.sensor, OK
+        if self.motion is None and not jogging and rest_compiled:
             self.jog = None
-            arm, chain, sensor = self.arm, self.arm.chain, self.sensor
-            kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
-                sensor.state,
-                sensor.next_noise(),
-                sensor.scales(),
-                self.wrench_ee,
-                law,
-                controller.state,
-                self._lifting_vector(),
-                controller.constants(),
-                self._arm_constants,
-                chain.rotations,
-                chain.translations,
-                chain.axes,
-                chain.flange_rotation,
-                chain.flange_translation,
-                *self._rest_arguments(dt),
-            )
-            if kind != OK:
-                arm.stop_with_error(arm.reflex_reason(kind, j, value))
-        else:
-            sensor = self.sensor
-            compiled_step.world_sense(
-                sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true, self.wrench_ee
-            )
+            if law is not None:  # a built-in controller: the whole step in one compiled call
+                kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
+                    sensor.state,
+                    sensor.next_noise(),
+                    sensor.scales(),
+                    self.wrench_ee,
+                    law,
+                    controller.state,
+                    self._lifting_vector(),
+                    controller.constants(),
+                    *self._move_rest_arguments(dt),
+                )
+            else:  # compiled sense, the controller in Python, the compiled robot and rest
+                self._sense(dt)
+                self.twist_command[:] = self._control(self.arm.transform_ee_to_base, dt)
+                kind, j, value, self.box._steps, event = compiled_step.world_move_rest(*self._move_rest_arguments(dt))
+        else:  # a joint motion, a jog, or patched components: the robot (and the rest) in Python
+            self._sense(dt)
             self._control_and_move(dt)
             if rest_compiled:
                 self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
             else:
                 self._rest_in_python(dt)
                 event = None
+        if kind != OK:  # the compiled robot halted on a limit: its reflex's reason
+            self.arm.stop_with_error(self.arm.reflex_reason(kind, j, value))
         self.time += dt
         if event is None:
             trial.update(self)  # the trial's success rule (sim/monitor.py)
         elif event != NONE:
             trial.conclude(event, self)
+
+    def _sense(self, dt: float) -> None:
+        """1. sense, compiled: F_ext from the true wrench."""
+        sensor = self.sensor
+        compiled_step.world_sense(
+            sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true, self.wrench_ee
+        )
 
     def _components_plain(self) -> bool:
         """True when the human, the box and the contacts are the lab's own, unpatched (the compiled
@@ -369,6 +366,19 @@ class World:
         if key != self._lifting[0]:
             self._lifting = (key, lifting_vector(self.params))
         return self._lifting[1]
+
+    def _move_rest_arguments(self, dt: float) -> tuple:
+        """world_move_rest's arguments: the robot's limits and kinematic chain, then world_rest's."""
+        chain = self.arm.chain
+        return (
+            self._arm_constants,
+            chain.rotations,
+            chain.translations,
+            chain.axes,
+            chain.flange_rotation,
+            chain.flange_translation,
+            *self._rest_arguments(dt),
+        )
 
     def _rest_arguments(self, dt: float) -> tuple:
         """world_rest's arguments: human, physics and the trial's rule after this step."""

@@ -170,19 +170,25 @@ class PatchContact:
         return out
 
 
+# where _patch_kernel writes each figure in its `out` array (ContactResult's fields; world frame)
+FORCE_BOX, TORQUE_BOX, MOMENT_PATCH = slice(0, 3), slice(3, 6), slice(6, 9)
+NORMAL_FORCE, TANGENTIAL_FORCE, CENTRE_OF_PRESSURE = 9, slice(10, 13), slice(13, 15)
+POINTS_IN_CONTACT, POINTS_SLIPPING, NORMAL_WORLD = 15, 16, slice(17, 20)
+
+
 def result_of(out: np.ndarray) -> ContactResult:
     """The ContactResult of a kernel's `out` array (its own copies of the numbers)."""
     out = out.copy()
     return ContactResult(
-        force_box=out[0:3],
-        torque_box=out[3:6],
-        moment_patch=out[6:9],
-        normal_force=float(out[9]),
-        tangential_force=out[10:13],
-        normal_world=out[17:20],
-        centre_of_pressure=out[13:15],
-        points_in_contact=int(out[15]),
-        points_slipping=int(out[16]),
+        force_box=out[FORCE_BOX],
+        torque_box=out[TORQUE_BOX],
+        moment_patch=out[MOMENT_PATCH],
+        normal_force=float(out[NORMAL_FORCE]),
+        tangential_force=out[TANGENTIAL_FORCE],
+        normal_world=out[NORMAL_WORLD],
+        centre_of_pressure=out[CENTRE_OF_PRESSURE],
+        points_in_contact=int(out[POINTS_IN_CONTACT]),
+        points_slipping=int(out[POINTS_SLIPPING]),
     )
 
 

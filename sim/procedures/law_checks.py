@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from sim.physics.contact import MOMENT_PATCH, NORMAL_FORCE, TANGENTIAL_FORCE
+
 # --- thresholds (measured: bench/law_margins.py; docs/grading-battery.md states the margins) -----
 LAG = 0.2  # s inside the margin / the band before motion is judged (filter, rate limit: the motion stops)
 REACT = 0.05  # s beyond the margin / with a moment before the command's direction is judged
@@ -77,11 +79,11 @@ class LawWatch:
         if self.count == len(self.rows):
             self.rows = np.concatenate((self.rows, np.zeros_like(self.rows)))
         row = self.rows[self.count]
-        plate = world.plate_state
+        plate = world.plate_out  # world.plate_state's numbers, read in place (every step of a trial)
         row[0] = world.time
-        row[1] = plate.normal_force
-        row[2:5] = plate.tangential_force
-        row[5:8] = plate.moment_patch
+        row[1] = plate[NORMAL_FORCE]
+        row[2:5] = plate[TANGENTIAL_FORCE]
+        row[5:8] = plate[MOMENT_PATCH]
         row[8:11] = world.arm.transform_ee_to_base[:3, 2]
         row[11:17] = world.twist_command
         row[17] = 1.0  # held by contact (kept: a stream's row says what it was judged under)

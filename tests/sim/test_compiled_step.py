@@ -1,5 +1,5 @@
 """The compiled step's three compositions step the same world the same way: one compiled call (a
-built-in controller), compiled sense + the controller in Python + compiled rest (a subclass of SP
+built-in controller), compiled sense + the controller in Python + compiled robot and rest (a subclass of SP
 with its own twist_ee), and the rest through the components' Python methods (a patched human)."""
 
 import numpy as np

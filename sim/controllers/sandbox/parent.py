@@ -85,8 +85,8 @@ class SandboxedController:
     ) -> np.ndarray:
         self._ensure()
         request = self._slot.step_in
-        request[:6] = np.ravel(wrench_ee)[:6]
-        request[6:22] = np.ravel(transform_ee_to_base)[:16]
+        request[:6] = wrench_ee.ravel()[:6]
+        request[6:22] = transform_ee_to_base.ravel()[:16]
         request[22:-1] = wire.param_values(params)
         request[-1] = dt
         started = time.perf_counter()

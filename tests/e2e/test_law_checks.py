@@ -11,6 +11,7 @@ import pytest
 
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.controllers.sp import SPController
+from sim.physics.contact import MOMENT_PATCH, NORMAL_FORCE, TANGENTIAL_FORCE
 from sim.procedures.grading import (
     PROBE_PASS_MARK,
     ROBUSTNESS,
@@ -51,6 +52,8 @@ def stream(steps, f_n=12.0, f_t=(0.0, 0.0, 0.0), m_c=(0.0, 0.0, 0.0), v=(0.0, 0.
     transform = np.eye(4)
     transform[:3, :3] = [[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]]  # z_ee = +y_b
     watch = LawWatch(capacity=16)  # grows as it is fed
+    plate = np.zeros(20)  # the plate contact's numbers, in the contact kernel's layout (World.plate_out)
+    plate[NORMAL_FORCE], plate[TANGENTIAL_FORCE], plate[MOMENT_PATCH] = f_n, f_t, m_c
     for k in range(steps):
         world = SimpleNamespace(
             time=(k + 1) * 1e-3,
@@ -58,9 +61,7 @@ def stream(steps, f_n=12.0, f_t=(0.0, 0.0, 0.0), m_c=(0.0, 0.0, 0.0), v=(0.0, 0.
             twist_command=np.array([*v, *w]),
             arm=SimpleNamespace(transform_ee_to_base=transform),
             human=SimpleNamespace(holding_by_contact=True),
-            plate_state=SimpleNamespace(
-                normal_force=f_n, tangential_force=np.array(f_t, float), moment_patch=np.array(m_c, float)
-            ),
+            plate_out=plate,
         )
         watch.observe(world)
     return watch

@@ -8,6 +8,8 @@ import threading
 import time
 from pathlib import Path
 
+from tests.http_client import http
+
 NODES = Path(__file__).parent / "nodes"
 
 
@@ -64,10 +66,9 @@ def wait_provided(url: str, *services: str, timeout: float = 30.0) -> None:
     """Until the lab names a program's node, not its own, as each service's provider (`GET
     /services/NAME`, as `rosservice info`): roslibpy's advertise does not wait for the lab, so a
     roslibpy node's "ready" line can come before the lab has its services."""
-    import httpx
 
     def provided(name: str) -> bool:
-        return httpx.get(f"{url}/services/{name.strip('/')}", timeout=30).json().get("node") != "/hri_lab"
+        return http.get(f"{url}/services/{name.strip('/')}", timeout=30).json().get("node") != "/hri_lab"
 
     for name in services:
         wait_for(lambda: provided(name), timeout)  # noqa: B023 - called before the next name

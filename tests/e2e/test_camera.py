@@ -8,12 +8,12 @@ import base64
 import time
 
 import cv2
-import httpx
 import numpy as np
 import pytest
 import roslibpy
 
 from app.cli.launch import running_server
+from tests.http_client import http
 from tests.ros_running import run
 from tests.waiting import wait_for
 
@@ -28,7 +28,7 @@ def lab():
 
 
 def lab_pixel(lab) -> np.ndarray:
-    answer = httpx.post(f"{lab.url}/services/get_target_position", json={"get": True}, timeout=30).json()
+    answer = http.post(f"{lab.url}/services/get_target_position", json={"get": True}, timeout=30).json()
     return np.array([answer["x"], answer["y"]])
 
 
@@ -45,18 +45,18 @@ def distance_to_path(point: np.ndarray, path: list[np.ndarray]) -> float:
 
 
 def test_the_image_over_http_is_the_cameras_png_and_the_info_its_intrinsics(lab):
-    response = httpx.get(f"{lab.url}/camera/image.png", timeout=60)
+    response = http.get(f"{lab.url}/camera/image.png", timeout=60)
     assert response.status_code == 200 and response.headers["content-type"] == "image/png"
     image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape == (480, 640, 3)
-    message = httpx.get(f"{lab.url}/topics/image_raw", timeout=60).json()
+    message = http.get(f"{lab.url}/topics/image_raw", timeout=60).json()
     assert (message["encoding"], message["height"], message["width"], message["step"]) == ("bgr8", 480, 640, 1920)
     assert message["header"]["frame_id"] == "camera_optical"
     assert len(base64.b64decode(message["data"])) == 480 * 1920
-    info = httpx.get(f"{lab.url}/topics/camera_info", timeout=30).json()
+    info = http.get(f"{lab.url}/topics/camera_info", timeout=30).json()
     assert info["k"] == [500.0, 0.0, 320.0, 0.0, 500.0, 240.0, 0.0, 0.0, 1.0]
     assert info["p"][:3] == [500.0, 0.0, 320.0] and info["d"] == [0.0] * 5
-    refused = httpx.get(f"{lab.url}/camera/image.gif", timeout=30)
+    refused = http.get(f"{lab.url}/camera/image.gif", timeout=30)
     assert refused.status_code == 422 and "kind" in refused.text
 
 
@@ -89,7 +89,7 @@ def test_image_raw_over_rosbridge_is_base64_bgr8_stamped_with_sim_time(lab):
     assert image.std() > 0  # a scene, not a blank
     stamp = lambda m: m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] * 1e-9  # noqa: E731
     assert stamp(second) >= stamp(first) + 0.1 - 0.0005  # throttle_rate 100 ms of simulated time
-    wait_for(lambda: not httpx.get(f"{lab.url}/health", timeout=30).is_error)
+    wait_for(lambda: not http.get(f"{lab.url}/health", timeout=30).is_error)
 
 
 def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
@@ -98,7 +98,7 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
         program.wait_for_line("detector ready")
 
         def detected():
-            answer = httpx.post(f"{lab.url}/services/{DETECTED}", json={"get": True}, timeout=30)
+            answer = http.post(f"{lab.url}/services/{DETECTED}", json={"get": True}, timeout=30)
             return np.array([answer.json()["x"], answer.json()["y"]]) if answer.status_code == 200 else None
 
         def first_detection():
@@ -112,7 +112,7 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
         # answer before last: the node answers from the last image it got, which on a loaded machine
         # can be older than its previous answer)
         start = lab_pixel(lab)
-        assert httpx.post(f"{lab.url}/services/start_cooperative_lifting", json={"force": 10.0}).status_code == 200
+        assert http.post(f"{lab.url}/services/start_cooperative_lifting", json={"force": 10.0}).status_code == 200
         seen: list[tuple[float, np.ndarray]] = [(time.monotonic(), start)] * 4
         checked = 0
         end = time.monotonic() + 120
@@ -124,14 +124,14 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
                 assert distance_to_path(answer, path) <= TOLERANCE_PX, (answer, path)
                 checked += 1
         assert checked >= 10, "the box was not carried across the image"
-        windows = wait_for(lambda: httpx.get(f"{lab.url}/camera/windows", timeout=30).json())
+        windows = wait_for(lambda: http.get(f"{lab.url}/camera/windows", timeout=30).json())
         assert windows[0]["name"] == "detection" and windows[0]["topic"] == "/image_windows/detection"
-        shown = httpx.get(f"{lab.url}/camera/windows/detection.jpg", timeout=30)
+        shown = http.get(f"{lab.url}/camera/windows/detection.jpg", timeout=30)
         assert shown.headers["content-type"] == "image/jpeg"
         assert cv2.imdecode(np.frombuffer(shown.content, np.uint8), cv2.IMREAD_COLOR).shape == (480, 640, 3)
     finally:
         assert program.interrupt() == 0, program.output
-    wait_for(lambda: httpx.get(f"{lab.url}/camera/windows", timeout=30).json() == [])  # gone with its program
+    wait_for(lambda: http.get(f"{lab.url}/camera/windows", timeout=30).json() == [])  # gone with its program
 
 
 def test_an_rclpy_detection_node_answers_as_the_lab_does(lab):
@@ -140,12 +140,12 @@ def test_an_rclpy_detection_node_answers_as_the_lab_does(lab):
         program.wait_for_line("detector ready")
 
         def detected():
-            answer = httpx.post(f"{lab.url}/services/{DETECTED}_rclpy", json={"get": True}, timeout=30)
+            answer = http.post(f"{lab.url}/services/{DETECTED}_rclpy", json={"get": True}, timeout=30)
             pixel = (answer.json()["x"], answer.json()["y"]) if answer.status_code == 200 else (0, 0)
             return pixel if any(pixel) else None
 
         wait_for(detected, timeout=90)  # its first images came
-        httpx.post(f"{lab.url}/services/reset_simulation", timeout=30)
+        http.post(f"{lab.url}/services/reset_simulation", timeout=30)
         wait_for(lambda: np.abs(np.array(detected()) - lab_pixel(lab)).max() <= TOLERANCE_PX, timeout=60)
     finally:
         assert program.interrupt() == 0, program.output

@@ -6,10 +6,10 @@ import subprocess
 import sys
 import time
 
-import httpx
 import pytest
 
 from app.cli.launch import running_server
+from tests.http_client import http
 
 
 @pytest.fixture(scope="module")
@@ -29,12 +29,12 @@ def test_serve_prints_the_urls_and_binds_loopback(server):
     url, banner = server
     assert f"{url}/docs" in banner and f"{url}/services" in banner
     assert url.startswith("http://127.0.0.1:")
-    assert httpx.get(f"{url}/health").json()["loop_alive"] is True
+    assert http.get(f"{url}/health").json()["loop_alive"] is True
 
 
 def test_params_file_loaded_at_start(server):
     url, _ = server
-    assert httpx.get(f"{url}/params/keytwist/linear_speed").json()["value"] == 0.2
+    assert http.get(f"{url}/params/keytwist/linear_speed").json()["value"] == 0.2
 
 
 def test_service_cli(server):
@@ -135,9 +135,9 @@ def test_a_client_that_never_reads_does_not_stall_the_loop(server):
     ws_url = url.replace("http://", "ws://") + "/topics/joint_states/stream?rate=1000"
 
     def advance(seconds):
-        t0, w0 = httpx.get(f"{url}/health").json()["sim_time"], time.monotonic()
+        t0, w0 = http.get(f"{url}/health").json()["sim_time"], time.monotonic()
         time.sleep(seconds)
-        t1, w1 = httpx.get(f"{url}/health").json()["sim_time"], time.monotonic()
+        t1, w1 = http.get(f"{url}/health").json()["sim_time"], time.monotonic()
         return (t1 - t0) / (w1 - w0)
 
     baseline = advance(1.0)
@@ -147,11 +147,11 @@ def test_a_client_that_never_reads_does_not_stall_the_loop(server):
         loaded = advance(2.0)
     # simulated seconds per wall second with the stuck client, relative to without it
     assert loaded > 0.5 * baseline, (baseline, loaded)
-    assert httpx.get(f"{url}/health").json()["loop_alive"] is True
+    assert http.get(f"{url}/health").json()["loop_alive"] is True
     # a client that disconnects mid-stream leaves nothing behind either
     with connect(ws_url) as ws:
         ws.recv()
-    assert httpx.get(f"{url}/topics/joint_states").status_code == 200
+    assert http.get(f"{url}/topics/joint_states").status_code == 200
 
 
 def test_action_cli(server):

@@ -15,6 +15,8 @@ from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, new_report, pr
 from sim.procedures.report import Item, summary_csv
 from sim.procedures.trial import Trial
 
+from tests.http_client import http
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import mutants  # noqa: E402
 import template_filled  # noqa: E402
@@ -207,23 +209,19 @@ def test_a_batch_reports_every_file_even_those_that_cannot_load(tmp_path):
 def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
     import time
 
-    import httpx
-
     from app.cli.launch import running_server
 
     with running_server("--view", "none", "--controller", f"{CONTROLLERS / 'broken.py'}:Raising") as server:
         url = server.url
-        assert (
-            httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, timeout=30).status_code == 200
-        )
+        assert http.post(f"{url}/services/start_cooperative_lifting", json={"force": 10}, timeout=30).status_code == 200
         deadline = time.monotonic() + 30
-        while not (error := httpx.get(f"{url}/topics/lifting_state").json()["error"]) and time.monotonic() < deadline:
+        while not (error := http.get(f"{url}/topics/lifting_state").json()["error"]) and time.monotonic() < deadline:
             time.sleep(0.1)
         assert "controller error: Raising.step raised ZeroDivisionError: oops, a bug in step" in error
         assert "Traceback" in error and "broken.py" in error
-        command = httpx.get(f"{url}/topics/cartesian_velocity_controller/command").json()
+        command = http.get(f"{url}/topics/cartesian_velocity_controller/command").json()
         assert all(v == 0.0 for v in command["linear"].values())
-        assert httpx.get(f"{url}/health").json()["loop_alive"] is True
+        assert http.get(f"{url}/health").json()["loop_alive"] is True
 
 
 def test_the_template_filled_in_as_its_hints_say_passes():

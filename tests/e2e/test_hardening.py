@@ -7,12 +7,12 @@ import subprocess
 import sys
 import threading
 
-import httpx
 import pytest
 
 from app.api.access import is_loopback
 from app.cli.launch import running_server
 from app.lab import commands as cmd
+from tests.http_client import http
 from tests.waiting import wait_for
 
 
@@ -121,21 +121,21 @@ def guarded_server():
 
 def test_a_change_without_the_token_is_refused(guarded_server):
     url = guarded_server
-    refused = httpx.post(f"{url}/services/start_cooperative_lifting", json={"force": 10})
+    refused = http.post(f"{url}/services/start_cooperative_lifting", json={"force": 10})
     assert refused.status_code == 401 and "token" in refused.json()["detail"]
-    assert httpx.put(f"{url}/params/keytwist/linear_speed", json={"value": 0.2}).status_code == 401
-    wrong = httpx.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"Authorization": "Bearer nope"})
+    assert http.put(f"{url}/params/keytwist/linear_speed", json={"value": 0.2}).status_code == 401
+    wrong = http.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"Authorization": "Bearer nope"})
     assert wrong.status_code == 401
-    assert httpx.get(f"{url}/topics/lifting_state").json()["started"] is False  # nothing changed
+    assert http.get(f"{url}/topics/lifting_state").json()["started"] is False  # nothing changed
     # reading stays open; with the token, changes go through
-    assert httpx.get(f"{url}/services").status_code == 200
-    ok = httpx.post(
+    assert http.get(f"{url}/services").status_code == 200
+    ok = http.post(
         f"{url}/services/start_cooperative_lifting",
         json={"force": 10},
         headers={"Authorization": "Bearer s3cret-s3cret-s3cret"},
     )
     assert ok.status_code == 200
-    assert httpx.post(
+    assert http.post(
         f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"X-HRI-Lab-Token": "s3cret-s3cret-s3cret"}
     ).json() == {"sum": 3}
     # the CLI sends $HRI_LAB_TOKEN

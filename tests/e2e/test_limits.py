@@ -20,6 +20,7 @@ from app.cli.launch import running_server
 from app.cli.serve import server_config
 from app.ros.actions import Action, ActionServer, GoalStatus
 from app.ros.messages import Empty
+from tests.http_client import http
 
 YAML = {"content-type": "application/yaml"}
 
@@ -135,7 +136,7 @@ def test_long_polls_hold_no_thread(server):
     """60 long-polls (more than the thread pool's 40) wait on a goal; a service call meanwhile is
     answered before any of them returns."""
     url = server.url
-    goal = httpx.post(f"{url}/actions/count/goals", json={"count": 30}, headers=AUTH).json()["goal_id"]
+    goal = http.post(f"{url}/actions/count/goals", json={"count": 30}, headers=AUTH).json()["goal_id"]
     try:
         poll = f"{url}/actions/count/goals/{goal}"
         # one client, 60 connections (60 clients of their own would cost a loaded machine seconds of CPU)
@@ -145,27 +146,27 @@ def test_long_polls_hold_no_thread(server):
         ):
             polls = [pool.submit(polling.get, poll, params={"after": 1000, "wait": 30}) for _ in range(60)]
             time.sleep(1.0)  # let them arrive (none returns before the goal ends or 30 s pass)
-            assert httpx.post(
+            assert http.post(
                 f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers=AUTH, timeout=30
             ).json() == {"sum": 3}
             ended = [p.result().json() for p in polls if p.done()]
             assert not ended, ended[:1]
-            httpx.post(f"{poll}/cancel", headers=AUTH)  # ends the goal: every long-poll answers
+            http.post(f"{poll}/cancel", headers=AUTH)  # ends the goal: every long-poll answers
             assert {p.result().json()["status"] for p in polls} <= {"preempting", "preempted"}
     finally:
-        httpx.post(f"{url}/actions/count/goals/{goal}/cancel", headers=AUTH)
+        http.post(f"{url}/actions/count/goals/{goal}/cancel", headers=AUTH)
 
 
 def test_a_non_ascii_token_is_a_401_and_shutdown_is_bounded(server):
     from websockets.sync.client import connect
 
     for token in ("Bearer \xe9t\xe9".encode("latin-1"), "Bearer \u00e9t\u00e9".encode("utf-8"), b"Bearer \xff\xfe"):
-        r = httpx.post(f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"authorization": token})
+        r = http.post(f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"authorization": token})
         assert r.status_code == 401
     # shutdown is bounded whatever is connected: a 0.1 Hz stream and a 30 s long-poll are open
     ws = connect(server.url.replace("http", "ws") + "/topics/joint_states/stream?rate=0.1")
     ws.recv()
-    goal = httpx.post(f"{server.url}/actions/count/goals", json={"count": 60}, headers=AUTH).json()["goal_id"]
+    goal = http.post(f"{server.url}/actions/count/goals", json={"count": 60}, headers=AUTH).json()["goal_id"]
     with ThreadPoolExecutor(1) as pool:
         poll = pool.submit(
             httpx.get, f"{server.url}/actions/count/goals/{goal}", params={"after": 1000, "wait": 30}, timeout=60
@@ -216,7 +217,7 @@ def test_half_sent_requests_are_closed():
             c.sendall(data)
             c.settimeout(30)
             sockets.append(c)
-        assert httpx.get(f"http://127.0.0.1:{port}/").text == "ok"
+        assert http.get(f"http://127.0.0.1:{port}/").text == "ok"
         for c in sockets:
             try:
                 received = c.recv(1000)

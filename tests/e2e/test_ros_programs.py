@@ -6,13 +6,13 @@ the standard rcl_interfaces services, Ctrl+C ends spin, and bad programs get ROS
 import subprocess
 import sys
 
-import httpx
 import pytest
 
 from sim.procedures.services_grading import grade_services
 
 from app.cli.launch import running_server
 from tests.e2e.serving import served_lab
+from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
 
@@ -24,7 +24,7 @@ def call(lab, name, body):
 
 
 def call_url(url, name, body):
-    return httpx.post(f"{url}/services/{name.strip('/')}", json=body, timeout=30)
+    return http.post(f"{url}/services/{name.strip('/')}", json=body, timeout=30)
 
 
 @pytest.mark.parametrize("api", ["rospy", "rclpy"])
@@ -33,7 +33,7 @@ def test_add_two_ints_server_and_client(lab, api):
     try:
         server.wait_for_line("Ready to add two ints.")
         # the lab has the program's service once it is created, as rospy.Service returns once it is registered
-        assert httpx.get(f"{lab.url}/services/add_two_ints").json()["node"] != "/hri_lab"
+        assert http.get(f"{lab.url}/services/add_two_ints").json()["node"] != "/hri_lab"
         client = run(lab.url, f"add_two_ints_client_{api}.py", "20", "22")
         assert client.wait() == 0, client.output
         assert ("20 + 22 = 42" if api == "rospy" else "for 20 + 22 = 42") in client.output
@@ -43,7 +43,7 @@ def test_add_two_ints_server_and_client(lab, api):
         logged = wait_for(
             lambda: [
                 entry
-                for entry in httpx.get(f"{lab.url}/log").json()
+                for entry in http.get(f"{lab.url}/log").json()
                 if "-5" in entry["msg"] and entry["node"].strip("/") == node
             ]
         )
@@ -81,7 +81,7 @@ def test_a_programs_own_srv_travels_with_the_service_it_types(lab):
         server.wait_for_line("calculator ready")
         info = wait_for(
             lambda: (
-                (i := httpx.get(f"{lab.url}/services/multiply_three").json())["type"] != "hri_lab/MultiplyThree" and i
+                (i := http.get(f"{lab.url}/services/multiply_three").json())["type"] != "hri_lab/MultiplyThree" and i
             )
         )
         assert info["type"] == "cpp_package/srv/MultiplyThree"
@@ -100,7 +100,7 @@ def test_a_programs_own_srv_travels_with_the_service_it_types(lab):
         assert call(lab, "multiply_three", {"a": 2, "b": 3, "c": 7}).json() == {"product": 42}
     finally:
         assert server.interrupt() == 0, server.output
-    assert httpx.get(f"{lab.url}/services/multiply_three").json()["type"] == "hri_lab/MultiplyThree"
+    assert http.get(f"{lab.url}/services/multiply_three").json()["type"] == "hri_lab/MultiplyThree"
 
 
 def test_a_service_the_lab_does_not_declare_is_checked_against_the_programs_srv(lab):
@@ -110,7 +110,7 @@ def test_a_service_the_lab_does_not_declare_is_checked_against_the_programs_srv(
     server = run(lab.url, "scale_point_server_rospy.py")
     try:
         server.wait_for_line("Ready to scale points.")
-        info = wait_for(lambda: (r := httpx.get(f"{lab.url}/services/scale_point")).status_code == 200 and r.json())
+        info = wait_for(lambda: (r := http.get(f"{lab.url}/services/scale_point")).status_code == 200 and r.json())
         assert info["type"] == "cpp_package/ScalePoint"
         assert info["srv"] == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
         assert _fields(info) == {"point": "geometry_msgs/Point", "factor": "float64", "digits": "uint8"}
@@ -158,7 +158,7 @@ def test_the_lifting_servers_answer_the_lab_and_apply_the_band(lab):
         answer = call(lab, "start_cooperative_lifting", {"force": 11.5}).json()
         assert answer == {"message": "Cooperative lifting starts with 11.5 N"}
         server.wait_for_line("band 11.5 .. 16.5 N")
-        state = httpx.get(f"{lab.url}/topics/lifting_state").json()
+        state = http.get(f"{lab.url}/topics/lifting_state").json()
         assert state["started"] and state["f_n_min"] == 11.5
         stopped = call(lab, "stop_cooperative_lifting", {}).json()  # the handler returned a bare string
         assert stopped == {"message": "Cooperative lifting stopped, f_n_min reset to 0 N"}
@@ -279,7 +279,7 @@ def test_launch_reports_a_crashing_node_by_name_with_its_exit_status(lab):
         launch.wait_for_line("[lost_client-4] process has died [pid")
         assert "exit code 1" in launch.wait_for_line("[lost_client-4] process has died")
         launch.wait_for_line("[login_checker] ")  # the include's nodes run on, its <arg> passed
-        wait_for(lambda: any("Welcome, lin!" in e["msg"] for e in httpx.get(f"{lab.url}/log").json()), timeout=60)
+        wait_for(lambda: any("Welcome, lin!" in e["msg"] for e in http.get(f"{lab.url}/log").json()), timeout=60)
     finally:
         code = launch.interrupt(timeout=60)
     assert code == 1  # a node crashed
@@ -326,7 +326,7 @@ def test_every_lab_topic_is_a_message_of_its_declared_type(lab):
     interfaces = Interfaces([])
     for topic in TOPICS:
         # /image_raw starts the camera's renderer and waits for its first image: slow on a loaded machine
-        sample = httpx.get(f"{lab.url}/topics/{topic.name.strip('/')}", timeout=60).json()
+        sample = http.get(f"{lab.url}/topics/{topic.name.strip('/')}", timeout=60).json()
         message = interfaces.message(topic.type)
         assert message.from_json(sample).to_json() == sample, topic.name  # the same fields, types and sizes
 
@@ -351,11 +351,11 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
         assert call(lab, "add_two_ints", {"a": 2, "b": 3}).json() == {"sum": 5}
         assert call(lab, "divide_ints", {"a": 7, "b": 2}).status_code == 200  # TODO: wrong, well-formed
         assert call(lab, "compute_wrench", {"torques": [0.0] * 7}).status_code == 200
-        wait_for(lambda: httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node")
+        wait_for(lambda: http.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node")
     finally:
         for program in programs:
             program.interrupt()
-    httpx.post(f"{lab.url}/services/error_recovery")
+    http.post(f"{lab.url}/services/error_recovery")
 
 
 def test_actionlib_and_rclpy_action_clients_of_the_lab_action(lab):
@@ -375,18 +375,18 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, 
     server = run(lab.url, f"counting_server_{api}.py", *delay.split())
     try:
         server.wait_for_line("counting server ready")
-        assert "/counting" in [a["name"] for a in httpx.get(f"{lab.url}/actions").json()]
+        assert "/counting" in [a["name"] for a in http.get(f"{lab.url}/actions").json()]
         client = run(lab.url, "counting_client_actionlib.py")
         assert client.wait(timeout=120) == 0, client.output
         line = client.wait_for_line("state ")
         assert line.startswith("state 2 reached ") and int(line.split()[-1]) >= 2  # PREEMPTED, with its result
         server.wait_for_line("counting preempted at")
-        goal = httpx.post(f"{lab.url}/actions/counting/goals", json={"count": 2}, timeout=30)
+        goal = http.post(f"{lab.url}/actions/counting/goals", json={"count": 2}, timeout=30)
         assert goal.status_code in (200, 201, 202), goal.text  # an HTTP goal, served by the program
         goal_id = goal.json()["goal_id"]
         done = wait_for(
             lambda: (lambda v: v if v["status"] == "succeeded" else None)(
-                httpx.get(f"{lab.url}/actions/counting/goals/{goal_id}").json()
+                http.get(f"{lab.url}/actions/counting/goals/{goal_id}").json()
             ),
             timeout=60,
         )
@@ -438,7 +438,7 @@ def test_hri_lab_param_set_reaches_the_running_program(lab):
         assert "angular_speed" in listed  # the program's declared parameters, in the lab's registry
         assert any(
             p["node"].strip("/") == "keytwist_param" and p["name"] == "linear_speed"
-            for p in httpx.get(f"{lab.url}/params").json()
+            for p in http.get(f"{lab.url}/params").json()
         )
         changed = cli("param", "set", "/keytwist_param", "linear_speed", "3.5")
         assert changed.returncode == 0, changed.stdout + changed.stderr

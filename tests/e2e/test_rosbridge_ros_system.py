@@ -6,11 +6,11 @@ provided by clients, remote nodes' parameters."""
 import json
 import threading
 
-import httpx
 import pytest
 import roslibpy
 
 from tests.e2e.serving import served_lab
+from tests.http_client import http
 from tests.waiting import wait_for
 
 lab = served_lab()
@@ -48,9 +48,9 @@ def test_param_namespaces_search_and_has(ros):
 
 def test_param_ros1_name_of_a_declared_parameter_is_that_parameter(ros, lab):
     mu = roslibpy.Param(ros, "/cooperative_lifting/mu")
-    assert mu.get(timeout=30) == httpx.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"]
+    assert mu.get(timeout=30) == http.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"]
     mu.set(0.7, timeout=30)
-    assert httpx.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.7
+    assert http.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.7
     with pytest.raises(roslibpy.core.ServiceException, match=r"Wrong parameter type, parameter \{mu\}"):
         mu.set("slippery", timeout=30)  # typed as declared
     with pytest.raises(roslibpy.core.ServiceException, match="declared"):
@@ -118,15 +118,15 @@ def test_rosout_listed_and_carries_nodes_lines_in_both_types(ros, lab):
         line1 = ros1_inbox.wait(lambda m: m["name"] == "/talker")
         assert (line1["level"], line1["header"]["stamp"]["secs"]) == (4, 5)
         # the lab's own lines: a service call answered, the lifting started
-        assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}).json()["sum"] == 3
+        assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}).json()["sum"] == 3
         ros2_inbox.wait(
             lambda m: m["name"] == "service" and "/add_two_ints answered by the lab" in m["msg"] and m["level"] == 10
         )
         # the console's filters (GET /log)
-        warned = httpx.get(f"{lab.url}/log", params={"node": "/talker", "level": "WARN"}).json()
+        warned = http.get(f"{lab.url}/log", params={"node": "/talker", "level": "WARN"}).json()
         assert [x["msg"] for x in warned] == ["careful"]
-        assert httpx.get(f"{lab.url}/log", params={"node": "/talker", "level": "ERROR"}).json() == []
-        assert httpx.get(f"{lab.url}/log", params={"level": "LOUD"}).status_code == 422
+        assert http.get(f"{lab.url}/log", params={"node": "/talker", "level": "ERROR"}).json() == []
+        assert http.get(f"{lab.url}/log", params={"level": "LOUD"}).status_code == 422
         talker.unadvertise()
     finally:
         other.close()  # (terminate() would stop the event loop roslibpy's clients share)
@@ -161,7 +161,7 @@ def test_topic_echo_rosout_cli(lab):
     try:
 
         def printed():  # log lines until the echo, once connected, has printed one
-            httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 2})
+            http.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 2})
             return echo.poll() is not None
 
         wait_for(printed, 60)
@@ -199,7 +199,7 @@ def test_tf_client_reads_frames_through_republish_tfs(ros, lab):
         "translation": {"x": 0.0, "y": 0.0, "z": 0.0},
         "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
     }
-    o_t_ee = httpx.get(f"{lab.url}/topics/franka_state_controller/franka_states").json()["O_T_EE"]  # column-major 4x4
+    o_t_ee = http.get(f"{lab.url}/topics/franka_state_controller/franka_states").json()["O_T_EE"]  # column-major 4x4
     flange = got["panda_link8"]["translation"]
     assert [flange["x"], flange["y"], flange["z"]] == pytest.approx(o_t_ee[12:15], abs=1e-6)  # the robot is still
     with pytest.raises(roslibpy.core.ServiceException, match="frame 'nowhere' does not exist"):
@@ -259,9 +259,9 @@ def test_service_response_result_false_still_delivers_values(ros, lab):
             )["sum"]
             == 42
         )
-        answer = httpx.post(f"{lab.url}/services/false_sum", json={"a": 1, "b": 1}, timeout=30)
+        answer = http.post(f"{lab.url}/services/false_sum", json={"a": 1, "b": 1}, timeout=30)
         assert (answer.status_code, answer.json()) == (200, {"sum": 2})
-        refused = httpx.post(f"{lab.url}/services/false_refuse", json={"a": 1, "b": 1}, timeout=30)
+        refused = http.post(f"{lab.url}/services/false_refuse", json={"a": 1, "b": 1}, timeout=30)
         assert refused.status_code == 400 and "no such thing" in refused.json()["detail"]
     finally:
         server.unadvertise()
@@ -339,7 +339,7 @@ class CountingServer:
 
 
 def goal_view(lab, name, goal_id, after=0):
-    return httpx.get(f"{lab.url}/actions{name}/goals/{goal_id}", params={"after": after, "wait": 5}, timeout=30).json()
+    return http.get(f"{lab.url}/actions{name}/goals/{goal_id}", params={"after": after, "wait": 5}, timeout=30).json()
 
 
 def wait_goal(lab, name, goal_id, status):
@@ -353,15 +353,15 @@ def wait_goal(lab, name, goal_id, status):
 @pytest.fixture
 def counting(lab):
     server = CountingServer(lab.port)
-    wait_for(lambda: any(a["name"] == "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
+    wait_for(lambda: any(a["name"] == "/counting" for a in http.get(f"{lab.url}/actions").json()))
     yield server
     server.close()
 
 
 def test_client_action_listed_and_served_over_http(lab, ros, counting):
-    assert {"name": "/counting", "type": "counting_pkg/action/Counting"} in httpx.get(f"{lab.url}/actions").json()
+    assert {"name": "/counting", "type": "counting_pkg/action/Counting"} in http.get(f"{lab.url}/actions").json()
     assert "/counting" in rosapi(ros, "action_servers")["action_servers"]
-    sent = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 3}, timeout=30)
+    sent = http.post(f"{lab.url}/actions/counting/goals", json={"target": 3}, timeout=30)
     assert sent.status_code == 202, sent.text
     view = wait_goal(lab, "/counting", sent.json()["goal_id"], "succeeded")
     assert view["result"] == {"final": 3} and view["feedback"] == [{"current": 1}, {"current": 2}, {"current": 3}]
@@ -372,11 +372,11 @@ def test_client_action_listed_and_served_over_http(lab, ros, counting):
 
 
 def test_client_action_preempted_over_http_and_busy_rejected(lab, counting):
-    goal_id = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
+    goal_id = http.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
     wait_for(lambda: goal_view(lab, "/counting", goal_id)["feedback_count"] >= 1)
-    busy = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30)
+    busy = http.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30)
     assert busy.status_code == 409 and busy.json()["status"] == "rejected"  # actionlib's: one goal at a time
-    canceled = httpx.post(f"{lab.url}/actions/counting/goals/{goal_id}/cancel", timeout=30).json()
+    canceled = http.post(f"{lab.url}/actions/counting/goals/{goal_id}/cancel", timeout=30).json()
     assert canceled["status"] in ("preempting", "preempted")
     view = wait_goal(lab, "/counting", goal_id, "preempted")
     assert view["result"]["final"] >= 1  # what the node had counted, its canceled result
@@ -415,14 +415,14 @@ def test_client_action_goal_from_cli_and_from_another_client(lab, ros, counting)
 
 def test_client_action_goes_with_its_node_and_its_goal_aborts(lab):
     server = CountingServer(lab.port, step_s=0.2)
-    wait_for(lambda: any(a["name"] == "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
-    goal_id = httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
+    wait_for(lambda: any(a["name"] == "/counting" for a in http.get(f"{lab.url}/actions").json()))
+    goal_id = http.post(f"{lab.url}/actions/counting/goals", json={"target": 100000}, timeout=30).json()["goal_id"]
     wait_for(lambda: goal_view(lab, "/counting", goal_id)["status"] == "active")
     server.close()
     view = wait_goal(lab, "/counting", goal_id, "aborted")
     assert "withdrew action /counting" in view["message"]
-    wait_for(lambda: all(a["name"] != "/counting" for a in httpx.get(f"{lab.url}/actions").json()))
-    assert httpx.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30).status_code == 404
+    wait_for(lambda: all(a["name"] != "/counting" for a in http.get(f"{lab.url}/actions").json()))
+    assert http.post(f"{lab.url}/actions/counting/goals", json={"target": 1}, timeout=30).status_code == 404
 
 
 def test_advertise_action_refusals(lab):
@@ -547,8 +547,8 @@ def cli(lab, *args):
 def test_node_parameters_in_the_labs_registry(lab, ros):
     node = ParamNode(lab.port)
     try:
-        wait_for(lambda: any(p["node"] == "keytwist_param" for p in httpx.get(f"{lab.url}/params", timeout=30).json()))
-        listed = {(p["node"], p["name"]): p for p in httpx.get(f"{lab.url}/params", timeout=30).json()}
+        wait_for(lambda: any(p["node"] == "keytwist_param" for p in http.get(f"{lab.url}/params", timeout=30).json()))
+        listed = {(p["node"], p["name"]): p for p in http.get(f"{lab.url}/params", timeout=30).json()}
         assert listed[("keytwist_param", "linear_speed")]["value"] == 0.1
         assert listed[("cooperative_lifting", "mu")]["type"] == "double"  # the lab's own stay
         out = cli(lab, "param", "set", "/keytwist_param", "linear_speed", "3.5")
@@ -561,7 +561,7 @@ def test_node_parameters_in_the_labs_registry(lab, ros):
             cli(lab, "param", "set", "/keytwist_param", "angular_speed", "2").returncode == 0
         )  # an integer, sent as double
         assert node.values["angular_speed"] == 2.0
-        described = httpx.get(f"{lab.url}/params/keytwist_param/linear_speed/describe", timeout=30).json()
+        described = http.get(f"{lab.url}/params/keytwist_param/linear_speed/describe", timeout=30).json()
         assert (described["type"], described["min_value"], described["max_value"]) == ("double", 0.0, 5.0)
         assert "linear_speed (m/s)" in cli(lab, "param", "describe", "/keytwist_param", "linear_speed").stdout
         assert "keytwist_param:" in cli(lab, "param", "dump", "/keytwist_param").stdout
@@ -573,5 +573,5 @@ def test_node_parameters_in_the_labs_registry(lab, ros):
             ros.set_param("/keytwist_param:linear_speed", 9.0)
     finally:
         node.close()
-    wait_for(lambda: all(p["node"] != "keytwist_param" for p in httpx.get(f"{lab.url}/params", timeout=30).json()))
-    assert httpx.get(f"{lab.url}/params/keytwist_param/linear_speed", timeout=30).status_code == 404
+    wait_for(lambda: all(p["node"] != "keytwist_param" for p in http.get(f"{lab.url}/params", timeout=30).json()))
+    assert http.get(f"{lab.url}/params/keytwist_param/linear_speed", timeout=30).status_code == 404

@@ -10,13 +10,13 @@ import sys
 import threading
 import time
 
-import httpx
 import numpy as np
 import pytest
 import roslibpy
 import websockets.sync.client
 
 from tests.e2e.serving import served_lab
+from tests.http_client import http
 from tests.waiting import stop_node, wait_for, wait_provided
 
 lab = served_lab("--exercises")  # the lab with its exercise services
@@ -44,7 +44,7 @@ def test_rosapi_and_parameters(ros, lab):
     panda = roslibpy.Param(ros, "/robot_description").get(timeout=30)  # the Panda's URDF, as ROS holds it
     assert panda.startswith("<?xml") and '<robot name="panda"' in panda
     ros.set_param("/cooperative_lifting:mu", 0.6)
-    assert httpx.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.6  # the same parameter server
+    assert http.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.6  # the same parameter server
     with pytest.raises(roslibpy.core.ServiceException, match=r"Wrong parameter type, parameter \{mu\}"):
         ros.set_param("/cooperative_lifting:mu", "slippery")
     ros.set_param("/cooperative_lifting:mu", 0.5)
@@ -65,9 +65,9 @@ def test_lab_services_and_exercises_left_to_nodes(ros, lab):
         roslibpy.Service(ros, "/add_two_ints", "hri_lab/AddTwoInts").call(
             roslibpy.ServiceRequest({"a": 1, "b": 2}), timeout=10
         )
-    response = httpx.post(f"{lab.url}/services/divide_ints", json={"a": 1, "b": 2})
+    response = http.post(f"{lab.url}/services/divide_ints", json={"a": 1, "b": 2})
     assert response.status_code == 404 and "not provided yet" in response.json()["detail"]
-    assert httpx.get(f"{lab.url}/services/divide_ints").json()["srv"].startswith("int64 a\nint64 b\n---")
+    assert http.get(f"{lab.url}/services/divide_ints").json()["srv"].startswith("int64 a\nint64 b\n---")
 
 
 def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
@@ -87,26 +87,26 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
     services[0].advertise(add)
     services[1].advertise(set_bool)
     deadline = time.monotonic() + 10
-    while "/toggle" not in [s["name"] for s in httpx.get(f"{lab.url}/services").json()] and time.monotonic() < deadline:
+    while "/toggle" not in [s["name"] for s in http.get(f"{lab.url}/services").json()] and time.monotonic() < deadline:
         time.sleep(0.05)
     assert "/add_two_ints" in ros.get_services()
-    assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 40}).json() == {"sum": 42}
+    assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 40}).json() == {"sum": 42}
     assert (
-        httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": "x"}).status_code == 422
+        http.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": "x"}).status_code == 422
     )  # never reaches the node
-    assert httpx.post(f"{lab.url}/services/toggle", json={"data": True}).json() == {
+    assert http.post(f"{lab.url}/services/toggle", json={"data": True}).json() == {
         "success": True,
         "message": "toggled",
     }
-    assert httpx.post(f"{lab.url}/services/toggle", json={"data": 1}).status_code == 422
-    assert httpx.get(f"{lab.url}/services/toggle").json()["srv"] == "bool data\n---\nbool success\nstring message"
+    assert http.post(f"{lab.url}/services/toggle", json={"data": 1}).status_code == 422
+    assert http.get(f"{lab.url}/services/toggle").json()["srv"] == "bool data\n---\nbool success\nstring message"
     assert "/toggle [std_srvs/SetBool]" in cli(lab.url, "service", "list", "-t").stdout
     out = cli(lab.url, "service", "call", "/toggle", "{data: false}")
     assert "response:\nstd_srvs.SetBool_Response(success=False, message='toggled')" in out.stdout, out.stderr
     for service in services:
         service.unadvertise()
-    wait_for(lambda: httpx.post(f"{lab.url}/services/toggle", json={"data": True}).status_code == 404)
-    assert "not provided yet" in httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 1}).json()["detail"]
+    wait_for(lambda: http.post(f"{lab.url}/services/toggle", json={"data": True}).status_code == 404)
+    assert "not provided yet" in http.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 1}).json()["detail"]
 
 
 def test_a_node_that_does_not_answer_gives_504_and_disconnecting_takes_its_services(lab):
@@ -115,10 +115,10 @@ def test_a_node_that_does_not_answer_gives_504_and_disconnecting_takes_its_servi
         # a call's answer on the same connection: the advertise before it was handled (ops run in order)
         node.send('{"op": "call_service", "service": "/rosapi/get_time", "id": "after-advertise"}')
         assert json.loads(node.recv(timeout=30))["id"] == "after-advertise"
-        response = httpx.post(f"{lab.url}/services/echo", json={"in": "hello"}, timeout=10)
+        response = http.post(f"{lab.url}/services/echo", json={"in": "hello"}, timeout=10)
         assert response.status_code == 504 and "/echo" in response.json()["detail"]
         assert '"op": "call_service"' in node.recv(timeout=1)  # the request did reach the node
-    wait_for(lambda: "not provided yet" in httpx.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"])
+    wait_for(lambda: "not provided yet" in http.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"])
 
 
 def test_subscribe_at_the_stated_rate(ros):
@@ -161,26 +161,26 @@ def test_f_ext_at_throttle_0_is_every_step_in_order(ros):
 def test_published_commands_drive_the_robot_until_they_stop(ros, lab):
     command = roslibpy.Topic(ros, "/cartesian_velocity_controller/command", "geometry_msgs/Twist")
     command.advertise()
-    q0 = np.array(httpx.get(f"{lab.url}/topics/joint_states").json()["position"])
+    q0 = np.array(http.get(f"{lab.url}/topics/joint_states").json()["position"])
     for _ in range(20):  # every 50 ms for 1 s: -z at 2 cm/s
         command.publish(
             roslibpy.Message({"linear": {"x": 0.0, "y": 0.0, "z": -0.02}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}})
         )
         time.sleep(0.05)
-    q1 = np.array(httpx.get(f"{lab.url}/topics/joint_states").json()["position"])
+    q1 = np.array(http.get(f"{lab.url}/topics/joint_states").json()["position"])
     assert np.linalg.norm(q1 - q0) > 1e-3
-    assert httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node"
+    assert http.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node"
     deadline = time.monotonic() + 10
     error = ""
     while not error and time.monotonic() < deadline:  # no more commands: the watchdog stops the robot
-        error = httpx.get(f"{lab.url}/topics/lifting_state").json()["error"]
+        error = http.get(f"{lab.url}/topics/lifting_state").json()["error"]
         time.sleep(0.05)
     assert error.startswith("communication constraints violation")
     assert (
         "Recovered from: communication constraints violation"
-        in httpx.post(f"{lab.url}/services/error_recovery").json()["message"]
+        in http.post(f"{lab.url}/services/error_recovery").json()["message"]
     )
-    httpx.post(f"{lab.url}/services/reset_simulation")
+    http.post(f"{lab.url}/services/reset_simulation")
 
 
 def test_action_goal_with_feedback_and_cancel(ros):
@@ -220,15 +220,15 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path):
             )
             assert nodes[-1].stdout.readline().startswith("node ready")
         wait_provided(lab.url, "/add_two_ints", "/divide_ints", "/start_cooperative_lifting")
-        assert httpx.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 3}, timeout=10).json() == {"sum": 5}
+        assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 2, "b": 3}, timeout=10).json() == {"sum": 5}
         assert (
-            httpx.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200
+            http.post(f"{lab.url}/services/divide_ints", json={"a": 7, "b": 2}, timeout=10).status_code == 200
         )  # TODO: wrong, well-formed
         deadline = time.monotonic() + 10
-        while httpx.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] != "node":
+        while http.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] != "node":
             assert time.monotonic() < deadline  # the lifting node's zero twists drive the robot
             time.sleep(0.05)
     finally:
         for node in nodes:
             stop_node(node)
-    httpx.post(f"{lab.url}/services/error_recovery")
+    http.post(f"{lab.url}/services/error_recovery")

@@ -19,6 +19,7 @@ from sim.robot.urdf_check import parse_urdf_file
 from app.cli.launch import free_port
 from app.view.urdf_bridge import urdf_app
 from app.view.urdf_view import UrdfView
+from tests.http_client import http
 from tests.waiting import process_gone, wait_for
 
 PAN_TILT = Path(__file__).resolve().parents[2] / "examples/urdf/pan_tilt.urdf"
@@ -58,7 +59,7 @@ def test_a_slider_per_movable_joint_with_the_files_limits(view):
     tilt = view.sliders["tilt_joint"]
     assert (tilt.min, tilt.max, tilt.value) == (-0.79, 0.79, 0.0)
     assert (view.sliders["pan_joint"].min, view.sliders["pan_joint"].max) == (-3.14, 3.14)
-    assert httpx.get(view.url, timeout=30).status_code == 200  # viser's page
+    assert http.get(view.url, timeout=30).status_code == 200  # viser's page
 
 
 def test_moving_a_slider_reaches_joint_states(view, ros):
@@ -71,8 +72,8 @@ def test_moving_a_slider_reaches_joint_states(view, ros):
         view.sliders["tilt_joint"].value = 0.5  # as a drag in the page does: the slider's update callbacks
         latest = wait_for(lambda: received[-1]["position"] if received[-1]["position"][1] == 0.5 else None)
         assert latest == [0.0, 0.5]
-        http = httpx.get(f"http://127.0.0.1:{view.bridge_port}/topics/joint_states").json()
-        assert http["position"] == [0.0, 0.5]
+        over_http = http.get(f"http://127.0.0.1:{view.bridge_port}/topics/joint_states").json()
+        assert over_http["position"] == [0.0, 0.5]
     finally:
         topic.unsubscribe()
         view.centre()
@@ -108,7 +109,7 @@ def test_frames_on_request_sit_where_the_file_puts_them(view):
 def test_robot_description_is_the_files_text(view, ros):
     assert roslibpy.Param(ros, "/robot_description").get(timeout=30) == PAN_TILT.read_text()
     assert ros.get_topics() == ["/joint_states"]
-    assert httpx.get(f"http://127.0.0.1:{view.bridge_port}/robot_description").text == PAN_TILT.read_text()
+    assert http.get(f"http://127.0.0.1:{view.bridge_port}/robot_description").text == PAN_TILT.read_text()
 
 
 def cli(*args: str, **kwargs):
@@ -127,7 +128,7 @@ def test_the_command_serves_and_stops():
         assert any("2 movable joint(s)" in line for line in lines), "".join(lines)
         view_url = next(line.split()[-1] for line in lines if line.strip().startswith("3D view"))
         wait_for(lambda: _answers(f"http://127.0.0.1:{port}/"))
-        assert httpx.get(view_url, timeout=30).status_code == 200
+        assert http.get(view_url, timeout=30).status_code == 200
         echo = subprocess.run(
             [
                 sys.executable,
@@ -161,7 +162,7 @@ def test_the_command_serves_and_stops():
 
 def _answers(url: str) -> bool:
     try:
-        return httpx.get(url, timeout=5).status_code == 200
+        return http.get(url, timeout=5).status_code == 200
     except httpx.HTTPError:
         return False
 

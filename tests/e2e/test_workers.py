@@ -8,10 +8,10 @@ import sys
 import time
 from pathlib import Path
 
-import httpx
 import pytest
 
 from app.cli.launch import ServerProcess
+from tests.http_client import http
 
 CONTROLLER = Path(__file__).resolve().parents[1] / "controllers" / "reference_sp.py"
 
@@ -84,8 +84,8 @@ def test_killing_the_server_leaves_no_worker(action, goal):
     before = shm()
     server = ServerProcess("--view", "none")
     try:
-        goal_id = httpx.post(f"{server.url}/actions/{action}/goals", json=goal).json()["goal_id"]
-        assert httpx.get(f"{server.url}/actions/{action}/goals/{goal_id}").json()["status"] == "active"
+        goal_id = http.post(f"{server.url}/actions/{action}/goals", json=goal).json()["goal_id"]
+        assert http.get(f"{server.url}/actions/{action}/goals/{goal_id}").json()["status"] == "active"
         deadline = time.monotonic() + 60
         while len(descendants(server.proc.pid)) < 3 and time.monotonic() < deadline:  # simulation, tracker, worker
             time.sleep(0.1)

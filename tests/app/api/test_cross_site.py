@@ -1,7 +1,6 @@
 """Cross-site requests are refused (app/api/security.py): Host, Origin/Referer, content types,
 WebSocket upgrades (API and 3D view); the lab's own page, the CLI and curl-like clients work."""
 
-import httpx
 import pytest
 import viser
 from starlette.websockets import WebSocketDisconnect
@@ -10,6 +9,7 @@ from websockets.sync.client import connect
 
 from app.api.security import origin_refusal
 from app.view.view3d import guarded_websocket_server
+from tests.http_client import http
 
 EVIL = {"origin": "http://evil.example"}
 
@@ -85,11 +85,11 @@ def test_the_3d_view_refuses_a_foreign_origin():
         with pytest.raises(InvalidStatus) as refused:
             connect(f"ws://127.0.0.1:{port}", origin="http://evil.example", subprotocols=protocol)
         assert refused.value.response.status_code == 403
-        assert httpx.get(f"http://127.0.0.1:{port}/", headers={"host": "evil.example"}).status_code == 403
+        assert http.get(f"http://127.0.0.1:{port}/", headers={"host": "evil.example"}).status_code == 403
         for origin in (None, f"http://127.0.0.1:{port}"):
             with connect(f"ws://127.0.0.1:{port}", origin=origin, subprotocols=protocol):
                 pass
-        assert httpx.get(f"http://127.0.0.1:{port}/").status_code == 200
+        assert http.get(f"http://127.0.0.1:{port}/").status_code == 200
     finally:
         server.stop()
 

@@ -2,14 +2,14 @@
 POST, a WebSocket) while the student has the lab open: every attempt is refused and nothing
 changes; the lab's own page keeps working."""
 
-import http.server
 import threading
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
-import httpx
 import pytest
 
 from app.cli.launch import running_server
 from tests.e2e.browser.test_page import ARGS, CHROMIUM
+from tests.http_client import http
 
 ATTACK = """<!doctype html><title>evil</title>
 <form id=f method=post action="{lab}/services/reset_simulation" enctype="text/plain" target=sink>
@@ -46,7 +46,7 @@ def lab():
 def evil_site(lab):
     page = ATTACK.format(lab=lab).encode()
 
-    class Handler(http.server.BaseHTTPRequestHandler):
+    class Handler(BaseHTTPRequestHandler):
         def do_GET(self):
             self.send_response(200)
             self.send_header("content-type", "text/html")
@@ -56,7 +56,7 @@ def evil_site(lab):
         def log_message(self, *args):
             pass
 
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+    server = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
     yield f"http://127.0.0.1:{server.server_address[1]}"
@@ -67,11 +67,11 @@ def evil_site(lab):
 def test_a_page_on_another_origin_cannot_drive_the_lab(lab, evil_site):
     from playwright.sync_api import sync_playwright
 
-    httpx.post(f"{lab}/services/stop_cooperative_lifting")
+    http.post(f"{lab}/services/stop_cooperative_lifting")
     before = {
-        name: httpx.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in ("linear_speed", "angular_speed")
+        name: http.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in ("linear_speed", "angular_speed")
     }
-    health = httpx.get(f"{lab}/health").json()
+    health = http.get(f"{lab}/health").json()
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         try:
@@ -83,10 +83,10 @@ def test_a_page_on_another_origin_cannot_drive_the_lab(lab, evil_site):
             page.wait_for_timeout(500)  # let the form POST land
             assert results["ws"] == "refused"
             assert results["put"] in (403, "blocked")  # the preflighted PUT never gets through
-            after = {name: httpx.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in before}
+            after = {name: http.get(f"{lab}/params/keytwist/{name}").json()["value"] for name in before}
             assert after == before
-            assert httpx.get(f"{lab}/topics/lifting_state").json()["started"] is False
-            now = httpx.get(f"{lab}/health").json()  # not reset: sim time ran on with the ticks (1 ms each)
+            assert http.get(f"{lab}/topics/lifting_state").json()["started"] is False
+            now = http.get(f"{lab}/health").json()  # not reset: sim time ran on with the ticks (1 ms each)
             assert now["sim_time"] - health["sim_time"] == pytest.approx(
                 (now["ticks"] - health["ticks"]) * 1e-3, abs=0.05
             )

@@ -5,7 +5,6 @@ import os
 import time
 from pathlib import Path
 
-import httpx
 import pytest
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
@@ -13,6 +12,7 @@ from sim.controllers.interface import LiftingParams
 
 from app.cli.launch import free_port, running_server
 from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, round_trips
+from tests.http_client import http
 
 SCREENSHOTS = Path(__file__).resolve().parents[3] / "build" / "screenshots"
 
@@ -145,9 +145,9 @@ def test_the_page_as_a_student_uses_it(server, page):
     page.locator("#ctl-start").click()
     wait_text(page, "#st-lifting", "ON, band [12, 17] N")
     # lifting stopped and started again by curl: the status follows
-    httpx.post(f"{server}/services/stop_cooperative_lifting")
+    http.post(f"{server}/services/stop_cooperative_lifting")
     wait_text(page, "#st-lifting", "off")
-    httpx.post(f"{server}/services/start_cooperative_lifting", json={"force": 10})
+    http.post(f"{server}/services/start_cooperative_lifting", json={"force": 10})
     wait_text(page, "#st-lifting", "ON, band [10, 15] N")
 
     # the plots move: new samples arrive, the legend shows values (not "--")
@@ -173,7 +173,7 @@ def test_the_page_as_a_student_uses_it(server, page):
     assert move.locator(".goal").count() == 0
 
     # a scripted participant (hasty at the wider margin alpha 0.8: the short failing trial) and its result
-    assert httpx.put(f"{server}/params/cooperative_lifting/alpha", json={"value": 0.8}).json()["successful"]
+    assert http.put(f"{server}/params/cooperative_lifting/alpha", json={"value": 0.8}).json()["successful"]
     page.locator("#ctl-participant").select_option("hasty")
     page.locator("#ctl-force").fill("10")
     page.locator("#ctl-participant-run").click()
@@ -184,7 +184,7 @@ def test_the_page_as_a_student_uses_it(server, page):
     result = text_of(page, "#trial-result")
     assert "(hasty)" in result and "slip" in result and "time" in result and "f_n" in result
     assert result.startswith("SUCCESS") or "dropped" in result, result
-    httpx.put(f"{server}/params/cooperative_lifting/alpha", json={"value": LiftingParams().alpha})
+    http.put(f"{server}/params/cooperative_lifting/alpha", json={"value": LiftingParams().alpha})
 
     # the controller comparison, the smallest goal: one hasty trial at alpha 0.8 (dropped at ~3 s)
     # with SP, plots ticked: its result, its table and its figures (the summary and the trial's)
@@ -233,7 +233,7 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, browser):
 
 
 def the_3d_view_on_demand(server, page):
-    httpx.post(f"{server}/services/reset_simulation")
+    http.post(f"{server}/services/reset_simulation")
     assert "software-rendered" in text_of(page, "#view-off-reason")
     without = round_trips(page, 3)
     view = embed_view(page)
@@ -266,7 +266,7 @@ def test_console_shows_rosout_filtered_by_node_and_level(page, server):
     """The console tab: /rosout lines as they come, filtered by node and level."""
     page.locator("nav button[data-tab=console]").click()
     page.locator("#console-level").select_option("DEBUG")
-    assert httpx.post(f"{server}/services/add_two_ints", json={"a": 20, "b": 22}, timeout=30).json()["sum"] == 42
+    assert http.post(f"{server}/services/add_two_ints", json={"a": 20, "b": 22}, timeout=30).json()["sum"] == 42
     wait_text(page, "#console-lines", "/add_two_ints answered by the lab")
     page.locator("#console-level").select_option("INFO")  # the service's DEBUG lines are filtered out
     assert "/add_two_ints answered" not in text_of(page, "#console-lines")

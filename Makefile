@@ -41,7 +41,7 @@ bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
 test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
-	$(BIN)/python -m pytest -q -n 2 --dist loadfile --no-loadscope-reorder
+	$(BIN)/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder
 
 # the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything
 test-fast: $(STAMP) $(VENV)/.kernels egl

@@ -53,27 +53,30 @@ def _tree_outputs() -> set[Path]:
 
 TESTS = Path(__file__).resolve().parent
 
-# `make test` runs two workers and hands out whole files in collection order (--dist loadfile
-# --no-loadscope-reorder): the longest files go first, so that the run never ends with one worker
-# still on a long file while the other has nothing left (longest processing time first). Paths from tests/.
+# `make test` runs three workers and hands out whole files in collection order (--dist loadfile
+# --no-loadscope-reorder): the longest files go first (as measured: `pytest --durations=0`), so that
+# the run never ends with one worker still on a long file while the others have nothing left
+# (longest processing time first). Paths from tests/.
 LONG_FILES_FIRST = (
-    "e2e/test_grading.py",
-    "e2e/test_ros_programs.py",
-    "e2e/test_law_checks.py",
-    "e2e/test_course_scale.py",
-    "e2e/test_autograder.py",
     "e2e/browser/test_page.py",
-    "sim/controllers/test_tilt.py",
-    "e2e/test_camera.py",
-    "e2e/test_cli_server.py",
-    "e2e/test_experiment_actions.py",
-    "e2e/test_cli_experiment.py",
-    "sim/test_world.py",
-    "e2e/test_lifting_node.py",
+    "e2e/test_ros_programs.py",
+    "e2e/test_autograder.py",
+    "e2e/test_grading.py",
     "e2e/test_ros_lifting_node.py",
-    "app/api/test_actions.py",
+    "e2e/test_lifting_node.py",
+    "e2e/test_camera.py",
+    "e2e/test_course_scale.py",
+    "e2e/test_cli_server.py",
+    "e2e/test_law_checks.py",
+    "e2e/test_sandbox.py",
+    "e2e/test_rosbridge_roslibpy.py",
+    "e2e/test_fuzz.py",
+    "e2e/test_limits.py",
+    "e2e/browser/test_urdf_view_page.py",
+    "e2e/test_experiment_actions.py",
+    "e2e/test_examples.py",
     "e2e/browser/test_replay.py",
-    "app/lab/test_recorder.py",
+    "app/api/test_actions.py",
 )
 
 

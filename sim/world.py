@@ -273,7 +273,7 @@ class World:
         sensor, kind = self.sensor, OK
         if self.motion is None and not jogging and rest_compiled:
             self.jog = None
-            if law is not None:  # a built-in controller: the whole step in one compiled call
+            if law is not None and isinstance(controller, LiftingLawController):  # a built-in: one compiled call
                 kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
                     sensor.state,
                     sensor.next_noise(),

@@ -8,8 +8,6 @@ import threading
 import time
 from pathlib import Path
 
-from tests.http_client import http
-
 NODES = Path(__file__).parent / "nodes"
 
 
@@ -65,13 +63,11 @@ def start_node(lab, script: str, *args: str) -> subprocess.Popen:
 def wait_provided(url: str, *services: str, timeout: float = 30.0) -> None:
     """Until the lab names a program's node, not its own, as each service's provider (`GET
     /services/NAME`, as `rosservice info`): roslibpy's advertise does not wait for the lab, so a
-    roslibpy node's "ready" line can come before the lab has its services."""
+    roslibpy node's "ready" line can come before the lab has its services (the autograder's wait)."""
+    from app.cli.autograder import provided_by_nodes
 
-    def provided(name: str) -> bool:
-        return http.get(f"{url}/services/{name.strip('/')}", timeout=30).json().get("node") != "/hri_lab"
-
-    for name in services:
-        wait_for(lambda: provided(name), timeout)  # noqa: B023 - called before the next name
+    missing = provided_by_nodes(url, list(services), timeout)
+    assert not missing, f"still the lab's own after {timeout} s: {missing}"
 
 
 def stop_node(node: subprocess.Popen) -> None:

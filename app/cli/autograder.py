@@ -229,10 +229,11 @@ def services_report(folder: Path, seed: int) -> Report:
     return report
 
 
-def provided_by_nodes(url: str, services: list[str], settle_s: float) -> None:
+def provided_by_nodes(url: str, services: list[str], settle_s: float) -> list[str]:
     """Until a node provides each of `services` (`GET /services/NAME`'s node is not the lab), or
     `settle_s` s: a roslibpy node's "node ready" can come before the lab has the services it
-    advertised (roslibpy does not wait), and a service graded then would count as not provided."""
+    advertised (roslibpy does not wait), and a service graded then would count as not provided.
+    Returns those still the lab's own."""
     import httpx
 
     from app.rosbridge.rosapi import LAB_NODE
@@ -244,6 +245,7 @@ def provided_by_nodes(url: str, services: list[str], settle_s: float) -> None:
             waiting = [s for s in waiting if client.get(f"/services/{s.strip('/')}").json().get("node") == LAB_NODE]
             if waiting:
                 time.sleep(0.05)
+    return waiting
 
 
 def main(argv: list[str] | None = None) -> int:

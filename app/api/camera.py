@@ -19,7 +19,7 @@ from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import Response
 
 from app.api.deps import LabDep
-from app.rosclient.windows import WINDOWS
+from app.interfaces.image_windows import WINDOWS
 from app.runtime.camera_process import MAX_RATE_HZ
 from app.runtime.shared_frame import Frame
 

@@ -10,6 +10,7 @@ from app.rosbridge.capabilities import (
     advertise_service,
     call_service,
     connection,
+    node,
     publish,
     service_response,
     subscribe,
@@ -18,6 +19,7 @@ from app.rosbridge.capabilities.op import Op
 
 MODULES = (
     connection,
+    node,
     subscribe,
     advertise,
     publish,

@@ -293,7 +293,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
             "typedefs_full_text": [texts.get(t, "") for t in topics],
         }
     if name == "/rosapi/nodes":
-        return {"nodes": [LAB_NODE] + [s.name for s in bridge.sessions]}
+        return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
     if name == "/rosapi/node_details":
         node = str(args.get("node", ""))
         if node == LAB_NODE:
@@ -306,7 +306,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
                     if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)
                 ],
             }
-        other = next((s for s in bridge.sessions if s.name == node), None)
+        other = next((s for s in bridge.sessions if node in (s.node_names or [s.client_name])), None)
         if other is None:
             return {"subscribing": [], "publishing": [], "services": []}
         return other.details()

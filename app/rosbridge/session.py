@@ -26,7 +26,8 @@ class Session:
     def __init__(self, bridge: Bridge, websocket: WebSocket) -> None:
         self.bridge, self.ws = bridge, websocket
         self.lab = bridge.lab
-        self.name = bridge.next_name()
+        self.client_name = bridge.next_name()  # its name until it names its node (op node)
+        self.node_names: list[str] = []  # the nodes it runs, in the order it named them
         self.loop: asyncio.AbstractEventLoop | None = None
         token = bridge.token
         self.authorized = token is None or token_matches(presented_token(websocket.scope["headers"]), token)
@@ -41,6 +42,11 @@ class Session:
         self.in_flight = 0
         self.closed = False
         self._send_lock = asyncio.Lock()
+
+    @property
+    def name(self) -> str:
+        """The node errors and the lab name this client by: its (first) node's, else /rosbridge_client_N."""
+        return self.node_names[0] if self.node_names else self.client_name
 
     # --- connection -------------------------------------------------------------------------
     async def run(self) -> None:

@@ -1,8 +1,7 @@
 """The ROS client libraries for students' programs (rospy, rclpy, actionlib, the message packages)
 over the lab's rosbridge endpoint; `hri-lab run` and `hri-lab launch` start programs with them.
 
-- interfaces.py: .msg/.srv/.action text -> classes, and the import finder for `<pkg>.msg|srv|action`
-- share/: the standard packages' definitions (std_msgs, geometry_msgs, ...)
+- interfaces.py: the import finder for `<pkg>.msg|srv|action` (the classes: app/interfaces)
 - connection.py: the rosbridge v2 WebSocket client
 - process.py: what rospy and rclpy share in one program
 - site/: the importable top-level packages (rospy, rclpy, actionlib, cv_bridge), on sys.path only in

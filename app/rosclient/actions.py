@@ -20,7 +20,7 @@ STATUS_SUCCEEDED, STATUS_CANCELED, STATUS_ABORTED = 4, 5, 6
 
 
 def type_name(action_class: Any) -> str:
-    return getattr(action_class, "_ros2_type", "") or action_class._type
+    return getattr(action_class, "_action_type", "") or action_class._type
 
 
 def server_ready(name: str) -> bool:

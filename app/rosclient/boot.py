@@ -21,12 +21,9 @@ def main() -> None:
         raise SystemExit(2)
     program = Path(sys.argv[1])
     from app.rosclient import interfaces, process, windows
-    from app.rosclient.lab_package import lab_definitions
 
     windows.install()  # cv2.imshow / waitKey show on the lab's dashboard (app/rosclient/windows.py)
-    interfaces.install(
-        interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None), lab_definitions
-    )
+    interfaces.install(interfaces.workspace_roots(program, os.environ.get("HRI_LAB_WORKSPACE") or None))
     sys.path[0:0] = [str(program.resolve().parent), str(SITE)]
     sys.argv = [str(program), *sys.argv[2:]]
     try:

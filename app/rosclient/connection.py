@@ -64,6 +64,7 @@ class Connection:
         self._lock = threading.Lock()
         self._calls: dict[str, Future] = {}
         self._goals: dict[str, tuple[Callable, Callable]] = {}  # id -> (on_feedback, on_result)
+        self._refusals: dict[str, list[str]] = {}  # an op's id -> the lab's errors of it, for its sender
         self.topic_handlers: dict[str, list[Callable[[dict], None]]] = {}
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
@@ -133,16 +134,36 @@ class Connection:
         return future
 
     def advertise_service(
-        self, name: str, type_name: str, handler: Callable[[dict], None], definition: str | None = None
-    ) -> None:
-        """Provide `name`; `definition` is the .srv text with its nested messages' (interfaces.full_text),
-        which the lab shows and checks requests against (an extra field rosbridge_suite ignores)."""
+        self,
+        name: str,
+        type_name: str,
+        handler: Callable[[dict], None],
+        definition: str | None = None,
+        check: bool = False,
+    ) -> str | None:
+        """Provide `name`; `definition` is the .srv text with its nested messages' (packages.full_text),
+        which the lab shows and checks requests against (an extra field rosbridge_suite ignores).
+        With `check`, the lab's refusal (e.g. another node provides the name) is returned, not printed,
+        and the handler is not kept; None: the lab took it (or, from the reader thread, is told)."""
+        previous = self.service_handlers.get(name)
         self.service_handlers[name] = handler
-        message = {"op": "advertise_service", "service": name, "type": type_name}
+        advertise_id = self.next_id(f"advertise_service:{name}")
+        refusals: list[str] = []
+        if check:
+            self._refusals[advertise_id] = refusals
+        message = {"op": "advertise_service", "id": advertise_id, "service": name, "type": type_name}
         if definition is not None:
             message["definition"] = definition
         self.send(message)
         self.sync()  # as rospy.Service returns once the master has registered it
+        self._refusals.pop(advertise_id, None)
+        if not refusals:
+            return None
+        if previous is None:
+            self.service_handlers.pop(name, None)
+        else:
+            self.service_handlers[name] = previous
+        return refusals[0]
 
     def sync(self, timeout: float = 10.0) -> None:
         """Return once the lab has handled every op sent before: one round trip on this connection
@@ -244,6 +265,9 @@ class Connection:
             if id_ == "rosout":
                 if message.get("level") == "error":
                     self.rosout_refused(str(message.get("msg")))
+            elif id_ in self._refusals:
+                if message.get("level") == "error":
+                    self._refusals[id_].append(str(message.get("msg")))
             elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
                 self.status_handler(message)
 

@@ -59,7 +59,8 @@ class NodeSpec:
             for key, value in self.params.items():
                 ros_args += ["-p", f"{key}:={_text(value)}"]
             return [*extra, "--ros-args", *ros_args]
-        return [*extra, f"__name:={self.name}", *(f"_{k}:={_text(v)}" for k, v in self.params.items())]
+        namespace = [f"__ns:={self.namespace}"] if self.namespace.strip("/") else []  # roslaunch's <group ns>
+        return [*extra, f"__name:={self.name}", *namespace, *(f"_{k}:={_text(v)}" for k, v in self.params.items())]
 
 
 @dataclass

@@ -33,12 +33,21 @@ _callbacks_done = threading.Condition()
 def ensure_interfaces() -> None:
     """The interface finder, when the program was not started by boot.py (plain `python FILE`)."""
     from app.rosclient import interfaces
-    from app.rosclient.lab_package import lab_definitions
 
     if not any(isinstance(f, interfaces.Finder) for f in sys.meta_path):
         interfaces.install(
-            interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE")), lab_definitions
+            interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE"))
         )
+
+
+def use_ros1() -> None:
+    """ROS 1's standard messages (a Header with seq) for a rospy program's classes made from now on."""
+    from app.rosclient import interfaces
+
+    ensure_interfaces()
+    for finder in sys.meta_path:
+        if isinstance(finder, interfaces.Finder):
+            finder.interfaces.use_ros1()
 
 
 def connection() -> Connection:
@@ -73,6 +82,24 @@ def advertise_once(topic: str, type_name: str) -> None:
     if topic not in _advertised:
         _advertised.add(topic)
         connection().send({"op": "advertise", "topic": topic, "type": type_name})
+
+
+def unadvertise(topic: str) -> None:
+    """This program no longer publishes `topic` (a later publish advertises it again)."""
+    if topic in _advertised:
+        _advertised.discard(topic)
+        connection().send({"op": "unadvertise", "topic": topic})
+
+
+node_names: list[str] = []  # the nodes this program runs, as it named them (rospy's init_node, rclpy's Node)
+
+
+def declare_node(name: str) -> None:
+    """Tell the lab a node's full name: errors, rosapi, /rosout and the dashboard show it
+    (app/rosbridge/capabilities/node.py), not the connection's /rosbridge_client_N."""
+    if name not in node_names:
+        node_names.append(name)
+        connection().send({"op": "node", "name": name})
 
 
 def publish(topic: str, type_name: str, msg: dict) -> None:

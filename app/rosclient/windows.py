@@ -17,7 +17,8 @@ import sys
 import time
 from typing import Any
 
-WINDOWS = "/image_windows/"  # the lab's dashboard shows each topic under it (app/lab/topics.py)
+from app.interfaces.image_windows import WINDOWS
+
 MAX_RATE_HZ = 15.0
 JPEG_QUALITY = 80
 _last_sent: dict[str, float] = {}

@@ -1,5 +1,11 @@
 """advertise / unadvertise: a client announces the topics it publishes (the lab's own topics are the
-lab's; the command topic and /rosout may be published by any client)."""
+lab's; the command topic and /rosout may be published by any client).
+
+As rosbridge_suite's advertise capability, a client's publisher of a topic counts the ids of the
+advertise ops that made it (an op without an id counts as one id of its own): an unadvertise
+withdraws its id (one without an id withdraws them all), and the publisher ends when its last id
+is withdrawn.
+"""
 
 from __future__ import annotations
 
@@ -10,6 +16,12 @@ from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
 from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
+
+
+def advertise_ids(session: Any, topic: str) -> set[Any]:
+    """The ids of the advertise ops this client's publisher of `topic` holds."""
+    ids: dict[str, set[Any]] = session.state.setdefault("advertise_ids", {})
+    return ids.setdefault(topic, set())
 
 
 async def advertise(session: Any, message: dict, id_: Any) -> None:
@@ -24,6 +36,7 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
             )
         session.state["rosout_type"] = type_name
         session.publishing.add(topic)
+        advertise_ids(session, topic).add(id_)
         return
     if topic in bridge.topics and topic != COMMAND_TOPIC:
         raise BadFrame(f"advertise: topic {topic} is published by the lab")
@@ -33,12 +46,22 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)
     session.publishing.add(topic)
+    advertise_ids(session, topic).add(id_)
 
 
 async def unadvertise(session: Any, message: dict, id_: Any) -> None:
     topic = name_field(message, "topic")
     if topic not in session.publishing:
         await session.report("warning", f"unadvertise: {topic} is not advertised by this client", id_)
+        return
+    ids = advertise_ids(session, topic)
+    if id_ is None:
+        ids.clear()
+    elif id_ not in ids:
+        await session.report("warning", f"unadvertise: {topic} was not advertised with id {id_!r} by this client", id_)
+        return
+    ids.discard(id_)
+    if ids:  # another of its advertise ops still holds the publisher
         return
     session.publishing.discard(topic)
     session.bridge.leave(topic, publisher=session)

@@ -14,7 +14,7 @@ from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
-from app.rosclient.windows import WINDOWS
+from app.interfaces.image_windows import WINDOWS
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 

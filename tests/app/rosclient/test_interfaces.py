@@ -1,103 +1,10 @@
-"""Interfaces from text (app/rosclient/interfaces.py): the classes genpy and rosidl make of .msg,
-.srv and .action files, the import finder, and the errors of bad definitions."""
+"""The import finder of a program's process (app/rosclient/interfaces.py): `<pkg>.msg|srv|action`
+modules with genpy's names, and cv_bridge over the classes it makes."""
 
 import pytest
 
-from app.rosclient.interfaces import DefinitionError, Interfaces
-from app.rosclient.lab_package import lab_definitions
+from app.interfaces.packages import Interfaces
 from tests.ros_running import PROGRAMS
-
-
-@pytest.fixture()
-def interfaces(tmp_path):
-    return Interfaces([tmp_path, PROGRAMS], lab=lab_definitions)
-
-
-def test_a_workspace_service_has_rclpy_and_rospy_classes_with_ros_defaults(interfaces):
-    multiply = interfaces.get("cpp_package", "srv", "MultiplyThree")
-    request = multiply.Request()
-    assert (request.a, request.b, request.c) == (0, 0, 0)
-    assert multiply._request_class is multiply.Request and multiply._type == "cpp_package/MultiplyThree"
-    assert multiply.Request(1, 2, 3).to_json() == {"a": 1, "b": 2, "c": 3}  # rospy: positional
-    assert multiply.Request(b=5).to_json() == {"a": 0, "b": 5, "c": 0}  # keyword, the rest default
-    assert multiply.Response.from_json({"product": 6}).product == 6
-    divide = interfaces.get("cpp_package", "srv", "DivideInts")
-    assert divide.Response().result == 0.0 and divide.Response().message == ""
-
-
-def test_a_wrong_field_or_type_is_an_error_naming_it(interfaces):
-    add = interfaces.get("example_interfaces", "srv", "AddTwoInts")
-    with pytest.raises(TypeError, match="has no field 'c'.*a, b"):
-        add.Request(a=1, c=2)
-    with pytest.raises(AttributeError, match="'c'"):
-        add.Request().c = 3
-    bad = add.Request(a="1")
-    with pytest.raises(TypeError, match="'example_interfaces/AddTwoIntsRequest.a' field must be of type 'int'"):
-        bad.to_json()
-    with pytest.raises(ValueError, match=r"int64"):
-        add.Request(a=2**63).to_json()
-
-
-def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
-    wrench = interfaces.message("geometry_msgs/WrenchStamped")
-    msg = wrench.from_json(
-        {
-            "header": {"stamp": {"sec": 3, "nanosec": 500000000}, "frame_id": "panda_K"},
-            "wrench": {"force": {"x": 1, "y": 2.5, "z": -3}, "torque": {"x": 0, "y": 0, "z": 0}},
-        }
-    )
-    assert msg.wrench.force.x == 1.0 and isinstance(msg.wrench.force.x, float)
-    assert msg.header.stamp.to_sec() == 3.5 and msg.header.stamp.secs == 3  # rospy's names too
-    assert interfaces.message("geometry_msgs/Quaternion")().w == 1.0  # a default in the definition
-    joint = interfaces.message("sensor_msgs/msg/JointState")(position=[0.1, 0.2], name=["a", "b"])
-    assert joint.to_json()["position"] == [0.1, 0.2] and joint.velocity == []
-    log = interfaces.message("rosgraph_msgs/Log")
-    assert (log.INFO, log.ERROR) == (2, 8)
-    status = interfaces.message("actionlib_msgs/GoalStatus")
-    assert status.SUCCEEDED == 3 and status().goal_id.id == ""
-    image = interfaces.message("sensor_msgs/Image")(data=b"\x01\x02")
-    assert image.to_json()["data"] == "AQI="  # uint8[] as base64, as rosbridge sends it
-    assert interfaces.message("sensor_msgs/Image").from_json({"data": "AQI="}).data == b"\x01\x02"
-
-
-def test_an_action_has_goal_result_feedback(interfaces):
-    counting = interfaces.get("cpp_package", "action", "Counting")
-    assert counting.Goal(count=3).count == 3 and counting.Feedback().current == 0 and counting.Result().reached == 0
-
-
-def test_the_lab_interfaces_are_its_own_declarations(interfaces):
-    divide = interfaces.get("hri_lab", "srv", "DivideInts")
-    assert divide._definition == lab_definitions()["srv"]["DivideInts"]
-    assert set(divide.Response.get_fields_and_field_types()) == {"result", "message"}
-    echo = interfaces.get("hri_lab", "srv", "Echo")
-    assert echo.Request(in_="x").to_json() == {"in": "x"}  # a keyword field gets genpy's trailing _
-    assert "count" in interfaces.get("hri_lab", "action", "Count").Goal().to_json()
-
-
-@pytest.mark.parametrize(
-    "text, expected",
-    [
-        ("int64 a\nint64\n", "line 2: expected 'TYPE NAME'"),
-        ("int64 a\nfoo bar\n", "line 2: unknown type 'foo'|cannot be read"),
-        ("int64 a\nint64 a\n", "line 2: field 'a' is defined twice"),
-        ("int32 X=abc\n", "line 1: expected a int32 value"),
-    ],
-)
-def test_a_malformed_definition_is_an_import_error_naming_file_and_line(tmp_path, text, expected):
-    (tmp_path / "my_pkg" / "msg").mkdir(parents=True)
-    (tmp_path / "my_pkg" / "msg" / "Bad.msg").write_text(text)
-    with pytest.raises(ImportError, match=expected) as error:
-        Interfaces([tmp_path]).get("my_pkg", "msg", "Bad")
-    assert "Bad.msg" in str(error.value)
-
-
-def test_a_missing_definition_names_where_it_was_looked_for(tmp_path):
-    (tmp_path / "my_pkg" / "srv").mkdir(parents=True)
-    with pytest.raises(DefinitionError, match=r"cannot import name 'Nope' from 'my_pkg.srv'.*my_pkg/srv/Nope.srv"):
-        Interfaces([tmp_path]).get("my_pkg", "srv", "Nope")
-    (tmp_path / "my_pkg" / "srv" / "Half.srv").write_text("int64 a\n")
-    with pytest.raises(DefinitionError, match="expected 2 sections separated by '---'"):
-        Interfaces([tmp_path]).get("my_pkg", "srv", "Half")
 
 
 def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
@@ -106,13 +13,23 @@ def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
 
     from app.rosclient.interfaces import Finder
 
-    finder = Finder(Interfaces([PROGRAMS], lab=lab_definitions))
+    finder = Finder(Interfaces([PROGRAMS]))
     sys.meta_path.insert(0, finder)
     try:
         msg = importlib.import_module("cpp_package.msg")
         action = importlib.import_module("cpp_package.action")
-        assert msg.CountingGoal is action.Counting.Goal and msg.CountingAction is action.Counting
-        assert importlib.import_module("cpp_package.srv").MultiplyThreeRequest(1, 2, 3).c == 3
+        assert msg.CountingGoal is action.Counting.Goal and action.CountingAction is msg.CountingAction
+        assert msg.CountingAction.Goal is action.Counting.Goal  # actionlib's ActionSpec names its parts
+        assert msg.CountingAction._action_type == "cpp_package/action/Counting"
+        srv = importlib.import_module("cpp_package.srv")
+        assert srv.MultiplyThreeRequest(1, 2, 3).c == 3
+
+        namespace: dict = {}
+        exec("from cpp_package.srv import *\nfrom cpp_package.msg import *", namespace)  # genpy's modules' names
+        assert {"MultiplyThree", "MultiplyThreeRequest", "MultiplyThreeResponse"} <= set(namespace)
+        assert namespace["MultiplyThreeResponse"] is srv.MultiplyThree.Response
+        assert {"CountingAction", "CountingActionGoal", "CountingActionResult", "CountingActionFeedback",
+                "CountingGoal", "CountingResult", "CountingFeedback"} <= set(namespace)  # fmt: skip
     finally:
         sys.meta_path.remove(finder)
         for name in [m for m in sys.modules if m.startswith("cpp_package")]:
@@ -150,45 +67,3 @@ def test_cv_bridge_converts_images_as_cv_bridge_does():
             m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs", "builtin_interfaces")
         ]:
             del sys.modules[name]
-
-
-def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interfaces):
-    """What a program's advertise_service carries (full_text: the .srv, then each nested message's
-    text) is all the lab needs: its models check a request as the program's type says, naming the
-    field, with the text's defaults, ranges, array lengths and nested messages."""
-    from pydantic import ValidationError
-
-    from app.ros.interface_models import BadDefinition, fields, own_text, service_models
-    from app.rosclient.interfaces import full_text
-
-    text = full_text(interfaces.get("cpp_package", "srv", "ScalePoint"))
-    assert "MSG: geometry_msgs/Point" in text and "MSG: cpp_package/Note" in text
-    assert own_text(text) == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
-    request, response = service_models("cpp_package/srv/ScalePoint", text)
-    ok = request.model_validate({"point": {"x": 1, "y": 2.5}, "factor": 2})
-    assert ok.model_dump(by_alias=True) == {"point": {"x": 1.0, "y": 2.5, "z": 0.0}, "factor": 2.0, "digits": 2}
-    for body, field in [
-        ({"point": {"x": 1, "y": 2}}, ("factor",)),  # missing (a nested message's field takes its default)
-        ({"point": {"x": "one"}, "factor": 2}, ("point", "x")),  # a nested field of the wrong type
-        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": "2"}, ("factor",)),  # a string is not a number
-        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "digits": 256}, ("digits",)),  # uint8
-        ({"point": {"x": 1, "y": 2, "z": 3}, "factor": 2, "unit": "m"}, ("unit",)),  # not in the .srv
-    ]:
-        with pytest.raises(ValidationError) as refused:
-            request.model_validate(body)
-        assert [e["loc"] for e in refused.value.errors()] == [field]
-    assert fields(response) == [
-        {"name": "scaled", "type": "geometry_msgs/Point"},
-        {"name": "note", "type": "cpp_package/Note"},
-    ]
-    # keywords and arrays: `in` keeps its wire name; a fixed array its length
-    echo, _ = service_models("pkg/Echo", "string in\nfloat64[3] xyz\nuint8[] data\n---\n")
-    assert echo.model_validate({"in": "a", "xyz": [1, 2, 3], "data": "AAE="}).model_dump(by_alias=True)["in"] == "a"
-    with pytest.raises(ValidationError, match="xyz"):
-        echo.model_validate({"in": "a", "xyz": [1, 2], "data": []})
-    with pytest.raises(ValidationError, match="in\n"):
-        echo.model_validate({"xyz": [1, 2, 3], "data": []})
-    with pytest.raises(BadDefinition, match="line 2: expected 'TYPE NAME'"):
-        service_models("pkg/Bad", "int64 a\nint64\n---\n")
-    with pytest.raises(BadDefinition, match="expected 2 sections"):
-        service_models("pkg/Bad", "int64 a\n")

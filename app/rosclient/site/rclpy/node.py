@@ -16,7 +16,8 @@ from collections import deque
 from typing import Any, Callable
 
 from app.rosclient import process
-from app.rosclient.interfaces import Message, full_text
+from app.interfaces.messages import Message
+from app.interfaces.packages import full_text
 from rclpy import executors
 from rclpy.clock import Clock
 from rclpy.exceptions import (

@@ -1,0 +1,158 @@
+"""rospy.topics: Publisher and Subscriber over the lab's rosbridge endpoint.
+
+A publisher fills a message's `header.seq` (its count of messages, from 1) as rospy does. A
+subscriber's `queue_size` is its own queue, in this process: every message crosses the wire (the
+lab's rosbridge queue is never asked to drop) and the callback, on the subscriber's own thread,
+takes them in order; a full queue drops its oldest. Both may be made before init_node, as rospy
+allows; a message is published only after it.
+"""
+
+from __future__ import annotations
+
+import threading
+import traceback
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+from app.interfaces.messages import Message
+from app.rosclient import process
+from rospy import core, names
+from rospy.exceptions import ROSException, ROSSerializationException
+
+
+def _check_class(data_class: Any, what: str) -> None:
+    if not (isinstance(data_class, type) and issubclass(data_class, Message)):
+        raise ValueError(f"{what}: data_class must be a message class (e.g. std_msgs.msg.String), got {data_class!r}")
+
+
+def _has_header(data_class: type[Message]) -> bool:
+    """genpy's _has_header: the message's first field is a std_msgs/Header named header."""
+    fields = data_class._fields
+    return bool(fields) and fields[0].name == "header" and fields[0].base == "std_msgs/Header"
+
+
+class SubscribeListener:
+    """rospy's hook for a publisher's peers; the lab tells a program of no peer, so it is never called."""
+
+    def peer_subscribe(self, topic_name: str, topic_publish: Callable[..., Any], peer_publish: Callable[..., Any]) -> None:
+        pass
+
+    def peer_unsubscribe(self, topic_name: str, num_peers: int) -> None:
+        pass
+
+
+class Topic:
+    """What Publisher and Subscriber share: the resolved name and the message class."""
+
+    def __init__(self, name: str, data_class: Any, what: str) -> None:
+        _check_class(data_class, what)
+        self.name = names.resolve_name(name)
+        self.resolved_name = self.name
+        self.data_class, self.type = data_class, data_class._type
+
+    def get_num_connections(self) -> int:
+        return 1
+
+
+class Publisher(Topic):
+    def __init__(
+        self,
+        name: str,
+        data_class: Any,
+        subscriber_listener: SubscribeListener | None = None,
+        tcp_nodelay: bool = False,
+        latch: bool = False,
+        headers: Any = None,
+        queue_size: int | None = None,
+    ) -> None:
+        super().__init__(name, data_class, "rospy.Publisher")
+        self.seq = 0
+        self._lock = threading.Lock()
+        self._has_header = _has_header(data_class)
+        process.advertise_once(self.name, self.type)
+
+    def publish(self, *args: Any, **kwds: Any) -> None:
+        if not core.is_initialized():
+            raise ROSException("ROS node has not been initialized yet. Please call init_node() first")
+        if process.shutdown_event.is_set():
+            raise ROSException("publish() to a closed topic")
+        if len(args) == 1 and not kwds and isinstance(args[0], Message):
+            msg = args[0]
+            if not isinstance(msg, self.data_class):
+                raise ROSSerializationException(f"expected [{self.type}] but got [{msg._type}]")
+        else:
+            try:
+                msg = self.data_class(*args, **kwds)
+            except TypeError as exc:
+                raise ROSSerializationException(str(exc)) from None
+        with self._lock:
+            self.seq += 1
+            if self._has_header:
+                msg.header.seq = self.seq
+            try:
+                data = msg.to_json()
+            except (TypeError, ValueError, AttributeError) as exc:
+                raise ROSSerializationException(str(exc)) from None
+            process.publish(self.name, self.type, data)
+
+    def unregister(self) -> None:
+        process.unadvertise(self.name)
+
+
+class Subscriber(Topic):
+    """Messages into a queue of `queue_size` (None: unbounded; full: the oldest dropped), handed to
+    the callback on this subscriber's own thread."""
+
+    def __init__(
+        self,
+        name: str,
+        data_class: Any,
+        callback: Callable[..., Any] | None = None,
+        callback_args: Any = None,
+        queue_size: int | None = None,
+        buff_size: int = 65536,
+        tcp_nodelay: bool = False,
+    ) -> None:
+        super().__init__(name, data_class, "rospy.Subscriber")
+        self.callback, self.callback_args = callback, callback_args
+        self.queue: deque[dict[str, Any]] = deque(maxlen=queue_size if queue_size and queue_size > 0 else None)
+        self.received = 0
+        self._ready = threading.Condition()
+        self._closed = False
+        threading.Thread(target=self._deliver, daemon=True, name=f"rospy-sub{self.name}").start()
+        self._sid = process.connection().subscribe(self.name, data_class._type, self._offer)
+
+    def _offer(self, data: dict[str, Any]) -> None:
+        with self._ready:
+            self.received += 1
+            self.queue.append(data)
+            self._ready.notify()
+
+    def _deliver(self) -> None:
+        while True:
+            with self._ready:
+                while not self.queue and not self._closed:
+                    self._ready.wait()
+                if self._closed:
+                    return
+                data = self.queue.popleft()
+            if self.callback is None:
+                continue
+            if process.shutdown_event.is_set():  # the program is ending: no new callback
+                return
+            try:
+                with process.running_callback():
+                    msg = self.data_class.from_json(data)
+                    if self.callback_args is None:
+                        self.callback(msg)
+                    else:
+                        self.callback(msg, self.callback_args)
+            except Exception:  # noqa: BLE001 - rospy logs a failing callback, the subscriber goes on
+                core.logerr("bad callback: %s\n%s", self.callback, traceback.format_exc())
+
+    def unregister(self) -> None:
+        with self._ready:
+            self._closed = True
+            self._ready.notify()
+        process.connection().unsubscribe(self.name, self._sid, self._offer)

@@ -1,0 +1,51 @@
+"""advertise / unadvertise (app/rosbridge/capabilities/advertise.py): a client's publisher of a topic
+lasts while one of the advertise ids that made it is not withdrawn, as rosbridge_suite counts them."""
+
+import pytest
+from fastapi.testclient import TestClient
+
+from app.api.app import create_app
+from tests.waiting import within
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app()) as c:
+        yield c
+
+
+def answered(ws, call_id: str) -> list[dict]:
+    """What came before the answer of a call made now (a connection's ops are handled in order)."""
+    ws.send_json({"op": "call_service", "id": call_id, "service": "/rosapi/get_time", "args": {}})
+    before = []
+    while (message := within(ws.receive_json, 30, f"the answer to {call_id}"))["op"] != "service_response":
+        before.append(message)
+    return before
+
+
+def test_the_publisher_ends_with_its_last_advertise_id(client):
+    with client.websocket_connect("/") as listener, client.websocket_connect("/") as talker:
+        listener.send_json({"op": "subscribe", "topic": "/two_ids", "type": "std_msgs/String"})
+        answered(listener, "subscribed")
+        for advertise_id in ("first", "second"):
+            talker.send_json({"op": "advertise", "id": advertise_id, "topic": "/two_ids", "type": "std_msgs/String"})
+        talker.send_json({"op": "unadvertise", "id": "first", "topic": "/two_ids"})
+        talker.send_json({"op": "publish", "topic": "/two_ids", "msg": {"data": "still published"}})
+        assert answered(talker, "after first") == []  # no refusal: "second" holds the publisher
+        message = within(listener.receive_json, 30, "the message published after the first unadvertise")
+        assert message["msg"] == {"data": "still published"}
+        talker.send_json({"op": "unadvertise", "id": "second", "topic": "/two_ids"})
+        talker.send_json({"op": "publish", "id": "late", "topic": "/two_ids", "msg": {"data": "refused"}})
+        refused = answered(talker, "after second")
+        assert [m["msg"] for m in refused] == ["publish: advertise /two_ids first (op advertise with its type)"]
+
+
+def test_an_unadvertise_without_an_id_withdraws_them_all(client):
+    with client.websocket_connect("/") as talker:
+        for advertise_id in ("a", "b"):
+            talker.send_json({"op": "advertise", "id": advertise_id, "topic": "/all_ids", "type": "std_msgs/String"})
+        talker.send_json({"op": "unadvertise", "topic": "/all_ids"})
+        talker.send_json({"op": "publish", "topic": "/all_ids", "msg": {"data": "refused"}})
+        assert [m["msg"] for m in answered(talker, "after")] == [
+            "publish: advertise /all_ids first (op advertise with its type)"
+        ]

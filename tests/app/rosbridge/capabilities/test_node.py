@@ -1,0 +1,67 @@
+"""The node op (app/rosbridge/capabilities/node.py): a client's node names are what rosapi, a
+service's info, errors and /rosout show; a bad or the lab's own name is refused naming the field."""
+
+import pytest
+from fastapi.testclient import TestClient
+
+from app.api.app import create_app
+from tests.waiting import wait_for, within
+
+
+@pytest.fixture(scope="module")
+def client():
+    with TestClient(create_app()) as c:
+        yield c
+
+
+def call(ws, service: str, args: dict, call_id: str = "c") -> dict:
+    ws.send_json({"op": "call_service", "id": call_id, "service": service, "args": args})
+    while (message := within(ws.receive_json, 30, f"the answer of {service}"))["op"] != "service_response":
+        pass
+    return message
+
+
+def test_a_named_node_is_what_rosapi_services_and_rosout_show(client):
+    with client.websocket_connect("/") as ws:
+        ws.send_json({"op": "node", "name": "/tutorial/talker"})
+        ws.send_json({"op": "node", "name": "/tutorial/listener"})  # a second node of the same program
+        ws.send_json({"op": "advertise_service", "service": "/named_echo", "type": "std_srvs/Trigger"})
+        nodes = call(ws, "/rosapi/nodes", {})["values"]["nodes"]
+        assert "/tutorial/talker" in nodes and "/tutorial/listener" in nodes
+        assert not any(n.startswith("/rosbridge_client_") for n in nodes)
+        details = call(ws, "/rosapi/node_details", {"node": "/tutorial/listener"})["values"]
+        assert details["services"] == ["/named_echo"]
+        assert client.get("/services/named_echo").json()["node"] == "/tutorial/talker"
+        ws.send_json({"op": "advertise", "topic": "/rosout", "type": "rosgraph_msgs/Log"})
+        ws.send_json({"op": "publish", "topic": "/rosout", "msg": {"level": 2, "msg": "hello from a named node"}})
+        logged = wait_for(lambda: [e for e in client.get("/log").json() if e["msg"] == "hello from a named node"])
+        assert logged[0]["node"] == "/tutorial/talker"
+    assert wait_for(lambda: client.get("/services/named_echo").status_code == 404)  # gone with its node
+
+
+def test_a_second_provider_is_refused_naming_the_node_that_has_the_name(client):
+    with client.websocket_connect("/") as first, client.websocket_connect("/") as second:
+        first.send_json({"op": "node", "name": "/first_server"})
+        first.send_json({"op": "advertise_service", "service": "/taken", "type": "std_srvs/Trigger"})
+        call(first, "/rosapi/get_time", {})
+        second.send_json({"op": "advertise_service", "id": "again", "service": "/taken", "type": "std_srvs/Trigger"})
+        refusal = within(second.receive_json, 30, "the refusal")
+        assert refusal["id"] == "again" and "already provided by node /first_server" in refusal["msg"]
+
+
+@pytest.mark.parametrize(
+    "name, says",
+    [
+        ("/hri_lab", "node: /hri_lab is the lab's own node"),
+        ("/bad name", "field 'name' must be a ROS name"),
+        ("/1talker", "field 'name' must be a ROS node name"),
+        (7, "field 'name'"),
+    ],
+)
+def test_a_bad_node_name_is_refused_naming_the_field(client, name, says):
+    with client.websocket_connect("/") as ws:
+        ws.send_json({"op": "node", "id": "n", "name": name})
+        refusal = within(ws.receive_json, 30, "the refusal")
+        assert refusal["op"] == "status" and says in refusal["msg"], refusal
+        nodes = call(ws, "/rosapi/nodes", {})["values"]["nodes"]
+        assert nodes.count("/hri_lab") == 1 and any(n.startswith("/rosbridge_client_") for n in nodes)  # unnamed

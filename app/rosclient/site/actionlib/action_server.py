@@ -111,13 +111,15 @@ class ActionServer:
 
     def _new_goal(self, goal_id: Any, goal: Any, origin: actions.ServedGoal | None) -> None:
         with self.lock:
+            if not goal_id.stamp.to_nsec():  # actionlib: a goal sent without a time is stamped on arrival
+                goal_id.stamp = rospy.Time.now()
             if not goal_id.id:
                 goal_id.id = f"{rospy.get_name()}-{uuid.uuid4().hex[:8]}-{goal_id.stamp.to_sec():.3f}"
             if goal_id.id in self.handles:  # a goal sent twice is the one goal
                 return
             handle = ServerGoalHandle(self, goal_id, goal, origin)
             self.handles[goal_id.id] = handle
-            if goal_id.stamp.to_nsec() and goal_id.stamp.to_nsec() <= self.last_cancel_ns:
+            if goal_id.stamp.to_nsec() <= self.last_cancel_ns:
                 handle.set_canceled(None, "This goal handle was canceled by the action server because its "
                                     "timestamp is before the timestamp of the last cancel request")  # fmt: skip
                 return

@@ -153,6 +153,8 @@ class Stamp:
     """builtin_interfaces/Time and Duration also answer rospy's Time API (secs, nsecs, to_sec)."""
 
     __slots__ = ()
+    sec: int  # the message's fields (its class's slots)
+    nanosec: int
 
     @property
     def secs(self) -> int:
@@ -160,7 +162,7 @@ class Stamp:
 
     @secs.setter
     def secs(self, value: int) -> None:
-        self.sec = value
+        self.sec = value  # the subclass's slot
 
     @property
     def nsecs(self) -> int:

@@ -162,7 +162,7 @@ class Interfaces:
             self._message(package, name + s, section, path, f"{package}/{name}{s}", f"{package}/{kind}/{name}_{s}")
             for s, section in zip(suffixes, parts_text)
         ]
-        namespace = {s: cls for s, cls in zip(suffixes, parts)}
+        namespace: dict[str, Any] = {s: cls for s, cls in zip(suffixes, parts)}
         namespace.update(
             _type=f"{package}/{name}",
             _ros2_type=f"{package}/{kind}/{name}",

@@ -167,7 +167,9 @@ def _literal(scalar: str, text: str, where: str, package: str) -> Any:
 
 def sections(text: str) -> list[tuple[str, int]]:
     """The text split at '---' lines, each with the number of its first line."""
-    sections, current, first = [], [], 1
+    sections: list[tuple[str, int]] = []
+    current: list[str] = []
+    first = 1
     for number, line in enumerate(text.splitlines(), 1):
         if line.strip() == "---":
             sections.append(("\n".join(current), first))

@@ -35,7 +35,9 @@ def lab_definitions() -> dict[Path, str]:
 def on_disk() -> dict[Path, str]:
     """The generated kinds' files as they are now."""
     folder = SHARE / LAB_PACKAGE
-    return {p: p.read_text(encoding="utf-8") for kind in GENERATED_KINDS for p in sorted((folder / kind).glob(f"*.{kind}"))}
+    return {
+        p: p.read_text(encoding="utf-8") for kind in GENERATED_KINDS for p in sorted((folder / kind).glob(f"*.{kind}"))
+    }
 
 
 def write() -> list[Path]:

@@ -19,9 +19,9 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, Field, create_model
 
-from app.ros.messages import RosMessage, RosType, integral
 from app.interfaces.packages import SEPARATOR, carried
 from app.interfaces.parser import BYTES, FLOATS, INTEGERS, DefinitionError
+from app.ros.messages import RosMessage, RosType, integral
 
 MAX_TEXT = 65_536  # characters of a carried definition
 MAX_STRING = 10_000  # characters of an unbounded string field (as the lab's own String)

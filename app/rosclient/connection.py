@@ -235,25 +235,25 @@ class Connection:
         op = message.get("op")
         if op == "publish":
             with self._lock:
-                handlers = list(self.topic_handlers.get(message.get("topic"), ()))
+                handlers = list(self.topic_handlers.get(str(message.get("topic")), ()))
             for handler in handlers:
                 handler(message.get("msg") or {})
         elif op == "service_response":
             with self._lock:
-                future = self._calls.pop(message.get("id"), None)
+                future = self._calls.pop(str(message.get("id")), None)
             if future is not None and not future.done():
                 future.set_result((bool(message.get("result", True)), message.get("values")))
         elif op == "call_service":
-            handler = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
-            if handler is not None:
-                handler(message)
+            serve = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
+            if serve is not None:
+                serve(message)
             else:
-                self.service_response(message.get("id"), message.get("service"), "no such service here", False)
+                self.service_response(message.get("id"), str(message.get("service")), "no such service here", False)
         elif op in ("action_feedback", "action_result"):
             with self._lock:
-                entry = self._goals.get(message.get("id"))
+                entry = self._goals.get(str(message.get("id")))
                 if op == "action_result":
-                    self._goals.pop(message.get("id"), None)
+                    self._goals.pop(str(message.get("id")), None)
             if entry is not None:
                 entry[0 if op == "action_feedback" else 1](message)
         elif op in ("send_action_goal", "cancel_action_goal"):

@@ -253,8 +253,9 @@ class Reader:
             data = yaml.safe_load(text) or {}
         except yaml.YAMLError as exc:
             raise self.fail(f"<rosparam>: not YAML ({exc})") from None
-        if element.get("param"):
-            return {element.get("param"): data}
+        param = element.get("param")
+        if param:
+            return {param: data}
         if not isinstance(data, dict):
             raise self.fail("<rosparam> without param= must hold a YAML mapping")
         return data
@@ -299,6 +300,7 @@ class Running:
         threading.Thread(target=self._relay, daemon=True).start()
 
     def _relay(self) -> None:
+        assert self.proc.stdout is not None  # started with stdout=PIPE
         with open(self.log, "w", encoding="utf-8") as log:
             for line in self.proc.stdout:
                 log.write(line)

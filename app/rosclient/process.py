@@ -35,9 +35,7 @@ def ensure_interfaces() -> None:
     from app.rosclient import interfaces
 
     if not any(isinstance(f, interfaces.Finder) for f in sys.meta_path):
-        interfaces.install(
-            interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE"))
-        )
+        interfaces.install(interfaces.workspace_roots(Path(sys.argv[0] or "."), os.environ.get("HRI_LAB_WORKSPACE")))
 
 
 def use_ros1() -> None:

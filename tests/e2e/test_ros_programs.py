@@ -320,8 +320,8 @@ def test_grade_services_grades_rospy_and_rclpy_programs(lab):
 
 
 def test_every_lab_topic_is_a_message_of_its_declared_type(lab):
-    from app.lab.topics import TOPICS
     from app.interfaces.packages import Interfaces
+    from app.lab.topics import TOPICS
 
     interfaces = Interfaces([])
     for topic in TOPICS:

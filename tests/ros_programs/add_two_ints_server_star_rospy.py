@@ -2,8 +2,8 @@
 """The rospy tutorial's service, as it is written: a star import of the package's srv module
 (genpy's AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse)."""
 
-from beginner_tutorials.srv import *
 import rospy
+from beginner_tutorials.srv import *
 
 
 def handle_add_two_ints(req):
@@ -13,7 +13,7 @@ def handle_add_two_ints(req):
 
 def add_two_ints_server():
     rospy.init_node("add_two_ints_server")
-    s = rospy.Service("add_two_ints", AddTwoInts, handle_add_two_ints)
+    rospy.Service("add_two_ints", AddTwoInts, handle_add_two_ints)
     try:
         rospy.Service("add_two_ints", AddTwoInts, handle_add_two_ints)
     except rospy.ServiceException as e:

@@ -9,12 +9,12 @@ import json
 import math
 from typing import Any
 
+from app.interfaces.image_windows import WINDOWS
 from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
-from app.interfaces.image_windows import WINDOWS
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 

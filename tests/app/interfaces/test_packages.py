@@ -108,8 +108,8 @@ def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interface
     field, with the text's defaults, ranges, array lengths and nested messages."""
     from pydantic import ValidationError
 
-    from app.ros.interface_models import BadDefinition, fields, own_text, service_models
     from app.interfaces.packages import full_text
+    from app.ros.interface_models import BadDefinition, fields, own_text, service_models
 
     text = full_text(interfaces.get("cpp_package", "srv", "ScalePoint"))
     assert "MSG: geometry_msgs/Point" in text and "MSG: cpp_package/Note" in text

@@ -24,8 +24,8 @@ def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
         srv = importlib.import_module("cpp_package.srv")
         assert srv.MultiplyThreeRequest(1, 2, 3).c == 3
 
-        namespace: dict = {}
-        exec("from cpp_package.srv import *\nfrom cpp_package.msg import *", namespace)  # genpy's modules' names
+        # what `from cpp_package.srv import *` and `from cpp_package.msg import *` bind: each name of __all__
+        namespace = {name: getattr(module, name) for module in (srv, msg) for name in module.__all__}
         assert {"MultiplyThree", "MultiplyThreeRequest", "MultiplyThreeResponse"} <= set(namespace)
         assert namespace["MultiplyThreeResponse"] is srv.MultiplyThree.Response
         assert {"CountingAction", "CountingActionGoal", "CountingActionResult", "CountingActionFeedback",

@@ -12,6 +12,8 @@ import threading
 import time
 from typing import Any
 
+from genpy import TVal
+
 from app.rosclient import process
 from app.rosclient.connection import RosbridgeError
 from rospy import core, names
@@ -93,7 +95,7 @@ def get_published_topics(namespace: str = "/") -> list[list[str]]:
     return [[t, ty] for t, ty in zip(answer.get("topics", []), answer.get("types", [])) if t.startswith(prefix)]
 
 
-def wait_for_message(topic: str, topic_type: Any, timeout: float | None = None) -> Any:
+def wait_for_message(topic: str, topic_type: Any, timeout: float | TVal | None = None) -> Any:
     from rospy.topics import Subscriber
 
     got: list[Any] = []
@@ -104,7 +106,7 @@ def wait_for_message(topic: str, topic_type: Any, timeout: float | None = None) 
             got.append(msg)
             event.set()
 
-    seconds = timeout.to_sec() if hasattr(timeout, "to_sec") else timeout
+    seconds = timeout.to_sec() if isinstance(timeout, TVal) else timeout
     sub = Subscriber(topic, topic_type, take)
     try:
         if not event.wait(seconds) or not got:

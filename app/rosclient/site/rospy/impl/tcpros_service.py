@@ -9,6 +9,8 @@ import traceback
 from collections.abc import Callable
 from typing import Any
 
+from genpy import TVal
+
 from app.interfaces.messages import Message
 from app.interfaces.packages import full_text
 from app.rosclient import process
@@ -30,10 +32,10 @@ def _service_class(service_class: Any, what: str) -> Any:
     return service_class
 
 
-def wait_for_service(service: str, timeout: float | None = None) -> None:
+def wait_for_service(service: str, timeout: float | TVal | None = None) -> None:
     """Block until the service is advertised in the lab; ROSException after `timeout` s."""
     name = names.resolve_name(service)
-    seconds = timeout.to_sec() if hasattr(timeout, "to_sec") else timeout
+    seconds = timeout.to_sec() if isinstance(timeout, TVal) else timeout
     if not process.wait_until(lambda: name in process.service_names(), seconds):
         if process.shutdown_event.is_set():
             raise ROSInterruptException("rospy shutdown")
@@ -64,7 +66,7 @@ class ServiceProxy:
         except (TypeError, ValueError) as exc:
             raise ServiceException(f"service [{self.resolved_name}] answered with a bad response: {exc}") from None
 
-    def wait_for_service(self, timeout: float | None = None) -> None:
+    def wait_for_service(self, timeout: float | TVal | None = None) -> None:
         wait_for_service(self.resolved_name, timeout)
 
     def close(self) -> None:

@@ -8,7 +8,11 @@
    messages that reached the callback, and of those that were dropped on the way (server queue,
    client queue);
 3. a program's start-up time: from `hri-lab run` to its first request served (the lab answers
-   404 "not provided yet" until the program has advertised the service).
+   404 "not provided yet" until the program has advertised the service); and what a program's
+   `from hri_lab.srv import DivideInts` costs in a fresh interpreter, against the import of the
+   lab's declarations that it took before the hri_lab files shipped (app/lab/interface_files.py);
+4. the same service called by another rospy program (bench/ros_service_caller.py) through
+   rospy.ServiceProxy, one call at a time: p50/p99 (ms).
 
     .venv/bin/python -m bench.ros_programs [--calls 1000] [--seconds 10]
 
@@ -31,6 +35,15 @@ from app.cli.launch import running_server
 ROOT = Path(__file__).resolve().parent.parent
 SERVER = ROOT / "tests" / "ros_programs" / "add_two_ints_server_rospy.py"
 SUBSCRIBER = Path(__file__).resolve().parent / "ros_fext_subscriber.py"
+CALLER = Path(__file__).resolve().parent / "ros_service_caller.py"
+# a fresh interpreter's import, timed inside it: a program's hri_lab import now, and what it took before
+HRI_LAB_IMPORT = (
+    "import time; t = time.perf_counter(); from app.rosclient import interfaces; interfaces.install([]); "
+    "from hri_lab.srv import DivideInts; print(time.perf_counter() - t)"
+)
+DECLARATIONS_IMPORT = (
+    "import time; t = time.perf_counter(); import app.lab.services, app.lab.actions; print(time.perf_counter() - t)"
+)
 
 
 def hri_lab_run(url: str, program: Path, *args: str) -> subprocess.Popen:
@@ -81,6 +94,29 @@ def startup_and_latency(url: str, calls: int) -> tuple[float, list[float]]:
         stop(program)
 
 
+def import_seconds(code: str, runs: int = 5) -> float:
+    """The median of `runs` fresh interpreters' own timing of `code`."""
+    times = [
+        float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True).stdout)
+        for _ in range(runs)
+    ]
+    return statistics.median(times)
+
+
+def program_to_program(url: str, calls: int) -> list[float]:
+    server = hri_lab_run(url, SERVER)
+    try:
+        out, _ = hri_lab_run(url, CALLER, str(calls)).communicate(timeout=calls + 120)
+    finally:
+        stop(server)
+    line = next((x for x in out.splitlines() if x.startswith("{")), None)
+    if line is None:
+        raise RuntimeError("the caller printed no result:\n" + out)
+    import json
+
+    return list(json.loads(line)["latencies_ms"])
+
+
 def fext(url: str, seconds: float) -> dict:
     program = hri_lab_run(url, SUBSCRIBER, str(seconds))
     out, _ = program.communicate(timeout=seconds + 120)
@@ -104,6 +140,16 @@ def main(argv: list[str] | None = None) -> None:
             f"p99 {percentile(latencies, 0.99):.2f} ms, mean {statistics.fmean(latencies):.2f} ms"
         )
         print(f"start-up: `hri-lab run` to the first request served: {first:.2f} s")
+        print(
+            f"a program's `from hri_lab.srv import DivideInts` (fresh interpreter, median of 5): "
+            f"{import_seconds(HRI_LAB_IMPORT) * 1e3:.0f} ms; the lab's declarations it imported before the files "
+            f"shipped: {import_seconds(DECLARATIONS_IMPORT) * 1e3:.0f} ms"
+        )
+        between = program_to_program(lab.url, args.calls)
+        print(
+            f"rospy service called by another rospy program ({args.calls} calls, one at a time): "
+            f"p50 {percentile(between, 0.5):.2f} ms, p99 {percentile(between, 0.99):.2f} ms"
+        )
         figures = fext(lab.url, args.seconds)
         published = figures["published"]
         print(

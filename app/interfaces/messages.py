@@ -67,10 +67,11 @@ class Message:
     def from_json(cls, data: Any) -> Message:
         if not isinstance(data, dict):
             raise TypeError(f"{cls._type}: expected a JSON object, got {type(data).__name__}")
-        out = cls()
+        out = cls.__new__(cls)  # each field set once: from the data, else its default
+        setter = object.__setattr__
         for f in cls._fields:
-            if f.name in data and data[f.name] is not None:
-                object.__setattr__(out, f.attr, _from_json(f, data[f.name]))
+            value = data.get(f.name)
+            setter(out, f.attr, f.zero() if value is None else _from_json(f, value))
         return out
 
 

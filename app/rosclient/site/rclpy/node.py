@@ -274,6 +274,7 @@ class Node:
         self._clock = Clock()
         self._lock = threading.RLock()
         self._entities: list[Any] = []
+        process.declare_node(self.get_fully_qualified_name())  # the name the lab shows (rosapi, errors, /rosout)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._overrides.items():
                 self.declare_parameter(name, value)

@@ -18,7 +18,7 @@ from rospy import names
 DEBUG, INFO, WARN, ERROR, FATAL = 1, 2, 4, 8, 16  # rosgraph_msgs/Log levels
 _LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
 
-_state: dict[str, Any] = {"initialized": False, "level": INFO, "rosout": True}
+_state: dict[str, Any] = {"initialized": False, "level": INFO, "rosout": True, "topics_closed": False}
 _shutdown_hooks: list[Callable[..., Any]] = []
 _hooks_lock = threading.Lock()
 
@@ -47,7 +47,8 @@ def on_shutdown(hook: Callable[..., Any]) -> None:
 
 
 def signal_shutdown(reason: str) -> None:
-    """The node ends: spin() returns, sleep() raises ROSInterruptException, the hooks run."""
+    """The node ends: spin() returns, sleep() raises ROSInterruptException, the hooks run, then
+    the topics close (as rospy, a hook may still publish: its message goes out)."""
     if process.shutdown_event.is_set():
         return
     process.shutdown(reason)
@@ -58,6 +59,11 @@ def signal_shutdown(reason: str) -> None:
             hook()
         except Exception:  # noqa: BLE001 - rospy logs a failing hook and goes on
             traceback.print_exc()
+    _state["topics_closed"] = True
+
+
+def topics_closed() -> bool:
+    return bool(_state["topics_closed"])
 
 
 def get_node_uri() -> str:

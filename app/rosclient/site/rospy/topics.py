@@ -75,7 +75,7 @@ class Publisher(Topic):
     def publish(self, *args: Any, **kwds: Any) -> None:
         if not core.is_initialized():
             raise ROSException("ROS node has not been initialized yet. Please call init_node() first")
-        if process.shutdown_event.is_set():
+        if core.topics_closed() or not process.connected():
             raise ROSException("publish() to a closed topic")
         if len(args) == 1 and not kwds and isinstance(args[0], Message):
             msg = args[0]

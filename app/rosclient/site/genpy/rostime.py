@@ -78,6 +78,16 @@ class TVal:
     def __str__(self) -> str:  # genpy prints nanoseconds
         return str(self.to_nsec())
 
+def _is_time(value: Any) -> bool:
+    """A genpy Time, or a message's `time` field (builtin_interfaces/Time, with secs and nsecs)."""
+    return isinstance(value, Time) or getattr(value, "_type", None) == "builtin_interfaces/Time"
+
+
+def _is_duration(value: Any) -> bool:
+    """A genpy Duration, or a message's `duration` field (builtin_interfaces/Duration)."""
+    return isinstance(value, Duration) or getattr(value, "_type", None) == "builtin_interfaces/Duration"
+
+
 class Time(TVal):
     """A point in time; never negative (genpy's ValueError)."""
 
@@ -88,17 +98,17 @@ class Time(TVal):
             raise ValueError("time values must be positive")
         return divmod(total, 10**9)
 
-    def __add__(self, other: Duration) -> Time:
-        if not isinstance(other, Duration):
+    def __add__(self, other: Any) -> Time:
+        if not _is_duration(other):
             return NotImplemented
         return type(self)(0, self.to_nsec() + other.to_nsec())
 
     __radd__ = __add__
 
     def __sub__(self, other: Any) -> Any:
-        if isinstance(other, Time):
+        if _is_time(other):
             return Duration(0, self.to_nsec() - other.to_nsec())
-        if isinstance(other, Duration):
+        if _is_duration(other):
             return type(self)(0, self.to_nsec() - other.to_nsec())
         return NotImplemented
 
@@ -114,14 +124,14 @@ class Duration(TVal):
     def __add__(self, other: Any) -> Any:
         if isinstance(other, Time):
             return other + self
-        if isinstance(other, Duration):
+        if _is_duration(other):
             return type(self)(0, self.to_nsec() + other.to_nsec())
         return NotImplemented
 
     __radd__ = __add__
 
-    def __sub__(self, other: Duration) -> Duration:
-        if not isinstance(other, Duration):
+    def __sub__(self, other: Any) -> Duration:
+        if not _is_duration(other):
             return NotImplemented
         return type(self)(0, self.to_nsec() - other.to_nsec())
 

@@ -30,6 +30,8 @@ READ_ONLY = {
     "/rosapi/message_details",
     "/rosapi/nodes",
     "/rosapi/node_details",
+    "/rosapi/publishers",
+    "/rosapi/subscribers",
     "/rosapi/get_param_names",
     "/rosapi/get_param",
     "/rosapi/has_param",
@@ -292,6 +294,12 @@ def call(bridge, session, name: str, args: dict) -> dict:
             "types": list(topics.values()),
             "typedefs_full_text": [texts.get(t, "") for t in topics],
         }
+    if name in ("/rosapi/publishers", "/rosapi/subscribers"):  # the nodes on a topic, as rosapi names them
+        topic = "/" + str(args.get("topic", "")).strip("/")
+        if name == "/rosapi/subscribers":
+            return {"subscribers": [s.name for s in bridge.sessions if topic in s.streams]}
+        lab = [LAB_NODE] if topic in bridge.topics or topic == rosout.TOPIC else []
+        return {"publishers": lab + [s.name for s in bridge.sessions if topic in s.publishing]}
     if name == "/rosapi/nodes":
         return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
     if name == "/rosapi/node_details":

@@ -102,3 +102,20 @@ def test_a_simple_action_server_is_reached_over_its_topics_and_by_a_rospy_client
         assert "Result: 0, 1, 1, 2, 3, 5, 8" in rospy_client.output
     finally:
         server.interrupt()
+
+
+def test_a_subscribe_listener_hears_of_each_peer(lab, ros):
+    program = run(lab.url, "subscribe_notify_rospy.py")
+    heard: list = []
+    topic = roslibpy.Topic(ros, "/chatter_peers", "std_msgs/String")
+    try:
+        program.wait_for_line("publishing")
+        topic.subscribe(heard.append)
+        program.wait_for_line("a peer subscribed to topic [/chatter_peers]")
+        assert wait_for(lambda: heard) == [{"data": "greetings. welcome to topic /chatter_peers"}]
+        assert len(rosapi(ros, "subscribers", {"topic": "/chatter_peers"})["subscribers"]) == 1  # roslibpy
+        topic.unsubscribe()
+        program.wait_for_line("a peer unsubscribed from topic [/chatter_peers], 0 left")
+        assert rosapi(ros, "publishers", {"topic": "/chatter_peers"})["publishers"] == ["/talker_callback"]
+    finally:
+        program.interrupt()

@@ -33,7 +33,9 @@ def _has_header(data_class: type[Message]) -> bool:
 
 
 class SubscribeListener:
-    """rospy's hook for a publisher's peers; the lab tells a program of no peer, so it is never called."""
+    """rospy's hook for a publisher's peers: `peer_subscribe` when a node subscribes to the topic,
+    `peer_unsubscribe` when one leaves (with how many are left). The lab cannot address one
+    subscriber, so `peer_publish` publishes to all of them, as `topic_publish` does."""
 
     def peer_subscribe(self, topic_name: str, topic_publish: Callable[..., Any], peer_publish: Callable[..., Any]) -> None:
         pass
@@ -52,7 +54,13 @@ class Topic:
         self.data_class, self.type = data_class, data_class._type
 
     def get_num_connections(self) -> int:
-        return 1
+        """How many nodes subscribe to the topic now (the lab's rosapi)."""
+        return len(_subscribers(self.name))
+
+
+def _subscribers(topic: str) -> list[str]:
+    answer = process.connection().call_service("/rosapi/subscribers", {"topic": topic}, timeout=10)
+    return list(answer.get("subscribers", []))
 
 
 class Publisher(Topic):
@@ -71,6 +79,24 @@ class Publisher(Topic):
         self._lock = threading.Lock()
         self._has_header = _has_header(data_class)
         process.advertise_once(self.name, self.type)
+        if subscriber_listener is not None:
+            threading.Thread(
+                target=self._watch_peers, args=(subscriber_listener,), daemon=True, name=f"rospy-peers{self.name}"
+            ).start()
+
+    def _watch_peers(self, listener: SubscribeListener) -> None:
+        """The listener's calls as subscribers come and go (the lab's subscriber list, looked at every POLL s)."""
+        peers = 0
+        while not process.shutdown_event.wait(process.POLL):
+            try:
+                now = len(_subscribers(self.name))
+            except Exception:  # noqa: BLE001 - the lab is going away: the program ends anyway
+                return
+            for _ in range(now - peers):
+                listener.peer_subscribe(self.name, self.publish, self.publish)
+            if now < peers:
+                listener.peer_unsubscribe(self.name, now)
+            peers = now
 
     def publish(self, *args: Any, **kwds: Any) -> None:
         if not core.is_initialized():

@@ -163,7 +163,7 @@ class Stamp:
 
     @secs.setter
     def secs(self, value: int) -> None:
-        self.sec = value  # the subclass's slot
+        object.__setattr__(self, "sec", value)  # the message class's slot
 
     @property
     def nsecs(self) -> int:
@@ -171,7 +171,7 @@ class Stamp:
 
     @nsecs.setter
     def nsecs(self, value: int) -> None:
-        self.nanosec = value
+        object.__setattr__(self, "nanosec", value)
 
     def to_sec(self) -> float:
         return self.sec + self.nanosec * 1e-9

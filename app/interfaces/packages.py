@@ -112,7 +112,8 @@ class Interfaces:
                     setattr(message, part, getattr(made, part))
                 for part in ("ActionGoal", "ActionResult", "ActionFeedback"):
                     setattr(message, part, self.get(package, "msg", stem + part))
-                message._action_type = made._ros2_type
+                spec: Any = message  # a message class that is also actionlib's ActionSpec
+                spec._action_type = made._ros2_type
             return message
         return None
 

@@ -67,3 +67,34 @@ def test_cv_bridge_converts_images_as_cv_bridge_does():
             m for m in sys.modules if m.split(".")[0] in ("cv_bridge", "sensor_msgs", "std_msgs", "builtin_interfaces")
         ]:
             del sys.modules[name]
+
+
+def test_point_cloud2_packs_and_reads_points_as_ros1s_module():
+    import math
+    import sys
+
+    from app.rosclient import boot
+    from app.rosclient.interfaces import Finder
+
+    finder = Finder(Interfaces([]))
+    sys.meta_path.insert(0, finder)
+    sys.path.insert(0, str(boot.SITE))
+    try:
+        from sensor_msgs import point_cloud2
+        from sensor_msgs.msg import PointCloud2, PointField
+        from std_msgs.msg import Header
+
+        cloud = point_cloud2.create_cloud_xyz32(Header(frame_id="map"), [(1.0, 2.0, 3.0), (0.5, math.nan, -1.0)])
+        assert (cloud.width, cloud.height, cloud.point_step, cloud.row_step) == (2, 1, 12, 24)
+        assert cloud.data[:4] == bytes.fromhex("0000803f")  # 1.0 as a little-endian float32
+        sent = PointCloud2.from_json(cloud.to_json())  # through rosbridge's JSON (data as base64)
+        assert list(point_cloud2.read_points(sent, skip_nans=True)) == [(1.0, 2.0, 3.0)]
+        assert point_cloud2.read_points_list(sent, field_names=["z"])[1].z == -1.0
+        rgb = [PointField("x", 0, PointField.FLOAT32, 1), PointField("rgb", 8, PointField.UINT32, 1)]  # a gap
+        packed = point_cloud2.create_cloud(Header(), rgb, [(0.25, 0xFF0000)])
+        assert packed.point_step == 12 and list(point_cloud2.read_points(packed)) == [(0.25, 0xFF0000)]
+    finally:
+        sys.path.remove(str(boot.SITE))
+        sys.meta_path.remove(finder)
+        for name in [m for m in sys.modules if m.split(".")[0] in ("sensor_msgs", "std_msgs", "builtin_interfaces")]:
+            del sys.modules[name]

@@ -3,13 +3,23 @@ moved as actionlib's state machine allows (a transition it does not allow is log
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+import threading
+from typing import Any, Protocol
 
 import rospy
 from actionlib_msgs.msg import GoalID, GoalStatus
 
-if TYPE_CHECKING:
-    from actionlib.action_server import ActionServer
+
+class ActionServer(Protocol):
+    """What a handle asks of the server that tracks it (actionlib/action_server.py)."""
+
+    lock: threading.RLock
+
+    def publish_status(self) -> None: ...
+
+    def publish_result(self, handle: ServerGoalHandle, result: Any) -> None: ...
+
+    def publish_feedback(self, handle: ServerGoalHandle, feedback: Any) -> None: ...
 
 PENDING, ACTIVE, PREEMPTED, SUCCEEDED = GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED
 ABORTED, REJECTED, PREEMPTING = GoalStatus.ABORTED, GoalStatus.REJECTED, GoalStatus.PREEMPTING

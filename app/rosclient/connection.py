@@ -64,6 +64,7 @@ class Connection:
         self._lock = threading.Lock()
         self._calls: dict[str, Future] = {}
         self._goals: dict[str, tuple[Callable, Callable]] = {}  # id -> (on_feedback, on_result)
+        self._refusals: dict[str, str] = {}  # advertise_service id -> the lab's error ('' none yet)
         self.topic_handlers: dict[str, list[Callable[[dict], None]]] = {}
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
@@ -134,15 +135,23 @@ class Connection:
 
     def advertise_service(
         self, name: str, type_name: str, handler: Callable[[dict], None], definition: str | None = None
-    ) -> None:
+    ) -> str:
         """Provide `name`; `definition` is the .srv text with its nested messages' (interfaces.full_text),
-        which the lab shows and checks requests against (an extra field rosbridge_suite ignores)."""
+        which the lab shows and checks requests against (an extra field rosbridge_suite ignores).
+        Returns the lab's refusal ('' when it took the service; '' too from the reader thread, which
+        cannot wait for the answer)."""
         self.service_handlers[name] = handler
-        message = {"op": "advertise_service", "service": name, "type": type_name}
+        advertise_id = self.next_id(f"advertise_service:{name}")
+        message = {"op": "advertise_service", "id": advertise_id, "service": name, "type": type_name}
         if definition is not None:
             message["definition"] = definition
+        self._refusals[advertise_id] = ""
         self.send(message)
         self.sync()  # as rospy.Service returns once the master has registered it
+        refusal = self._refusals.pop(advertise_id, "")
+        if refusal and self.service_handlers.get(name) is handler:
+            del self.service_handlers[name]
+        return refusal
 
     def sync(self, timeout: float = 10.0) -> None:
         """Return once the lab has handled every op sent before: one round trip on this connection
@@ -244,7 +253,10 @@ class Connection:
             if id_ == "rosout":
                 if message.get("level") == "error":
                     self.rosout_refused(str(message.get("msg")))
-            elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
+                return
+            if id_ in self._refusals and message.get("level") == "error":
+                self._refusals[id_] = str(message.get("msg"))
+            if not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
                 self.status_handler(message)
 
     def _lost(self, reason: str) -> None:

@@ -343,18 +343,24 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
         )
         path.write_text(printed.stdout)
         assert f"import {api}" in printed.stdout
-    programs = []
+    # one after the other: both provide /start_cooperative_lifting, a name one node at a time provides
+    # (rclpy's create_service raises RCLError for a name another node provides)
+    program = run(lab.url, str(services))
     try:
-        for path in (services, lifting):
-            programs.append(run(lab.url, str(path)))
-            programs[-1].wait_for_line("node ready")
+        program.wait_for_line("node ready")
         assert call(lab, "add_two_ints", {"a": 2, "b": 3}).json() == {"sum": 5}
         assert call(lab, "divide_ints", {"a": 7, "b": 2}).status_code == 200  # TODO: wrong, well-formed
         assert call(lab, "compute_wrench", {"torques": [0.0] * 7}).status_code == 200
+    finally:
+        program.interrupt()
+    wait_for(lambda: http.get(f"{lab.url}/services/start_cooperative_lifting").json()["node"] == "/hri_lab")
+    program = run(lab.url, str(lifting))
+    try:
+        program.wait_for_line("node ready")
         wait_for(lambda: http.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node")
     finally:
-        for program in programs:
-            program.interrupt()
+        program.interrupt()
+    wait_for(lambda: http.get(f"{lab.url}/services/start_cooperative_lifting").json()["node"] == "/hri_lab")
     http.post(f"{lab.url}/services/error_recovery")
 
 

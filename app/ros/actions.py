@@ -8,7 +8,8 @@ publishes feedback with `handle.feedback(...)`, checks `handle.cancel_requested`
 with `handle.wait(s)`, which wakes on cancel) and returns the result. Returning while a cancel
 is requested ends PREEMPTED; raising `GoalFailure` ends ABORTED with its message (any other
 exception: ABORTED with its type and message); raising `GoalPreempted(result)` ends PREEMPTED with
-that result; returning ends SUCCEEDED. An action may declare
+that result; raising `GoalSucceeded(result)` ends SUCCEEDED whatever was requested; returning
+ends SUCCEEDED. An action may declare
 `precondition(lab, goal) -> reason or None`: a goal that cannot run now is REJECTED up front (409).
 
 Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal id and status;
@@ -41,6 +42,15 @@ class GoalPreempted(Exception):
 
     def __init__(self, result: RosMessage, message: str = "canceled") -> None:
         super().__init__(message)
+        self.result = result
+
+
+class GoalSucceeded(Exception):
+    """Raised by `execute`: the goal ends SUCCEEDED with this result even though a cancel was
+    requested (a node's server that rejected the cancel and finished its goal)."""
+
+    def __init__(self, result: RosMessage) -> None:
+        super().__init__("done")
         self.result = result
 
 
@@ -248,6 +258,9 @@ class ActionServer:
             return
         except GoalPreempted as preempted:
             handle.set_status(GoalStatus.PREEMPTED, str(preempted), preempted.result.model_dump(by_alias=True))
+            return
+        except GoalSucceeded as succeeded:
+            handle.set_status(GoalStatus.SUCCEEDED, "done", succeeded.result.model_dump(by_alias=True))
             return
         except Exception as exc:  # noqa: BLE001 - an aborted goal, the server goes on
             reason = "".join(traceback.format_exception_only(exc)).strip()

@@ -344,6 +344,7 @@ class Interfaces:
         self._lab_source, self._lab = lab, None  # the lab's own package, LAB_PACKAGE: after the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
         self._lock = threading.RLock()
+        self.named: dict[str, Path] = {}  # a workspace's packages by their package.xml names (packages.py)
 
     @property
     def lab(self) -> dict[str, dict[str, str]]:
@@ -353,7 +354,8 @@ class Interfaces:
         return self._lab
 
     def package_dirs(self, package: str) -> list[Path]:
-        return [r / package for r in self.roots if any((r / package / k).is_dir() for k in KINDS)]
+        named = [self.named[package]] if package in self.named else []
+        return [d for d in [*named, *(r / package for r in self.roots)] if any((d / k).is_dir() for k in KINDS)]
 
     def is_package(self, package: str) -> bool:
         return (

@@ -56,8 +56,11 @@ def find(workspace: Path | None) -> dict[str, Path]:
                 children = sorted(os.scandir(folder), key=lambda e: e.name)
             except OSError:
                 continue
-            following += [Path(c.path) for c in children if c.is_dir(follow_symlinks=False)
-                          and not c.name.startswith(".") and c.name not in SKIPPED]
+            following += [
+                Path(c.path)
+                for c in children
+                if c.is_dir(follow_symlinks=False) and not c.name.startswith(".") and c.name not in SKIPPED
+            ]
         level = following
     return found
 

@@ -32,8 +32,15 @@ def test_with_rclpy_init_programs_talk_and_end_on_ctrl_c_or_sigterm(lab):
 
 
 def _cancel_run(lab, accept: bool) -> Program:
-    server = run(lab.url, "fibonacci_action_server_rclpy.py", "--ros-args", "-p", f"accept_cancel:={str(accept).lower()}",
-                 "-p", "period:=0.3")
+    server = run(
+        lab.url,
+        "fibonacci_action_server_rclpy.py",
+        "--ros-args",
+        "-p",
+        f"accept_cancel:={str(accept).lower()}",
+        "-p",
+        "period:=0.3",
+    )
     try:
         wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
         client = run(lab.url, "fibonacci_action_client_cancel_rclpy.py")
@@ -62,8 +69,11 @@ def test_an_async_execute_callback_succeeds_over_http(lab):
         assert goal.status_code == 202, goal.text
         goal_id = goal.json()["goal_id"]
         ended = wait_for(
-            lambda: (g := http.get(f"{lab.url}/actions/fibonacci/goals/{goal_id}").json())["status"]
-            in ("succeeded", "aborted", "preempted", "rejected") and g
+            lambda: (
+                (g := http.get(f"{lab.url}/actions/fibonacci/goals/{goal_id}").json())["status"]
+                in ("succeeded", "aborted", "preempted", "rejected")
+                and g
+            )
         )
         assert ended["status"] == "succeeded", ended  # not aborted at once, as an unawaited coroutine was
         assert ended["result"]["sequence"] == [0, 1, 1, 2, 3, 5, 8]
@@ -130,8 +140,10 @@ def test_the_image_server_answers_its_service_while_images_stream():
         program = run(camera_lab.url, "image_subscriber_rclpy.py")
         try:
             wait_for(lambda: sum("Receiving video frame" in line for line in program.lines) >= 10, timeout=120)
-            answers = [http.post(f"{camera_lab.url}/services/get_target_position", json={"get": True}, timeout=30)
-                       for _ in range(10)]
+            answers = [
+                http.post(f"{camera_lab.url}/services/get_target_position", json={"get": True}, timeout=30)
+                for _ in range(10)
+            ]
         finally:
             program.interrupt()
     assert [a.status_code for a in answers] == [200] * 10, [a.text for a in answers]

@@ -181,7 +181,7 @@ class Executor:
 
     def _ready(self, nodes: list[Node]) -> list[tuple[Entity, Node]]:
         """The entities ready now, in rclpy's order per node (called with the condition held)."""
-        ready = []
+        ready: list[tuple[Entity, Node]] = []
         for node in nodes:
             for kind in (node.waitables, node.timers, node.subscriptions, node.guards, node.clients, node.services):
                 ready.extend((entity, node) for entity in kind if self.can_execute(entity) and entity._is_ready())

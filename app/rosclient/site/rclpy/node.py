@@ -219,12 +219,15 @@ class Node:
         for timer in self.timers:
             timer.cancel()
         if process.connected() and not process.shutdown_event.is_set():
-            for kind in (self.waitables, self.subscriptions, self.services, self.publishers):
+            sent: list[list[Any]] = [self.waitables, self.subscriptions, self.services, self.publishers]
+            for kind in sent:
                 for entity in list(kind):
                     self._removed(kind, entity)
         with _context.CONDITION:
-            for kind in (self.waitables, self.timers, self.subscriptions, self.guards, self.clients, self.services):
-                kind.clear()
+            held: list[list[Any]] = [self.waitables, self.timers, self.subscriptions, self.guards, self.clients,
+                                     self.services]
+            for entities in held:
+                entities.clear()
         if self._executor is not None:
             self._executor.remove_node(self)
 

@@ -86,7 +86,7 @@ class NodeFrames:
     def _take(self, session: Any, item: Any, static: bool, lab: set[str]) -> str:
         if not isinstance(item, dict):
             return "a transform must be a geometry_msgs/TransformStamped object"
-        header = item.get("header") if isinstance(item.get("header"), dict) else {}
+        header = item["header"] if isinstance(item.get("header"), dict) else {}
         parent = str(header.get("frame_id", "")).strip().strip("/")
         child = str(item.get("child_frame_id", "")).strip().strip("/")
         if not parent or not child:
@@ -96,7 +96,7 @@ class NodeFrames:
         if child in lab:
             return f"frame {child[:80]} is the lab's: a program cannot move it (publish frames of your own, below it)"
         try:
-            _matrix(item.get("transform") if isinstance(item.get("transform"), dict) else {})
+            _matrix(item["transform"] if isinstance(item.get("transform"), dict) else {})
         except ValueError as bad:
             return f"frame {child[:80]}: {bad}"
         with self._lock:

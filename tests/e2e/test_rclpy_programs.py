@@ -148,3 +148,52 @@ def test_the_image_server_answers_its_service_while_images_stream():
             program.interrupt()
     assert [a.status_code for a in answers] == [200] * 10, [a.text for a in answers]
     assert all(a.json()["x"] > 0 and a.json()["y"] > 0 for a in answers)  # the box, detected
+
+
+def _goal(lab, order: int) -> str:
+    goal = http.post(f"{lab.url}/actions/fibonacci/goals", json={"order": order}, timeout=30)
+    assert goal.status_code == 202, goal.text
+    return goal.json()["goal_id"]
+
+
+def _ended(lab, goal_id: str) -> dict:
+    return wait_for(
+        lambda: (
+            (g := http.get(f"{lab.url}/actions/fibonacci/goals/{goal_id}").json())["status"]
+            in ("succeeded", "aborted", "preempted", "rejected")
+            and g
+        ),
+        timeout=120,
+    )
+
+
+def test_a_queued_action_server_runs_goals_sent_together_one_after_the_other(lab):
+    server = run(lab.url, "fibonacci_queue_server_rclpy.py")
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        first, second = _goal(lab, 5), _goal(lab, 4)  # the second while the first executes: both taken
+        assert _ended(lab, first)["result"]["sequence"] == [0, 1, 1, 2, 3, 5]
+        assert _ended(lab, second)["result"]["sequence"] == [0, 1, 1, 2, 3]
+        server.wait_for_line("Returning result of order 4")
+    finally:
+        server.interrupt()
+    order = [line for line in server.lines if "of order" in line or "queue" in line]
+    assert [
+        "queue" in order[1],
+        "Returning result of order 5" in order[2],
+        "Executing goal of order 4" in order[3],
+    ] == [True] * 3, order
+
+
+def test_a_single_goal_action_server_aborts_the_goal_a_new_one_replaces(lab):
+    server = run(lab.url, "fibonacci_single_goal_server_rclpy.py")
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        first = _goal(lab, 40)
+        wait_for(lambda: http.get(f"{lab.url}/actions/fibonacci/goals/{first}").json()["feedback_count"] >= 1)
+        second = _goal(lab, 3)
+        assert _ended(lab, first)["status"] == "aborted"
+        assert _ended(lab, second)["result"]["sequence"] == [0, 1, 1, 2]
+    finally:
+        server.interrupt()
+    assert "Aborting previous goal" in server.output

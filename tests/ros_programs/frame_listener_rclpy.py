@@ -27,7 +27,7 @@ class FrameListener(Node):
             return
         m, c = marker.transform.translation, carrot.transform.translation
         print(f"plate_marker in panda_link0: {m.x:.4f} {m.y:.4f} {m.z:.4f}", flush=True)
-        print(f"carrot radius: {(c.x ** 2 + c.y ** 2) ** 0.5:.4f}", flush=True)
+        print(f"carrot radius: {(c.x**2 + c.y**2) ** 0.5:.4f}", flush=True)
 
 
 def main():

@@ -85,6 +85,7 @@ class NodeActions:
                     feedback,
                     self._execute(name),
                     f"provided by node {session.name}{unknown}",
+                    concurrent_goals=True,
                 )
             )
             self.providers[name] = session

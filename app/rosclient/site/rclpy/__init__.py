@@ -17,9 +17,13 @@ from types import FrameType
 from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
-from rclpy import _arguments
+from rclpy import _arguments, utilities
 from rclpy.context import Context, default_context
 from rclpy.task import Future
+from rclpy.utilities import get_default_context, get_rmw_implementation_identifier, ok, remove_ros_args
+
+__all__ = ["create_node", "get_default_context", "get_global_executor", "get_rmw_implementation_identifier", "init",
+           "ok", "remove_ros_args", "shutdown", "spin", "spin_once", "spin_until_future_complete", "try_shutdown"]
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -69,24 +73,12 @@ def init(*, args: list[str] | None = None, context: Context | None = None, domai
     return InitContextManager(args, context, domain_id, signal_handler_options)
 
 
-def get_default_context() -> Context:
-    return default_context()
-
-
-def ok(*, context: Context | None = None) -> bool:
-    return (context or default_context()).ok()
-
-
 def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
-    (context or default_context()).shutdown()
+    utilities.shutdown(context=context)
 
 
 def try_shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
-    (context or default_context()).try_shutdown()
-
-
-def remove_ros_args(args: list[str] | None = None) -> list[str]:
-    return process.program_args(sys.argv if args is None else args)[0]
+    utilities.try_shutdown(context=context)
 
 
 def create_node(node_name: str, **kwargs: Any) -> Node:

@@ -197,3 +197,18 @@ def test_a_single_goal_action_server_aborts_the_goal_a_new_one_replaces(lab):
     finally:
         server.interrupt()
     assert "Aborting previous goal" in server.output
+
+
+def test_a_second_server_of_a_provided_service_raises_rclerror(lab):
+    first = run(lab.url, "add_two_ints_server_rclpy.py")
+    try:
+        first.wait_for_line("Ready to add two ints.")
+        second = run(lab.url, "add_two_ints_server_rclpy.py")
+        assert second.wait() == 1, second.output
+        # the same node name: its parameter services are the first one's (a warning, as ROS 2 warns)
+        assert "this one's parameters are not served" in second.output
+        assert "rclpy.exceptions.RCLError: Failed to create service /add_two_ints" in second.output
+        assert "already provided by node" in second.output
+        assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}, timeout=30).json() == {"sum": 3}
+    finally:
+        assert first.interrupt() == 0, first.output

@@ -45,7 +45,8 @@ class Node:
                  namespace: str | None = None, use_global_arguments: bool = True, enable_rosout: bool = True,
                  start_parameter_services: bool = True, parameter_overrides: list[Parameter] | None = None,
                  allow_undeclared_parameters: bool = False,
-                 automatically_declare_parameters_from_overrides: bool = False, **other: Any) -> None:
+                 automatically_declare_parameters_from_overrides: bool = False, enable_logger_service: bool = False,
+                 **other: Any) -> None:
         from rclpy._arguments import arguments_for
 
         self._context = context or default_context()
@@ -70,6 +71,8 @@ class Node:
         self._parameters: dict[str, Parameter] = {}
         self._descriptors: dict[str, Any] = {}
         self._set_callbacks: list[Callable[..., Any]] = []
+        self._pre_set_callbacks: list[Callable[[list[Parameter]], list[Parameter]]] = []
+        self._post_set_callbacks: list[Callable[[list[Parameter]], None]] = []
         self._allow_undeclared = allow_undeclared_parameters
         self._overrides: dict[str, Any] = arguments.parameters_for(self.get_fully_qualified_name(), self._name)
         for parameter in parameter_overrides or []:
@@ -84,6 +87,10 @@ class Node:
             from rclpy.parameter_service import ParameterService
 
             self._parameter_service = ParameterService(self)
+        if enable_logger_service:
+            from rclpy.logging_service import LoggingService
+
+            self._logging_service = LoggingService(self)
 
     @property
     def context(self) -> Context:
@@ -338,6 +345,20 @@ class Node:
     def add_on_set_parameters_callback(self, callback: Callable) -> None:
         self._set_callbacks.insert(0, callback)
 
+    def add_pre_set_parameters_callback(self, callback: Callable[[list[Parameter]], list[Parameter]]) -> None:
+        """`callback(parameters) -> parameters` before a set is checked: it may add or change some."""
+        self._pre_set_callbacks.append(callback)
+
+    def remove_pre_set_parameters_callback(self, callback: Callable[[list[Parameter]], list[Parameter]]) -> None:
+        self._pre_set_callbacks.remove(callback)
+
+    def add_post_set_parameters_callback(self, callback: Callable[[list[Parameter]], None]) -> None:
+        """`callback(parameters)` once a set succeeded."""
+        self._post_set_callbacks.append(callback)
+
+    def remove_post_set_parameters_callback(self, callback: Callable[[list[Parameter]], None]) -> None:
+        self._post_set_callbacks.remove(callback)
+
     def remove_on_set_parameters_callback(self, callback: Callable) -> None:
         self._set_callbacks.remove(callback)
 
@@ -352,9 +373,18 @@ class Node:
 
     def _set(self, parameters: list[Parameter]) -> Any:
         """Check every parameter as rclcpp does (declared, read-only, type, range), then the
-        on-set callbacks; all are set or none."""
+        on-set callbacks; all are set or none. The pre-set callbacks may change the list first (each
+        one's list is added to the one checked, as rclpy does); the post-set ones hear of a success."""
         from rcl_interfaces.msg import SetParametersResult
 
+        if self._pre_set_callbacks:
+            parameters = [p for callback in self._pre_set_callbacks for p in callback(parameters)]
+            if not parameters:
+                return SetParametersResult(
+                    successful=False,
+                    reason="parameter list cannot be empty, this might be due to pre_set_parameters_callback "
+                    "modifying the original parameters list.",
+                )
         with self._lock:
             for parameter in parameters:
                 reason = self._refusal(parameter)
@@ -374,6 +404,8 @@ class Node:
                     self._descriptors[parameter.name] = ParameterDescriptor(name=parameter.name,
                                                                             type=parameter.type_.value)
                 self._parameters[parameter.name] = parameter
+        for post in self._post_set_callbacks:
+            post(parameters)
         return SetParametersResult(successful=True)
 
     def _refusal(self, parameter: Parameter) -> str:

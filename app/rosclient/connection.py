@@ -64,7 +64,7 @@ class Connection:
         self._lock = threading.Lock()
         self._calls: dict[str, Future] = {}
         self._goals: dict[str, tuple[Callable, Callable]] = {}  # id -> (on_feedback, on_result)
-        self._refusals: dict[str, str] = {}  # advertise_service id -> the lab's error ('' none yet)
+        self._refusals: dict[str, list[str]] = {}  # an op's id -> the lab's errors of it, for its sender
         self.topic_handlers: dict[str, list[Callable[[dict], None]]] = {}
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
@@ -134,24 +134,36 @@ class Connection:
         return future
 
     def advertise_service(
-        self, name: str, type_name: str, handler: Callable[[dict], None], definition: str | None = None
-    ) -> str:
-        """Provide `name`; `definition` is the .srv text with its nested messages' (interfaces.full_text),
+        self,
+        name: str,
+        type_name: str,
+        handler: Callable[[dict], None],
+        definition: str | None = None,
+        check: bool = False,
+    ) -> str | None:
+        """Provide `name`; `definition` is the .srv text with its nested messages' (packages.full_text),
         which the lab shows and checks requests against (an extra field rosbridge_suite ignores).
-        Returns the lab's refusal ('' when it took the service; '' too from the reader thread, which
-        cannot wait for the answer)."""
+        With `check`, the lab's refusal (e.g. another node provides the name) is returned, not printed,
+        and the handler is not kept; None: the lab took it (or, from the reader thread, is told)."""
+        previous = self.service_handlers.get(name)
         self.service_handlers[name] = handler
         advertise_id = self.next_id(f"advertise_service:{name}")
+        refusals: list[str] = []
+        if check:
+            self._refusals[advertise_id] = refusals
         message = {"op": "advertise_service", "id": advertise_id, "service": name, "type": type_name}
         if definition is not None:
             message["definition"] = definition
-        self._refusals[advertise_id] = ""
         self.send(message)
         self.sync()  # as rospy.Service returns once the master has registered it
-        refusal = self._refusals.pop(advertise_id, "")
-        if refusal and self.service_handlers.get(name) is handler:
-            del self.service_handlers[name]
-        return refusal
+        self._refusals.pop(advertise_id, None)
+        if not refusals:
+            return None
+        if previous is None:
+            self.service_handlers.pop(name, None)
+        else:
+            self.service_handlers[name] = previous
+        return refusals[0]
 
     def sync(self, timeout: float = 10.0) -> None:
         """Return once the lab has handled every op sent before: one round trip on this connection
@@ -223,25 +235,25 @@ class Connection:
         op = message.get("op")
         if op == "publish":
             with self._lock:
-                handlers = list(self.topic_handlers.get(message.get("topic"), ()))
+                handlers = list(self.topic_handlers.get(str(message.get("topic")), ()))
             for handler in handlers:
                 handler(message.get("msg") or {})
         elif op == "service_response":
             with self._lock:
-                future = self._calls.pop(message.get("id"), None)
+                future = self._calls.pop(str(message.get("id")), None)
             if future is not None and not future.done():
                 future.set_result((bool(message.get("result", True)), message.get("values")))
         elif op == "call_service":
-            handler = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
-            if handler is not None:
-                handler(message)
+            serve = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
+            if serve is not None:
+                serve(message)
             else:
-                self.service_response(message.get("id"), message.get("service"), "no such service here", False)
+                self.service_response(message.get("id"), str(message.get("service")), "no such service here", False)
         elif op in ("action_feedback", "action_result"):
             with self._lock:
-                entry = self._goals.get(message.get("id"))
+                entry = self._goals.get(str(message.get("id")))
                 if op == "action_result":
-                    self._goals.pop(message.get("id"), None)
+                    self._goals.pop(str(message.get("id")), None)
             if entry is not None:
                 entry[0 if op == "action_feedback" else 1](message)
         elif op in ("send_action_goal", "cancel_action_goal"):
@@ -253,10 +265,10 @@ class Connection:
             if id_ == "rosout":
                 if message.get("level") == "error":
                     self.rosout_refused(str(message.get("msg")))
-                return
-            if id_ in self._refusals and message.get("level") == "error":
-                self._refusals[id_] = str(message.get("msg"))
-            if not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
+            elif id_ in self._refusals:
+                if message.get("level") == "error":
+                    self._refusals[id_].append(str(message.get("msg")))
+            elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
                 self.status_handler(message)
 
     def _lost(self, reason: str) -> None:

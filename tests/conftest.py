@@ -60,6 +60,8 @@ TESTS = Path(__file__).resolve().parent
 LONG_FILES_FIRST = (
     "e2e/browser/test_page.py",
     "e2e/test_ros_programs.py",
+    "e2e/test_rclpy_programs.py",
+    "e2e/test_tf_programs.py",
     "e2e/test_autograder.py",
     "e2e/test_grading.py",
     "e2e/test_ros_lifting_node.py",

@@ -58,6 +58,7 @@ class Interfaces:
         self.texts = dict(texts or {})  # (package, kind, name) -> text carried by a client: before the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
         self._lock = threading.RLock()
+        self.named: dict[str, Path] = {}  # a workspace's packages by their package.xml names (app/rosclient/packages.py)
 
     def use_ros1(self) -> None:
         """ROS 1's versions of the standard messages first (rospy's import: a Header with `seq`); the
@@ -66,7 +67,8 @@ class Interfaces:
             self.roots.insert(self.roots.index(SHARE), SHARE_ROS1)
 
     def package_dirs(self, package: str) -> list[Path]:
-        return [r / package for r in self.roots if any((r / package / k).is_dir() for k in KINDS)]
+        named = [self.named[package]] if package in self.named else []
+        return [d for d in [*named, *(r / package for r in self.roots)] if any((d / k).is_dir() for k in KINDS)]
 
     def is_package(self, package: str) -> bool:
         return any(p == package for p, _, _ in self.texts) or bool(self.package_dirs(package))

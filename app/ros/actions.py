@@ -3,12 +3,14 @@ pending, active, preempting, succeeded, aborted, preempted, rejected.
 
 One declaration per action (name, type, goal/result/feedback models, execute). Each action serves
 one goal at a time: a goal sent while another is pending or active is REJECTED (the caller
-cancels the running one first). A goal runs in its own thread; `execute(lab, goal, handle)`
+cancels the running one first); an action with `concurrent_goals` (a node's, as ROS 2 servers
+take every goal and queue, abort or run them side by side themselves) runs each goal it is sent. A goal runs in its own thread; `execute(lab, goal, handle)`
 publishes feedback with `handle.feedback(...)`, checks `handle.cancel_requested` (or sleeps
 with `handle.wait(s)`, which wakes on cancel) and returns the result. Returning while a cancel
 is requested ends PREEMPTED; raising `GoalFailure` ends ABORTED with its message (any other
 exception: ABORTED with its type and message); raising `GoalPreempted(result)` ends PREEMPTED with
-that result; returning ends SUCCEEDED. An action may declare
+that result; raising `GoalSucceeded(result)` ends SUCCEEDED whatever was requested; returning
+ends SUCCEEDED. An action may declare
 `precondition(lab, goal) -> reason or None`: a goal that cannot run now is REJECTED up front (409).
 
 Over HTTP (app/api/actions.py): POST /actions/{name}/goals (typed goal) -> goal id and status;
@@ -44,6 +46,15 @@ class GoalPreempted(Exception):
         self.result = result
 
 
+class GoalSucceeded(Exception):
+    """Raised by `execute`: the goal ends SUCCEEDED with this result even though a cancel was
+    requested (a node's server that rejected the cancel and finished its goal)."""
+
+    def __init__(self, result: RosMessage) -> None:
+        super().__init__("done")
+        self.result = result
+
+
 class GoalStatus(str, Enum):
     PENDING = "pending"
     ACTIVE = "active"
@@ -67,6 +78,7 @@ class Action:
     execute: Callable[[Any, Any, "GoalHandle"], RosMessage]
     description: str = ""
     precondition: Callable[[Any, Any], str | None] | None = None  # (lab, goal) -> why it cannot run now
+    concurrent_goals: bool = False  # True: goals run side by side (a node's server queues or aborts them itself)
 
     @property
     def definition(self) -> str:
@@ -210,7 +222,11 @@ class ActionServer:
     def send_goal(self, action: Action, goal: RosMessage) -> GoalHandle:
         handle = GoalHandle(action, goal)
         with self._lock:
-            busy = [g for g in self.goals.values() if g.action is action and g.status not in TERMINAL]
+            busy = [
+                g
+                for g in self.goals.values()
+                if g.action is action and g.status not in TERMINAL and not action.concurrent_goals
+            ]
             self.goals[handle.id] = handle
             excess = len(self.goals) - self.keep_goals
             if excess > 0:  # forget the oldest finished goals (running ones stay, however old)
@@ -248,6 +264,9 @@ class ActionServer:
             return
         except GoalPreempted as preempted:
             handle.set_status(GoalStatus.PREEMPTED, str(preempted), preempted.result.model_dump(by_alias=True))
+            return
+        except GoalSucceeded as succeeded:
+            handle.set_status(GoalStatus.SUCCEEDED, "done", succeeded.result.model_dump(by_alias=True))
             return
         except Exception as exc:  # noqa: BLE001 - an aborted goal, the server goes on
             reason = "".join(traceback.format_exception_only(exc)).strip()

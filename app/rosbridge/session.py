@@ -79,6 +79,7 @@ class Session:
         self.bridge.sessions.remove(self)
         self.bridge.nodes.drop(self)
         self.bridge.node_actions.drop(self)
+        self.bridge.frames.drop(self)
         for stream in self.streams.values():
             stream.stop()
             self.bridge.leave(stream.topic, subscription=stream)

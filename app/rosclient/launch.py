@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from app.rosclient import packages
 from app.rosclient.run import command, program_env
 
 GRACE = 10.0  # s a node has to end after Ctrl+C before it is killed
@@ -114,6 +115,9 @@ class Reader:
         return _SUB.sub(replace, text)
 
     def package_dir(self, package: str) -> Path:
+        named = packages.find(packages.workspace_of(self.path, os.environ.get("HRI_LAB_WORKSPACE") or None))
+        if package in named:  # by its package.xml name (app/rosclient/packages.py)
+            return named[package]
         for folder in [self.path.parent, *self.path.parents]:
             if folder.name == package:
                 return folder
@@ -209,6 +213,7 @@ class Reader:
                 base / "scripts" / stem,
                 self.package_dir(package) / stem,
                 self.package_dir(package) / "scripts" / stem,
+                self.package_dir(package) / package / stem,  # an ament_python package's module
             ]
         for candidate in candidates:
             if candidate.is_file():
@@ -319,6 +324,8 @@ def run(args: argparse.Namespace) -> int:
             return 2
         key, value = item.split(":=", 1)
         launch_args[key] = value
+    if args.workspace:  # $(find pkg) and <node pkg=...> resolve in it, as the nodes' imports do
+        os.environ["HRI_LAB_WORKSPACE"] = str(Path(args.workspace).resolve())
     try:
         launch = read(path, launch_args)
     except LaunchError as exc:

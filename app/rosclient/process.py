@@ -158,14 +158,20 @@ def ok() -> bool:
     return not shutdown_event.is_set()
 
 
+_shutdown_hooks: list[Callable[[], None]] = []
+
+
+def on_shutdown(hook: Callable[[], None]) -> None:
+    """`hook()` when the program shuts down (e.g. rclpy's waits look again)."""
+    _shutdown_hooks.append(hook)
+
+
 def shutdown(reason: str = "") -> None:
     if not shutdown_event.is_set():
         shutdown_reason.append(reason)
         shutdown_event.set()
-        wake = sys.modules.get("rclpy.executors")  # a spinning rclpy executor looks again
-        if wake is not None:
-            with wake.WAKE:
-                wake.WAKE.notify_all()
+        for hook in list(_shutdown_hooks):
+            hook()
 
 
 class running_callback:

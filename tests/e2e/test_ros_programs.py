@@ -353,12 +353,14 @@ def test_the_printed_templates_run_as_printed(lab, tmp_path, api):
         assert call(lab, "compute_wrench", {"torques": [0.0] * 7}).status_code == 200
     finally:
         program.interrupt()
+    wait_for(lambda: http.get(f"{lab.url}/services/start_cooperative_lifting").json()["node"] == "/hri_lab")
     program = run(lab.url, str(lifting))
     try:
         program.wait_for_line("node ready")
         wait_for(lambda: http.get(f"{lab.url}/params/cooperative_lifting/controller").json()["value"] == "node")
     finally:
         program.interrupt()
+    wait_for(lambda: http.get(f"{lab.url}/services/start_cooperative_lifting").json()["node"] == "/hri_lab")
     http.post(f"{lab.url}/services/error_recovery")
 
 

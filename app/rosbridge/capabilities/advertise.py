@@ -1,5 +1,5 @@
 """advertise / unadvertise: a client announces the topics it publishes (the lab's own topics are the
-lab's; the command topic and /rosout may be published by any client).
+lab's; the command topic, /rosout, /tf and /tf_static may be published by any client).
 
 As rosbridge_suite's advertise capability, a client's publisher of a topic counts the ids of the
 advertise ops that made it (an op without an id counts as one id of its own): an unadvertise
@@ -13,6 +13,7 @@ from typing import Any
 
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.internal.node_services import normalise_type
 from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
@@ -38,10 +39,14 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
         session.publishing.add(topic)
         advertise_ids(session, topic).add(id_)
         return
-    if topic in bridge.topics and topic != COMMAND_TOPIC:
+    if topic in bridge.topics and topic != COMMAND_TOPIC and topic not in TF_TOPICS:
         raise BadFrame(f"advertise: topic {topic} is published by the lab")
     if known is not None and known != type_name:
         raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
+    if topic in TF_TOPICS:  # shared with the lab: a program's frames join its tree (internal/node_frames.py)
+        session.publishing.add(topic)
+        advertise_ids(session, topic).add(id_)
+        return
     if topic != COMMAND_TOPIC:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)

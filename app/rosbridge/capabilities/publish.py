@@ -1,6 +1,7 @@
 """publish: a node's message to the other subscribers of its topic; a geometry_msgs/Twist on the
 command topic drives the robot (commands.external_twist, through the lab's one door); a log line
-on /rosout joins the lab's log (app/ros/rosout.py)."""
+on /rosout joins the lab's log (app/ros/rosout.py); a program's transforms on /tf and /tf_static
+join the lab's tree (app/rosbridge/internal/node_frames.py)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from app.interfaces.image_windows import WINDOWS
 from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
 
@@ -37,6 +39,15 @@ async def publish(session: Any, message: dict, id_: Any) -> None:
         except rosout.BadLogMessage as bad:
             raise BadFrame(f"publish {topic}: {bad}") from None
         session.lab.rosout.publish(line)
+        return
+    if topic in TF_TOPICS:  # a program's frames join the lab's tree; the lab's own frames stay the lab's
+        if topic not in session.publishing:
+            raise BadFrame(f"publish: advertise {topic} first (op advertise with type tf2_msgs/TFMessage)")
+        told = session.state.setdefault("tf_refused", set())  # each reason once, not at the broadcaster's rate
+        refused = [reason for reason in bridge.frames.offer(session, msg, TF_TOPICS[topic]) if reason not in told]
+        if refused:
+            told.update(refused)
+            raise BadFrame(f"publish {topic}: refused " + "; ".join(refused))
         return
     if topic in bridge.topics:
         raise BadFrame(f"publish: topic {topic} is published by the lab")

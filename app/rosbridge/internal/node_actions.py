@@ -30,7 +30,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from app.ros.actions import Action, ActionServer, GoalFailure, GoalHandle, GoalPreempted
+from app.ros.actions import Action, ActionServer, GoalFailure, GoalHandle, GoalPreempted, GoalSucceeded
 from app.ros.messages import RosMessage, validation_reason
 from app.rosbridge.internal.node_services import OpenMessage, normalise_type
 
@@ -85,6 +85,7 @@ class NodeActions:
                     feedback,
                     self._execute(name),
                     f"provided by node {session.name}{unknown}",
+                    concurrent_goals=True,
                 )
             )
             self.providers[name] = session
@@ -151,6 +152,8 @@ class NodeActions:
                 raise GoalFailure(
                     f"node {session.name} ended the goal with status {status} (4 succeeded, 5 canceled, 6 aborted)"
                 )
+            if handle.cancel_requested:  # the node rejected the cancel: its goal succeeded
+                raise GoalSucceeded(result)
             return result
 
         return execute

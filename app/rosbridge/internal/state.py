@@ -7,9 +7,12 @@ from __future__ import annotations
 import threading
 from typing import Any
 
+from sim.messages import Topic
+
 from app.lab.topics import MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
 from app.rosbridge.internal.node_actions import NodeActions
+from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
 from app.rosbridge.internal.node_params import NodeParameters
 from app.rosbridge.internal.node_services import NodeServices
 
@@ -25,6 +28,15 @@ class NodeTopic:
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
 
 
+def _with_programs_frames(topic: Topic, frames: NodeFrames, static: bool) -> Topic:
+    """The lab's /tf or /tf_static with the programs' transforms of that kind after its own."""
+
+    def build(snapshot: Any) -> dict:
+        return {"transforms": [*topic.build(snapshot)["transforms"], *frames.transforms(static)]}
+
+    return Topic(topic.name, topic.type, build)
+
+
 class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
@@ -33,6 +45,9 @@ class Bridge:
         self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
         lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
         self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
+        self.frames = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
+        for name, static in TF_TOPICS.items():
+            self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
         self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
         self.node_topics: dict[str, NodeTopic] = {}
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image

@@ -1,165 +1,129 @@
-"""rclpy (ROS 2's Python client library) over the lab's rosbridge endpoint.
+"""rclpy (ROS 2's Python client library) over the lab's rosbridge endpoint, as Jazzy and Rolling have
+it: `with rclpy.init():` (init returns a context manager; Humble's plain `rclpy.init()` works too),
+`rclpy.shutdown()`/`try_shutdown()`/`ok()`, `create_node`, and spin()/spin_once()/
+spin_until_future_complete() on the global executor (rclpy/executors.py) or the one given.
 
-init() connects to the lab and reads the program's `--ros-args` (-p name:=value, -p node:name:=value,
---params-file FILE, -r __node:=NAME, -r __ns:=NS); spin()/spin_once()/spin_until_future_complete()
-run the nodes' callbacks on the calling thread (rclpy/executors.py). Ctrl+C raises
-KeyboardInterrupt out of spin, as in rclpy. Differences from ROS 2: docs/ros-programs-client.md.
+init() connects to the lab and reads the program's `--ros-args` (rclpy/_arguments.py). Ctrl+C raises
+KeyboardInterrupt out of spin, as in rclpy; SIGTERM shuts the context down, so spin raises
+ExternalShutdownException. Differences from ROS 2: docs/ros-programs-client.md.
 """
+
 from __future__ import annotations
 
 import signal
 import sys
 import threading
-from typing import Any
+from types import FrameType
+from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
+from rclpy import _arguments, utilities
+from rclpy.context import Context, default_context
+from rclpy.task import Future
+from rclpy.utilities import get_default_context, get_rmw_implementation_identifier, ok, remove_ros_args
+
+__all__ = ["create_node", "get_default_context", "get_global_executor", "get_rmw_implementation_identifier", "init",
+           "ok", "remove_ros_args", "shutdown", "spin", "spin_once", "spin_until_future_complete", "try_shutdown"]
+
+if TYPE_CHECKING:
+    from rclpy.executors import Executor
+    from rclpy.node import Node
 
 process.ensure_interfaces()
 
-_state: dict[str, Any] = {"initialized": False, "arguments": None, "executor": None}
+
+class SignalHandlerOptions:
+    NO, SIGINT, SIGTERM, ALL = 0, 1, 2, 3
 
 
-class Arguments:
-    """What `--ros-args` says: parameter overrides (global and per node), the node's name and namespace,
-    names remapped (`-r from:=to`)."""
-
-    def __init__(self, ros_args: list[str]) -> None:
-        self.parameters: dict[str, dict[str, Any]] = {}  # node ('' = every node) -> name -> value
-        self.remapped_name: str | None = None
-        self.namespace: str | None = None
-        i = 0
-        while i < len(ros_args):
-            flag = ros_args[i]
-            value = ros_args[i + 1] if i + 1 < len(ros_args) else None
-            if flag in ("-p", "--param") and value and ":=" in value:
-                key, text = value.split(":=", 1)
-                node, _, name = key.rpartition(":")
-                self.parameters.setdefault(node.strip("/"), {})[name] = process.parse_value(text)
-                i += 2
-            elif flag in ("-r", "--remap") and value and ":=" in value:
-                key, text = value.split(":=", 1)
-                if key.endswith("__node") or key.endswith("__name"):
-                    self.remapped_name = text
-                elif key.endswith("__ns"):
-                    self.namespace = text
-                else:  # a topic or service name remapped (from the default namespace)
-                    process.remaps[process.resolve(key)] = process.resolve(text)
-                i += 2
-            elif flag == "--params-file" and value:
-                self._params_file(value)
-                i += 2
-            else:
-                i += 1
-
-    def _params_file(self, path: str) -> None:
-        import yaml
-
-        with open(path, encoding="utf-8") as stream:
-            data = yaml.safe_load(stream) or {}
-        for node, body in data.items():
-            values = (body or {}).get("ros__parameters", {})
-            key = "" if node in ("/**", "**") else node.strip("/")
-            self.parameters.setdefault(key, {}).update(_flatten(values))
-
-    def parameters_for(self, fully_qualified: str, name: str) -> dict[str, Any]:
-        out = dict(self.parameters.get("", {}))
-        out.update(self.parameters.get(name, {}))
-        out.update(self.parameters.get(fully_qualified.strip("/"), {}))
-        return out
+def _on_sigterm(signum: int, frame: FrameType | None) -> None:
+    """rclpy's SIGTERM handler: the contexts shut down, spin raises ExternalShutdownException."""
+    default_context().try_shutdown()
 
 
-def _flatten(values: dict, prefix: str = "") -> dict[str, Any]:
-    out = {}
-    for key, value in values.items():
-        if isinstance(value, dict):
-            out.update(_flatten(value, f"{prefix}{key}."))
-        else:
-            out[f"{prefix}{key}"] = value
-    return out
+class InitContextManager:
+    """What init() returns: `with rclpy.init():` shuts the context down at the block's end."""
+
+    def __init__(self, args: list[str] | None, context: Context | None, domain_id: int | None,
+                 signal_handler_options: Any) -> None:
+        self.context = context or default_context()
+        if signal_handler_options is None:
+            signal_handler_options = SignalHandlerOptions.ALL if self.context is default_context() else 0
+        self.context.init(args, domain_id=domain_id)
+        if self.context is default_context():
+            _arguments.set_global(sys.argv if args is None else args)
+        self.installed_signal_handlers = bool(signal_handler_options)
+        if signal_handler_options and threading.current_thread() is threading.main_thread():
+            if signal_handler_options in (SignalHandlerOptions.ALL, SignalHandlerOptions.SIGINT):
+                # Ctrl+C is a KeyboardInterrupt out of spin even when the program was started by a
+                # parent that ignores SIGINT (Python leaves an inherited SIG_IGN alone)
+                signal.signal(signal.SIGINT, signal.default_int_handler)
+            if signal_handler_options in (SignalHandlerOptions.ALL, SignalHandlerOptions.SIGTERM):
+                signal.signal(signal.SIGTERM, _on_sigterm)
+
+    def __enter__(self) -> InitContextManager:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.context.try_shutdown()
 
 
-def _arguments(cli_args: list[str] | None, use_global: bool) -> Arguments:
-    merged = Arguments([])
-    sources = []
-    if use_global and _state["arguments"] is not None:
-        sources.append(_state["arguments"])
-    if cli_args:
-        sources.append(Arguments(process.program_args(["", *cli_args])[1] if "--ros-args" in cli_args else cli_args))
-    for source in sources:
-        for node, values in source.parameters.items():
-            merged.parameters.setdefault(node, {}).update(values)
-        merged.remapped_name = source.remapped_name or merged.remapped_name
-        merged.namespace = source.namespace or merged.namespace
-    return merged
+def init(*, args: list[str] | None = None, context: Context | None = None, domain_id: int | None = None,
+         signal_handler_options: Any = None) -> InitContextManager:
+    return InitContextManager(args, context, domain_id, signal_handler_options)
 
 
-def init(*, args: list[str] | None = None, context: Any = None, domain_id: int | None = None,
-         signal_handler_options: Any = None) -> None:
-    if _state["initialized"] and process.ok():
-        raise RuntimeError("Context.init() must only be called once")
-    _state["arguments"] = Arguments(process.program_args(sys.argv if args is None else args)[1])
-    process.connection()
-    _state["initialized"] = True
-    if signal_handler_options != 0 and threading.current_thread() is threading.main_thread():
-        # rclpy installs its own SIGINT handler (SignalHandlerOptions.ALL, the default), whatever the
-        # program inherited: Ctrl+C is a KeyboardInterrupt out of spin even when the program was
-        # started by a parent that ignores SIGINT (Python leaves an inherited SIG_IGN alone)
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
+    utilities.shutdown(context=context)
 
 
-def ok(*, context: Any = None) -> bool:
-    return _state["initialized"] and process.ok()
+def try_shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
+    utilities.try_shutdown(context=context)
 
 
-def shutdown(*, context: Any = None, uncaught: bool = False) -> None:
-    if not _state["initialized"]:
-        raise RuntimeError("Context must be initialized before it can be shutdown")
-    if not process.ok():
-        raise RuntimeError("Context.shutdown() called on a context that is already shut down")
-    process.close()
-
-
-def try_shutdown(*, context: Any = None) -> None:
-    if _state["initialized"] and process.ok():
-        process.close()
-
-
-def remove_ros_args(args: list[str] | None = None) -> list[str]:
-    return process.program_args(sys.argv if args is None else args)[0]
-
-
-def create_node(node_name: str, **kwargs: Any):
+def create_node(node_name: str, **kwargs: Any) -> Node:
     from rclpy.node import Node
 
     return Node(node_name, **kwargs)
 
 
-def get_global_executor():
-    from rclpy.executors import SingleThreadedExecutor
-
-    if _state["executor"] is None:
-        _state["executor"] = SingleThreadedExecutor()
-    return _state["executor"]
+_executor: list[Executor] = []
 
 
-def _executor(node: Any, executor: Any):
+def get_global_executor() -> Executor:
+    if not _executor:
+        from rclpy.executors import SingleThreadedExecutor
+
+        _executor.append(SingleThreadedExecutor())
+    return _executor[0]
+
+
+def spin_once(node: Node, *, executor: Executor | None = None, timeout_sec: float | None = None) -> None:
     executor = executor or get_global_executor()
-    executor.add_node(node)
-    return executor
+    try:
+        executor.add_node(node)
+        executor.spin_once(timeout_sec=timeout_sec)
+    finally:
+        executor.remove_node(node)
 
 
-def spin_once(node: Any, *, executor: Any = None, timeout_sec: float | None = None) -> None:
-    _executor(node, executor).spin_once(timeout_sec)
+def spin(node: Node, executor: Executor | None = None) -> None:
+    executor = executor or get_global_executor()
+    try:
+        executor.add_node(node)
+        while executor.context.ok():
+            executor.spin_once()
+    finally:
+        executor.remove_node(node)
 
 
-def spin(node: Any, executor: Any = None) -> None:
-    _executor(node, executor).spin()
-
-
-def spin_until_future_complete(node: Any, future: Any, executor: Any = None, timeout_sec: float | None = None) -> None:
-    _executor(node, executor).spin_until_future_complete(future, timeout_sec)
-
-
-def get_default_context():
-    return None
-
+def spin_until_future_complete(node: Node, future: Future, executor: Executor | None = None,
+                               timeout_sec: float | None = None) -> None:
+    executor = executor or get_global_executor()
+    added = False
+    try:
+        added = executor.add_node(node)
+        executor.spin_until_future_complete(future, timeout_sec)
+    finally:
+        if added:
+            executor.remove_node(node)

@@ -50,3 +50,12 @@ class ROSInterruptException(Exception):
 class ServiceCallFailed(Exception):
     """The lab reported the call as failed (no such service, the node that serves it failed or did
     not answer, a refused request): set on the call's future. ROS 2 itself has no failed calls."""
+
+
+class RCLError(RuntimeError):
+    """rcl could not do what was asked (rclpy raises it from its C layer as `_rclpy.RCLError`): here,
+    the lab refused to create an entity, e.g. a service whose name another node already provides."""
+
+
+class InvalidHandle(Exception):
+    """An entity used after it was destroyed."""

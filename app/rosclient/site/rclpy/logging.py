@@ -5,19 +5,10 @@ from __future__ import annotations
 import os
 import sys
 import time
-from enum import IntEnum
 from typing import Any
 
 from app.rosclient import process
-
-
-class LoggingSeverity(IntEnum):
-    UNSET = 0
-    DEBUG = 10
-    INFO = 20
-    WARN = 30
-    ERROR = 40
-    FATAL = 50
+from rclpy.impl.logging_severity import LoggingSeverity
 
 
 _loggers: dict[str, "RcutilsLogger"] = {}
@@ -26,7 +17,8 @@ _loggers: dict[str, "RcutilsLogger"] = {}
 class RcutilsLogger:
     def __init__(self, name: str = "") -> None:
         self.name = name
-        self.level = LoggingSeverity.INFO
+        self.level = LoggingSeverity.INFO  # the effective level
+        self.set_to = LoggingSeverity.UNSET  # the level set on this logger (rcutils': UNSET until one is)
         self._once: set = set()
         self._last: dict = {}
         self._skipped: set = set()
@@ -35,7 +27,8 @@ class RcutilsLogger:
         return get_logger(f"{self.name}.{name}" if self.name else name)
 
     def set_level(self, level: Any) -> None:
-        self.level = LoggingSeverity(level)
+        self.set_to = LoggingSeverity(level)
+        self.level = self.set_to if self.set_to != LoggingSeverity.UNSET else LoggingSeverity.INFO
 
     def get_effective_level(self) -> LoggingSeverity:
         return self.level

@@ -1,6 +1,7 @@
 """rclpy.parameter.Parameter: a named, typed value (rcl_interfaces/ParameterType)."""
 from __future__ import annotations
 
+import math
 from enum import Enum
 from typing import Any
 
@@ -120,3 +121,22 @@ def from_value_msg(msg: Any) -> Any:
 
 def parameter_value_to_python(msg: Any) -> Any:
     return from_value_msg(msg)
+
+
+def range_refusal(name: str, value: Any, descriptor: Any) -> str:
+    """rclcpp's refusal of a value outside the descriptor's range ('' when inside)."""
+    if value is None or isinstance(value, bool):
+        return ""
+    for ranges, kind in ((descriptor.floating_point_range, "floating point"), (descriptor.integer_range, "integer")):
+        if not ranges or not isinstance(value, (int, float)):
+            continue
+        r = ranges[0]
+        low, high, step = r.from_value, r.to_value, r.step
+        tolerance = 1e-9 * max(1.0, abs(low), abs(high))
+        inside = low - tolerance <= value <= high + tolerance
+        on_step = (not step or math.isclose(value, high, abs_tol=tolerance)
+                   or abs((value - low) / step - round((value - low) / step)) * step <= tolerance)
+        if not (inside and on_step):
+            return f"Parameter {{{name}}} doesn't comply with {kind} range."
+    return ""
+

@@ -1,7 +1,7 @@
 """rclpy.action: ActionServer and ActionClient over rosbridge's ROS 2 action ops
-(app/rosclient/actions.py). A goal's execute callback runs on a thread of its own (so a cancel
-request reaches it while it sleeps); the client's futures and feedback callbacks complete inside
-spin, as in rclpy."""
+(app/rosclient/actions.py), waitables of their node whose requests, feedback and results are taken
+inside spin (rclpy/action/server.py, client.py)."""
+
 from rclpy.action.client import ActionClient, ClientGoalHandle
 from rclpy.action.server import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 

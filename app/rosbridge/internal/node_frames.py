@@ -1,0 +1,138 @@
+"""The frames programs publish on /tf and /tf_static (tf2_msgs/TFMessage), joined to the lab's tree
+(app/lab/tf.py), as tf2 joins every broadcaster's frames.
+
+A program's transform names its parent and child; it is taken when its numbers are finite and its
+child is neither one of the lab's frames nor a frame another program publishes: a program cannot
+move the lab's frames (the robot's links, the box, the palm, the camera) nor another program's. A
+refused transform is reported to the program that sent it (a status error naming the frame and why);
+the message's other transforms are taken. The newest transform of each frame is kept while its
+program is connected: the lab's /tf and /tf_static carry them with its own (the static ones latched,
+as tf2_ros' static broadcaster's), and /republish_tfs and the tf2_web_republisher action resolve them
+(a frame's pose in the world through its parents, up to a lab frame).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from app.lab import tf
+
+MAX_FRAMES = 1000  # frames programs may publish, all together
+TF_TOPICS = {"/tf": False, "/tf_static": True}  # topic -> static
+
+
+@dataclass
+class Published:
+    parent: str
+    child: str
+    transform: dict  # geometry_msgs/TransformStamped as JSON
+    static: bool
+    session: Any
+
+
+def _number(value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ValueError(f"{value!r} is not a finite number")
+    return float(value)
+
+
+def _matrix(transform: dict) -> np.ndarray:
+    """The 4x4 of a geometry_msgs/Transform (ValueError naming the field when it is not one)."""
+    translation, rotation = transform.get("translation", {}), transform.get("rotation", {})
+    if not isinstance(translation, dict) or not isinstance(rotation, dict):
+        raise ValueError("transform must have 'translation' {x, y, z} and 'rotation' {x, y, z, w}")
+    t = [_number(translation.get(a, 0.0)) for a in "xyz"]
+    x, y, z, w = (_number(rotation.get(a, 1.0 if a == "w" else 0.0)) for a in "xyzw")
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if norm < 1e-9:
+        raise ValueError("rotation is not a quaternion (zero norm)")
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    matrix = np.eye(4)
+    matrix[:3, :3] = [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ]
+    matrix[:3, 3] = t
+    return matrix
+
+
+class NodeFrames:
+    def __init__(self) -> None:
+        self._frames: dict[str, Published] = {}  # child -> its newest transform
+        self._lock = threading.Lock()
+
+    @staticmethod
+    def lab_frames() -> set[str]:
+        return {child for _, child, _ in tf.tree()} | {tf.WORLD}
+
+    def offer(self, session: Any, message: dict, static: bool) -> list[str]:
+        """Take a TFMessage's transforms from `session`; the reasons of those refused."""
+        transforms = message.get("transforms")
+        if not isinstance(transforms, list):
+            return ["a tf2_msgs/TFMessage needs 'transforms': a list of geometry_msgs/TransformStamped"]
+        lab, refused = self.lab_frames(), []
+        for item in transforms:
+            reason = self._take(session, item, static, lab)
+            if reason:
+                refused.append(reason)
+        return refused
+
+    def _take(self, session: Any, item: Any, static: bool, lab: set[str]) -> str:
+        if not isinstance(item, dict):
+            return "a transform must be a geometry_msgs/TransformStamped object"
+        header = item["header"] if isinstance(item.get("header"), dict) else {}
+        parent = str(header.get("frame_id", "")).strip().strip("/")
+        child = str(item.get("child_frame_id", "")).strip().strip("/")
+        if not parent or not child:
+            return "a transform needs header.frame_id (the parent) and child_frame_id"
+        if parent == child:
+            return f"frame {child[:80]}: a frame cannot be its own parent"
+        if child in lab:
+            return f"frame {child[:80]} is the lab's: a program cannot move it (publish frames of your own, below it)"
+        try:
+            _matrix(item["transform"] if isinstance(item.get("transform"), dict) else {})
+        except ValueError as bad:
+            return f"frame {child[:80]}: {bad}"
+        with self._lock:
+            current = self._frames.get(child)
+            if current is not None and current.session is not session:
+                return f"frame {child[:80]} is published by node {current.session.name}"
+            if current is None and len(self._frames) >= MAX_FRAMES:
+                return f"frame {child[:80]}: {MAX_FRAMES} frames are published already"
+            self._frames[child] = Published(parent, child, dict(item, child_frame_id=child), static, session)
+        return ""
+
+    def drop(self, session: Any) -> None:
+        """A program disconnected: its frames go with it."""
+        with self._lock:
+            for child in [c for c, p in self._frames.items() if p.session is session]:
+                del self._frames[child]
+
+    def transforms(self, static: bool) -> list[dict]:
+        with self._lock:
+            return [p.transform for p in self._frames.values() if p.static == static]
+
+    def names(self) -> set[str]:
+        with self._lock:
+            return set(self._frames)
+
+    def poses(self, lab_poses: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The lab's poses (in the world) and every program frame's whose parents reach one."""
+        with self._lock:
+            published = {c: (p.parent, p.transform["transform"]) for c, p in self._frames.items()}
+        poses = dict(lab_poses)
+        pending = dict(published)
+        while pending:
+            placed = [c for c, (parent, _) in pending.items() if parent in poses]
+            if not placed:
+                break  # the rest hang below frames nobody publishes (or loop)
+            for child in placed:
+                parent, transform = pending.pop(child)
+                poses[child] = poses[parent] @ _matrix(transform)
+        return poses

@@ -1,0 +1,63 @@
+"""Programs' frames on /tf and /tf_static (app/rosbridge/internal/node_frames.py): taken below any
+frame, refused when they would move the lab's frames or another program's, placed in the world
+through their parents (hand-computed poses), gone with their program."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+
+from app.lab import tf
+from app.rosbridge.internal.node_frames import NodeFrames
+
+
+def stamped(parent: str, child: str, xyz=(0.0, 0.0, 0.0), xyzw=(0.0, 0.0, 0.0, 1.0)) -> dict:
+    return {
+        "header": {"frame_id": parent, "stamp": {"sec": 1, "nanosec": 0}},
+        "child_frame_id": child,
+        "transform": {
+            "translation": dict(zip("xyz", xyz)),
+            "rotation": dict(zip("xyzw", xyzw)),
+        },
+    }
+
+
+ADA, BOB = SimpleNamespace(name="/ada"), SimpleNamespace(name="/bob")
+QUARTER_TURN_Z = (0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4))
+
+
+def test_a_programs_frames_are_placed_in_the_world_through_their_parents():
+    frames = NodeFrames()
+    assert frames.offer(ADA, {"transforms": [stamped("world", "a", (1, 2, 3), QUARTER_TURN_Z)]}, static=True) == []
+    assert frames.offer(ADA, {"transforms": [stamped("a", "b", (1, 0, 0))]}, static=False) == []
+    poses = frames.poses({"world": np.eye(4)})
+    assert np.allclose(poses["a"][:3, 3], [1, 2, 3])
+    assert np.allclose(poses["b"][:3, 3], [1, 3, 3])  # a's x axis is the world's y after the quarter turn
+    assert np.allclose(poses["b"][:3, :3], poses["a"][:3, :3])
+    assert [t["child_frame_id"] for t in frames.transforms(static=True)] == ["a"]
+    assert [t["child_frame_id"] for t in frames.transforms(static=False)] == ["b"]
+
+
+def test_the_labs_frames_and_another_programs_are_refused_the_rest_taken():
+    frames = NodeFrames()
+    lab_child = next(child for _, child, _ in tf.tree() if child == tf.BOX)
+    refused = frames.offer(
+        ADA, {"transforms": [stamped("panda_link0", lab_child), stamped("plate", "marker", (0, 0, 0.05))]}, static=False
+    )
+    assert len(refused) == 1 and f"frame {tf.BOX} is the lab's" in refused[0]
+    assert frames.names() == {"marker"}
+    assert frames.offer(BOB, {"transforms": [stamped("plate", "marker")]}, static=False) == [
+        "frame marker is published by node /ada"
+    ]
+    assert "finite" in frames.offer(ADA, {"transforms": [stamped("plate", "c", (math.nan, 0, 0))]}, static=False)[0]
+    assert "own parent" in frames.offer(ADA, {"transforms": [stamped("c", "c")]}, static=False)[0]
+    assert "transforms" in frames.offer(ADA, {"transform": []}, static=False)[0]
+
+
+def test_a_programs_frames_go_with_it_and_a_frame_below_nothing_has_no_pose():
+    frames = NodeFrames()
+    frames.offer(ADA, {"transforms": [stamped("nowhere", "lost"), stamped("world", "kept")]}, static=False)
+    poses = frames.poses({"world": np.eye(4)})
+    assert "kept" in poses and "lost" not in poses
+    frames.drop(ADA)
+    assert frames.names() == set()

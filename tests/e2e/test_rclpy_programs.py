@@ -1,0 +1,214 @@
+"""rclpy programs in the styles of ros2/examples (tests/ros_programs/) run unchanged with `hri-lab
+run` against a real lab (`serve --exercises`): `with rclpy.init():` and ExternalShutdownException,
+an `async def` action server whose cancels are accepted or rejected (the client told which), a
+coroutine on the executor awaiting `call_async`, a MultiThreadedExecutor's mutually exclusive
+group, a package's own modules and service type found by its package.xml's name (run and launch),
+and the camera handout's image server answering its service while images stream in."""
+
+import signal
+
+from app.cli.launch import running_server
+from tests.e2e.serving import served_lab
+from tests.http_client import http
+from tests.ros_running import PROGRAMS, Program, run
+from tests.waiting import wait_for
+
+lab = served_lab("--exercises")
+
+WORKSPACE = PROGRAMS / "ros2_ws"
+PACKAGE = WORKSPACE / "src" / "greeting_package"  # package.xml says: greetings
+
+
+def test_with_rclpy_init_programs_talk_and_end_on_ctrl_c_or_sigterm(lab):
+    listener = run(lab.url, "listener_rclpy.py")
+    talker = run(lab.url, "talker_rclpy.py")
+    try:
+        listener.wait_for_line('I heard: "Hello World: 1"')
+    finally:
+        assert talker.interrupt() == 0, talker.output  # KeyboardInterrupt, caught as the example does
+        listener.proc.send_signal(signal.SIGTERM)  # a launch system's stop: the context shuts down
+        assert listener.wait() == 0, listener.output
+    assert "listener: shut down cleanly" in listener.output  # ExternalShutdownException out of spin
+
+
+def _cancel_run(lab, accept: bool) -> Program:
+    server = run(
+        lab.url,
+        "fibonacci_action_server_rclpy.py",
+        "--ros-args",
+        "-p",
+        f"accept_cancel:={str(accept).lower()}",
+        "-p",
+        "period:=0.3",
+    )
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        client = run(lab.url, "fibonacci_action_client_cancel_rclpy.py")
+        assert client.wait(timeout=120) == 0, client.output + "\n--- server:\n" + server.output
+    finally:
+        server.interrupt()
+    assert "Goal accepted :)" in client.output and "Received feedback: [0, 1, 1" in client.output
+    return client
+
+
+def test_an_async_action_server_accepts_a_cancel_and_the_client_is_told(lab):
+    client = _cancel_run(lab, accept=True)
+    assert "Goal successfully canceled" in client.output
+
+
+def test_an_async_action_server_rejects_a_cancel_and_the_client_is_told(lab):
+    client = _cancel_run(lab, accept=False)
+    assert "Goal failed to cancel" in client.output
+
+
+def test_an_async_execute_callback_succeeds_over_http(lab):
+    server = run(lab.url, "fibonacci_action_server_rclpy.py", "--ros-args", "-p", "period:=0.01")
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        goal = http.post(f"{lab.url}/actions/fibonacci/goals", json={"order": 6}, timeout=30)
+        assert goal.status_code == 202, goal.text
+        goal_id = goal.json()["goal_id"]
+        ended = wait_for(
+            lambda: (
+                (g := http.get(f"{lab.url}/actions/fibonacci/goals/{goal_id}").json())["status"]
+                in ("succeeded", "aborted", "preempted", "rejected")
+                and g
+            )
+        )
+        assert ended["status"] == "succeeded", ended  # not aborted at once, as an unawaited coroutine was
+        assert ended["result"]["sequence"] == [0, 1, 1, 2, 3, 5, 8]
+    finally:
+        server.interrupt()
+
+
+def test_a_coroutine_on_the_executor_awaits_call_async(lab):
+    server = run(lab.url, "add_two_ints_server_rclpy.py")
+    try:
+        server.wait_for_line("Ready to add two ints.")
+        client = run(lab.url, "add_two_ints_client_task_rclpy.py", "2", "3")
+        assert client.wait() == 0, client.output
+    finally:
+        server.interrupt()
+    assert "for 2 + 3 = 5" in client.output and "for 5 + 3 = 8" in client.output
+    assert "task done: True, result 8" in client.output
+
+
+def test_a_mutually_exclusive_group_never_runs_two_callbacks_at_once(lab):
+    program = run(lab.url, "exclusive_group_rclpy.py")
+    try:
+        program.wait_for_line("groups ready")
+        report = wait_for(
+            lambda: (
+                (r := http.post(f"{lab.url}/services/group_report", json={}, timeout=30)).status_code == 200
+                and int(r.json()["message"].split()[2]) >= 6
+                and r.json()
+            )
+        )
+    finally:
+        program.interrupt()
+    assert report["message"].endswith("at most 1 at once"), report
+
+
+def test_a_package_imports_its_own_modules_and_srv_by_its_package_xml_name(lab):
+    server = run(lab.url, str(PACKAGE / "greetings" / "hello_server.py"))
+    try:
+        server.wait_for_line("hello server ready")
+        answer = http.post(f"{lab.url}/services/say_hello", json={"name": "Ada"}, timeout=30)
+        assert answer.json() == {"greeting": "Hello, Ada!"}, answer.text
+        assert http.get(f"{lab.url}/services/say_hello").json()["type"] == "greetings/srv/SayHello"
+    finally:
+        assert server.interrupt() == 0, server.output
+
+
+def test_launch_finds_a_node_by_its_packages_name_in_the_workspace(lab, tmp_path):
+    launch_file = tmp_path / "hello.launch.xml"  # outside the workspace: only --workspace finds the package
+    launch_file.write_text((PACKAGE / "launch" / "hello.launch.xml").read_text())
+    launched = Program(lab.url, "launch", "--workspace", str(WORKSPACE), str(launch_file), terminal=True)
+    try:
+        launched.wait_for_line("hello server ready")
+        answer = http.post(f"{lab.url}/services/say_hello", json={"name": "launch"}, timeout=30)
+        assert answer.json() == {"greeting": "Hello, launch!"}
+    finally:
+        launched.interrupt()
+
+
+def test_the_image_server_answers_its_service_while_images_stream():
+    """The handout's ImageSubscriber: every image callback is longer than the camera's period, so
+    images are always waiting; each request is still answered (it used to wait behind the images
+    until the lab gave up: 504)."""
+    with running_server("--view", "none", "--exercises") as camera_lab:
+        program = run(camera_lab.url, "image_subscriber_rclpy.py")
+        try:
+            wait_for(lambda: sum("Receiving video frame" in line for line in program.lines) >= 10, timeout=120)
+            answers = [
+                http.post(f"{camera_lab.url}/services/get_target_position", json={"get": True}, timeout=30)
+                for _ in range(10)
+            ]
+        finally:
+            program.interrupt()
+    assert [a.status_code for a in answers] == [200] * 10, [a.text for a in answers]
+    assert all(a.json()["x"] > 0 and a.json()["y"] > 0 for a in answers)  # the box, detected
+
+
+def _goal(lab, order: int) -> str:
+    goal = http.post(f"{lab.url}/actions/fibonacci/goals", json={"order": order}, timeout=30)
+    assert goal.status_code == 202, goal.text
+    return goal.json()["goal_id"]
+
+
+def _ended(lab, goal_id: str) -> dict:
+    return wait_for(
+        lambda: (
+            (g := http.get(f"{lab.url}/actions/fibonacci/goals/{goal_id}").json())["status"]
+            in ("succeeded", "aborted", "preempted", "rejected")
+            and g
+        ),
+        timeout=120,
+    )
+
+
+def test_a_queued_action_server_runs_goals_sent_together_one_after_the_other(lab):
+    server = run(lab.url, "fibonacci_queue_server_rclpy.py")
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        first, second = _goal(lab, 5), _goal(lab, 4)  # the second while the first executes: both taken
+        assert _ended(lab, first)["result"]["sequence"] == [0, 1, 1, 2, 3, 5]
+        assert _ended(lab, second)["result"]["sequence"] == [0, 1, 1, 2, 3]
+        server.wait_for_line("Returning result of order 4")
+    finally:
+        server.interrupt()
+    order = [line for line in server.lines if "of order" in line or "queue" in line]
+    assert [
+        "queue" in order[1],
+        "Returning result of order 5" in order[2],
+        "Executing goal of order 4" in order[3],
+    ] == [True] * 3, order
+
+
+def test_a_single_goal_action_server_aborts_the_goal_a_new_one_replaces(lab):
+    server = run(lab.url, "fibonacci_single_goal_server_rclpy.py")
+    try:
+        wait_for(lambda: "/fibonacci" in http.get(f"{lab.url}/actions").text)
+        first = _goal(lab, 40)
+        wait_for(lambda: http.get(f"{lab.url}/actions/fibonacci/goals/{first}").json()["feedback_count"] >= 1)
+        second = _goal(lab, 3)
+        assert _ended(lab, first)["status"] == "aborted"
+        assert _ended(lab, second)["result"]["sequence"] == [0, 1, 1, 2]
+    finally:
+        server.interrupt()
+    assert "Aborting previous goal" in server.output
+
+
+def test_a_second_server_of_a_provided_service_raises_rclerror(lab):
+    first = run(lab.url, "add_two_ints_server_rclpy.py")
+    try:
+        first.wait_for_line("Ready to add two ints.")
+        second = run(lab.url, "add_two_ints_server_rclpy.py")
+        assert second.wait() == 1, second.output
+        # the same node name: its parameter services are the first one's (a warning, as ROS 2 warns)
+        assert "this one's parameters are not served" in second.output
+        assert "rclpy.exceptions.RCLError: Failed to create service /add_two_ints" in second.output
+        assert "already provided by node" in second.output
+        assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}, timeout=30).json() == {"sum": 3}
+    finally:
+        assert first.interrupt() == 0, first.output

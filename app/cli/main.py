@@ -116,6 +116,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="leave the handout's exercise services to the students' nodes (rosbridge): "
         "each answers 'not provided yet' until a node advertises it",
     )
+    srv.add_argument(
+        "--world",
+        choices=("lifting", "mobile"),
+        default="lifting",
+        help="lifting: the Panda and the box (default); mobile: a TurtleBot3-like base in an arena (docs/mobile-lab.md)",
+    )
+    srv.add_argument(
+        "--arena-seed",
+        type=int,
+        default=None,
+        metavar="N",
+        help="--world mobile: the arena, the start pose and the noise this seed draws (default: the standard arena)",
+    )
     srv.set_defaults(func=_command("app.cli.serve"))
 
     tpl = sub.add_parser(

@@ -115,9 +115,7 @@ def obstacle_distance(row: np.ndarray, x: float, y: float) -> tuple[float, float
 
 
 @njit(cache=True)
-def nearest_surface(
-    walls_xy: np.ndarray, obstacles: np.ndarray, x: float, y: float
-) -> tuple[float, float, float, int]:
+def nearest_surface(walls_xy: np.ndarray, obstacles: np.ndarray, x: float, y: float) -> tuple[float, float, float, int]:
     """The nearest surface to (x, y): its signed distance (m), its unit normal pointing away from
     it (towards the free space), and which it is (-1 the walls, i >= 0 obstacle i)."""
     best, nx, ny, which = x - walls_xy[0], 1.0, 0.0, -1

@@ -55,7 +55,10 @@ def laser_scan(s: MobileSnapshot) -> dict:
 
 
 def _pose_message(pose) -> dict:
-    return {"position": {"x": float(pose[0]), "y": float(pose[1]), "z": 0.0}, "orientation": _quaternion_z(float(pose[2]))}
+    return {
+        "position": {"x": float(pose[0]), "y": float(pose[1]), "z": 0.0},
+        "orientation": _quaternion_z(float(pose[2])),
+    }
 
 
 def odometry(s: MobileSnapshot) -> dict:

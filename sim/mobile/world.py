@@ -55,7 +55,9 @@ def seeded_config(seed: int, **changes) -> MobileConfig:
     rng = np.random.default_rng([seed, 1])
     bearing = float(rng.uniform(-math.pi, math.pi))
     x, y = place_at_distance(arena, bearing, float(rng.uniform(*START_DISTANCE_RANGE)))
-    yaw = math.remainder(bearing + math.pi + float(rng.uniform(-START_HEADING_SPREAD, START_HEADING_SPREAD)), 2 * math.pi)
+    yaw = math.remainder(
+        bearing + math.pi + float(rng.uniform(-START_HEADING_SPREAD, START_HEADING_SPREAD)), 2 * math.pi
+    )
     errors = rng.normal(0.0, WHEEL_RADIUS_ERROR_SIGMA, 2)
     base = BaseSpec(wheel_radius_error=(float(errors[0]), float(errors[1])))
     return MobileConfig(**{"arena": arena, "start_pose": (x, y, yaw), "base": base, "seed": seed, **changes})
@@ -190,7 +192,16 @@ class MobileWorld:
         c, s = math.cos(yaw), math.sin(yaw)
         ox, oy = lidar.offset_xy
         normals = self._rng.standard_normal(lidar.rays)
-        scan(arena.walls_xy, arena.obstacle_rows, x + c * ox - s * oy, y + s * ox + c * oy, yaw, normals, self._noise, self.scan_ranges)
+        scan(
+            arena.walls_xy,
+            arena.obstacle_rows,
+            x + c * ox - s * oy,
+            y + s * ox + c * oy,
+            yaw,
+            normals,
+            self._noise,
+            self.scan_ranges,
+        )
         self.scan_time = self.time
         self._next_scan = self.time + 1.0 / lidar.rate_hz
 
@@ -219,5 +230,7 @@ class MobileWorld:
             contacts=self.contacts,
             contact_with=self.contact_with,
             error=self._error,
-            wall=WallState(w.elapsed, w.distance, w.min_distance, w.circuit, w.outside_band, w.done, w.passed, w.verdict),
+            wall=WallState(
+                w.elapsed, w.distance, w.min_distance, w.circuit, w.outside_band, w.done, w.passed, w.verdict
+            ),
         )

@@ -8,7 +8,7 @@ from typing import Any
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
-from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
+from app.rosbridge.internal.state import NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 
@@ -25,11 +25,11 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
         session.state["rosout_type"] = type_name
         session.publishing.add(topic)
         return
-    if topic in bridge.topics and topic != COMMAND_TOPIC:
+    if topic in bridge.topics and topic != bridge.command_topic:
         raise BadFrame(f"advertise: topic {topic} is published by the lab")
     if known is not None and known != type_name:
         raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
-    if topic != COMMAND_TOPIC:
+    if topic != bridge.command_topic:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)
     session.publishing.add(topic)

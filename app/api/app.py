@@ -27,9 +27,9 @@ from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
 from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
-from app.mobile.lab import MobileLab
 from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
+from app.mobile.lab import MobileLab
 from app.ros.actions import ActionServer
 from app.ros.services import ServiceRegistry
 from app.rosbridge import server as rosbridge

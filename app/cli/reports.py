@@ -11,7 +11,6 @@ from pathlib import Path
 from sim.controllers.plugin import split_spec
 from sim.procedures.report import Report, summary_csv
 
-
 FILE_KINDS = ("controller", "wall following")  # reports of a file (named after it), not of a lab
 
 

@@ -13,6 +13,7 @@ from fastapi.staticfiles import StaticFiles
 from app.api import actions as actions_api
 from app.api import camera as camera_api
 from app.api import files as files_api
+from app.api import mobile as mobile_api
 from app.api import node_services as node_services_api
 from app.api import params as params_api
 from app.api import robot as robot_api
@@ -67,8 +68,13 @@ def create_app(
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         lab.start()
-        if view != "none" and lifting:
-            from app.view.view3d import LabView  # viser only when a view is asked for
+        if view != "none" and isinstance(lab, MobileLab):
+            from app.view.mobile_view import MobileView  # viser only when a view is asked for
+
+            app.state.view = MobileView(lab, view_host, view_port, light=view == "light")
+            app.state.view.start()
+        elif view != "none":
+            from app.view.view3d import LabView
 
             app.state.view = LabView(
                 lab, app.state.actions, services, view_host, view_port, light=view == "light", controls=token is None
@@ -116,6 +122,8 @@ def create_app(
             headers={"Retry-After": "1"},
         )
 
+    if not lifting:  # its page at / (before the lifting page's), its arena, the page's teleop
+        app.include_router(mobile_api.router)
     app.include_router(system_api.router)
     app.include_router(services_api.router(services, lambda name: nodes.node_of(name) or LAB_NODE))
     app.include_router(node_services_api.router(nodes))  # after the typed routes: names added at run time

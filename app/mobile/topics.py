@@ -30,6 +30,11 @@ def wall_following(s: MobileSnapshot) -> dict:
     }
 
 
+def clock(s: MobileSnapshot) -> dict:
+    """rosgraph_msgs/Clock: the simulated time, as Gazebo publishes it (for `use_sim_time`)."""
+    return {"clock": header_at(s.time, "")["stamp"]}
+
+
 def pose_2d(s: MobileSnapshot) -> dict:
     """The base's true pose in the arena (geometry_msgs/Pose2D): Gazebo's ground truth."""
     return {"x": float(s.pose[0]), "y": float(s.pose[1]), "theta": float(s.pose[2])}
@@ -40,6 +45,7 @@ TOPICS = [
     Topic(ROBOT_DESCRIPTION, "std_msgs/String", lambda s: {"data": burger_urdf()}),
     Topic("/ground_truth_pose", "geometry_msgs/Pose2D", pose_2d),
     Topic("/wall_following", "hri_lab/WallFollowing", wall_following),
+    Topic("/clock", "rosgraph_msgs/Clock", clock),
 ]
 # at most this often to one subscriber (s): turtlebot3_node's odometry and joint states at 30 Hz
 MIN_PERIOD_S = {
@@ -49,6 +55,7 @@ MIN_PERIOD_S = {
     "/tf": 1 / 30,
     "/tf_static": 0.1,
     ROBOT_DESCRIPTION: 1.0,
+    "/clock": 0.01,
 }
 # sent only when the message changed: each scan once (5 Hz), the latched ones (transient local)
 LATCHED = {"/scan", "/tf_static", ROBOT_DESCRIPTION}

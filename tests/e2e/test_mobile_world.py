@@ -87,28 +87,41 @@ def test_a_twist_with_a_bad_field_is_refused(lab, ros):
 
 
 def test_the_keys_to_twist_node_drives_the_base_and_param_set_changes_its_speed(lab):
-    node = run(lab.url, "keys_to_twist_rclpy.py", "a", "--ros-args", "-r", "key_twist:=cmd_vel")
-    try:
-        node.wait_for_line("key a: linear.x=0 angular.z=0.5")
-        wait_for(lambda: latest(lab, "odom")["twist"]["twist"]["angular"]["z"] == 0.5, timeout=60)
+    node = run(lab.url, "keys_to_twist_rclpy.py", "wa", "--ros-args", "-r", "key_twist:=cmd_vel")
+
+    def param_set(name: str, value: str) -> None:
         changed = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "app.cli",
-                "param",
-                "set",
-                "/keytwist_param",
-                "angular_speed",
-                "1.5",
-                "--url",
-                lab.url,
-            ],
+            [sys.executable, "-m", "app.cli", "param", "set", "/keytwist_param", name, value, "--url", lab.url],
             capture_output=True,
             text=True,
             timeout=60,
         )
         assert changed.returncode == 0, changed.stdout + changed.stderr
-        wait_for(lambda: latest(lab, "odom")["twist"]["twist"]["angular"]["z"] == 1.5, timeout=60)
+
+    def twist():
+        t = latest(lab, "odom")["twist"]["twist"]
+        return t["linear"]["x"], t["angular"]["z"]
+
+    try:
+        node.wait_for_line("key a: linear.x=0 angular.z=0.5")
+        wait_for(lambda: twist() == (0.1, 0.0), timeout=60)  # the defaults: key w at 0.1 m/s
+        wait_for(lambda: twist() == (0.0, 0.5), timeout=60)  # key a at 0.5 rad/s
+        param_set("linear_speed", "0.3")  # the handout's change: above the Burger's 0.22 m/s
+        node.wait_for_line("key w: linear.x=0.3")
+        wait_for(lambda: twist() == (0.22, 0.0), timeout=60)  # held to the base's top speed
+        param_set("angular_speed", "1.5")
+        wait_for(lambda: twist() == (0.0, 1.5), timeout=60)
     finally:
         node.interrupt()
+
+
+def test_the_world_publishes_its_clock(lab, ros):
+    ticks: list[dict] = []
+    clock = roslibpy.Topic(ros, "/clock", "rosgraph_msgs/Clock")
+    clock.subscribe(ticks.append)
+    try:
+        wait_for(lambda: len(ticks) >= 3)
+    finally:
+        clock.unsubscribe()
+    seconds = [t["clock"]["sec"] + t["clock"]["nanosec"] * 1e-9 for t in ticks]
+    assert seconds == sorted(seconds) and seconds[-1] > seconds[0]

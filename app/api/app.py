@@ -31,8 +31,8 @@ from app.lab.lab import Lab
 from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
 from app.mobile.lab import MobileLab
+from app.mobile.services import SERVICES as MOBILE_SERVICES
 from app.ros.actions import ActionServer
-from app.ros.services import ServiceRegistry
 from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
 from app.rosbridge.internal.state import Bridge
@@ -61,7 +61,7 @@ def create_app(
     if isinstance(lab, Lab):
         services_declared, actions_declared, topics_declared = SERVICES, ACTIONS, TOPICS
     else:
-        services_declared, actions_declared, topics_declared = ServiceRegistry(), [], lab.topics
+        services_declared, actions_declared, topics_declared = MOBILE_SERVICES, [], lab.topics
     nodes = NodeServices(services_declared, lab, EXERCISES if exercises and lifting else ())  # declared + nodes'
     services = nodes.registry
 

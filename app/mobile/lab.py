@@ -1,8 +1,9 @@
 """The mobile world's Lab (`hri-lab serve --world mobile`, docs/mobile-lab.md): the same runtime
 as the lifting lab's (its own process, the loop, the shared snapshot: app/runtime), the same
 ROS machinery (rosout, the node parameters, ROS 1's parameter tree), with the mobile world's
-declarations: its topics, its command topic (/cmd_vel) and the Burger's URDF. It declares no
-services, parameters or actions of its own: the nodes that run against it bring theirs."""
+declarations: its topics, its command topic (/cmd_vel), the Burger's URDF and its recording
+services (app/mobile/services.py). It declares no parameters or actions of its own: the nodes that
+run against it bring theirs."""
 
 from __future__ import annotations
 
@@ -44,7 +45,7 @@ class MobileLab:
         )
         self.recordings_dir = DEFAULT_DIR
         self.figures_dir = DEFAULT_DIR.parent / "figures"
-        self.recorder = None
+        self.recorder: Any = None  # the live recording (app/mobile/services.py), one at a time
 
     @property
     def world(self) -> MobileWorld:
@@ -56,6 +57,8 @@ class MobileLab:
         self.info(LAB_NODE, "the simulation started (the mobile world)")
 
     def stop(self) -> None:
+        if self.recorder is not None:  # a recording is finished (indexed) on shutdown
+            self.recorder.stop()
         self.runtime.stop()
 
     def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:

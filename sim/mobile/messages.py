@@ -1,7 +1,8 @@
 """The mobile world's topics as ROS messages of a MobileSnapshot (as TurtleBot3's bringup and its
 Gazebo world publish them): /scan, /odom, /tf (odom -> base_footprint), /tf_static
-(base_footprint -> base_link -> base_scan, the wheels' links), /joint_states of the wheels and
-/cmd_vel (the twist the base was last commanded). The live server serves them (app/mobile/) and
+(base_footprint -> base_link -> base_scan, the wheels' links), /joint_states of the wheels,
+/cmd_vel (the twist the base was last commanded), /clock; and Gazebo's ground truth
+(/ground_truth_pose) and the grader's monitor (/wall_following). The live server serves them (app/mobile/) and
 recordings store them.
 
 The frames: `odom` is the arena's frame, where the odometry starts at the robot's true start pose;
@@ -128,6 +129,32 @@ def cmd_vel(s: MobileSnapshot) -> dict:
     }
 
 
+def clock(s: MobileSnapshot) -> dict:
+    """rosgraph_msgs/Clock: the simulated time, as Gazebo publishes it (for `use_sim_time`)."""
+    return {"clock": header_at(s.time, "")["stamp"]}
+
+
+def pose_2d(s: MobileSnapshot) -> dict:
+    """The base's true pose in the arena (geometry_msgs/Pose2D): Gazebo's ground truth."""
+    return {"x": float(s.pose[0]), "y": float(s.pose[1]), "theta": float(s.pose[2])}
+
+
+def wall_following(s: MobileSnapshot) -> dict:
+    """The wall-following trial's state (sim/mobile/monitor.py), judged from the true pose."""
+    w = s.wall
+    return {
+        "header": header_at(s.time, ODOM),
+        "elapsed": w.elapsed,
+        "distance": w.distance,
+        "circuit_deg": math.degrees(w.circuit),
+        "outside_band": w.outside_band,
+        "contact": s.contact,
+        "done": w.done,
+        "passed": w.passed,
+        "verdict": w.verdict or "",
+    }
+
+
 TOPICS = [
     Topic(SCAN, "sensor_msgs/LaserScan", laser_scan),
     Topic(ODOM_TOPIC, "nav_msgs/Odometry", odometry),
@@ -135,4 +162,7 @@ TOPICS = [
     Topic(CMD_VEL, "geometry_msgs/Twist", cmd_vel),
     Topic("/tf", "tf2_msgs/TFMessage", tf),
     Topic("/tf_static", "tf2_msgs/TFMessage", tf_static),
+    Topic("/ground_truth_pose", "geometry_msgs/Pose2D", pose_2d),
+    Topic("/wall_following", "hri_lab/WallFollowing", wall_following),
+    Topic("/clock", "rosgraph_msgs/Clock", clock),
 ]

@@ -7,7 +7,9 @@ import math
 import pytest
 from fastapi.testclient import TestClient
 
+from sim.mobile.playback import is_mobile
 from sim.mobile.world import MobileConfig
+from sim.recording import reader
 
 from app.api.app import create_app
 from app.mobile.lab import MobileLab
@@ -26,7 +28,8 @@ def test_the_page_and_the_arena(client):
     arena = client.get("/mobile/arena").json()
     assert arena["half_size_xy"] == [2.0, 2.0] and arena["obstacles"][0]["shape"] == "cylinder"
     assert arena["max_linear"] == 0.22 and arena["max_angular"] == 2.84
-    assert client.get("/services").json() == []  # the lifting lab's are not this world's
+    names = {s["name"] for s in client.get("/services").json()}
+    assert names == {"/start_recording", "/stop_recording"}  # the lifting lab's others are not this world's
     assert client.post("/teleop/key", json={"key": "w"}).status_code == 404
 
 
@@ -53,3 +56,22 @@ def test_the_page_teleop_drives_the_base(client):
     wait_for(turning, 60)
     assert client.post("/mobile/reset").json() == {"successful": True}
     assert client.get("/topics/ground_truth_pose").json()["x"] == pytest.approx(-1.0, abs=0.01)
+
+
+def test_a_live_recording_of_the_mobile_world(client, tmp_path):
+    lab = client.app.state.lab
+    lab.recordings_dir = tmp_path
+    started = client.post("/services/start_recording", json={"name": "drive"})
+    assert started.status_code == 200, started.text
+    start = lab.snapshot().time
+    wait_for(
+        lambda: (
+            client.post("/mobile/drive", json={"linear_x": 0.1, "angular_z": 0.5}) and lab.snapshot().time > start + 1
+        )
+    )
+    stopped = client.post("/services/stop_recording", json={}).json()
+    assert stopped["success"] and stopped["messages"] > 10
+    download = client.get("/recordings/drive.mcap")
+    assert download.status_code == 200 and download.content.startswith(b"\x89MCAP0\r\n")
+    assert is_mobile(tmp_path / "drive.mcap")
+    assert "foxglove.LaserScan" in {m.schema for m in reader.messages(tmp_path / "drive.mcap", ["/scan"])}

@@ -44,6 +44,7 @@ OUTPUT_LINES = 5  # the program's last lines quoted when it ended on its own
 def served(config: MobileConfig) -> Iterator[tuple[MobileLab, str]]:
     """The trial's world as `hri-lab serve --world mobile --view none` serves it, in this process."""
     lab = MobileLab(config)
+    lab.graded = True  # the program reaches the lab's HTTP API too: it may not reset the trial's world
     port = free_port()
     server = uvicorn.Server(server_config(create_app(lab, view="none"), "127.0.0.1", port))
     thread = threading.Thread(target=server.run, name="wall-trial-server", daemon=True)

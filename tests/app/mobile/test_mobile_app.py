@@ -75,3 +75,13 @@ def test_a_live_recording_of_the_mobile_world(client, tmp_path):
     assert download.status_code == 200 and download.content.startswith(b"\x89MCAP0\r\n")
     assert is_mobile(tmp_path / "drive.mcap")
     assert "foxglove.LaserScan" in {m.schema for m in reader.messages(tmp_path / "drive.mcap", ["/scan"])}
+
+
+def test_a_graded_trials_world_cannot_be_reset(client):
+    lab = client.app.state.lab
+    lab.graded = True
+    try:
+        refused = client.post("/mobile/reset")
+        assert refused.status_code == 403 and "cannot be reset" in refused.text
+    finally:
+        lab.graded = False

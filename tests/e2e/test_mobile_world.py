@@ -1,6 +1,7 @@
 """`hri-lab serve --world mobile`: the base driven over rosbridge (/cmd_vel), its sensors as ROS has
 them (/scan, /odom, /tf, /joint_states, /robot_description), the watchdog, and the handout's
-keys-to-twist node driving it with `hri-lab param set` changing its speed."""
+keys-to-twist node driving it with `hri-lab param set` changing its speed; `hri-lab record`, `bag info`
+and `play` of it."""
 
 import math
 import subprocess
@@ -8,11 +9,13 @@ import sys
 import threading
 import time
 
+import httpx
 import roslibpy
 
+from app.cli.launch import free_port
 from tests.e2e.serving import served_lab
 from tests.http_client import http
-from tests.ros_running import run
+from tests.ros_running import Program, run
 from tests.waiting import wait_for
 
 lab = served_lab("--world", "mobile")
@@ -125,3 +128,35 @@ def test_the_world_publishes_its_clock(lab, ros):
         clock.unsubscribe()
     seconds = [t["clock"]["sec"] + t["clock"]["nanosec"] * 1e-9 for t in ticks]
     assert seconds == sorted(seconds) and seconds[-1] > seconds[0]
+
+
+def test_record_then_play_the_mobile_world(lab, tmp_path):
+    out = tmp_path / "drive.mcap"
+    recorded = subprocess.run(
+        [sys.executable, "-m", "app.cli", "record", "-o", str(out), "--duration", "2", "--url", lab.url],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert recorded.returncode == 0, recorded.stdout + recorded.stderr
+    info = subprocess.run(
+        [sys.executable, "-m", "app.cli", "bag", "info", str(out)], capture_output=True, text=True, timeout=60
+    ).stdout
+    assert "Topic: /scan" in info and "foxglove.LaserScan" in info and "foxglove.SceneUpdate" in info
+    port = free_port()
+    play = Program(None, "play", str(out), "--port", str(port), "--view", "light")
+    try:
+        play.wait_for_line("Press Ctrl+C")  # printed before its server binds the port: wait for that too
+
+        def listed():
+            try:
+                return http.get(f"http://127.0.0.1:{port}/topics").json()
+            except httpx.ConnectError:
+                return None
+
+        topics = {t["name"]: t["type"] for t in wait_for(listed, 60)}
+        assert topics["/scan"] == "foxglove.LaserScan" and topics["/odom"] == "nav_msgs/Odometry"
+        scan = http.get(f"http://127.0.0.1:{port}/topics/scan").json()
+        assert scan["frame_id"] == "base_scan" and len(scan["ranges"]) == 360
+    finally:
+        play.interrupt()

@@ -5,6 +5,7 @@ builder(snapshot) -> dict shaped like the ROS message it mirrors). The live serv
 import base64
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -155,7 +156,7 @@ def camera_info(s: Snapshot) -> dict:
 class Topic:
     name: str
     type: str
-    build: Callable[[Snapshot], dict]
+    build: Callable[[Any], dict]  # a world's snapshot -> the message (the mobile world's: sim/mobile/messages.py)
 
 
 TOPICS = [

@@ -6,6 +6,7 @@ import numpy as np
 
 from sim.controllers.interface import LiftingParams, ZeroController
 from sim.controllers.patch import PatchController
+from sim.mobile.world import MobileWorld
 from sim.world import World
 
 
@@ -30,3 +31,7 @@ def warm_up() -> None:
         world.human.step = world.human.step  # type: ignore[method-assign]  # a patched component: the rest through Python methods
         world.run(0.002)
         del world.human.step
+    mobile = MobileWorld()  # the mobile world's kernels: the base's step, the scan, the distances
+    mobile.drive(0.1, 0.5)
+    mobile.run(0.25)
+    mobile.nearest_surface()

@@ -13,6 +13,7 @@ from fastapi.staticfiles import StaticFiles
 from app.api import actions as actions_api
 from app.api import camera as camera_api
 from app.api import files as files_api
+from app.api import mobile as mobile_api
 from app.api import node_services as node_services_api
 from app.api import params as params_api
 from app.api import robot as robot_api
@@ -29,6 +30,8 @@ from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
 from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
+from app.mobile.lab import MobileLab
+from app.mobile.services import SERVICES as MOBILE_SERVICES
 from app.ros.actions import ActionServer
 from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
@@ -39,7 +42,7 @@ from app.tokens import token_problem
 
 
 def create_app(
-    lab: Lab | None = None,
+    lab: Lab | MobileLab | None = None,
     view: str = "none",
     view_host: str = "127.0.0.1",
     view_port: int = 8080,
@@ -54,14 +57,24 @@ def create_app(
     if token and token_problem(token):
         raise ValueError(token_problem(token))
     lab = lab or Lab()
-    nodes = NodeServices(SERVICES, lab, EXERCISES if exercises else ())  # this app's registry: SERVICES + nodes'
+    lifting = isinstance(lab, Lab)  # else the mobile world (app/mobile/lab.py): it declares topics only
+    if isinstance(lab, Lab):
+        services_declared, actions_declared, topics_declared = SERVICES, ACTIONS, TOPICS
+    else:
+        services_declared, actions_declared, topics_declared = MOBILE_SERVICES, [], lab.topics
+    nodes = NodeServices(services_declared, lab, EXERCISES if exercises and lifting else ())  # declared + nodes'
     services = nodes.registry
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         lab.start()
-        if view != "none":
-            from app.view.view3d import LabView  # viser only when a view is asked for
+        if view != "none" and isinstance(lab, MobileLab):
+            from app.view.mobile_view import MobileView  # viser only when a view is asked for
+
+            app.state.view = MobileView(lab, view_host, view_port, light=view == "light")
+            app.state.view.start()
+        elif view != "none":
+            from app.view.view3d import LabView
 
             app.state.view = LabView(
                 lab, app.state.actions, services, view_host, view_port, light=view == "light", controls=token is None
@@ -86,7 +99,7 @@ def create_app(
     add_offline_docs(app)
     app.state.lab = lab
     app.state.view = None
-    app.state.actions = ActionServer(ACTIONS, lab)
+    app.state.actions = ActionServer(actions_declared, lab)
     if token:
         app.add_middleware(TokenMiddleware, token=token)
     app.add_middleware(SiteGuard, bound_host=view_host)  # outermost: cross-site refusals come first
@@ -109,16 +122,19 @@ def create_app(
             headers={"Retry-After": "1"},
         )
 
+    if not lifting:  # its page at / (before the lifting page's), its arena, the page's teleop
+        app.include_router(mobile_api.router)
     app.include_router(system_api.router)
     app.include_router(services_api.router(services, lambda name: nodes.node_of(name) or LAB_NODE))
     app.include_router(node_services_api.router(nodes))  # after the typed routes: names added at run time
     app.include_router(params_api.router)
-    app.include_router(topics_api.router(TOPICS))
-    app.include_router(actions_api.router(ACTIONS))
-    app.include_router(teleop_api.router)
-    app.include_router(robot_api.router)
+    app.include_router(topics_api.router(topics_declared))
+    app.include_router(actions_api.router(actions_declared))
+    if lifting:  # the arm's teleop, its model and its camera
+        app.include_router(teleop_api.router)
+        app.include_router(robot_api.router)
+        app.include_router(camera_api.router)
     app.include_router(files_api.router)
-    app.include_router(camera_api.router)
     app.state.bridge = Bridge(lab, nodes, app.state.actions, token)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")

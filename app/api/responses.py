@@ -43,3 +43,15 @@ def json_safe(value, depth: int = 0):
         listed = [json_safe(v, depth + 1) for v in value[:ECHO_ITEMS]]
         return listed + [f"... {len(value) - ECHO_ITEMS} more"] if len(value) > ECHO_ITEMS else listed
     return json_safe(repr(value))
+
+
+def finite_or_null(value):
+    """A message with every non-finite float (a scan's out-of-range +inf, REP 117) as None: JSON has
+    no Infinity or NaN, and rosbridge_suite sends them as null too (its PRs #116, #120)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [finite_or_null(v) for v in value]
+    return value

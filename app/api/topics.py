@@ -15,6 +15,7 @@ from sim.messages import Topic
 
 from app.api.camera import current_frame
 from app.api.deps import LabDep
+from app.api.responses import finite_or_null
 from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.ros.names import absolute
@@ -43,7 +44,7 @@ def router(topics: list[Topic]) -> APIRouter:
             raise HTTPException(404, f"topic '{absolute(name)}' does not exist")
         if topic.name == IMAGE:  # the camera's image of the current pose (app/api/camera.py)
             return image_message(current_frame(lab))
-        return topic.build(lab.snapshot())
+        return finite_or_null(topic.build(lab.snapshot()))
 
     @r.websocket("/topics/{name:path}/stream")
     async def stream(
@@ -84,7 +85,7 @@ async def _send_each_new_state(websocket: WebSocket, topic, lab, period: float, 
         snapshot = lab.snapshot()
         if last_time is None or snapshot.time - last_time >= period - 0.0005:
             last_time = snapshot.time
-            await websocket.send_json(topic.build(snapshot))
+            await websocket.send_json(finite_or_null(topic.build(snapshot)))
         next_send = max(next_send + period, loop.time())
         await asyncio.wait([gone], timeout=next_send - loop.time())
 

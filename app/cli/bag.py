@@ -70,23 +70,33 @@ def play(args) -> int:
     """The recording in the 3D view with a slider, and its topics over HTTP, until Ctrl+C."""
     import uvicorn
 
+    from sim.mobile.playback import is_mobile
     from sim.recording import reader
     from sim.recording.playback import Playback
 
     from app.cli.launch import free_port
     from app.view.replay import ReplayView, replay_app
 
+    view: ReplayView
     try:
-        playback = Playback(args.file)
+        if is_mobile(args.file):  # a mobile world's recording: its own reader and scene
+            from sim.mobile.playback import MobilePlayback
+
+            from app.view.mobile_view import MobileReplayView
+
+            view = MobileReplayView(
+                MobilePlayback(args.file), port=args.view_port or free_port(), light=args.view == "light"
+            )
+        else:
+            view = ReplayView(Playback(args.file), port=args.view_port or free_port(), light=args.view == "light")
     except reader.RecordingError as exc:
         raise c.CliError(str(exc)) from None
-    view = ReplayView(playback, port=args.view_port or free_port(), light=args.view == "light")
     view.start()
     port = args.port or free_port()
     if args.play:
         view.play()
     print(
-        f"hri-lab play: {playback.path.name}, {playback.duration:.2f} s, {len(playback.frames)} frames\n"
+        f"hri-lab play: {view.playback.path.name}, {view.playback.duration:.2f} s, {len(view.playback.times)} frames\n"
         f"  3D view   {view.url}\n"
         f"  topics    http://127.0.0.1:{port}/topics  (hri-lab topic echo NAME --url http://127.0.0.1:{port})\n"
         "Press Ctrl+C to stop.",

@@ -116,6 +116,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="leave the handout's exercise services to the students' nodes (rosbridge): "
         "each answers 'not provided yet' until a node advertises it",
     )
+    srv.add_argument(
+        "--world",
+        choices=("lifting", "mobile"),
+        default="lifting",
+        help="lifting: the Panda and the box (default); mobile: a TurtleBot3-like base in an arena (docs/mobile-lab.md)",
+    )
+    srv.add_argument(
+        "--arena-seed",
+        type=int,
+        default=None,
+        metavar="N",
+        help="--world mobile: the arena, the start pose and the noise this seed draws (default: the standard arena)",
+    )
     srv.set_defaults(func=_command("app.cli.serve"))
 
     tpl = sub.add_parser(
@@ -181,6 +194,18 @@ def build_parser() -> argparse.ArgumentParser:
     _report_options(gsv, "cases")
     gsv.add_argument("--quiet", action="store_true", help="no progress lines")
     gsv.set_defaults(func=_command("app.cli.grade_services"))
+
+    gwl = sub.add_parser(
+        "grade-wall",
+        help="grade wall followers (rospy/rclpy programs: /scan in, /cmd_vel out) in the mobile world's trials",
+    )
+    gwl.add_argument("programs", nargs="+", metavar="FOLLOWER.py|DIR", help="files, or folders of .py files (a batch)")
+    _report_options(gwl, "trials (obstacle, start pose, noise)")
+    gwl.add_argument("--trials", type=_positive_int, help="trials per file (default 3)")
+    gwl.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
+    gwl.add_argument("--quiet", action="store_true", help="no progress bar")
+    _scheduler_option(gwl, "every trial of every file")
+    gwl.set_defaults(func=_command("app.cli.grade_wall"))
 
     agr = sub.add_parser(
         "autograder", help="write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab"

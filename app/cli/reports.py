@@ -11,10 +11,12 @@ from pathlib import Path
 from sim.controllers.plugin import split_spec
 from sim.procedures.report import Report, summary_csv
 
+FILE_KINDS = ("controller", "wall following")  # reports of a file (named after it), not of a lab
+
 
 def report_stem(report: Report) -> str:
     """A report's file name stem: the controller file's, or "services"."""
-    return split_spec(report.subject)[0].stem if report.kind == "controller" else report.kind
+    return split_spec(report.subject)[0].stem if report.kind in FILE_KINDS else report.kind
 
 
 def write_report(report: Report, out: Path, gradescope: bool, single: bool) -> None:

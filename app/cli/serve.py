@@ -16,17 +16,19 @@ import uvicorn
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
 from sim.controllers.plugin import PluginFactory
+from sim.mobile.world import seeded_config
 
 from app.api.access import is_loopback
 from app.api.app import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
+from app.mobile.lab import MobileLab
 from app.ros.params import ParameterRefused, read_parameter_file
 from app.rosbridge.protocol import MAX_FRAME
 from app.tokens import TOKEN_ENV, token_problem
 
 
-def load_parameter_file(lab: Lab, path: str) -> None:
+def load_parameter_file(lab: Lab | MobileLab, path: str) -> None:
     """Apply a `param dump` file at start (the seed's launch file); read-only ones too, as
     parameter overrides can at declaration. Any refusal stops the start with its reason."""
     results = lab.params.load(read_parameter_file(path), force=True)
@@ -45,6 +47,8 @@ def serve(
     token: str | None = None,
     exercises: bool = False,
     output_dir: str = ".",
+    world: str = "lifting",
+    arena_seed: int | None = None,
 ) -> int:
     if not is_loopback(host) and not token:
         print(
@@ -54,7 +58,11 @@ def serve(
     if token and token_problem(token):
         print(f"hri-lab: {token_problem(token)}", file=sys.stderr)
         return 2
-    lab = Lab(controller=controller)
+    lab: Lab | MobileLab
+    if world == "mobile":
+        lab = MobileLab(seeded_config(arena_seed) if arena_seed is not None else None)
+    else:
+        lab = Lab(controller=controller)
     lab.recordings_dir, lab.figures_dir = Path(output_dir) / "recordings", Path(output_dir) / "figures"
     if params_file:
         try:
@@ -167,4 +175,6 @@ def run(args: argparse.Namespace) -> int:
         args.token,
         exercises=args.exercises,
         output_dir=args.output_dir,
+        world=args.world,
+        arena_seed=args.arena_seed,
     )

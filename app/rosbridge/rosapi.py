@@ -238,9 +238,14 @@ PARAM_SERVICES = {
 _UNSET = object()
 
 
-def _samples(snapshot) -> dict[str, tuple[str, dict]]:
+def lab_topics(bridge) -> list:
+    """The topics the lab's world publishes (the mobile world's its own: app/mobile/lab.py)."""
+    return getattr(bridge.lab, "topics", TOPICS)
+
+
+def _samples(bridge, snapshot) -> dict[str, tuple[str, dict]]:
     """topic -> (type, a message of it): the lab's topics from the snapshot, /rosout a line."""
-    samples = {t.name: (t.type, t.build(snapshot)) for t in TOPICS}
+    samples = {t.name: (t.type, t.build(snapshot)) for t in lab_topics(bridge)}
     samples[rosout.TOPIC] = (rosout.TYPE, rosout.LogLine(0.0, "INFO", "", "").message())
     return samples
 
@@ -277,7 +282,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
         return {"typedefs": model_typedefs(f"{wanted}_{part.capitalize()}", getattr(service, part))}
     if name == "/rosapi/message_details":
         wanted = str(args.get("type", ""))
-        samples = _samples(lab.snapshot())
+        samples = _samples(bridge, lab.snapshot())
         sample = next((m for t, m in samples.values() if t == wanted), None)
         if sample is not None:
             return {"typedefs": message_typedefs(wanted, sample)}
@@ -287,7 +292,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
                 return {"typedefs": [nested]}
         return {"typedefs": []}
     if name == "/rosapi/topics_and_raw_types":
-        texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(lab.snapshot()).items()}
+        texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(bridge, lab.snapshot()).items()}
         topics = bridge.topic_types()
         return {
             "topics": list(topics),
@@ -306,8 +311,8 @@ def call(bridge, session, name: str, args: dict) -> dict:
         node = str(args.get("node", ""))
         if node == LAB_NODE:
             return {
-                "subscribing": ["/cartesian_velocity_controller/command"],
-                "publishing": [t.name for t in TOPICS] + [rosout.TOPIC],
+                "subscribing": [bridge.command_topic],
+                "publishing": [t.name for t in lab_topics(bridge)] + [rosout.TOPIC],
                 "services": [
                     s.name
                     for s in bridge.services

@@ -299,7 +299,10 @@ def _child_main(
     def sample(stepped: World) -> None:
         wrenches.append(stepped.time, stepped.wrench_ee)
 
-    loop = SimulationLoop(world, shared.write, reply, realtime=realtime, granularity=granularity, sample=sample)
+    has_wrench = hasattr(world, "wrench_ee")  # the lifting world's F_ext; the mobile world has none
+    loop = SimulationLoop(
+        world, shared.write, reply, realtime=realtime, granularity=granularity, sample=sample if has_wrench else None
+    )
 
     def receive() -> None:
         while True:

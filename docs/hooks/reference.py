@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import math
 import re
 from collections.abc import Callable
 from typing import Any
@@ -177,7 +178,75 @@ def rosbridge_ops() -> str:
     )
 
 
+def mobile_topics() -> str:
+    """The mobile world's topics (`serve --world mobile`), with their types."""
+    from app.mobile.topics import TOPICS
+
+    return _table(["topic", "type"], [[f"`{t.name}`", f"`{t.type}`"] for t in TOPICS])
+
+
+def mobile_figures() -> str:
+    """The base's and the scanner's figures, as the simulation uses them."""
+    from sim.mobile.base import BaseSpec
+    from sim.mobile.lidar import LidarSpec
+    from sim.mobile.world import WHEEL_RADIUS_ERROR_SIGMA, MobileConfig
+
+    b, lidar = BaseSpec(), LidarSpec()
+    rows = [
+        ["wheel separation", f"{b.wheel_separation} m"],
+        ["wheel radius", f"{b.wheel_radius} m"],
+        ["top speed", f"{b.max_linear} m/s, {b.max_angular} rad/s"],
+        ["accelerations (the lab's choice)", f"{b.max_linear_acceleration} m/s², {b.max_angular_acceleration} rad/s²"],
+        ["footprint (contact) radius", f"{b.footprint_radius} m"],
+        ["command watchdog", f"{b.command_timeout} s without a /cmd_vel: the base stops"],
+        ["wheel radius error (a seeded world's odometry drift)", f"σ = {WHEEL_RADIUS_ERROR_SIGMA:.1%} per wheel"],
+        ["control period", f"{MobileConfig().dt * 1e3:g} ms ({1 / MobileConfig().dt:g} Hz)"],
+        ["scan", f"{lidar.rays} rays, {360 / lidar.rays:g}° apart from straight ahead, counter-clockwise"],
+        ["scan range", f"{lidar.range_min}-{lidar.range_max} m (else +inf), {lidar.rate_hz:g} Hz"],
+        [
+            "scan noise (LDS-01 accuracy as 2σ)",
+            f"σ = {lidar.near_sigma * 1e3:g} mm below {lidar.near_limit} m, {lidar.far_sigma_ratio:.1%} of the range beyond",
+        ],
+        ["base_scan in base_footprint", f"({lidar.offset_xy[0]}, {lidar.offset_xy[1]}, {lidar.height}) m"],
+    ]
+    return _table(["figure", "value"], rows)
+
+
+def mobile_rules() -> str:
+    """The wall-following grade's rule and what its seed draws."""
+    from sim.mobile import arena, world
+    from sim.mobile.monitor import WallRules
+    from sim.procedures import wall_grading
+
+    r = WallRules()
+    rows = [
+        ["trials per file (`--trials`)", wall_grading.TRIALS],
+        ["pass mark", f"{wall_grading.PASS_MARK:g} % of the trials"],
+        ["full circuit", f"360° about the obstacle's centre, either way, within {r.time_limit:g} s"],
+        ["band", f"{r.band[0]:.2f}-{r.band[1]:.2f} m from the obstacle's surface (from base_footprint)"],
+        ["time outside the band", f"at most {r.outside_band_max:g} s of the trial"],
+        ["collision", "any contact with the obstacle or the arena's wall"],
+        ["stall", f"less than {r.stall_distance} m of motion in {r.stall_window:g} s"],
+        ["arena", f"{2 * arena.DRAWN_HALF_SIZE_XY[0]:g} x {2 * arena.DRAWN_HALF_SIZE_XY[1]:g} m, walled"],
+        [
+            "obstacle (drawn)",
+            f"a cylinder of radius {arena.CYLINDER_RADIUS_RANGE[0]}-{arena.CYLINDER_RADIUS_RANGE[1]} m or a box of "
+            f"half sides {arena.BOX_HALF_SIDE_RANGE[0]}-{arena.BOX_HALF_SIDE_RANGE[1]} m at any yaw, its centre within "
+            f"{arena.CENTER_OFFSET_MAX} m of the arena's",
+        ],
+        [
+            "start pose (drawn)",
+            f"{world.START_DISTANCE_RANGE[0]}-{world.START_DISTANCE_RANGE[1]} m from the obstacle's surface, facing its "
+            f"centre within {round(math.degrees(world.START_HEADING_SPREAD))}°",
+        ],
+    ]
+    return _table(["rule", "value"], rows)
+
+
 GENERATORS: dict[str, Callable[[], str]] = {
+    "mobile-topics": mobile_topics,
+    "mobile-figures": mobile_figures,
+    "mobile-rules": mobile_rules,
     "http-api": http_api,
     "cli": cli,
     "parameters": parameters,

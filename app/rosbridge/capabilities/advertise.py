@@ -15,7 +15,7 @@ from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.internal.node_services import normalise_type
-from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
+from app.rosbridge.internal.state import NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 
@@ -39,7 +39,7 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
         session.publishing.add(topic)
         advertise_ids(session, topic).add(id_)
         return
-    if topic in bridge.topics and topic != COMMAND_TOPIC and topic not in TF_TOPICS:
+    if topic in bridge.topics and topic != bridge.command_topic and topic not in TF_TOPICS:
         raise BadFrame(f"advertise: topic {topic} is published by the lab")
     if known is not None and known != type_name:
         raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
@@ -47,7 +47,7 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
         session.publishing.add(topic)
         advertise_ids(session, topic).add(id_)
         return
-    if topic != COMMAND_TOPIC:
+    if topic != bridge.command_topic:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)
     session.publishing.add(topic)

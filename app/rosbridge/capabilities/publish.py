@@ -15,7 +15,6 @@ from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_frames import TF_TOPICS
-from app.rosbridge.internal.state import COMMAND_TOPIC
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
@@ -25,11 +24,11 @@ async def publish(session: Any, message: dict, id_: Any) -> None:
     topic = name_field(message, "topic")
     msg = field(message, "msg", dict)
     bridge = session.bridge
-    if topic == COMMAND_TOPIC:
+    if topic == bridge.command_topic:
         commands = session.state.get("commands")
         if commands is None:
             commands = session.state["commands"] = Commands(session)
-        commands.offer(twist_values(msg))
+        commands.offer(twist_values(msg, topic))
         return
     if topic == rosout.TOPIC:
         if topic not in session.publishing:
@@ -85,7 +84,7 @@ class Commands:
                     continue
                 twist, self.newest = self.newest, None
                 self.in_flight += 1
-                future = session.lab.submit(cmd.external_twist, twist)
+                future = session.lab.submit(getattr(session.lab, "command", cmd.external_twist), twist)
                 future.add_done_callback(lambda f: session.loop.call_soon_threadsafe(self.done, f))
         finally:
             self.forwarding = False
@@ -93,28 +92,28 @@ class Commands:
     def done(self, future) -> None:
         self.in_flight -= 1
         if future.exception() is not None:
-            self.session.spawn(self.session.report("error", f"publish {COMMAND_TOPIC}: {future.exception()}"))
+            topic = self.session.bridge.command_topic
+            self.session.spawn(self.session.report("error", f"publish {topic}: {future.exception()}"))
 
 
-def twist_values(msg: dict) -> list[float]:
+def twist_values(msg: dict, topic: str) -> list[float]:
     """geometry_msgs/Twist -> [vx, vy, vz, wx, wy, wz]; missing fields are 0, anything else but
     finite numbers is refused (no NaN/inf reaches the simulation)."""
     values = []
     for part in ("linear", "angular"):
         vector = msg.get(part, {})
         if not isinstance(vector, dict):
-            raise BadFrame(f"publish {COMMAND_TOPIC}: field 'msg.{part}' must be an object with x, y, z")
+            raise BadFrame(f"publish {topic}: field 'msg.{part}' must be an object with x, y, z")
         for axis in "xyz":
             value = vector.get(axis, 0.0)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise BadFrame(
-                    f"publish {COMMAND_TOPIC}: field 'msg.{part}.{axis}' must be a finite number, "
-                    f"got {json.dumps(value)[:40]}"
+                    f"publish {topic}: field 'msg.{part}.{axis}' must be a finite number, got {json.dumps(value)[:40]}"
                 )
             values.append(float(value))
     extra = set(msg) - {"linear", "angular"}
     if extra:
-        raise BadFrame(f"publish {COMMAND_TOPIC}: geometry_msgs/Twist has no field '{sorted(extra)[0]}'")
+        raise BadFrame(f"publish {topic}: geometry_msgs/Twist has no field '{sorted(extra)[0]}'")
     return values
 
 

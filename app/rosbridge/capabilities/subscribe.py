@@ -12,7 +12,7 @@ from typing import Any
 
 from sim.messages import F_EXT, wrench_stamped_at
 
-from app.lab.topics import IMAGE, LATCHED, image_message
+from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.rosbridge.capabilities.op import Op
 from app.rosbridge.internal.node_services import normalise_type
@@ -88,7 +88,7 @@ async def sample(lab: Any, stream: Stream, topic, min_period_s: float = 0.0) -> 
             if last is None or snapshot.time - last >= period - 0.0005:
                 last = snapshot.time
                 message = topic.build(snapshot)
-                if topic.name not in LATCHED or message != sent:
+                if topic.name not in stream.session.bridge.latched or message != sent:
                     stream.offer(message)
                 sent = message
                 due = max(due + period, loop.time())

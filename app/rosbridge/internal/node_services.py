@@ -57,7 +57,8 @@ def service_types(registry: ServiceRegistry) -> dict[str, tuple[type[RosMessage]
     types.setdefault("std_srvs/Empty", (Empty, Empty))
     types["std_srvs/SetBool"] = (SetBoolRequest, SetBoolResponse)
     for alias in ("example_interfaces/AddTwoInts", "rospy_tutorials/AddTwoInts"):
-        types[alias] = types["hri_lab/AddTwoInts"]
+        if "hri_lab/AddTwoInts" in types:  # the lifting lab's (the mobile world declares no services)
+            types[alias] = types["hri_lab/AddTwoInts"]
     return types
 
 

@@ -9,7 +9,7 @@ from typing import Any
 
 from sim.messages import Topic
 
-from app.lab.topics import MIN_PERIOD_S, TOPICS, franka_state
+from app.lab.topics import LATCHED, MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
 from app.rosbridge.internal.node_actions import NodeActions
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
@@ -44,17 +44,23 @@ class Bridge:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
         self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
         lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
-        self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
+        # the lab's topics, sampled from its snapshot, and the one a node's Twists drive its robot
+        # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's
+        self.topics = {t.name: t for t in getattr(lab, "topics", TOPICS)}
         self.frames = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
         for name, static in TF_TOPICS.items():
-            self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
-        self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
+            if name in self.topics:
+                self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
+        self.min_period_s = dict(getattr(lab, "min_period_s", MIN_PERIOD_S))  # a topic's own longest rate
+        self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
+        self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
         self.node_topics: dict[str, NodeTopic] = {}
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[Any] = []
         self._counter = 0
-        # load franka_states' robot model now, not on the event loop when a node first subscribes
-        threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
+        if "/franka_state_controller/franka_states" in self.topics:
+            # load franka_states' robot model now, not on the event loop when a node first subscribes
+            threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
 
     @property
     def services(self):

@@ -1,0 +1,79 @@
+"""The mobile world's Lab (`hri-lab serve --world mobile`, docs/mobile-lab.md): the same runtime
+as the lifting lab's (its own process, the loop, the shared snapshot: app/runtime), the same
+ROS machinery (rosout, the node parameters, ROS 1's parameter tree), with the mobile world's
+declarations: its topics, its command topic (/cmd_vel), the Burger's URDF and its recording
+services (app/mobile/services.py). It declares no parameters or actions of its own: the nodes that
+run against it bring theirs."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import Future
+from contextlib import AbstractContextManager
+from typing import Any, TypeVar
+
+from sim.mobile.urdf import burger_urdf
+from sim.mobile.world import MobileConfig, MobileSnapshot, MobileWorld
+
+from app.lab.events import LAB_NODE
+from app.lab.recorder import DEFAULT_DIR
+from app.mobile import commands
+from app.mobile.topics import COMMAND_TOPIC, LATCHED, MIN_PERIOD_S, ROBOT_DESCRIPTION, TOPICS
+from app.ros.param_tree import ParameterTree
+from app.ros.params import ParameterServer
+from app.ros.rosout import Rosout
+from app.runtime.process import SimulationProcess
+
+T = TypeVar("T")
+WORLD = "mobile"
+
+
+class MobileLab:
+    world_name = WORLD
+    topics = TOPICS  # the world's topics, sampled from its snapshot (rosbridge, HTTP)
+    min_period_s = MIN_PERIOD_S
+    latched = LATCHED
+    command_topic = COMMAND_TOPIC  # a node's geometry_msgs/Twist on it drives the base
+    command = staticmethod(commands.drive)
+
+    def __init__(self, config: MobileConfig | None = None, realtime: bool = True) -> None:
+        self.runtime = SimulationProcess(MobileWorld(config), realtime=realtime)  # type: ignore[arg-type]  # a world as the loop needs one
+        self.rosout = Rosout()
+        self.params = ParameterServer([], self)  # nodes' parameters only (rosbridge sets `remote`)
+        self.param_tree = ParameterTree(
+            read_only={ROBOT_DESCRIPTION: (burger_urdf(), "the lab's robot, a TurtleBot3 Burger-like base")}
+        )
+        self.recordings_dir = DEFAULT_DIR
+        self.figures_dir = DEFAULT_DIR.parent / "figures"
+        self.recorder: Any = None  # the live recording (app/mobile/services.py), one at a time
+        self.graded = False  # a graded trial (app/mobile/trial.py): nothing may reset its world
+
+    @property
+    def world(self) -> MobileWorld:
+        """The pristine world each simulation process starts from (its arena, its figures)."""
+        return self.runtime.world  # type: ignore[return-value]
+
+    def start(self) -> None:
+        self.runtime.start()
+        self.info(LAB_NODE, "the simulation started (the mobile world)")
+
+    def stop(self) -> None:
+        if self.recorder is not None:  # a recording is finished (indexed) on shutdown
+            self.recorder.stop()
+        self.runtime.stop()
+
+    def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
+        """fn(world, *args) run in the simulation between two steps (fn: app/mobile/commands.py)."""
+        return self.runtime.call(fn, *args, timeout=timeout)
+
+    def submit(self, fn: Callable[..., T], *args: Any) -> Future:
+        return self.runtime.submit(fn, *args)
+
+    def snapshot(self) -> MobileSnapshot:
+        return self.runtime.snapshot()  # type: ignore[return-value]
+
+    def needs(self, period: float) -> AbstractContextManager[None]:
+        return self.runtime.needs(period)
+
+    def info(self, node: str, message: str) -> None:
+        self.rosout.log(node, message)

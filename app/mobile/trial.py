@@ -1,0 +1,148 @@
+"""One wall-following trial of a student's program (the grader's job: app/cli/grade_wall.py hands it to
+sim/procedures/runner.py): the trial's mobile world served on a free loopback port (the lab, its
+rosbridge endpoint), the program started as `hri-lab run` starts it (its own process and session;
+it reaches the world only through rosbridge: /scan in, /cmd_vel out), and the verdict read from the
+world's monitor (sim/mobile/monitor.py), which the program cannot reach.
+
+The trial's clock starts at the program's first /cmd_vel (its start-up is not timed); the
+simulation runs in real time, as a Gazebo world does by default, so a trial takes up to the rules'
+time limit of wall-clock time.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections import deque
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import uvicorn
+
+from sim.mobile.world import MobileConfig
+from sim.procedures.report import Item
+from sim.procedures.wall_grading import TrialOutcome, trial_item
+
+from app.api.app import create_app
+from app.cli.launch import free_port
+from app.cli.serve import server_config
+from app.mobile.lab import MobileLab
+
+FIRST_COMMAND_S = 90.0  # s of wall clock for the program to start and publish its first /cmd_vel
+BEHIND_S = 120.0  # s of wall clock beyond the time limit before a trial that falls behind is ended
+POLL_S = 0.05
+OUTPUT_LINES = 5  # the program's last lines quoted when it ended on its own
+
+
+@contextmanager
+def served(config: MobileConfig) -> Iterator[tuple[MobileLab, str]]:
+    """The trial's world as `hri-lab serve --world mobile --view none` serves it, in this process."""
+    lab = MobileLab(config)
+    lab.graded = True  # the program reaches the lab's HTTP API too: it may not reset the trial's world
+    port = free_port()
+    server = uvicorn.Server(server_config(create_app(lab, view="none"), "127.0.0.1", port))
+    thread = threading.Thread(target=server.run, name="wall-trial-server", daemon=True)
+    thread.start()
+    try:
+        deadline = time.monotonic() + 120.0
+        while not server.started:
+            if not thread.is_alive() or time.monotonic() > deadline:
+                raise RuntimeError("the trial's lab did not start")
+            time.sleep(0.02)
+        yield lab, f"http://127.0.0.1:{port}"
+    finally:
+        server.should_exit = True
+        thread.join(timeout=30.0)
+
+
+class Program:
+    """The student's program under `hri-lab run`, its output kept (the last lines)."""
+
+    def __init__(self, url: str, path: Path) -> None:
+        self.lines: deque[str] = deque(maxlen=OUTPUT_LINES)
+        env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_TOKEN")}
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "app.cli", "run", "--url", url, str(path)],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            errors="replace",
+            env=env,
+            cwd=path.parent,
+            start_new_session=True,  # its own group: stopped whole, with anything it started
+        )
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.proc.stdout is not None  # started with stdout=PIPE
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip()[:200])
+
+    def stop(self) -> None:
+        """Ctrl+C to its group, as a terminal sends it; killed if it is still there 5 s later."""
+        for sig, wait in ((signal.SIGINT, 5.0), (signal.SIGKILL, 10.0)):
+            if self.proc.poll() is not None:
+                break
+            try:
+                os.killpg(self.proc.pid, sig)
+            except ProcessLookupError:
+                break
+            try:
+                self.proc.wait(timeout=wait)
+            except subprocess.TimeoutExpired:
+                continue
+        try:  # what it left in its group (a child it started)
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        self._reader.join(timeout=5.0)
+
+    def ended(self) -> str:
+        code = self.proc.returncode
+        tail = " | ".join(self.lines)
+        return f"the program ended (exit status {code})" + (f"; its last lines: {tail}" if tail else "")
+
+
+def judge(lab: MobileLab, program: Program, config: MobileConfig) -> TrialOutcome:
+    """Wait for the monitor's verdict (or for the program's end, or its silence)."""
+    started = time.monotonic()
+    first_command = None
+    while True:
+        wall = lab.snapshot().wall
+        if wall.done:
+            return TrialOutcome(wall.passed, wall.verdict or "")
+        now = time.monotonic()
+        if wall.elapsed > 0.0 and first_command is None:
+            first_command = now
+        if program.proc.poll() is not None:
+            when = f"at {wall.elapsed:.1f} s of the trial" if first_command else "before its first /cmd_vel"
+            return TrialOutcome(False, f"program: {when} {program.ended()}")
+        if first_command is None and now - started > FIRST_COMMAND_S:
+            return TrialOutcome(False, f"program: no /cmd_vel within {FIRST_COMMAND_S:.0f} s of the program's start")
+        if first_command is not None and now - first_command > config.rules.time_limit + BEHIND_S:
+            return TrialOutcome(
+                False, f"the simulation fell behind: {wall.elapsed:.1f} s simulated in {now - first_command:.0f} s"
+            )
+        time.sleep(POLL_S)
+
+
+def run_trial(program_name: str, program_text: str, config: MobileConfig, index: int) -> Item:
+    """Trial `index` of the program (its file's name and text: a worker elsewhere has no copy)."""
+    with tempfile.TemporaryDirectory(prefix="hri-lab-wall-") as folder:
+        path = Path(folder) / Path(program_name).name
+        path.write_text(program_text, encoding="utf-8")
+        with served(config) as (lab, url):
+            program = Program(url, path)
+            try:
+                outcome = judge(lab, program, config)
+            finally:
+                program.stop()
+    return trial_item(index, config, outcome)

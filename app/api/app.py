@@ -33,7 +33,7 @@ from app.ros.actions import ActionServer
 from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
 from app.rosbridge.internal.state import Bridge
-from app.rosbridge.rosapi import LAB_NODE
+from app.lab.events import LAB_NODE
 from app.runtime.process import SimulationRestarting
 from app.tokens import token_problem
 

@@ -223,6 +223,7 @@ def test_the_readme_and_the_home_page_share_one_intro():
     readme, index = (ROOT / "README.md").read_text(), (ROOT / "docs" / "index.md").read_text()
     intro = readme.split("[start:intro] -->", 1)[1].split("<!-- --8<-- [end:intro]", 1)[0]
     assert "hri-lab is a simulated" in intro and '--8<-- "README.md:intro"' in index
+    assert '--8<-- "README.md:paper"' in index
     copied = [line for line in readme.splitlines() if len(line) > 40 and line in index]
     assert copied == []
 

@@ -27,6 +27,7 @@ from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
 from app.lab.actions import ACTIONS
+from app.lab.events import LAB_NODE
 from app.lab.lab import Lab
 from app.lab.services import EXERCISES, SERVICES
 from app.lab.topics import TOPICS
@@ -36,7 +37,6 @@ from app.ros.actions import ActionServer
 from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
 from app.rosbridge.internal.state import Bridge
-from app.rosbridge.rosapi import LAB_NODE
 from app.runtime.process import SimulationRestarting
 from app.tokens import token_problem
 

@@ -7,7 +7,9 @@ from __future__ import annotations
 import threading
 from typing import Any
 
-LAB_NODE = "hri_lab"  # the name the lab's own lines carry (rosapi lists the node as /hri_lab)
+from app.ros.names import node_name
+
+LAB_NODE = "/hri_lab"  # the lab as a ROS node (ros2 node list, rosapi, a service's node); its log lines carry node_name(LAB_NODE)
 PERIOD_S = 0.05
 
 
@@ -58,4 +60,4 @@ class LabEvents:
                 trial = state
             if lab.runtime.restarts != restarts:
                 restarts = lab.runtime.restarts
-                lab.rosout.log(LAB_NODE, f"the simulation restarted: {lab.runtime.last_death}", "ERROR")
+                lab.rosout.log(node_name(LAB_NODE), f"the simulation restarted: {lab.runtime.last_death}", "ERROR")

@@ -15,6 +15,7 @@ from app.lab.events import LAB_NODE, LabEvents
 from app.lab.params import LAB_PARAMETERS
 from app.lab.recorder import DEFAULT_DIR, LiveRecorder
 from app.lab.robot_description import ROBOT_DESCRIPTION, ROBOT_DESCRIPTION_WHY, robot_description_text
+from app.ros.names import node_name
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
@@ -46,7 +47,7 @@ class Lab:
     def start(self) -> None:
         self.runtime.start()
         self.camera.start()
-        self.info(LAB_NODE, "the simulation started")
+        self.info(node_name(LAB_NODE), "the simulation started")
         self.events.start()
 
     def stop(self) -> None:

@@ -295,7 +295,7 @@ SERVICES = ServiceRegistry(
             StartRequest,
             Message,
             start,
-            "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (5 N); "
+            "Start cooperative lifting: f_n_min = force, f_n_max = force + f_n_band (a parameter); "
             "controller 'sp' or 'patch' selects the lifting controller first ('' keeps the current one).",
         ),
         Service(

@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from app.lab import events
+from app.lab.events import LAB_NODE
 from app.lab.topics import TOPICS
 from app.ros import rosout
 from app.ros.messages import RosType
@@ -17,7 +17,6 @@ from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
 from app.rosbridge import tf_republisher
 
-LAB_NODE = "/" + events.LAB_NODE  # the lab as a node, as rosapi names nodes
 READ_ONLY = {
     "/rosapi/topics",
     "/rosapi/topic_type",

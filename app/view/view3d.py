@@ -412,7 +412,7 @@ class LabView(SceneView):
     def _run_participant(self) -> None:
         try:
             self.lab.params.set("human", "profile", self.participant.value)
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:  # noqa: BLE001 - any refusal is the panel's message, never the view's end
             self.status_message = f"participant refused: {exc}"
             return
         self._call("/reset_simulation")
@@ -434,7 +434,7 @@ class LabView(SceneView):
     def _set_hand(self, target: np.ndarray) -> None:
         try:
             self.lab.call(commands.set_hand_target, np.asarray(target, dtype=float))
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:  # noqa: BLE001 - a restarting simulation or a refused target: said in the panel
             self.status_message = f"hand target refused: {exc}"
 
     def _on_gizmo(self, _event) -> None:

@@ -7,6 +7,10 @@ from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SE
 `app.lab.actions.ACTIONS`, rosbridge's ops from its connection's handlers, rosapi's services from
 `app.rosbridge.rosapi`. Nothing here is written
 by hand a second time, so the pages cannot drift from the code.
+
+A page's numbers that are the code's defaults are placeholders too, `{{ Class.field }}` or
+`{{ Class.field | unit }}` (the field in SI units shown in another, e.g. `{{ TrialRules.max_slip | cm }}`),
+filled from the classes in `DEFAULTS` (tests/test_one_source.py fails on a hand copy).
 """
 
 from __future__ import annotations
@@ -19,6 +23,27 @@ from collections.abc import Callable
 from typing import Any
 
 MARKER = re.compile(r"<!-- generated: ([a-z-]+) -->")
+VALUE = re.compile(r"\{\{ *([A-Za-z]+)\.([a-z_]+) *(?:\| *([a-z]+) *)?\}\}")
+SCALE = {"cm": 100.0, "mm": 1000.0, "ms": 1000.0}  # from the field's SI unit (m, s)
+
+
+@functools.cache
+def _defaults() -> dict[str, Any]:
+    """The classes whose defaults the pages quote, by the name a placeholder gives."""
+    from sim.controllers.interface import LiftingParams
+    from sim.monitor import TrialRules
+
+    return {"LiftingParams": LiftingParams(), "TrialRules": TrialRules()}
+
+
+def value(match: re.Match[str]) -> str:
+    """A placeholder's number: the field's default, in the unit it names (`:g`, so 0.5 not 0.50)."""
+    name, field, unit = match.groups()
+    defaults = _defaults()
+    if name not in defaults or not hasattr(defaults[name], field) or (unit and unit not in SCALE):
+        raise ValueError(f"unknown placeholder {match.group(0)}: a field of {sorted(defaults)}, units {sorted(SCALE)}")
+    number = float(getattr(defaults[name], field)) * (SCALE[unit] if unit else 1.0)
+    return f"{round(number, 9):g}"
 
 
 def _cell(text: Any) -> str:
@@ -259,4 +284,4 @@ GENERATORS: dict[str, Callable[[], str]] = {
 
 
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
-    return MARKER.sub(lambda m: GENERATORS[m.group(1)](), markdown)
+    return VALUE.sub(value, MARKER.sub(lambda m: GENERATORS[m.group(1)](), markdown))

@@ -175,7 +175,7 @@ def sp_twist_ee(wrench_ee, p, state):
 
 @njit(cache=True)
 def grip(fx, fy, fz, mx, my, mz, d, mu, r_eq):
-    """Steps 1-3 (module docstring) as numbers: (p_x, p_y, m_c,x, m_c,y, m_n, s); without
+    """Patch steps 1-3 (sim/controllers/patch.py) as numbers: (p_x, p_y, m_c,x, m_c,y, m_n, s); without
     pressure (f_z <= 0) the centre of pressure is (0, 0), m_n = m_z and s = inf."""
     mcx, mcy = mx + d * fy, my - d * fx
     if fz <= 1e-9:
@@ -188,39 +188,39 @@ def grip(fx, fy, fz, mx, my, mz, d, mu, r_eq):
 
 @njit(cache=True)
 def kern(px, py, width, height):
-    """Step 4's k = 6 |p_x| / W + 6 |p_y| / H."""
+    """Patch step 4's k = 6 |p_x| / W + 6 |p_y| / H."""
     return 6.0 * abs(px) / width + 6.0 * abs(py) / height
 
 
 @njit(cache=True)
 def patch_twist_ee(wrench_ee, p, c, state):
-    """Steps 1-7 of the module docstring (p = lifting_vector(params), c = PatchController.constants();
+    """Patch steps 1-7 (sim/controllers/patch.py) (p = lifting_vector(params), c = PatchController.constants();
     the slipping flag into state)."""
     fx, fy, fz, mx, my, mz = wrench_ee[0], wrench_ee[1], wrench_ee[2], wrench_ee[3], wrench_ee[4], wrench_ee[5]
     px, py, mcx, mcy, grip_m_n, _ = grip(fx, fy, fz, mx, my, mz, p[PLATE_OFFSET], p[MU], c[R_EQ])
     f_n = fz
     in_contact = f_n >= p[F_CONTACT]
-    v_n = band_speed(f_n, p)  # step 5: the normal band
+    v_n = band_speed(f_n, p)  # patch step 5: the normal band (SP's step 2)
     vx = vy = 0.0
     wx = wy = wz = 0.0
     slipping = False
     if in_contact:
-        # step 3: limit surface with the torsion deadband
+        # patch step 3: limit surface with the torsion deadband
         m_n = math.copysign(max(abs(grip_m_n) - c[TORSION_DEADBAND], 0.0), grip_m_n)
         friction = p[MU] * f_n
         s = (math.sqrt(fx * fx + fy * fy) / friction) ** 2 + (m_n / (friction * c[R_EQ])) ** 2
         if s > p[ALPHA] ** 2:
-            # step 6: follow with the excess beyond the alpha-scaled limit surface
+            # patch step 6: follow with the excess beyond the alpha-scaled limit surface
             slipping = True
             excess = 1.0 - p[ALPHA] / math.sqrt(s)
             vx, vy = -p[K_T] * excess * fx, -p[K_T] * excess * fy
             wz = -p[K_W] * excess * m_n
-            v_n = grip_raise(v_n, f_n, p)  # step 5: toward f_n_max while beyond the margin
-        # step 7: tipping moments held inside the kern (and the noise floor), excess complied with
+            v_n = grip_raise(v_n, f_n, p)  # patch step 5: toward f_n_max while beyond the margin
+        # patch step 7: tipping moments held inside the kern (and the noise floor), excess complied with
         m_norm = math.sqrt(mcx * mcx + mcy * mcy)
         if m_norm > 0.0:
             k = kern(px, py, c[PLATE_WIDTH], c[PLATE_HEIGHT]) / c[KERN_SCALE]
             held = min(1.0, max(1.0 / k if k > 0.0 else math.inf, p[MOMENT_DEADBAND] / m_norm))
             wx, wy = -p[K_W] * (1.0 - held) * mcx, -p[K_W] * (1.0 - held) * mcy
     state[SLIPPING] = 1.0 if slipping else 0.0
-    return saturate_twist(vx, vy, v_n, wx, wy, wz, p)  # step 8 (SP's 5a)
+    return saturate_twist(vx, vy, v_n, wx, wy, wz, p)  # patch step 8 (SP's step 5a)

@@ -39,7 +39,7 @@ class LiftingParams:
 
     @property
     def f_n_max(self) -> float:
-        """Upper end of the band (N): f_n_min + f_n_band (= force + 5 N after start)."""
+        """Upper end of the band (N): f_n_min + f_n_band (= force + f_n_band after start; docs/method.md, step 2)."""
         return self.f_n_min + self.f_n_band
 
 

@@ -20,12 +20,12 @@ class CooperativeLifting:
 
     def reset(self):
         """Called when the simulation (re)starts and after an error recovery."""
-        self.twist_base = np.zeros(6)  # the last command (step 5's rate limit needs it)
+        self.twist_base = np.zeros(6)  # the last command (step 6's rate limit needs it)
         self.wrench_filtered = None  # step 0's low-passed F_ext
 
     # --- the services' handlers -------------------------------------------------------------
     def start(self, params, force):
-        """start_cooperative_lifting: f_n_min = force, f_n_max = force + 5 N, and start."""
+        """start_cooperative_lifting: f_n_min = force, f_n_max = force + params.f_n_band, and start."""
         # TODO: params.f_n_min = ...; params.running = ...  (params.f_n_max is f_n_min + f_n_band)
         return f"Cooperative Lifting started with f_n_min = {force:g} N."
 
@@ -58,10 +58,11 @@ class CooperativeLifting:
 
         # TODO step 4: comply with the moment at the plate centre: w = -params.k_w m_c (with a deadband)
 
-        # TODO step 5: twist_ee = [v, w], saturate at params.v_max / params.w_max, and rotate to the
-        #   base frame: twist_base = [R v, R w]. Then limit the rate: the command may change by at most
-        #   params.a_max * dt (linear) and params.dw_max * dt (angular) per step, starting from
-        #   self.twist_base (the robot refuses jumps above 13 m/s^2: a jump is a reflex).
+        # TODO step 5a: twist_ee = [v, w] with v = v_t + v_n n, saturated at params.v_max / params.w_max
+        # TODO step 5b: rotate it to the base frame: twist_base = [R v, R w]
+        # TODO step 6: limit the rate: the command may change by at most params.a_max * dt (linear) and
+        #   params.dw_max * dt (angular) per step, starting from self.twist_base (the robot refuses
+        #   jumps above 13 m/s^2: a jump is a reflex)
         twist_base = np.zeros(6)
 
         self.twist_base = twist_base

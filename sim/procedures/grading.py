@@ -5,7 +5,7 @@
    trial's start pose, moved only as the controller commands, the trial's parameters, wrenches that ramp and hold for
    drawn times. start/stop set the band; stopped -> zero; below the band -> +n (again at another
    pose: the twist must be in the base frame); inside -> still; above -> -n; the band's upper end
-   is force + 5 N; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
+   is force + f_n_band; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
    no tangential motion; between the margin alpha mu f_n and the cone mu f_n -> follow; a moment
    in the plate's plane and one about its normal -> comply. Wrenches, times, noise and
    start/stop's force are drawn from the seed (a course's private seed gives numbers students
@@ -184,11 +184,12 @@ def _probe_start_stop(stream: ProbeStream, draw: Draw) -> str:
     controller, params = stream.started(), LiftingParams()
     force = round(draw.force, 1)
     start, stop = getattr(controller, "start", None), getattr(controller, "stop", None)
+    top = force + params.f_n_band  # the lab's band, read before the handler may change it
     start(params, force) if callable(start) else start_lifting(params, force)
-    if not (np.isclose(params.f_n_min, force) and np.isclose(params.f_n_max, force + 5.0) and params.running):
+    if not (np.isclose(params.f_n_min, force) and np.isclose(params.f_n_max, top) and params.running):
         return (
             f"after start({force:g}): f_n_min={params.f_n_min:g}, f_n_max={params.f_n_max:g}, running={params.running}; "
-            f"expected {force:g}, {force + 5:g}, True"
+            f"expected {force:g}, {top:g}, True"
         )
     stop(params) if callable(stop) else stop_lifting(params)
     if (params.f_n_min, params.running) != (0.0, False):
@@ -225,14 +226,17 @@ def _normal_probe(low: float, high: float, sign: int) -> Callable:
 
 
 def _probe_band_end(stream: ProbeStream, draw: Draw) -> str:
-    """f_n_max = f_n_min + 5 N: 0.5 N below it still, 0.5 N above it release."""
+    """f_n_max = f_n_min + f_n_band: 0.5 N below it still, 0.5 N above it release."""
     params = stream.params
-    for f_n, moving in ((params.f_n_min + 4.5, False), (params.f_n_min + 5.5, True)):
+    top = params.f_n_min + LiftingParams().f_n_band  # the lab's band, whatever the handler set
+    for f_n, moving in ((top - 0.5, False), (top + 0.5, True)):
         v_n, _ = _split(stream.phase([0, 0, f_n, 0, 0, 0], params), stream.rotation)
         if moving and v_n > -1e-3:
-            return f"f_n = {f_n:.2f} N > f_n_min + 5 N = {params.f_n_max:.2f} N: v_n = {v_n:.4f} m/s, expected to release (< 0)"
+            return f"f_n = {f_n:.2f} N > f_n_min + f_n_band = {params.f_n_max:.2f} N: v_n = {v_n:.4f} m/s, expected to release (< 0)"
         if not moving and abs(v_n) > 2e-3:
-            return f"f_n = {f_n:.2f} N < f_n_min + 5 N = {params.f_n_max:.2f} N: v_n = {v_n:.4f} m/s, expected still"
+            return (
+                f"f_n = {f_n:.2f} N < f_n_min + f_n_band = {params.f_n_max:.2f} N: v_n = {v_n:.4f} m/s, expected still"
+            )
     return ""
 
 

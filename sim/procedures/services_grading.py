@@ -26,6 +26,7 @@ import httpx
 import numpy as np
 import pinocchio as pin
 
+from sim.controllers.interface import LiftingParams
 from sim.procedures.report import Item, Report
 from sim.robot.assets import panda_urdf
 
@@ -264,12 +265,12 @@ def _states(message: str, value: float) -> bool:
 
 
 def check_start(g: Grading) -> None:
-    """The band is judged from the lab's state (f_n_min = force, f_n_max = force + 5); the message
+    """The band is judged from the lab's state (f_n_min = force, f_n_max = force + f_n_band); the message
     must only state the force (the handout asks for one like "Cooperative lifting starts with 11.5 N")."""
     force = float(g.integers(16, 30, 1)[0]) / 2  # 8.0 .. 15.0 N in halves
     message = g.lab.answer("start_cooperative_lifting", {"force": force})["message"]
     state = g.lab.topic("lifting_state")
-    f_n_max = force + 5.0
+    f_n_max = force + LiftingParams().f_n_band
     if not (state["started"] and math.isclose(state["f_n_min"], force) and math.isclose(state["f_n_max"], f_n_max)):
         raise Wrong(
             f"force = {force}: the lab's /lifting_state shows started={state['started']}, "
@@ -299,7 +300,9 @@ EXERCISES = (  # in this order: the robot at rest for the torques, lifting last
     Exercise("/planar_torques", 2, check_planar_torques, "tau = J(q)^T F of the planar arm (Exercise 1)"),
     Exercise("/compute_torques", 3, check_compute_torques, "tau = J(q)^T F of the Panda at the lab's q (Exercise 8)"),
     Exercise("/compute_wrench", 2, check_compute_wrench, "least-squares F with J^T F = tau (Exercise 2)"),
-    Exercise("/start_cooperative_lifting", 2, check_start, "f_n_min = force, f_n_max = force + 5 (Exercises 11-14)"),
+    Exercise(
+        "/start_cooperative_lifting", 2, check_start, "f_n_min = force, f_n_max = force + f_n_band (Exercises 11-14)"
+    ),
     Exercise("/stop_cooperative_lifting", 1, check_stop, "f_n_min = 0, stopped (Exercises 11-14)"),
 )
 

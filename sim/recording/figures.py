@@ -16,7 +16,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display: files only
 from matplotlib.figure import Figure  # noqa: E402 - after choosing the backend
-from matplotlib.ticker import MaxNLocator  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402 - after choosing the backend
 
 PANELS = ("f_n", "friction_ratio", "slip", "box_height", "robot_speed")
 FORMATS = ("png", "svg")

@@ -23,12 +23,12 @@ class CooperativeLifting:
 
     def reset(self):
         """Called when the simulation (re)starts and after an error recovery."""
-        self.twist_base = np.zeros(6)  # the last command (step 5's rate limit needs it)
+        self.twist_base = np.zeros(6)  # the last command (step 6's rate limit needs it)
         self.wrench_filtered = None  # step 0's low-passed F_ext
 
     # --- the services' handlers -------------------------------------------------------------
     def start(self, params, force):
-        """start_cooperative_lifting: f_n_min = force, f_n_max = force + 5 N, and start."""
+        """start_cooperative_lifting: f_n_min = force, f_n_max = force + params.f_n_band, and start."""
         params.f_n_min = force
         params.running = True
         return f"Cooperative Lifting started with f_n_min = {force:g} N."
@@ -91,16 +91,17 @@ class CooperativeLifting:
         if in_contact and m_c_norm > params.moment_deadband:
             w = -params.k_w * (1.0 - params.moment_deadband / m_c_norm) * m_c
 
-        # TODO step 5: twist_ee = [v, w], saturate at params.v_max / params.w_max, and rotate to the
-        #   base frame: twist_base = [R v, R w]. Then limit the rate: the command may change by at most
-        #   params.a_max * dt (linear) and params.dw_max * dt (angular) per step, starting from
-        #   self.twist_base (the robot refuses jumps above 13 m/s^2: a jump is a reflex).
+        # TODO step 5a: twist_ee = [v, w] with v = v_t + v_n n, saturated at params.v_max / params.w_max
         v = v_t + v_n * n
         if np.linalg.norm(v) > params.v_max:
             v = v * params.v_max / np.linalg.norm(v)
         if np.linalg.norm(w) > params.w_max:
             w = w * params.w_max / np.linalg.norm(w)
+        # TODO step 5b: rotate it to the base frame: twist_base = [R v, R w]
         target = np.hstack((rotation @ v, rotation @ w))
+        # TODO step 6: limit the rate: the command may change by at most params.a_max * dt (linear) and
+        #   params.dw_max * dt (angular) per step, starting from self.twist_base (the robot refuses
+        #   jumps above 13 m/s^2: a jump is a reflex)
         delta = target - self.twist_base
         dv, dw = delta[:3], delta[3:]
         if np.linalg.norm(dv) > params.a_max * dt:

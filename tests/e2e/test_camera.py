@@ -92,7 +92,7 @@ def test_image_raw_over_rosbridge_is_base64_bgr8_stamped_with_sim_time(lab):
     first, second = got[0], got[1]
     image = np.frombuffer(base64.b64decode(first["data"]), np.uint8).reshape(480, 640, 3)
     assert image.std() > 0  # a scene, not a blank
-    stamp = lambda m: m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] * 1e-9  # noqa: E731
+    stamp = lambda m: m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] * 1e-9  # noqa: E731 - a one-line helper read twice just below
     assert stamp(second) >= stamp(first) + 0.1 - 0.0005  # throttle_rate 100 ms of simulated time
     wait_for(lambda: not http.get(f"{lab.url}/health", timeout=30).is_error)
 

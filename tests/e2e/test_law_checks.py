@@ -26,9 +26,9 @@ from sim.procedures.law_checks import LawWatch
 from sim.procedures.situations import MidCarryStop
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
-import followers  # noqa: E402
-import mutants  # noqa: E402
-import probe_detectors  # noqa: E402
+import followers  # noqa: E402 - tests/controllers/ is put on sys.path just above
+import mutants  # noqa: E402 - the same
+import probe_detectors  # noqa: E402 - the same
 
 STOP = len(ROBUSTNESS) - 1  # the pull, then the mid-carry stop
 CONE = {"beyond the cone: raise the grip toward f_n_max", "inside the cone margin: no tangential motion"}

@@ -63,7 +63,7 @@ def lifting_law(wrench_ee, f_n_min, p):
     # TODO step 2: band [f_n_min, f_n_min + f_n_band]: below -> +n (press), above -> -n, inside -> 0 (gain k_n)
     # TODO step 3: |f_t| > alpha mu f_n -> v_t = -k_t e_t, e_t = f_t - alpha mu f_n f_t/|f_t|; and press harder
     # TODO step 4: comply with the moment: w = -k_w m_c (deadband moment_deadband), in contact only
-    # TODO step 5: saturate |v| <= v_max, |w| <= w_max
+    # TODO step 5a: saturate |v| <= v_max, |w| <= w_max
     return np.zeros(6)
 
 

@@ -29,6 +29,7 @@ def test_every_prefilled_service_request_is_accepted(client):
     paths = client.get("/openapi.json").json()["paths"]
     for service in SERVICES:
         body = paths[f"/services{service.name}"]["post"].get("requestBody")
+        assert body or not service.request.model_fields, f"{service.name}: no request body to pre-fill"
         example = body["content"]["application/json"]["examples"]["example"]["value"] if body else None
         response = client.post(f"/services{service.name}", json=example)
         assert response.status_code == 200, (service.name, example, response.text)
@@ -37,7 +38,8 @@ def test_every_prefilled_service_request_is_accepted(client):
 
 def test_every_prefilled_goal_is_valid(client):
     paths = client.get("/openapi.json").json()["paths"]
+    assert ACTIONS
     for action in ACTIONS:  # validated, not run (an example experiment takes minutes)
         body = paths[f"/actions{action.name}/goals"]["post"].get("requestBody")
-        if body:
-            action.goal.model_validate(body["content"]["application/json"]["examples"]["example"]["value"])
+        assert body, f"{action.name}: the schema has no goal body to pre-fill"
+        action.goal.model_validate(body["content"]["application/json"]["examples"]["example"]["value"])

@@ -20,7 +20,6 @@ NEVER_IN_SIM = ("app", "fastapi", "starlette", "uvicorn", "viser")
 # fails too, so that this list stays true.
 KNOWN_UPWARD = {
     ("app.view", "app.api"): "view3d.py and urdf_bridge.py import app.api.security: security into a core module",
-    ("app.ros", "app.rosclient"): "interface_models.py reads .srv text with app.rosclient's parser: it moves",
     ("app.rosclient", "app.cli"): "rosclient/launch.py starts a lab with app.cli.launch",
 }
 

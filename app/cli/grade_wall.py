@@ -2,7 +2,7 @@
 
 Every file gets the same trials, drawn from the seed (sim/procedures/wall_grading.py: the
 obstacle's shape, size and place, the start pose, the noise); each trial runs the program against
-its own mobile world (app/mobile/trial.py) and is judged from the world's true state. The trials
+its own mobile world (app/cli/wall_trial.py) and is judged from the world's true state. The trials
 of every file are the job runner's jobs (sim/procedures/runner.py): here, in `--jobs` processes, or
 on the Dask cluster at `--scheduler`, as `hri-lab grade` runs its items. With --out, a file's report
 is written as soon as its last trial is in.
@@ -36,7 +36,7 @@ def expand(specs: list[str]) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from app.mobile.trial import run_trial  # the server's modules only when a grade runs
+    from app.cli.wall_trial import run_trial  # the server's modules only when a grade runs
 
     paths = expand(args.programs)
     if not paths:

@@ -2,7 +2,7 @@
 for each trial (the arena's obstacle, its shape, size and place; the start pose; the wheels' and
 the scan's noise: sim/mobile/world.py `seeded_config`), one report item per trial judged by the
 world's monitor (sim/mobile/monitor.py), and the pass mark. Running a trial needs a live lab the
-student's program talks to (a server, rosbridge): that is app/mobile/trial.py's, handed to the
+student's program talks to (a server, rosbridge): that is app/cli/wall_trial.py's, handed to the
 job runner (sim/procedures/runner.py) as each trial's job.
 """
 

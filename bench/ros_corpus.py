@@ -46,9 +46,14 @@ CHECK_EVERY_S = 1.0  # how often a client command that has not matched yet is tr
 STOP_GRACE_S = 10.0  # from Ctrl+C to SIGKILL
 SERVER_READY_S = 180.0
 
-PROGRAM_KEYS = {"repo", "commit", "path", "client", "partners", "args", "launch", "expect", "checks", "exit", "timeout", "why"}
+PROGRAM_KEYS = {
+    "repo", "commit", "path", "client", "partners", "args", "launch", "expect", "checks", "topics", "interrupt", "exit",
+    "timeout", "why",
+}
+INTERRUPT_DELAY_S = 3.0  # from the line `interrupt` names to the Ctrl+C: time for its partners to subscribe
 EXPECT_KEYS = {"in", "line"}
 CHECK_KEYS = {"hri_lab", "line"}
+TOPIC_KEYS = {"name", "type"}
 CLIENTS = {"rclpy", "rospy"}
 
 
@@ -75,6 +80,15 @@ class Check:
 
 
 @dataclass(frozen=True)
+class Heard:
+    """A topic (name, ROS type) on which the bench, subscribed over rosbridge like any client (roslibpy),
+    must receive a message: what `rostopic echo` would show of a program that publishes for nobody."""
+
+    name: str
+    type: str
+
+
+@dataclass(frozen=True)
 class Program:
     repo: str  # owner/name
     commit: str  # the full commit
@@ -85,7 +99,9 @@ class Program:
     launch: bool = False  # `hri-lab launch FILE` instead of `hri-lab run FILE`
     expect: tuple[Expect, ...] = ()
     checks: tuple[Check, ...] = ()
-    exit: int | None = None  # the status it ends with by itself; None: it runs until stopped
+    topics: tuple[Heard, ...] = ()
+    interrupt: re.Pattern[str] | None = None  # Ctrl+C to it INTERRUPT_DELAY_S after this line (on_shutdown)
+    exit: int | None = None  # the status it ends with by itself (or on `interrupt`); None: it runs until stopped
     timeout: float = DEFAULT_TIMEOUT_S
     why: str = ""  # what it exercises
 
@@ -94,13 +110,13 @@ class Program:
         return f"{self.repo}@{self.commit[:12]}:{self.path}"
 
 
-def _regex(text: object, where: str) -> re.Pattern[str]:
+def _regex(text: object, where: str, key: str = "line") -> re.Pattern[str]:
     if not isinstance(text, str) or not text:
-        raise ManifestError(f"{where}: `line` must be a non-empty regular expression")
+        raise ManifestError(f"{where}: `{key}` must be a non-empty regular expression")
     try:
         return re.compile(text)
     except re.error as exc:
-        raise ManifestError(f"{where}: `line` is no regular expression ({exc})") from None
+        raise ManifestError(f"{where}: `{key}` is no regular expression ({exc})") from None
 
 
 def _strings(value: object, where: str) -> tuple[str, ...]:
@@ -137,16 +153,25 @@ def parse_program(entry: dict, index: int) -> Program:
         if not isinstance(item, dict) or set(item) - CHECK_KEYS:
             raise ManifestError(f"{at}: a table of {', '.join(sorted(CHECK_KEYS))}")
         checks.append(Check(_strings(item.get("hri_lab"), f"{at}: `hri_lab`"), _regex(item.get("line"), at)))
+    topics = []
+    for j, item in enumerate(entry.get("topics", [])):
+        at = f"{where}, topic {j + 1}"
+        if not isinstance(item, dict) or set(item) != TOPIC_KEYS or not all(isinstance(v, str) and v for v in item.values()):
+            raise ManifestError(f"{at}: a table of name and type (strings)")
+        topics.append(Heard(item["name"], item["type"]))
     partners = _strings(entry.get("partners", []), f"{where}: `partners`")
     if any(e.where == "partner" for e in expects) and not partners:
         raise ManifestError(f"{where}: an expectation in a partner's output needs `partners`")
     exit_status = entry.get("exit")
     if exit_status is not None and (not isinstance(exit_status, int) or isinstance(exit_status, bool)):
         raise ManifestError(f"{where}: `exit` must be an integer")
+    interrupt = _regex(entry["interrupt"], where, "interrupt") if "interrupt" in entry else None
+    if interrupt is not None and exit_status is None:
+        raise ManifestError(f"{where}: `interrupt` needs the `exit` status it ends with")
     timeout = entry.get("timeout", DEFAULT_TIMEOUT_S)
     if not isinstance(timeout, int | float) or isinstance(timeout, bool) or not 0 < timeout <= 600:
         raise ManifestError(f"{where}: `timeout` must be seconds in (0, 600]")
-    if not expects and not checks and exit_status is None:
+    if not expects and not checks and not topics and exit_status is None:
         raise ManifestError(f"{where}: nothing to judge it by (expect, checks or exit)")
     return Program(
         repo=entry["repo"],
@@ -158,6 +183,8 @@ def parse_program(entry: dict, index: int) -> Program:
         launch=bool(entry.get("launch", False)),
         expect=tuple(expects),
         checks=tuple(checks),
+        topics=tuple(topics),
+        interrupt=interrupt,
         exit=exit_status,
         timeout=float(timeout),
         why=str(entry.get("why", "")),
@@ -210,12 +237,14 @@ def checkout_of(program: Program, checkouts: dict[tuple[str, str], Path]) -> Pat
 
 # ---- judging what was seen ---------------------------------------------------------------------
 
+LAUNCH_PREFIX = re.compile(r"^\[(?!(DEBUG|INFO|WARN|WARNING|ERROR|FATAL)\])[A-Za-z_][\w/.-]*\] ")  # `hri-lab launch`'s
 ERROR_LINE = re.compile(r"(\[(ERROR|FATAL)\]|^error:|^\w+(\.\w+)*(Error|Exception)\b)", re.IGNORECASE)
 
 
 def first_error_line(lines: Sequence[str]) -> str | None:
     """The line that says what went wrong: a traceback's exception line (the first unindented line
     after `Traceback (most recent call last):`), else the first line logged as an error."""
+    lines = [LAUNCH_PREFIX.sub("", line, count=1) for line in lines]
     in_traceback = False
     for line in lines:
         if line.startswith("Traceback (most recent call last):"):
@@ -236,6 +265,7 @@ class Observed:
     partners: list[list[str]] = field(default_factory=list)
     program_exit: int | None = None
     partner_exits: list[int | None] = field(default_factory=list)
+    heard: set[str] = field(default_factory=set)  # the topics (Program.topics) a message came on
     checks_matched: int = 0  # checks run in order: how many have matched
     last_check_output: str = ""
 
@@ -259,12 +289,15 @@ def _said(lines: Sequence[str]) -> str:
 def judge(program: Program, seen: Observed, timed_out: bool, partner_names: Sequence[str] = ()) -> Verdict | None:
     """The verdict on what was seen, or None while it can still pass (not timed out)."""
     missing = [e for e in program.expect if not _seen(e, seen)]
-    checks_done = seen.checks_matched >= len(program.checks)
+    unheard = [t for t in program.topics if t.name not in seen.heard]
+    checks_done = seen.checks_matched >= len(program.checks) and not unheard
     if seen.program_exit is not None:
         if program.exit is not None and seen.program_exit != program.exit:
             return Verdict(False, f"exited with status {seen.program_exit}{_said(seen.program)}")
-        if program.exit is None and (missing or not checks_done):
-            return Verdict(False, f"ended (status {seen.program_exit}) before it was seen working{_said(seen.program)}")
+        own = [e for e in missing if e.where == "program"]
+        if own or (program.exit is None and (missing or not checks_done)):
+            wanted = _wanted(program, own or missing, seen)
+            return Verdict(False, f"ended (status {seen.program_exit}) before {wanted}{_said(seen.program)}")
     for i, status in enumerate(seen.partner_exits):
         if status not in (None, 0):
             who = partner_names[i] if i < len(partner_names) else f"partner {i + 1}"
@@ -274,19 +307,21 @@ def judge(program: Program, seen: Observed, timed_out: bool, partner_names: Sequ
     if not timed_out:
         return None
     said = _said(seen.program) or _said([line for lines in seen.partners for line in lines])
-    if missing:
-        e = missing[0]
-        return Verdict(False, f"no line /{e.pattern.pattern}/ from the {e.where} within {program.timeout:g} s{said}")
-    if not checks_done:
-        check = program.checks[seen.checks_matched]
-        last = seen.last_check_output.strip().splitlines()
-        return Verdict(
-            False,
-            f"`hri-lab {' '.join(check.args)}` never printed /{check.pattern.pattern}/"
-            + (f" (last: {last[-1][:160]})" if last else "")
-            + said,
-        )
+    if missing or not checks_done:
+        return Verdict(False, f"waited {program.timeout:g} s for {_wanted(program, missing, seen)}{said}")
     return Verdict(False, f"did not end within {program.timeout:g} s{said}")
+
+
+def _wanted(program: Program, missing: Sequence[Expect], seen: Observed) -> str:
+    """What was still awaited: the first missing line, else the check that has not matched."""
+    if missing:
+        return f"a line /{missing[0].pattern.pattern}/ from the {missing[0].where}"
+    unheard = [t for t in program.topics if t.name not in seen.heard]
+    if unheard:
+        return f"a message on {unheard[0].name} ({unheard[0].type})"
+    check = program.checks[seen.checks_matched]
+    last = seen.last_check_output.strip().splitlines()
+    return f"`hri-lab {' '.join(check.args)}` printing /{check.pattern.pattern}/" + (f" (last: {last[-1][:160]})" if last else "")
 
 
 # ---- running ---------------------------------------------------------------------------------
@@ -389,12 +424,19 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
     partners: list[Process] = []
     main: Process | None = None
     seen = Observed()
+    listening = listen(url, program.topics, seen.heard)
     try:
         partners = [start(p) for p in program.partners]
         main = start(program.path, program.args, program.launch)
         deadline = time.monotonic() + program.timeout
         next_check = 0.0
+        interrupt_at: float | None = None
         while True:
+            if program.interrupt is not None and interrupt_at is None and any(map(program.interrupt.search, main.lines)):
+                interrupt_at = time.monotonic() + INTERRUPT_DELAY_S
+            if interrupt_at is not None and time.monotonic() >= interrupt_at and main.status() is None:
+                os.killpg(main.proc.pid, signal.SIGINT)
+                interrupt_at = float("inf")
             seen.program = list(main.lines)
             seen.partners = [list(p.lines) for p in partners]
             seen.program_exit = main.status()
@@ -411,6 +453,8 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
                 return verdict
             time.sleep(0.1)
     finally:
+        if listening is not None:
+            listening.close()
         for proc in (main, *partners):
             if proc is not None:
                 proc.stop()
@@ -420,6 +464,21 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
                     print(f"    --- {name}")
                     for line in proc.lines[-40:]:
                         print(f"    | {line}")
+
+
+def listen(url: str, topics: Sequence[Heard], heard: set[str]):  # -> roslibpy.Ros | None
+    """Subscribed to `topics` over the lab's rosbridge endpoint with roslibpy: each name goes into
+    `heard` when its first message comes."""
+    if not topics:
+        return None
+    import roslibpy
+
+    host, port = url.removeprefix("http://").rsplit(":", 1)
+    ros = roslibpy.Ros(host, int(port))
+    ros.run(timeout=30)
+    for t in topics:
+        roslibpy.Topic(ros, t.name, t.type).subscribe(lambda _msg, name=t.name: heard.add(name))
+    return ros
 
 
 def client_command(lab: Lab, url: str, args: Sequence[str], env: dict[str, str]) -> str:
@@ -445,6 +504,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("-k", dest="select", help="only programs whose name contains this")
     parser.add_argument("--client", choices=sorted(CLIENTS), help="only rclpy or rospy programs")
     parser.add_argument("--verbose", action="store_true", help="print each program's last output lines")
+    parser.add_argument("--report", type=Path, metavar="FILE.md", help="also write the results as a Markdown table")
     args = parser.parse_args(argv)
     lab = Lab(args.lab)
     programs = load_manifest(args.manifest)
@@ -472,7 +532,37 @@ def main(argv: Sequence[str] | None = None) -> int:
                 results.append((p, verdict))
                 print(f"{'PASS' if verdict.passed else 'FAIL'} {p.name}" + ("" if verdict.passed else f": {short(verdict.reason)}"), flush=True)
     print(summary(results))
+    if args.report:
+        command = " ".join(["python -m bench.ros_corpus", *(sys.argv[1:] if argv is None else argv)])
+        args.report.write_text(report(results, lab_commit(lab), command, os.getloadavg()))
     return 0
+
+
+def report(results: Sequence[tuple[Program, Verdict]], lab: str, command: str, load: Sequence[float]) -> str:
+    """The results as Markdown: the pass rate, then one row a program (its repository and commit, its
+    path, what it exercises, the verdict and the reason), failures first."""
+    lines = [
+        f"Measured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} with `{command}`",
+        f"(lab: {lab}) on the shared 2-core machine, load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f}",
+        "(other developers' work running at the same time).",
+        "",
+        *(f"- {line}" for line in summary(results).splitlines()),
+        "",
+        "| repository@commit | program | what it exercises | result |",
+        "|---|---|---|---|",
+    ]
+    for p, v in sorted(results, key=lambda r: r[1].passed):
+        result = "pass" if v.passed else "**fail**: " + short(v.reason).replace("|", "\\|")
+        lines.append(f"| {p.repo}@{p.commit[:12]} | `{p.path}` | {p.why.replace('|', '/')} | {result} |")
+    return "\n".join(lines) + "\n"
+
+
+def lab_commit(lab: Lab) -> str:
+    done = subprocess.run(
+        ["git", "-C", str(lab.checkout), "log", "-1", "--format=%h (%s)"], capture_output=True, text=True, check=False
+    )
+    branch = subprocess.run(["git", "-C", str(lab.checkout), "branch", "--show-current"], capture_output=True, text=True, check=False)
+    return f"{branch.stdout.strip() or '?'} {done.stdout.strip()[:80]}"
 
 
 def short(reason: str, limit: int = 300) -> str:

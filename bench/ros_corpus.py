@@ -47,8 +47,20 @@ STOP_GRACE_S = 10.0  # from Ctrl+C to SIGKILL
 SERVER_READY_S = 180.0
 
 PROGRAM_KEYS = {
-    "repo", "commit", "path", "client", "partners", "args", "launch", "expect", "checks", "topics", "interrupt", "exit",
-    "timeout", "why",
+    "repo",
+    "commit",
+    "path",
+    "client",
+    "partners",
+    "args",
+    "launch",
+    "expect",
+    "checks",
+    "topics",
+    "interrupt",
+    "exit",
+    "timeout",
+    "why",
 }
 INTERRUPT_DELAY_S = 3.0  # from the line `interrupt` names to the Ctrl+C: time for its partners to subscribe
 EXPECT_KEYS = {"in", "line"}
@@ -156,7 +168,11 @@ def parse_program(entry: dict, index: int) -> Program:
     topics = []
     for j, item in enumerate(entry.get("topics", [])):
         at = f"{where}, topic {j + 1}"
-        if not isinstance(item, dict) or set(item) != TOPIC_KEYS or not all(isinstance(v, str) and v for v in item.values()):
+        if (
+            not isinstance(item, dict)
+            or set(item) != TOPIC_KEYS
+            or not all(isinstance(v, str) and v for v in item.values())
+        ):
             raise ManifestError(f"{at}: a table of name and type (strings)")
         topics.append(Heard(item["name"], item["type"]))
     partners = _strings(entry.get("partners", []), f"{where}: `partners`")
@@ -321,7 +337,9 @@ def _wanted(program: Program, missing: Sequence[Expect], seen: Observed) -> str:
         return f"a message on {unheard[0].name} ({unheard[0].type})"
     check = program.checks[seen.checks_matched]
     last = seen.last_check_output.strip().splitlines()
-    return f"`hri-lab {' '.join(check.args)}` printing /{check.pattern.pattern}/" + (f" (last: {last[-1][:160]})" if last else "")
+    return f"`hri-lab {' '.join(check.args)}` printing /{check.pattern.pattern}/" + (
+        f" (last: {last[-1][:160]})" if last else ""
+    )
 
 
 # ---- running ---------------------------------------------------------------------------------
@@ -432,7 +450,11 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
         next_check = 0.0
         interrupt_at: float | None = None
         while True:
-            if program.interrupt is not None and interrupt_at is None and any(map(program.interrupt.search, main.lines)):
+            if (
+                program.interrupt is not None
+                and interrupt_at is None
+                and any(map(program.interrupt.search, main.lines))
+            ):
                 interrupt_at = time.monotonic() + INTERRUPT_DELAY_S
             if interrupt_at is not None and time.monotonic() >= interrupt_at and main.status() is None:
                 os.killpg(main.proc.pid, signal.SIGINT)
@@ -516,7 +538,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     results: list[tuple[Program, Verdict]] = []
     absent = [p for p in programs if checkout_of(p, checkouts) is None]
     for p in absent:
-        print(f"SKIP {p.name}: no {p.repo.replace('/', '+')}@{p.commit[:12]} folder in {', '.join(map(str, args.dirs))}")
+        print(
+            f"SKIP {p.name}: no {p.repo.replace('/', '+')}@{p.commit[:12]} folder in {', '.join(map(str, args.dirs))}"
+        )
     present = [p for p in programs if p not in absent]
     if not present:
         print("no program of the manifest found", file=sys.stderr)
@@ -530,7 +554,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                 assert folder is not None
                 verdict = run_program(lab, url, p, folder, work, args.verbose)
                 results.append((p, verdict))
-                print(f"{'PASS' if verdict.passed else 'FAIL'} {p.name}" + ("" if verdict.passed else f": {short(verdict.reason)}"), flush=True)
+                print(
+                    f"{'PASS' if verdict.passed else 'FAIL'} {p.name}"
+                    + ("" if verdict.passed else f": {short(verdict.reason)}"),
+                    flush=True,
+                )
     print(summary(results))
     if args.report:
         command = " ".join(["python -m bench.ros_corpus", *(sys.argv[1:] if argv is None else argv)])
@@ -542,6 +570,11 @@ def report(results: Sequence[tuple[Program, Verdict]], lab: str, command: str, l
     """The results as Markdown: the pass rate, then one row a program (its repository and commit, its
     path, what it exercises, the verdict and the reason), failures first."""
     lines = [
+        "# Public ROS programs, unchanged: the results",
+        "",
+        "Written by bench/ros_corpus.py (`--report`); the corpus, the bench and how to run it:",
+        "[the lab as a ROS system](ros-programs.md#measured-public-ros-programs-unchanged).",
+        "",
         f"Measured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} with `{command}`",
         f"(lab: {lab}) on the shared 2-core machine, load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f}",
         "(other developers' work running at the same time).",
@@ -561,7 +594,9 @@ def lab_commit(lab: Lab) -> str:
     done = subprocess.run(
         ["git", "-C", str(lab.checkout), "log", "-1", "--format=%h (%s)"], capture_output=True, text=True, check=False
     )
-    branch = subprocess.run(["git", "-C", str(lab.checkout), "branch", "--show-current"], capture_output=True, text=True, check=False)
+    branch = subprocess.run(
+        ["git", "-C", str(lab.checkout), "branch", "--show-current"], capture_output=True, text=True, check=False
+    )
     return f"{branch.stdout.strip() or '?'} {done.stdout.strip()[:80]}"
 
 

@@ -37,15 +37,26 @@ from pathlib import Path
 from bench.ros_corpus import ROOT, Lab, Process, find_checkouts, serving
 
 PORT = 9090  # the tests' own
-TESTS = ("test/examples",)  # the files that talk to ws://localhost:9090 (test/service.test.js imports the built package)
+# the files that talk to ws://localhost:9090 (test/service.test.js imports the built package: not built here)
+TESTS = ("test/examples",)
 NODES = Path(__file__).with_name("roslibjs_nodes")
 SUITE_TIMEOUT_S = 900.0  # a bound for a hung suite, not a speed figure
 SETUP_S = 60.0  # for the setup's programs to be up (as setup_examples.bash waits for /listener)
 
 # (repository, commit, path) of the corpus programs the setup runs, and their arguments
 CORPUS_NODES = (
-    ("ros/common_tutorials", "b3a86ff8a60efd678f942deab47efcadd52a5336", "actionlib_tutorials/scripts/fibonacci_server.py", ()),
-    ("ros/ros_tutorials", "db6328879831b4abadac939bd69b43133414c0db", "rospy_tutorials/005_add_two_ints/add_two_ints_server", ()),
+    (
+        "ros/common_tutorials",
+        "b3a86ff8a60efd678f942deab47efcadd52a5336",
+        "actionlib_tutorials/scripts/fibonacci_server.py",
+        (),
+    ),
+    (
+        "ros/ros_tutorials",
+        "db6328879831b4abadac939bd69b43133414c0db",
+        "rospy_tutorials/005_add_two_ints/add_two_ints_server",
+        (),
+    ),
 )
 OWN_NODES = (
     (NODES / "hello_world_publisher.py", ()),
@@ -74,21 +85,32 @@ def results_of(report: dict) -> list[tuple[str, str, str]]:
             rows.append((f"{name}: (the file)", "failed", message[0] if message else ""))
         for a in assertions:
             failure = "".join(a.get("failureMessages") or []).strip().splitlines()
-            rows.append((f"{name}: {a.get('fullName', a.get('title', '?'))}", a.get("status", "?"), failure[0] if failure else ""))
+            rows.append(
+                (
+                    f"{name}: {a.get('fullName', a.get('title', '?'))}",
+                    a.get("status", "?"),
+                    failure[0] if failure else "",
+                )
+            )
     return rows
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("checkout", type=Path, help="a roslibjs checkout with its node_modules (npm ci)")
-    parser.add_argument("--corpus", type=Path, nargs="+", required=True, help="the corpus folders (bench/ros_corpus.py)")
+    parser.add_argument(
+        "--corpus", type=Path, nargs="+", required=True, help="the corpus folders (bench/ros_corpus.py)"
+    )
     parser.add_argument("--lab", type=Path, default=ROOT, help="the lab's checkout (its .venv/bin/hri-lab)")
     parser.add_argument("--verbose", action="store_true", help="print the setup programs' output")
     args = parser.parse_args(argv)
     checkout = args.checkout.resolve()
     vitest = checkout / "node_modules" / ".bin" / "vitest"
     if not (checkout / "test" / "examples").is_dir() or not vitest.is_file():
-        print(f"{checkout}: no test/examples or node_modules/.bin/vitest (a roslibjs checkout after `npm ci`?)", file=sys.stderr)
+        print(
+            f"{checkout}: no test/examples or node_modules/.bin/vitest (a roslibjs checkout after `npm ci`?)",
+            file=sys.stderr,
+        )
         return 1
     if not port_free(PORT):
         print(f"port {PORT} is taken (another lab or rosbridge?): the tests need it", file=sys.stderr)
@@ -106,7 +128,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="roslibjs-suite-") as tmp:
         work = Path(tmp)
         with serving(lab, work, PORT) as url:
-            nodes = [Process([str(lab.command), "run", "--url", url, str(p), *extra], cwd=work) for p, extra in programs]
+            nodes = [
+                Process([str(lab.command), "run", "--url", url, str(p), *extra], cwd=work) for p, extra in programs
+            ]
             try:
                 wait_for_setup(nodes)
                 report_file = work / "vitest.json"

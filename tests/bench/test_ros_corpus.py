@@ -7,8 +7,8 @@ import pytest
 
 from bench.ros_corpus import (
     MANIFEST,
-    Observed,
     ManifestError,
+    Observed,
     checkout_of,
     find_checkouts,
     first_error_line,
@@ -60,7 +60,10 @@ def test_a_manifest_entry_reads_into_its_program():
         timeout="12.5",
     )
     assert p.partners == ("listener.py",) and p.args == ("2", "3") and p.exit == 0 and p.timeout == 12.5
-    assert [(e.where, e.pattern.pattern) for e in p.expect] == [("partner", r"I heard: \[Hello"), ("program", "Publishing")]
+    assert [(e.where, e.pattern.pattern) for e in p.expect] == [
+        ("partner", r"I heard: \[Hello"),
+        ("program", "Publishing"),
+    ]
     assert p.checks[0].args == ("service", "call", "/add_two_ints", "{a: 2, b: 3}")
     assert p.name == f"ros2/demos@{COMMIT[:12]}:talker.py"
 
@@ -114,7 +117,9 @@ def test_the_error_line_is_a_tracebacks_exception_else_the_first_logged_error():
     assert first_error_line(logged) == logged[1]
     assert first_error_line(["rospy.ROSSerializationException: header field"]).startswith("rospy.ROS")
     assert first_error_line(["I heard: [Hello World: 1]", "no mistakes here"]) is None
-    launched = ["[param_talker] [INFO] [1.0]: /global_example is global value"] + [f"[param_talker] {t}" for t in TRACEBACK]
+    launched = ["[param_talker] [INFO] [1.0]: /global_example is global value"] + [
+        f"[param_talker] {t}" for t in TRACEBACK
+    ]
     assert first_error_line(launched) == TRACEBACK[-1]  # hri-lab launch names each line's node
     assert first_error_line(["[talker] [ERROR] [1.0]: no"]) == "[ERROR] [1.0]: no"
 
@@ -153,7 +158,10 @@ def test_a_program_expected_to_end_passes_on_its_status_and_fails_on_another():
     crashed = judge(p, Observed(program=TRACEBACK, program_exit=1), timed_out=False)
     assert crashed is not None and crashed.reason == f"exited with status 1: {TRACEBACK[-1]}"
     quiet = judge(p, Observed(program=["Goal failed to cancel"], program_exit=0), timed_out=False)
-    assert quiet is not None and quiet.reason == "ended (status 0) before a line /Result of add_two_ints: 5/ from the program"
+    assert (
+        quiet is not None
+        and quiet.reason == "ended (status 0) before a line /Result of add_two_ints: 5/ from the program"
+    )
 
 
 def test_a_partner_that_crashes_fails_the_program_naming_the_partner():
@@ -169,7 +177,10 @@ def test_checks_pass_in_order_and_a_failing_one_is_reported_with_its_last_output
     assert judge(p, seen, timed_out=False) is None
     verdict = judge(p, seen, timed_out=True)
     assert verdict is not None
-    assert verdict.reason == "waited 40 s for `hri-lab param get /node param2` printing /4\\.0/ (last: error: parameter 'param2' not set)"
+    assert (
+        verdict.reason
+        == "waited 40 s for `hri-lab param get /node param2` printing /4\\.0/ (last: error: parameter 'param2' not set)"
+    )
     seen.checks_matched = 1
     assert judge(p, seen, timed_out=False).passed  # type: ignore[union-attr]
 
@@ -188,9 +199,15 @@ def test_the_report_is_a_markdown_table_failures_first_with_the_command_and_the_
 
     ok = one(exit="0", why='"a timer publishing"')
     bad = one(exit="0", path='"listener.py"', why='"a subscription"')
-    text = report([(ok, Verdict(True, "")), (bad, Verdict(False, "exited with status 1: x | y"))], "main 7f4017d", "python -m bench.ros_corpus /c", (12.5, 11.0, 9.25))
+    text = report(
+        [(ok, Verdict(True, "")), (bad, Verdict(False, "exited with status 1: x | y"))],
+        "main 7f4017d",
+        "python -m bench.ros_corpus /c",
+        (12.5, 11.0, 9.25),
+    )
     lines = text.splitlines()
-    assert "`python -m bench.ros_corpus /c`" in lines[0] and "load average 12.5 11.0 9.2" in lines[1]
+    assert lines[0] == "# Public ROS programs, unchanged: the results"
+    assert "`python -m bench.ros_corpus /c`" in lines[5] and "load average 12.5 11.0 9.2" in lines[6]
     assert "- pass rate: 1 of 2 (50 %)" in lines
     rows = [line for line in lines if line.startswith("| ros2/demos")]
     assert rows == [

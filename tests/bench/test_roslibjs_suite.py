@@ -1,8 +1,8 @@
 """bench/roslibjs_suite.py without roslibjs (CI fetches nothing): vitest's JSON report read into one
 row a test, a file that failed before its tests ran counted as a failure."""
 
-from bench.roslibjs_suite import CORPUS_NODES, OWN_NODES, results_of
 from bench.ros_corpus import load_manifest
+from bench.roslibjs_suite import CORPUS_NODES, OWN_NODES, results_of
 
 
 def test_vitests_report_gives_each_test_its_status_and_the_first_line_of_its_failure():
@@ -11,12 +11,18 @@ def test_vitests_report_gives_each_test_its_status_and_the_first_line_of_its_fai
             {
                 "name": "/r/test/examples/fibonacci.example.js",
                 "assertionResults": [
-                    {"fullName": "Fibonacci Example Fibonacci", "status": "failed", "failureMessages": ["Error: Test timed out in 8000ms.\n    at x"]}
+                    {
+                        "fullName": "Fibonacci Example Fibonacci",
+                        "status": "failed",
+                        "failureMessages": ["Error: Test timed out in 8000ms.\n    at x"],
+                    }
                 ],
             },
             {
                 "name": "/r/test/examples/params.examples.js",
-                "assertionResults": [{"fullName": "Param setting Param.get", "status": "passed", "failureMessages": []}],
+                "assertionResults": [
+                    {"fullName": "Param setting Param.get", "status": "passed", "failureMessages": []}
+                ],
             },
             {"name": "/r/test/service.test.js", "assertionResults": [], "message": "EISDIR: illegal operation\nmore"},
         ]

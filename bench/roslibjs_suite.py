@@ -8,7 +8,7 @@ The tests connect to `ws://localhost:9090` (hard-coded in them), so this starts 
 
 | roslibjs's setup | here |
 |---|---|
-| actionlib_tutorials `fibonacci_server` | `actionlib_tutorials/scripts/fibonacci_server.py` of ros/common_tutorials (the corpus) |
+| actionlib_tutorials `fibonacci_server` (C++) | bench/roslibjs_nodes/fibonacci_server.py (the same sequence; the tutorial's Python server gives one number fewer), with ros/common_tutorials' actionlib_tutorials messages |
 | rospy_tutorials `add_two_ints_server` | `rospy_tutorials/005_add_two_ints/add_two_ints_server` of ros/ros_tutorials (the corpus) |
 | `rostopic pub /listener std_msgs/String "Hello, World"` | bench/roslibjs_nodes/hello_world_publisher.py |
 | tf `static_transform_publisher 0 0 0 0 0 0 /world /turtle1 100` | bench/roslibjs_nodes/static_transform_publisher.py, same arguments |
@@ -43,24 +43,15 @@ NODES = Path(__file__).with_name("roslibjs_nodes")
 SUITE_TIMEOUT_S = 900.0  # a bound for a hung suite, not a speed figure
 SETUP_S = 60.0  # for the setup's programs to be up (as setup_examples.bash waits for /listener)
 
-# (repository, commit, path) of the corpus programs the setup runs, and their arguments
-CORPUS_NODES = (
-    (
-        "ros/common_tutorials",
-        "b3a86ff8a60efd678f942deab47efcadd52a5336",
-        "actionlib_tutorials/scripts/fibonacci_server.py",
-        (),
-    ),
-    (
-        "ros/ros_tutorials",
-        "db6328879831b4abadac939bd69b43133414c0db",
-        "rospy_tutorials/005_add_two_ints/add_two_ints_server",
-        (),
-    ),
-)
-OWN_NODES = (
-    (NODES / "hello_world_publisher.py", ()),
-    (NODES / "static_transform_publisher.py", ("0", "0", "0", "0", "0", "0", "/world", "/turtle1", "100")),
+COMMON_TUTORIALS = ("ros/common_tutorials", "b3a86ff8a60efd678f942deab47efcadd52a5336")
+ROS_TUTORIALS = ("ros/ros_tutorials", "db6328879831b4abadac939bd69b43133414c0db")
+# the setup's nodes: (a corpus checkout and a path in it, or None and a path here), their arguments, and
+# the corpus checkout that is their workspace (their interface packages), if they need one
+SETUP = (
+    (ROS_TUTORIALS, "rospy_tutorials/005_add_two_ints/add_two_ints_server", (), None),
+    (None, "fibonacci_server.py", (), COMMON_TUTORIALS),
+    (None, "hello_world_publisher.py", (), None),
+    (None, "static_transform_publisher.py", ("0", "0", "0", "0", "0", "0", "/world", "/turtle1", "100"), None),
 )
 
 
@@ -102,7 +93,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--corpus", type=Path, nargs="+", required=True, help="the corpus folders (bench/ros_corpus.py)"
     )
     parser.add_argument("--lab", type=Path, default=ROOT, help="the lab's checkout (its .venv/bin/hri-lab)")
-    parser.add_argument("--verbose", action="store_true", help="print the setup programs' output")
+    parser.add_argument("--verbose", action="store_true", help="print the setup programs' and vitest's output")
+    parser.add_argument("--tests", nargs="+", default=list(TESTS), help=f"vitest's filters (default {' '.join(TESTS)})")
     args = parser.parse_args(argv)
     checkout = args.checkout.resolve()
     vitest = checkout / "node_modules" / ".bin" / "vitest"
@@ -117,25 +109,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     lab = Lab(args.lab)
     checkouts = find_checkouts(args.corpus)
-    programs: list[tuple[Path, Sequence[str]]] = []
-    for repo, commit, path, extra in CORPUS_NODES:
-        folder = next((f for (r, c), f in checkouts.items() if r == repo and commit.startswith(c)), None)
-        if folder is None:
-            print(f"no {repo.replace('/', '+')}@{commit[:12]} folder in the corpus", file=sys.stderr)
+    programs: list[tuple[Path, Sequence[str], Path | None]] = []
+    for checkout_key, path, extra, workspace_key in SETUP:
+        folder = corpus_folder(checkouts, checkout_key) if checkout_key else NODES
+        workspace = corpus_folder(checkouts, workspace_key) if workspace_key else None
+        if folder is None or (workspace_key and workspace is None):
             return 1
-        programs.append((folder / path, extra))
-    programs.extend(OWN_NODES)
+        programs.append((folder / path, extra, workspace))
     with tempfile.TemporaryDirectory(prefix="roslibjs-suite-") as tmp:
         work = Path(tmp)
         with serving(lab, work, PORT) as url:
             nodes = [
-                Process([str(lab.command), "run", "--url", url, str(p), *extra], cwd=work) for p, extra in programs
+                Process([str(lab.command), "run", "--url", url, *workspace_args(w), str(p), *extra], cwd=work)
+                for p, extra, w in programs
             ]
+            run: subprocess.CompletedProcess[str] | None = None
             try:
                 wait_for_setup(nodes)
                 report_file = work / "vitest.json"
                 run = subprocess.run(
-                    [str(vitest), "run", "--reporter=json", f"--outputFile={report_file}", *TESTS],
+                    [
+                        str(vitest),
+                        "run",
+                        "--reporter=json",
+                        "--reporter=verbose",
+                        f"--outputFile.json={report_file}",
+                        *args.tests,
+                    ],
                     cwd=checkout,
                     capture_output=True,
                     text=True,
@@ -145,20 +145,35 @@ def main(argv: Sequence[str] | None = None) -> int:
             finally:
                 for node in nodes:
                     node.stop()
+                if args.verbose and run is not None:
+                    print((run.stdout + run.stderr)[-4000:])
                 if args.verbose:
-                    for (path, _), node in zip(programs, nodes, strict=True):
+                    for (path, _, _), node in zip(programs, nodes, strict=True):
                         print(f"--- {path.name}")
                         for line in node.lines[-30:]:
                             print(f"| {line}")
             if not report_file.is_file():
-                print("vitest wrote no report:\n" + (run.stdout + run.stderr)[-3000:], file=sys.stderr)
+                said = (run.stdout + run.stderr)[-3000:] if run is not None else ""
+                print("vitest wrote no report:\n" + said, file=sys.stderr)
                 return 1
             rows = results_of(json.loads(report_file.read_text()))
     for name, status, failure in rows:
         print(f"{'PASS' if status == 'passed' else status.upper()} {name}" + (f": {failure}" if failure else ""))
     passed = sum(status == "passed" for _, status, _ in rows)
-    print(f"roslibjs ({', '.join(TESTS)}): {passed} passed, {len(rows) - passed} failed")
+    print(f"roslibjs ({', '.join(args.tests)}): {passed} passed, {len(rows) - passed} failed")
     return 0
+
+
+def corpus_folder(checkouts: dict[tuple[str, str], Path], key: tuple[str, str]) -> Path | None:
+    repo, commit = key
+    folder = next((f for (r, c), f in checkouts.items() if r == repo and commit.startswith(c)), None)
+    if folder is None:
+        print(f"no {repo.replace('/', '+')}@{commit[:12]} folder in the corpus", file=sys.stderr)
+    return folder
+
+
+def workspace_args(workspace: Path | None) -> list[str]:
+    return ["--workspace", str(workspace)] if workspace else []
 
 
 def wait_for_setup(nodes: Sequence[Process]) -> None:
@@ -181,7 +196,10 @@ def wait_for_setup(nodes: Sequence[Process]) -> None:
     for node in nodes:
         if node.status() is not None:
             tail = "\n".join(node.lines[-5:])
-            print(f"setup: {node.proc.args[4]} ended with status {node.status()}:\n{tail}", file=sys.stderr)
+            print(
+                f"setup: {' '.join(map(str, node.proc.args[4:]))} ended with status {node.status()}:\n{tail}",
+                file=sys.stderr,
+            )
 
 
 if __name__ == "__main__":

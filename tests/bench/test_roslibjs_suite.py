@@ -2,7 +2,7 @@
 row a test, a file that failed before its tests ran counted as a failure."""
 
 from bench.ros_corpus import load_manifest
-from bench.roslibjs_suite import CORPUS_NODES, OWN_NODES, results_of
+from bench.roslibjs_suite import NODES, SETUP, results_of
 
 
 def test_vitests_report_gives_each_test_its_status_and_the_first_line_of_its_failure():
@@ -34,7 +34,9 @@ def test_vitests_report_gives_each_test_its_status_and_the_first_line_of_its_fai
     ]
 
 
-def test_the_setups_corpus_nodes_are_programs_of_the_corpus_and_its_own_nodes_are_here():
-    listed = {(p.repo, p.commit, p.path) for p in load_manifest()}
-    assert {(repo, commit, path) for repo, commit, path, _ in CORPUS_NODES} <= listed
-    assert all(path.is_file() for path, _ in OWN_NODES)
+def test_the_setups_nodes_are_programs_of_the_corpus_or_here():
+    listed = {(p.repo, p.commit) for p in load_manifest()}
+    for checkout, path, _, workspace in SETUP:
+        for key in (checkout, workspace):
+            assert key is None or key in listed, key
+        assert checkout is not None or (NODES / path).is_file()

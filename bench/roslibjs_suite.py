@@ -20,6 +20,9 @@ into a folder of its own and install its development dependencies there first:
 
     (cd ROSLIBJS && npm ci --ignore-scripts)
     .venv/bin/python -m bench.roslibjs_suite ROSLIBJS --corpus /work/corpus [--lab /work/wt/OTHER]
+
+On a shared machine, `--own-network` (as root) runs it all in a network namespace of its own, where
+port 9090 is free whoever else uses it.
 """
 
 from __future__ import annotations
@@ -95,7 +98,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--lab", type=Path, default=ROOT, help="the lab's checkout (its .venv/bin/hri-lab)")
     parser.add_argument("--verbose", action="store_true", help="print the setup programs' and vitest's output")
     parser.add_argument("--tests", nargs="+", default=list(TESTS), help=f"vitest's filters (default {' '.join(TESTS)})")
+    parser.add_argument(
+        "--own-network",
+        action="store_true",
+        help="run in a network namespace of its own (root: unshare --net), so its port 9090 is nobody else's",
+    )
     args = parser.parse_args(argv)
+    if args.own_network:
+        rest = [a for a in (sys.argv[1:] if argv is None else argv) if a != "--own-network"]
+        command = [sys.executable, "-m", "bench.roslibjs_suite", *rest]
+        # a new namespace has only a loopback interface, down: bring it up, then run this again in it
+        return subprocess.call(
+            ["unshare", "--net", "--", "sh", "-c", 'ip link set lo up && exec "$@"', "sh", *command], cwd=ROOT
+        )
     checkout = args.checkout.resolve()
     vitest = checkout / "node_modules" / ".bin" / "vitest"
     if not (checkout / "test" / "examples").is_dir() or not vitest.is_file():

@@ -518,6 +518,17 @@ def client_command(lab: Lab, url: str, args: Sequence[str], env: dict[str, str])
     return done.stdout + done.stderr
 
 
+def stop_on_sigterm() -> None:
+    """SIGTERM (`kill`, `timeout`) ends the bench as Ctrl+C does: through its `finally`s, which stop
+    the lab and the programs it started (they run in process groups of their own, out of reach of
+    a signal sent to the bench's group) and remove its temporary folder."""
+
+    def terminate(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, terminate)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("dirs", nargs="+", type=Path, metavar="DIR", help="corpus folders (OWNER+NAME@COMMIT)")
@@ -528,6 +539,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--verbose", action="store_true", help="print each program's last output lines")
     parser.add_argument("--report", type=Path, metavar="FILE.md", help="also write the results as a Markdown table")
     args = parser.parse_args(argv)
+    stop_on_sigterm()
     lab = Lab(args.lab)
     programs = load_manifest(args.manifest)
     if args.select:

@@ -37,7 +37,7 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from bench.ros_corpus import ROOT, Lab, Process, find_checkouts, serving
+from bench.ros_corpus import ROOT, Lab, Process, find_checkouts, serving, stop_on_sigterm
 
 PORT = 9090  # the tests' own
 # the files that talk to ws://localhost:9090 (test/service.test.js imports the built package: not built here)
@@ -111,6 +111,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return subprocess.call(
             ["unshare", "--net", "--", "sh", "-c", 'ip link set lo up && exec "$@"', "sh", *command], cwd=ROOT
         )
+    stop_on_sigterm()
     checkout = args.checkout.resolve()
     vitest = checkout / "node_modules" / ".bin" / "vitest"
     if not (checkout / "test" / "examples").is_dir() or not vitest.is_file():

@@ -152,7 +152,7 @@ class ActionServer:
                 if handle.destroy_time is not None and now - handle.destroy_time > STATUS_LIST_TIMEOUT_S:
                     del self.handles[key]
             status_list = [h.status for h in self.handles.values()]
-        if not rospy.is_shutdown():
+        if not rospy.core.topics_closed():
             self.status_pub.publish(GoalStatusArray(header=_header(), status_list=status_list))
 
     def _publish_status_loop(self) -> None:
@@ -162,6 +162,8 @@ class ActionServer:
                 return
 
     def publish_result(self, handle: ServerGoalHandle, result: Any) -> None:
+        if rospy.core.topics_closed():  # the node has shut down: nobody to tell
+            return
         result = result if result is not None else self.spec.Result()
         with self.lock:
             handle.destroy_time = time.monotonic()
@@ -175,7 +177,7 @@ class ActionServer:
         self.publish_status()
 
     def publish_feedback(self, handle: ServerGoalHandle, feedback: Any) -> None:
-        if handle.status.status in TERMINAL:
+        if handle.status.status in TERMINAL or rospy.core.topics_closed():
             return
         if handle.origin is not None:
             handle.origin.publish_feedback(feedback)

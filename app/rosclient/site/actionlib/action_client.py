@@ -51,6 +51,8 @@ class CommState:
     LOST = 8
 
 
+# the comm states in which a goal missing from the server's status list is not lost (yet, or any more)
+_NOT_LOST = (CommState.WAITING_FOR_GOAL_ACK, CommState.WAITING_FOR_RESULT, CommState.DONE)
 # a goal's status -> the comm state it puts the handle in (before its result)
 _COMM_OF_STATUS = {
     GoalStatus.PENDING: CommState.PENDING,
@@ -83,6 +85,7 @@ class ClientGoalHandle:
         self.comm_state = CommState.WAITING_FOR_GOAL_ACK
         self.status, self.text = GoalStatus.PENDING, ""
         self.result: Any = None
+        self.listed = False  # seen in the server's status list (topics)
         self.done = threading.Event()
         self._cancel: Callable[[], None] = lambda: None
         self._lock = threading.RLock()
@@ -170,10 +173,19 @@ class _Topics:
 
     def _on_status(self, message: Any) -> None:
         self.status_seen.set()
+        listed = set()
         for status in message.status_list:
+            listed.add(status.goal_id.id)
             handle = self.handles.get(status.goal_id.id)
             if handle is not None:
+                handle.listed = True
                 handle._status(status.status, status.text)
+        for goal_id, handle in list(self.handles.items()):
+            # a goal the server listed, then dropped before its result: lost, as actionlib's client says
+            if goal_id not in listed and handle.listed and handle.comm_state not in _NOT_LOST:
+                rospy.logwarn("Transitioning goal to LOST")
+                self.handles.pop(goal_id, None)
+                handle._result(GoalStatus.LOST, "", None)
 
     def _on_feedback(self, message: Any) -> None:
         handle = self.handles.get(message.status.goal_id.id)

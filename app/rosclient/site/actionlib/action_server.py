@@ -62,7 +62,7 @@ class ActionServer:
         self.spec = Spec(ActionSpec)
         self.goal_callback, self.cancel_callback = goal_cb, cancel_cb
         self.lock = threading.RLock()
-        self.handles: dict[str, ServerGoalHandle] = {}
+        self.status_list: list[ServerGoalHandle] = []  # every goal tracked, as actionlib's status list
         self.last_cancel_ns = 0  # the stamp of the newest cancel of all goals up to a time
         self.started = False
         self._inbox: queue.Queue[Callable[[], None]] = queue.Queue()
@@ -115,10 +115,10 @@ class ActionServer:
                 goal_id.stamp = rospy.Time.now()
             if not goal_id.id:
                 goal_id.id = f"{rospy.get_name()}-{uuid.uuid4().hex[:8]}-{goal_id.stamp.to_sec():.3f}"
-            if goal_id.id in self.handles:  # a goal sent twice is the one goal
+            if any(h.status.goal_id.id == goal_id.id for h in self.status_list):  # a goal sent twice is one
                 return
-            handle = ServerGoalHandle(self, goal_id, goal, origin)
-            self.handles[goal_id.id] = handle
+            handle = ServerGoalHandle(self, self.spec.ActionGoal(header=None, goal_id=goal_id, goal=goal), origin)
+            self.status_list.append(handle)
             if goal_id.stamp.to_nsec() <= self.last_cancel_ns:
                 handle.set_canceled(None, "This goal handle was canceled by the action server because its "
                                     "timestamp is before the timestamp of the last cancel request")  # fmt: skip
@@ -132,7 +132,7 @@ class ActionServer:
         with self.lock:
             chosen = [
                 h
-                for h in self.handles.values()
+                for h in self.status_list
                 if (not goal_id.id and not stamp_ns)
                 or h.status.goal_id.id == goal_id.id
                 or (stamp_ns and h.status.goal_id.stamp.to_nsec() <= stamp_ns)
@@ -148,11 +148,11 @@ class ActionServer:
     def publish_status(self) -> None:
         now = time.monotonic()
         with self.lock:
-            for key, handle in list(self.handles.items()):
-                if handle.destroy_time is not None and now - handle.destroy_time > STATUS_LIST_TIMEOUT_S:
-                    del self.handles[key]
-            status_list = [h.status for h in self.handles.values()]
-        if not rospy.is_shutdown():
+            self.status_list[:] = [
+                h for h in self.status_list if h.destroy_time is None or now - h.destroy_time <= STATUS_LIST_TIMEOUT_S
+            ]
+            status_list = [h.status for h in self.status_list]
+        if not rospy.core.topics_closed():
             self.status_pub.publish(GoalStatusArray(header=_header(), status_list=status_list))
 
     def _publish_status_loop(self) -> None:
@@ -162,6 +162,8 @@ class ActionServer:
                 return
 
     def publish_result(self, handle: ServerGoalHandle, result: Any) -> None:
+        if rospy.core.topics_closed():  # the node has shut down: nobody to tell
+            return
         result = result if result is not None else self.spec.Result()
         with self.lock:
             handle.destroy_time = time.monotonic()
@@ -175,7 +177,7 @@ class ActionServer:
         self.publish_status()
 
     def publish_feedback(self, handle: ServerGoalHandle, feedback: Any) -> None:
-        if handle.status.status in TERMINAL:
+        if handle.status.status in TERMINAL or rospy.core.topics_closed():
             return
         if handle.origin is not None:
             handle.origin.publish_feedback(feedback)

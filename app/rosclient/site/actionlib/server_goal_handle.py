@@ -30,15 +30,16 @@ TERMINAL = (PREEMPTED, SUCCEEDED, ABORTED, REJECTED, RECALLED)
 class ServerGoalHandle:
     """A goal's handle; an empty one (no server) stands for "no goal", as actionlib's default handle."""
 
-    def __init__(
-        self, server: ActionServer | None = None, goal_id: Any = None, goal: Any = None, origin: Any = None
-    ) -> None:
-        self.server, self.goal, self.origin = server, goal, origin  # origin: the op's goal, or None (the topic)
-        self.status = GoalStatus(goal_id=goal_id if goal_id is not None else GoalID(), status=PENDING)
+    def __init__(self, server: ActionServer | None = None, action_goal: Any = None, origin: Any = None) -> None:
+        # the goal as it came (XActionGoal: goal_id, goal), as actionlib's handle keeps it; origin: the
+        # lab's op that brought it, or None (the action's goal topic)
+        self.server, self.goal, self.origin = server, action_goal, origin
+        goal_id = action_goal.goal_id if action_goal is not None else GoalID()
+        self.status = GoalStatus(goal_id=goal_id, status=PENDING)
         self.destroy_time: float | None = None  # when it left the status list's tracking (terminal)
 
     def get_goal(self) -> Any:
-        return self.goal
+        return None if self.goal is None else self.goal.goal
 
     def get_goal_id(self) -> Any:
         return self.status.goal_id

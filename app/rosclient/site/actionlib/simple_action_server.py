@@ -149,6 +149,8 @@ class SimpleActionServer:
                     )
                     self.set_aborted(None, "This goal was aborted by the simple action server. The user should "
                                      "have set a terminal status on this goal and did not")  # fmt: skip
+            except rospy.ROSInterruptException:
+                return  # the node shut down while the goal ran (its sleep or rate said so): nothing to tell
             except Exception as exc:  # noqa: BLE001 - actionlib logs and aborts the goal
                 rospy.logerr("Exception in your execute callback: %s\n%s", exc, traceback.format_exc())
                 self.set_aborted(None, f"Exception in execute callback: {exc}")

@@ -19,6 +19,7 @@ from app.lab.events import LAB_NODE
 from app.lab.recorder import DEFAULT_DIR
 from app.mobile import commands
 from app.mobile.topics import COMMAND_TOPIC, LATCHED, MIN_PERIOD_S, ROBOT_DESCRIPTION, TOPICS
+from app.ros.names import node_name
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
@@ -55,7 +56,7 @@ class MobileLab:
 
     def start(self) -> None:
         self.runtime.start()
-        self.info(LAB_NODE, "the simulation started (the mobile world)")
+        self.info(node_name(LAB_NODE), "the simulation started (the mobile world)")
 
     def stop(self) -> None:
         if self.recorder is not None:  # a recording is finished (indexed) on shutdown

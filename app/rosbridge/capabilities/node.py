@@ -23,7 +23,7 @@ async def node(session: Any, message: dict, id_: Any) -> None:
         raise BadFrame(
             f"node: field 'name' must be a ROS node name (letters, digits, '_', namespaces by '/'), got {name[:80]!r}"
         )
-    if name == "/" + LAB_NODE:
+    if name == LAB_NODE:
         raise BadFrame(f"node: {name} is the lab's own node")
     if name in session.node_names:
         return

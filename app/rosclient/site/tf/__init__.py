@@ -37,7 +37,7 @@ class TransformBroadcaster:
     def __init__(self, queue_size: int = 100) -> None:
         self._broadcaster = _Broadcaster()
 
-    def sendTransform(self, translation: Sequence[float], rotation: Sequence[float], time: Any, child: str,  # noqa: N802
+    def sendTransform(self, translation: Sequence[float], rotation: Sequence[float], time: Any, child: str,  # noqa: N802 - tf's name
                       parent: str) -> None:
         self._broadcaster.sendTransform(_stamped(translation, rotation, time, child, parent))
 
@@ -50,32 +50,32 @@ class TransformListener:
         self._buffer = Buffer()
         self._listener = _Listener(self._buffer)
 
-    def lookupTransform(self, target_frame: str, source_frame: str, time: Any) -> tuple[list[float], list[float]]:  # noqa: N802
+    def lookupTransform(self, target_frame: str, source_frame: str, time: Any) -> tuple[list[float], list[float]]:  # noqa: N802 - tf's name
         transform = self._buffer.lookup_transform(target_frame, source_frame, time)
         t, r = transform.transform.translation, transform.transform.rotation
         return [t.x, t.y, t.z], [r.x, r.y, r.z, r.w]
 
-    def waitForTransform(self, target_frame: str, source_frame: str, time: Any, timeout: Any,  # noqa: N802
+    def waitForTransform(self, target_frame: str, source_frame: str, time: Any, timeout: Any,  # noqa: N802 - tf's name
                          polling_sleep_duration: Any = None) -> None:
         found, reason = self._buffer.can_transform(target_frame, source_frame, time, timeout, return_debug_tuple=True)
         if not found:
             raise TransformException(reason)
 
-    def canTransform(self, target_frame: str, source_frame: str, time: Any) -> bool:  # noqa: N802
+    def canTransform(self, target_frame: str, source_frame: str, time: Any) -> bool:  # noqa: N802 - tf's name
         return bool(self._buffer.can_transform(target_frame, source_frame, time))
 
-    def frameExists(self, frame_id: str) -> bool:  # noqa: N802
+    def frameExists(self, frame_id: str) -> bool:  # noqa: N802 - tf's name
         return self._buffer._known(frame_id.strip("/"))
 
-    def getFrameStrings(self) -> list[str]:  # noqa: N802
+    def getFrameStrings(self) -> list[str]:  # noqa: N802 - tf's name
         return sorted(self._buffer._frames)
 
-    def getLatestCommonTime(self, source_frame: str, target_frame: str) -> Any:  # noqa: N802
+    def getLatestCommonTime(self, source_frame: str, target_frame: str) -> Any:  # noqa: N802 - tf's name
         import rospy
 
         return rospy.Time(0)
 
-    def asMatrix(self, target_frame: str, header: Any) -> Any:  # noqa: N802
+    def asMatrix(self, target_frame: str, header: Any) -> Any:  # noqa: N802 - tf's name
         translation, rotation = self.lookupTransform(target_frame, header.frame_id, header.stamp)
         return transformations.concatenate_matrices(transformations.translation_matrix(translation),
                                                     transformations.quaternion_matrix(rotation))

@@ -20,9 +20,9 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, Field, create_model
 
 from app.ros.messages import RosMessage, RosType, integral
-from app.rosclient.interfaces import BYTES, FLOATS, INTEGERS, SEPARATOR, DefinitionError, carried
+from app.rosclient.interfaces import BYTES, FLOATS, INTEGERS, MAX_DEFINITION_CHARS, SEPARATOR, DefinitionError, carried
 
-MAX_TEXT = 65_536  # characters of a carried definition
+MAX_TEXT = MAX_DEFINITION_CHARS  # characters of a carried definition (the parser's cap)
 MAX_STRING = 10_000  # characters of an unbounded string field (as the lab's own String)
 
 

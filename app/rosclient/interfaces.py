@@ -12,7 +12,9 @@ parses it and makes a class:
 - an action: `X.Goal`/`X.Result`/`X.Feedback` (rclpy) and `XAction`, `XGoal`, `XResult`, `XFeedback`
   (actionlib).
 
-A missing or malformed definition is an ImportError naming the file, the line and what was expected.
+A missing or malformed definition is an ImportError naming the file, the line and what was expected;
+so is one beyond the caps below (a file's size, a fixed array's length, the values of a message's
+default, a recursive type), which hold wherever a definition is read: in a program and in the lab.
 """
 
 from __future__ import annotations
@@ -52,6 +54,9 @@ BUILTIN_ALIASES = {
     "Header": "std_msgs/Header",
 }
 BYTES = ("uint8", "byte", "char")  # arrays of these travel as base64 text in rosbridge's JSON
+MAX_DEFINITION_CHARS = 65_536  # characters of one definition's text (a file, or a type a client carries)
+MAX_FIXED_ARRAY = 65_536  # items of a fixed-size array (T[N]); a bound (T[<=N], string<=N) has at most 9 digits
+MAX_DEFAULT_VALUES = 65_536  # values a message's default holds, nested messages' and fixed arrays' items counted
 _FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
 
@@ -63,13 +68,14 @@ class DefinitionError(ImportError):
 
 
 class Field:
-    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class")
+    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class", "line")
 
     def __init__(self, name: str, base: str, array: int | None | bool, bound: bool, default: Any) -> None:
         self.name = name  # the wire name
         self.attr = name + "_" if keyword.iskeyword(name) else name  # genpy's rule for keywords
         self.base, self.array, self.bound, self.default = base, array, bound, default
         self.msg_class = None  # a nested message's class (resolved after parsing)
+        self.line = ""  # "FILE, line N": where it is defined
 
     @property
     def type_text(self) -> str:
@@ -108,6 +114,7 @@ class Message:
     _ros2_type = ""
     _fields: tuple[Field, ...] = ()
     _definition = ""
+    _default_values = 0  # values its default holds (capped: MAX_DEFAULT_VALUES)
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         fields = self._fields
@@ -262,10 +269,19 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         if name in {f.name for f in fields} or name in constants:
             raise DefinitionError(f"{where}: field '{name}' is defined twice", name=package)
         array: int | None | bool = None
+        for number_text in (size or "", base.partition("<=")[2]):
+            if len(number_text) > 9:
+                raise DefinitionError(f"{where}: a size or bound of at most 9 digits, got {len(number_text)}", name=package)
         if brackets:
             array = int(size) if size else True
             if bounded and not size:
                 raise DefinitionError(f"{where}: expected a bound after '<=' in {brackets!r}", name=package)
+            if not bounded and size and int(size) > MAX_FIXED_ARRAY:
+                raise DefinitionError(
+                    f"{where}: a fixed-size array of at most {MAX_FIXED_ARRAY} items, got {int(size)} "
+                    "(a variable-length T[] holds any number)",
+                    name=package,
+                )
         base = _qualify(base, package)
         scalar = base.split("<=")[0]
         if scalar not in PRIMITIVES and "/" not in scalar:
@@ -296,6 +312,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
             else:
                 default = _literal(scalar, rest, where, package)
         fields.append(Field(name, base, array, bool(bounded), default))
+        fields[-1].line = where
     return fields, constants
 
 
@@ -313,7 +330,10 @@ def _qualify(base: str, package: str) -> str:
 def _literal(scalar: str, text: str, where: str, package: str) -> Any:
     try:
         if scalar in INTEGERS:
-            return int(text, 0)
+            value, (low, high) = int(text, 0), INTEGERS[scalar]
+            if not low <= value <= high:
+                raise DefinitionError(f"{where}: {text} is out of {scalar}'s range [{low}, {high}]", name=package)
+            return value
         if scalar in FLOATS:
             return float(text)
         if scalar == "bool":
@@ -343,6 +363,7 @@ class Interfaces:
         self.texts = dict(texts or {})  # (package, kind, name) -> text carried by a client: before the roots
         self._lab_source, self._lab = lab, None  # the lab's own package, LAB_PACKAGE: after the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
+        self._making: list[tuple[str, str, str]] = []  # the definitions being made now: a type met again is recursive
         self._lock = threading.RLock()
 
     @property
@@ -391,7 +412,18 @@ class Interfaces:
                         f"(looked for {searched})",
                         name=f"{package}.{kind}",
                     )
-                self._cache[key] = self._make(package, kind, name, path)
+                if key in self._making:
+                    cycle = " -> ".join(f"{p}/{n}" for p, _, n in self._making[self._making.index(key) :])
+                    raise DefinitionError(
+                        f"{path}: {package}/{name} contains itself ({cycle} -> {package}/{name}): a recursive "
+                        "message type has no end (ROS refuses it too)",
+                        name=f"{package}.{kind}",
+                    )
+                self._making.append(key)
+                try:
+                    self._cache[key] = self._make(package, kind, name, path)
+                finally:
+                    self._making.pop()
             return self._cache[key]
 
     def message(self, type_name: str) -> type[Message]:
@@ -407,7 +439,12 @@ class Interfaces:
         elif str(path).startswith("<"):
             text = self.lab[kind][name]
         else:
-            text = path.read_text(encoding="utf-8")
+            text = _read_definition(path, f"{package}.{kind}")
+        if len(text) > MAX_DEFINITION_CHARS:
+            raise DefinitionError(
+                f"{path}: {len(text)} characters, at most {MAX_DEFINITION_CHARS} in a definition",
+                name=f"{package}.{kind}",
+            )
         sections = _sections(text)
         wanted = {"msg": 1, "srv": 2, "action": 3}[kind]
         if len(sections) != wanted:
@@ -446,15 +483,30 @@ class Interfaces:
                     f.msg_class = self.message(scalar)
                 except DefinitionError as exc:
                     raise DefinitionError(
-                        f"{path}: field '{f.name}' has type {f.base}, whose definition cannot be read: {exc}",
+                        f"{f.line}: field '{f.name}' has type {f.base}, whose definition cannot be read: {exc}",
                         name=package,
                     ) from None
+        values = 0  # what the message's default holds (Field.zero builds it): capped, nesting counted
+        for f in fields:
+            one = f.msg_class._default_values if f.msg_class is not None else 1
+            if f.array is None:
+                count = one
+            else:  # a variable-length or bounded array's default is empty
+                count = 0 if f.array is True or f.bound else f.array * one
+            values += count
+            if values > MAX_DEFAULT_VALUES:
+                raise DefinitionError(
+                    f"{f.line}: the default of {type_name} would hold more than {MAX_DEFAULT_VALUES} values "
+                    f"(field '{f.name}', {f.type_text}: {count}); use a variable-length array (T[])",
+                    name=package,
+                )
         namespace: dict[str, Any] = {
             "__slots__": tuple(f.attr for f in fields),
             "_type": type_name,
             "_ros2_type": ros2_type,
             "_fields": tuple(fields),
             "_definition": text,
+            "_default_values": values,
             "__slots__types": [f.type_text for f in fields],
             "__module__": f"{package}.msg",
         }
@@ -463,6 +515,19 @@ class Interfaces:
         if type_name in ("builtin_interfaces/Time", "builtin_interfaces/Duration"):
             base = (_Stamp, Message)
         return type(name, base, namespace)
+
+
+def _read_definition(path: Path, name: str) -> str:
+    """A definition file's text; not UTF-8 is a DefinitionError naming the line."""
+    with path.open("rb") as handle:
+        data = handle.read(MAX_DEFINITION_CHARS * 4 + 1)  # UTF-8 takes at most 4 bytes a character
+    if len(data) > MAX_DEFINITION_CHARS * 4:
+        raise DefinitionError(f"{path}: more than {MAX_DEFINITION_CHARS} characters in a definition", name=name)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise DefinitionError(f"{path}, line {line}: not UTF-8 text (byte {exc.start})", name=name) from None
 
 
 class _Stamp:
@@ -517,7 +582,14 @@ def full_text(interface: Any) -> str:
                 seen.add(nested._type)
                 parts.append(f"{SEPARATOR}\nMSG: {nested._type}\n{nested._definition.rstrip(chr(10))}")
                 pending.append(nested)
-    return "\n".join(parts) + "\n"
+    text = "\n".join(parts) + "\n"
+    if len(text) > MAX_DEFINITION_CHARS:  # refused here, before it is sent: the lab would refuse it
+        raise DefinitionError(
+            f"the definition of {interface._type} with its nested messages' is {len(text)} characters, "
+            f"at most {MAX_DEFINITION_CHARS}",
+            name=interface._type,
+        )
+    return text
 
 
 def carried(type_name: str, kind: str, text: str) -> tuple[Interfaces, tuple[str, str]]:

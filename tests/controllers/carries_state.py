@@ -1,5 +1,5 @@
 """A file that tries to carry state from one graded item to the next (tests/test_sandbox.py): at
-import it looks for what an earlier item left, then leaves all of it for the next. Each step
+import it looks for what an earlier item left; at its first step it leaves all of it for the next. Each step
 returns what it found: twist = [module global, file in /tmp, process, System V segment, POSIX
 queue created, 0]; all zeros when every item starts clean."""
 
@@ -44,10 +44,11 @@ def _leave() -> float:
     return float(queue >= 0)
 
 
-FOUND = _found()
-QUEUE = _leave()
+FOUND = _found()  # at import; what it leaves, at its first step (a process started at import is a load error)
 
 
 class CooperativeLifting(SPController):
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
-        return np.array([*FOUND, QUEUE, 0.0])
+        if not hasattr(self, "queue"):
+            self.queue = _leave()
+        return np.array([*FOUND, self.queue, 0.0])

@@ -1,0 +1,40 @@
+"""The attack suite's graded files (docs/operations.md): `hri-lab grade` of a file that is the lab's
+own controller, or that sleeps through its steps, ends with a report that says why (never a
+silent PASS, never a grade that does not end)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
+
+
+def grade(out: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade", *args, "--out", str(out), "--jobs", "2", "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+
+
+def test_the_labs_own_controller_and_a_copy_of_it_score_zero_saying_why(tmp_path):
+    """The issue's three lines scored 130/130 PASS; a copy of sp.py's text run as the file's own too."""
+    run = grade(tmp_path, str(CONTROLLERS / "reference_sp.py"), str(CONTROLLERS / "copies_reference.py"))
+    assert run.returncode == 1, run.stdout + run.stderr
+    for name, reach in (("reference_sp", "imports sim.controllers.sp"), ("copies_reference", "controllers/sp.py")):
+        report = json.loads((tmp_path / f"{name}.json").read_text())
+        assert report["points"] == 0 and report["passed"] is False and report["items"] == []
+        assert "is the lab's reference controller, not a submission" in report["error"] and reach in report["error"]
+
+
+def test_a_sleeper_is_stopped_in_every_item_with_the_wall_time_it_took(tmp_path):
+    """Sleeping 2 s on 10 of every 250 steps: each item stops at its second sleep (2 s of grace plus
+    its simulated time), scored 0 with the reason; the grade ends."""
+    run = grade(tmp_path, str(CONTROLLERS / "sleeper.py"))
+    assert run.returncode == 1, run.stdout + run.stderr
+    report = json.loads((tmp_path / "sleeper.json").read_text())
+    assert report["points"] == 0 and report["items"]
+    stopped = [i for i in report["items"] if "your step() took" in i["detail"] and "(sleeping?)" in i["detail"]]
+    assert {i["section"] for i in stopped} == {"probe", "experiment", "robustness"}, report["items"]

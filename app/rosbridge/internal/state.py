@@ -25,6 +25,9 @@ class NodeTopic:
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
 
 
+MAX_OUTGOING_RATE = 5000.0  # messages/s the lab publishes to all its rosbridge clients together (fair_period)
+
+
 class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
@@ -37,9 +40,16 @@ class Bridge:
         self.node_topics: dict[str, NodeTopic] = {}
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[Any] = []
+        self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
         self._counter = 0
         # load franka_states' robot model now, not on the event loop when a node first subscribes
         threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
+
+    def fair_period(self) -> float:
+        """s between two messages of one stream so that all of them together send at most
+        MAX_OUTGOING_RATE messages a second: the event loop keeps most of its time for HTTP and
+        the other ops however many clients subscribe at throttle_rate 0."""
+        return self.streams / MAX_OUTGOING_RATE
 
     @property
     def services(self):

@@ -24,3 +24,4 @@ class SandboxBudget:
     sleep_ratio: float = 1.0  # s of wall time step() may spend sleeping per s of simulated time ...
     sleep_grace: float = 2.0  # ... plus this (s): beyond it the item is stopped (parent.py, _account)
     no_schedstat_ratio: float = 20.0  # where /proc has no schedstat: s of step() wall time per simulated s
+    file_sleep: float = 10.0  # s a file's items may sleep in all (in one process): beyond it, no more of its items run

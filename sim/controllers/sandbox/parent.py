@@ -40,6 +40,7 @@ SHARED_WINDOW = 1.0  # s between two looks at what else the pinned pair's CPU do
 SHARED_SHARE = 0.25  # of that time: a pair whose CPU did others' work longer is let go (_follow_parent)
 
 _HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
+_SLEPT: dict[tuple[str, str], float] = {}  # (file, class) -> s its items' steps slept here (SandboxBudget.file_sleep)
 
 
 class SandboxedController:
@@ -76,6 +77,7 @@ class SandboxedController:
         self._shared_mark = (0.0, 0.0, 0.0)  # _cpu_use() when the pair was pinned or last looked at
         self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
         self.reference = ""  # how the file reached the lab's own controllers while it loaded ('' if it did not)
+        self._sleeping = 0.0  # s the live child's steps slept, at the last look (added to _SLEPT when it ends)
 
     # the Controller protocol
     def reset(self) -> None:
@@ -130,6 +132,10 @@ class SandboxedController:
         slot = handles.pop("_slot", None)
         if slot is not None:
             slot.close()
+        if self._sleeping > 0:
+            key = (str(self.path), self.class_name)
+            _SLEPT[key] = _SLEPT.get(key, 0.0) + self._sleeping
+            self._sleeping = 0.0
         if self._affinity is not None and self._pinned_thread == threading.get_native_id():
             watch.keep_on_cpu([0], self._affinity)  # this thread as it was before the child
         self._cpu = None
@@ -146,7 +152,7 @@ class SandboxedController:
         state = dict(self.__dict__)
         for name in (*_HANDLES, "_slot", "_poll"):
             state.pop(name, None)
-        state.update(pid=None, _owner=0, _jail=None, _cpu=None, _affinity=None, _pinned_thread=0)
+        state.update(pid=None, _owner=0, _jail=None, _cpu=None, _affinity=None, _pinned_thread=0, _sleeping=0.0)
         return state
 
     def load(self) -> SandboxedController:
@@ -171,6 +177,12 @@ class SandboxedController:
             return
         if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
             raise ControllerFault(self._faulted)
+        slept = _SLEPT.get((str(self.path), self.class_name), 0.0)
+        if slept > self.budget.file_sleep:  # the file's budget of sleeping is spent: no more of its items
+            raise ControllerFault(
+                f"your step() slept {slept:.1f} s in this file's earlier items (sleeping?): beyond the file's "
+                f"budget of {self.budget.file_sleep:g} s, its later items are not run"
+            )
         self.pid, self._jail = None, None  # a child of another process (fork) is not ours to talk to
         self._spawn()
         kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
@@ -412,6 +424,7 @@ class SandboxedController:
         else:
             sleeping = walls - (scheduled - child_mark) - (watch.own_run_delay() - own_mark)
             allowed = budget.sleep_ratio * simulated + budget.sleep_grace
+        self._sleeping = max(sleeping - (allowed - budget.sleep_grace), 0.0)  # what counts against the file
         if sleeping > allowed:
             self._fault(
                 f"your step() took {walls:.1f} s of wall time in {self._steps} steps (sleeping?): "

@@ -271,7 +271,9 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         array: int | None | bool = None
         for number_text in (size or "", base.partition("<=")[2]):
             if len(number_text) > 9:
-                raise DefinitionError(f"{where}: a size or bound of at most 9 digits, got {len(number_text)}", name=package)
+                raise DefinitionError(
+                    f"{where}: a size or bound of at most 9 digits, got {len(number_text)}", name=package
+                )
         if brackets:
             array = int(size) if size else True
             if bounded and not size:

@@ -88,7 +88,10 @@ def test_the_lab_interfaces_are_its_own_declarations(interfaces):
         ("int64 X=9223372036854775808\n", r"line 1: 9223372036854775808 is out of int64's range"),
         ("uint8 X=-1\n", r"line 1: -1 is out of uint8's range"),
         ("int32 a 4294967296\n", r"line 1: 4294967296 is out of int32's range"),
-        ("int64 a\nBad again\n", r"line 2: field 'again' has type my_pkg/Bad.*contains itself \(my_pkg/Bad -> my_pkg/Bad\)"),
+        (
+            "int64 a\nBad again\n",
+            r"line 2: field 'again' has type my_pkg/Bad.*contains itself \(my_pkg/Bad -> my_pkg/Bad\)",
+        ),
         ("# " + "x" * 70_000 + "\nint64 a\n", "70011 characters, at most 65536"),
     ],
 )
@@ -216,7 +219,9 @@ def test_a_default_larger_than_the_cap_is_refused_where_it_would_be_built(tmp_pa
     interfaces = _package(
         tmp_path, {"A": b"int64 n\nB[100] b\n", "B": b"C[100] c\n", "C": b"float64[100] v\n", "Ok": b"C[600] c\n"}
     )
-    with pytest.raises(DefinitionError, match=r"A.msg, line 2: the default of my_pkg/A would hold more than 65536 values"):
+    with pytest.raises(
+        DefinitionError, match=r"A.msg, line 2: the default of my_pkg/A would hold more than 65536 values"
+    ):
         interfaces.get("my_pkg", "msg", "A")
     assert interfaces.get("my_pkg", "msg", "Ok")._default_values == 60_000  # under the cap: built as before
     assert len(interfaces.get("my_pkg", "msg", "Ok")().c) == 600
@@ -243,5 +248,7 @@ def test_a_definition_too_long_to_send_is_refused_before_it_is_sent(tmp_path):
     (tmp_path / "my_pkg" / "srv" / "Huge.srv").write_text("Big a\nBig2 b\n---\nBig c\n")
     from app.rosclient.interfaces import full_text
 
-    with pytest.raises(DefinitionError, match=r"my_pkg/Huge with its nested messages' is \d+ characters, at most 65536"):
+    with pytest.raises(
+        DefinitionError, match=r"my_pkg/Huge with its nested messages' is \d+ characters, at most 65536"
+    ):
         full_text(interfaces.get("my_pkg", "srv", "Huge"))

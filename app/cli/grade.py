@@ -144,8 +144,12 @@ def _similarity(reports: list[Report], out: Path, threshold: float | None) -> No
     from app.cli.similarity import THRESHOLD, compare
 
     threshold = threshold or THRESHOLD
-    files = sorted({path for r in reports if (path := split_spec(r.subject)[0]).is_file()})
-    pairs = compare(files, out, threshold)
+    files = sorted({path for r in reports if _text_file(path := split_spec(r.subject)[0])})
+    try:
+        pairs = compare(files, out, threshold)
+    except Exception as exc:  # noqa: BLE001 - the reports are written: a failed comparison costs only itself
+        print(f"hri-lab grade: no similarity report: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return
     flagged = [p for p in pairs if p.flagged]
     print(
         f"hri-lab grade: similarity of {len(files)} file(s), each pair and each against the lab's own controllers: "
@@ -183,6 +187,15 @@ def _grade(jobs: list[Items], reports: list[Report], args: argparse.Namespace, o
                     write_report(report, out, args.format == "gradescope", len(reports) == 1)
 
         run_jobs(jobs, args.jobs, done, scheduler=scheduler)
+
+
+def _text_file(path: Path) -> bool:
+    """A file of UTF-8 text (what the similarity report can read)."""
+    try:
+        path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    return True
 
 
 def _refuse(reason: str) -> int:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import importlib.util
+import io
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,6 +64,7 @@ def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[
     for path in references:
         detector.add_file(str(path), "ref")
     pairs: list[Pair] = []
+    html = ""
     if files:
         detector.run()
         matrix = detector.similarity_matrix
@@ -80,10 +82,22 @@ def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[
         pairs.sort(key=lambda p: (not p.flagged, -max(p.share_of_file, p.share_of_other)))
         with warnings.catch_warnings():  # copydetect 0.5 reads its template with a deprecated call
             warnings.simplefilter("ignore", DeprecationWarning)
-            detector.generate_html_report()
-    with (out / "similarity.csv").open("w", newline="", encoding="utf-8") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(FIELDS)
-        for pair in pairs:
-            writer.writerow([getattr(pair, name) for name in FIELDS])
+            html = detector.generate_html_report(output_mode="return")
+    table = io.StringIO()
+    writer = csv.writer(table)
+    writer.writerow(FIELDS)
+    for pair in pairs:
+        writer.writerow([getattr(pair, name) for name in FIELDS])
+    _write(out / "similarity.csv", table.getvalue())
+    _write(out / "similarity.html", html)
     return pairs
+
+
+def _write(path: Path, text: str) -> None:
+    """The file's text, written only when it changed (a resumed batch leaves an unchanged report as it was)."""
+    try:
+        if path.read_text(encoding="utf-8") == text:
+            return
+    except (OSError, UnicodeDecodeError):
+        pass
+    path.write_text(text, encoding="utf-8")

@@ -20,8 +20,8 @@ def test_copies_and_renamed_pairs_are_flagged_and_an_honest_file_is_not(tmp_path
     (batch / "dave.py").write_text((CONTROLLERS / "sleeper.py").read_text())
     out = tmp_path / "reports"
     pairs = compare(sorted(batch.glob("*.py")), out, threshold=0.5)
-    flagged = {(Path(p.file).name, Path(p.other).name) for p in pairs if p.flagged}
-    assert flagged == {("alice.py", "bob.py"), ("carol.py", "sp.py")}
+    flagged = {frozenset((Path(p.file).name, Path(p.other).name)) for p in pairs if p.flagged}
+    assert flagged == {frozenset(("alice.py", "bob.py")), frozenset(("carol.py", "sp.py"))}, pairs[:4]
     carol = next(p for p in pairs if Path(p.file).name == "carol.py" and p.other == str(sp))
     assert carol.other_is_reference and carol.share_of_other == 1.0
     honest_vs_sp = next(p for p in pairs if Path(p.file).name == "alice.py" and p.other == str(sp))

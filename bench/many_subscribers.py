@@ -79,7 +79,7 @@ def main() -> None:
     parser.add_argument("--calls", type=int, default=300)
     parser.add_argument("--seconds", type=float, default=10.0)
     args = parser.parse_args()
-    with running_server("--view", "none") as server, httpx.Client(timeout=30.0) as client:
+    with running_server("--view", "none") as server, httpx.Client(timeout=120.0) as client:
         http_latencies(client, server.url, 20)  # warm-up
         alone = http_latencies(client, server.url, args.calls)
         subscribers = Subscribers(server.port, args.clients)

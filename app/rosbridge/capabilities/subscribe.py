@@ -118,7 +118,7 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
                 if last is None or row[0] - last >= period - 0.0005:
                     last = row[0]
                     stream.offer(wrench_stamped_at(float(row[0]), row[1:]))
-            await asyncio.sleep(POLL_S)
+            await asyncio.sleep(max(POLL_S, period))  # no oftener than it may send: its share of the lab's rate
 
 
 async def sample_images(lab: Any, stream: Stream) -> None:

@@ -4,6 +4,7 @@ no session."""
 
 from __future__ import annotations
 
+import math
 import threading
 from typing import Any
 
@@ -48,8 +49,11 @@ class Bridge:
     def fair_period(self) -> float:
         """s between two messages of one stream so that all of them together send at most
         MAX_OUTGOING_RATE messages a second: the event loop keeps most of its time for HTTP and
-        the other ops however many clients subscribe at throttle_rate 0."""
-        return self.streams / MAX_OUTGOING_RATE
+        the other ops however many clients subscribe at throttle_rate 0. In steps of a power of two
+        of milliseconds (1, 2, 4, ... ms), so a stream's period changes only when the count of
+        streams crosses one (each change re-paces every stream)."""
+        share = self.streams / MAX_OUTGOING_RATE
+        return 0.0 if share <= 0.001 else 0.001 * 2.0 ** math.ceil(math.log2(share / 0.001))
 
     @property
     def services(self):

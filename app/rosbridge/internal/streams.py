@@ -69,6 +69,7 @@ class Stream:
                         continue
                     self.last_sent = loop.time()
                 await self.session.send({"op": "publish", "topic": self.topic, "msg": self.queue.popleft()})
+                await asyncio.sleep(0)  # one message, then the others' turn: HTTP waits behind no queue
 
     def stop(self) -> None:
         if self.bridge is not None and not self.stopped:

@@ -169,7 +169,7 @@ def grade_submission(root: Path, config: dict) -> dict:
         if not report.error:
             report.items = run_items(battery(factory, seed), os.cpu_count() or 1)
             if loaded.reference:  # the course flags it (--reference flag): graded, and said
-                report.items += reference_items(loaded.reference)
+                report.items = reference_items(loaded.reference) + report.items  # first, as hri-lab grade has it
     reports = [report]
     if config.get("services"):
         reports.append(services_report(root / "submission", seed))

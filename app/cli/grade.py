@@ -122,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
         if check.reference and args.reference == "zero":  # the lab's own controller: not graded, 0 points
             report.error = check.reference
             continue
-        if check.reference:  # --reference flag: graded, and an item (not counted) says so
+        if check.reference:  # --reference flag: graded, and an item (not counted, the report's first) says so
             jobs.append(Job(report, reference_items, (check.reference,)))
         outputs = trial_outputs(args)  # recordings and figures of this file's trials, named after it
         if outputs is not None:

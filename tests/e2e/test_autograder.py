@@ -86,7 +86,7 @@ def test_a_passing_submission(tmp_path, bundle):
     results = gradescope(tmp_path, bundle, (CONTROLLERS / "reference_sp.py").read_text())
     valid(results)
     assert results["score"] == 130.0 and len(results["tests"]) == 13 + 9 + 2 + 1
-    flag = results["tests"][-1]
+    flag = results["tests"][0]
     assert flag["max_score"] == 0 and "FLAGGED" in flag["output"] and "imports sim.controllers.sp" in flag["output"]
     assert "PASS" in results["output"] and "bubblewrap cannot run" not in results["output"]
     assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}  # --hide-until-due

@@ -65,7 +65,7 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     )
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
-    flag = report["items"].pop()
+    flag = report["items"].pop(0)  # first: what an instructor reads first
     assert flag["max_points"] == 0 and "FLAGGED" in flag["detail"] and "imports sim.controllers.sp" in flag["detail"]
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
     # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)

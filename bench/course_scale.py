@@ -29,7 +29,8 @@ def grade_wall(folder: Path, extra: list[str], only: list[str]) -> float:
     """s of wall time of one `hri-lab grade` of the folder."""
     started = time.perf_counter()
     run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade", str(folder), "--quiet", *only, *extra],
+        # the reference SP is the lab's own (0 points by default): graded as a file, flagged
+        [sys.executable, "-m", "app.cli", "grade", str(folder), "--quiet", "--reference", "flag", *only, *extra],
         capture_output=True,
         text=True,
     )

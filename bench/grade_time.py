@@ -78,7 +78,8 @@ def grade_once(flags: list[str]) -> tuple[float, float, str]:
     cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
     run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet", *flags],
+        # the reference SP is the lab's own (0 points by default): graded as a file, flagged
+        [sys.executable, "-m", "app.cli", "grade", REFERENCE, "--jobs", "2", "--quiet", "--reference", "flag", *flags],
         capture_output=True,
         text=True,
     )

@@ -65,6 +65,7 @@ LONG_FILES_FIRST = (
     "e2e/test_autograder.py",
     "e2e/test_grading.py",
     "e2e/test_grade_wall.py",
+    "e2e/test_attack_grading.py",
     "e2e/test_ros_lifting_node.py",
     "e2e/test_lifting_node.py",
     "e2e/test_camera.py",

@@ -32,7 +32,7 @@ from pathlib import Path
 import sim
 from sim.controllers.plugin import DEFAULT_CLASS, PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import battery, load_check, new_report, run_items
+from sim.procedures.grading import battery, load_check, new_report, reference_items, run_items
 from sim.procedures.report import Report
 
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
@@ -92,6 +92,7 @@ def build(args: argparse.Namespace) -> int:
         "seed": args.seed,
         "hide_until_due": args.hide_until_due,
         "services": args.services,
+        "reference": args.reference,
         "version": version(),
     }
     with zipfile.ZipFile(args.output, "w", zipfile.ZIP_DEFLATED) as bundle:
@@ -161,10 +162,14 @@ def grade_submission(root: Path, config: dict) -> dict:
             factory = factory.carrying()
             loaded = load_check(factory, sandboxed=not unavailable)
             report.error = loaded.error or loaded.refused
+            if loaded.reference and config.get("reference", "zero") == "zero":  # the lab's own: 0 points
+                report.error = loaded.reference
         except PluginError as exc:
             report.error = str(exc)
         if not report.error:
             report.items = run_items(battery(factory, seed), os.cpu_count() or 1)
+            if loaded.reference:  # the course flags it (--reference flag): graded, and said
+                report.items = reference_items(loaded.reference) + report.items  # first, as hri-lab grade has it
     reports = [report]
     if config.get("services"):
         reports.append(services_report(root / "submission", seed))

@@ -8,6 +8,11 @@ $HRI_LAB_SCHEDULER). With --out, a file's report is written as soon as its last 
 a file whose report there is for the same seed and the same file (its sha256) is skipped
 (--force grades it again): a batch cut off resumes where it stopped.
 
+A file that imports, subclasses or copies the lab's own controllers (the sandbox sees it load them:
+docs/sandbox.md) is not a submission: its report says so and it scores 0 (`--reference flag`
+grades it, with an item that flags it). With --out, `similarity.csv` and `similarity.html` compare
+every pair of the batch's files and each against the lab's controllers (app/cli/similarity.py).
+
 Exit status: 0 all passed, 1 some failed (or could not be loaded), 2 refused (no sandbox, no
 file); never 0 before every report is written.
 """
@@ -25,7 +30,7 @@ from tqdm import tqdm
 
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import LOST, Items, Loaded, battery, load_check, new_report
+from sim.procedures.grading import LOST, Items, Loaded, battery, load_check, new_report, reference_items
 from sim.procedures.report import Item, Report
 from sim.procedures.runner import Job, run_jobs
 
@@ -114,6 +119,11 @@ def run(args: argparse.Namespace) -> int:
         if check.error:
             report.error = check.error
             continue
+        if check.reference and args.reference == "zero":  # the lab's own controller: not graded, 0 points
+            report.error = check.reference
+            continue
+        if check.reference:  # --reference flag: graded, and an item (not counted, the report's first) says so
+            jobs.append(Job(report, reference_items, (check.reference,)))
         outputs = trial_outputs(args)  # recordings and figures of this file's trials, named after it
         if outputs is not None:
             outputs = replace(outputs, prefix=f"{split_spec(report.subject)[0].stem}_")
@@ -124,7 +134,34 @@ def run(args: argparse.Namespace) -> int:
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
     _grade(jobs, reports, args, out, scheduler)
+    if out is not None:
+        _similarity(reports, out, args.similarity)
     return emit(reports, args, written=True)
+
+
+def _similarity(reports: list[Report], out: Path, threshold: float | None) -> None:
+    """The batch's similarity report beside its reports (app/cli/similarity.py); the flagged pairs said."""
+    from app.cli.similarity import THRESHOLD, compare
+
+    threshold = threshold or THRESHOLD
+    files = sorted({path for r in reports if _text_file(path := split_spec(r.subject)[0])})
+    try:
+        pairs = compare(files, out, threshold)
+    except Exception as exc:  # noqa: BLE001 - the reports are written: a failed comparison costs only itself
+        print(f"hri-lab grade: no similarity report: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return
+    flagged = [p for p in pairs if p.flagged]
+    print(
+        f"hri-lab grade: similarity of {len(files)} file(s), each pair and each against the lab's own controllers: "
+        f"{len(flagged)} pair(s) at or above {threshold:g} ({out / 'similarity.csv'}, {out / 'similarity.html'})",
+        file=sys.stderr,
+    )
+    for pair in flagged:
+        print(
+            f"  {pair.file}: {pair.share_of_file:.0%} in {pair.other}"
+            + (" (the lab's own)" if pair.other_is_reference else f", {pair.share_of_other:.0%} of it"),
+            file=sys.stderr,
+        )
 
 
 def _grade(jobs: list[Items], reports: list[Report], args: argparse.Namespace, out: Path | None, scheduler) -> None:
@@ -150,6 +187,15 @@ def _grade(jobs: list[Items], reports: list[Report], args: argparse.Namespace, o
                     write_report(report, out, args.format == "gradescope", len(reports) == 1)
 
         run_jobs(jobs, args.jobs, done, scheduler=scheduler)
+
+
+def _text_file(path: Path) -> bool:
+    """A file of UTF-8 text (what the similarity report can read)."""
+    try:
+        path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    return True
 
 
 def _refuse(reason: str) -> int:

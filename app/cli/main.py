@@ -26,6 +26,24 @@ from app.cli import urdf as urdf_cli
 SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
 
 
+def _fraction(text: str) -> float:
+    value = float(text)
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"a fraction in (0, 1], got {text}")
+    return value
+
+
+def _reference_option(parser: argparse.ArgumentParser) -> None:
+    """--reference: what a file built on the lab's own controllers gets (grade, autograder)."""
+    parser.add_argument(
+        "--reference",
+        choices=("zero", "flag"),
+        default="zero",
+        help="a file built on the lab's own controllers (imports, subclasses or reads sim.controllers.sp, "
+        "patch, their kernels): scored 0 (zero, the default) or graded with an item that flags it (flag)",
+    )
+
+
 def _command(module: str):
     """The command `module.run(args)`, its module imported when the command runs."""
 
@@ -165,6 +183,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run",
     )
     grd.add_argument("--quiet", action="store_true", help="no progress bar")
+    _reference_option(grd)
+    grd.add_argument(
+        "--similarity",
+        type=_fraction,
+        metavar="FRACTION",
+        help="with --out: flag a pair of files (or a file and the lab's controllers) when either has this share "
+        "of its code in the other (similarity.csv, similarity.html; default: similarity.THRESHOLD, a half)",
+    )
     grd.add_argument(
         "--only",
         action="append",
@@ -227,6 +253,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="show the tests (their seed-drawn numbers) only after the due date; the score at once",
     )
+    _reference_option(agr)
     agr.set_defaults(func=_command("app.cli.autograder"))
 
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")

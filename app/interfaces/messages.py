@@ -17,6 +17,7 @@ class Message:
     _ros2_type = ""
     _fields: tuple[Field, ...] = ()
     _definition = ""
+    _default_values = 0  # values its default holds (capped: parser.MAX_DEFAULT_VALUES)
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         fields = self._fields

@@ -18,7 +18,15 @@ from pathlib import Path
 from typing import Any
 
 from app.interfaces.messages import Message, Stamp
-from app.interfaces.parser import PRIMITIVES, DefinitionError, parse_fields, sections
+from app.interfaces.parser import (
+    MAX_DEFAULT_VALUES,
+    MAX_DEFINITION_CHARS,
+    PRIMITIVES,
+    DefinitionError,
+    parse_fields,
+    read_definition,
+    sections,
+)
 
 SHARE = Path(__file__).parent / "share"
 SHARE_ROS1 = Path(__file__).parent / "share_ros1"  # ROS 1's own versions (std_msgs/Header with seq), for rospy
@@ -57,6 +65,7 @@ class Interfaces:
         self.roots = [Path(r) for r in roots] + [SHARE]
         self.texts = dict(texts or {})  # (package, kind, name) -> text carried by a client: before the roots
         self._cache: dict[tuple[str, str, str], Any] = {}
+        self._making: list[tuple[str, str, str]] = []  # the definitions being made now: a type met again is recursive
         self._lock = threading.RLock()
         self.named: dict[str, Path] = {}  # a workspace's packages by their package.xml names (app/rosclient/packages.py)
 
@@ -135,7 +144,18 @@ class Interfaces:
                         f"(looked for {searched})",
                         name=f"{package}.{kind}",
                     )
-                self._cache[key] = self._make(package, kind, name, path)
+                if key in self._making:
+                    cycle = " -> ".join(f"{p}/{n}" for p, _, n in self._making[self._making.index(key) :])
+                    raise DefinitionError(
+                        f"{path}: {package}/{name} contains itself ({cycle} -> {package}/{name}): a recursive "
+                        "message type has no end (ROS refuses it too)",
+                        name=f"{package}.{kind}",
+                    )
+                self._making.append(key)
+                try:
+                    self._cache[key] = self._make(package, kind, name, path)
+                finally:
+                    self._making.pop()
             return self._cache[key]
 
     def message(self, type_name: str) -> type[Message]:
@@ -149,7 +169,12 @@ class Interfaces:
         if (package, kind, name) in self.texts:
             text = self.texts[package, kind, name]
         else:
-            text = path.read_text(encoding="utf-8")
+            text = read_definition(path, f"{package}.{kind}")
+        if len(text) > MAX_DEFINITION_CHARS:
+            raise DefinitionError(
+                f"{path}: {len(text)} characters, at most {MAX_DEFINITION_CHARS} in a definition",
+                name=f"{package}.{kind}",
+            )
         parts_text = sections(text)
         wanted = {"msg": 1, "srv": 2, "action": 3}[kind]
         if len(parts_text) != wanted:
@@ -190,15 +215,30 @@ class Interfaces:
                     f.msg_class = self.message(scalar)
                 except DefinitionError as exc:
                     raise DefinitionError(
-                        f"{path}: field '{f.name}' has type {f.base}, whose definition cannot be read: {exc}",
+                        f"{f.line}: field '{f.name}' has type {f.base}, whose definition cannot be read: {exc}",
                         name=package,
                     ) from None
+        values = 0  # what the message's default holds (Field.zero builds it): capped, nesting counted
+        for f in fields:
+            one = f.msg_class._default_values if f.msg_class is not None else 1
+            if f.array is None:
+                count = one
+            else:  # a variable-length or bounded array's default is empty
+                count = 0 if f.array is True or f.bound else f.array * one
+            values += count
+            if values > MAX_DEFAULT_VALUES:
+                raise DefinitionError(
+                    f"{f.line}: the default of {type_name} would hold more than {MAX_DEFAULT_VALUES} values "
+                    f"(field '{f.name}', {f.type_text}: {count}); use a variable-length array (T[])",
+                    name=package,
+                )
         namespace: dict[str, Any] = {
             "__slots__": tuple(f.attr for f in fields),
             "_type": type_name,
             "_ros2_type": ros2_type,
             "_fields": tuple(fields),
             "_definition": text,
+            "_default_values": values,
             "__slots__types": [f.type_text for f in fields],
             "__module__": f"{package}.msg",
         }
@@ -227,7 +267,14 @@ def full_text(interface: Any) -> str:
                 seen.add(nested._type)
                 parts.append(f"{SEPARATOR}\nMSG: {nested._type}\n{nested._definition.rstrip(chr(10))}")
                 pending.append(nested)
-    return "\n".join(parts) + "\n"
+    text = "\n".join(parts) + "\n"
+    if len(text) > MAX_DEFINITION_CHARS:  # refused here, before it is sent: the lab would refuse it
+        raise DefinitionError(
+            f"the definition of {interface._type} with its nested messages' is {len(text)} characters, "
+            f"at most {MAX_DEFINITION_CHARS}",
+            name=interface._type,
+        )
+    return text
 
 
 def carried(type_name: str, kind: str, text: str) -> tuple[Interfaces, tuple[str, str]]:

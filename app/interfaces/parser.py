@@ -1,6 +1,9 @@
 """The text of ROS interfaces (.msg, .srv, .action) read as genpy (ROS 1) and rosidl (ROS 2) read it:
 each line a field (`TYPE NAME`, `TYPE NAME DEFAULT`) or a constant (`TYPE NAME=VALUE`), sections
-split at `---`. A malformed line is a DefinitionError naming the file, the line and what was expected.
+split at `---`. A malformed line is a DefinitionError naming the file, the line and what was expected;
+so is one beyond the caps below (a file's size, a fixed array's length, the values of a message's
+default, a recursive type: app/interfaces/packages.py), which hold wherever a definition is read: in a
+program and in the lab.
 """
 
 from __future__ import annotations
@@ -30,6 +33,9 @@ BUILTIN_ALIASES = {
     "Header": "std_msgs/Header",
 }
 BYTES = ("uint8", "byte", "char")  # arrays of these travel as base64 text in rosbridge's JSON
+MAX_DEFINITION_CHARS = 65_536  # characters of one definition's text (a file, or a type a client carries)
+MAX_FIXED_ARRAY = 65_536  # items of a fixed-size array (T[N]); a bound (T[<=N], string<=N) has at most 9 digits
+MAX_DEFAULT_VALUES = 65_536  # values a message's default holds, nested messages' and fixed arrays' items counted
 _FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
 
@@ -38,13 +44,14 @@ class DefinitionError(ImportError):
 
 
 class Field:
-    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class")
+    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class", "line")
 
     def __init__(self, name: str, base: str, array: int | None | bool, bound: bool, default: Any) -> None:
         self.name = name  # the wire name
         self.attr = name + "_" if keyword.iskeyword(name) else name  # genpy's rule for keywords
         self.base, self.array, self.bound, self.default = base, array, bound, default
         self.msg_class: Any = None  # a nested message's class (resolved after parsing)
+        self.line = ""  # "FILE, line N": where it is defined
 
     @property
     def type_text(self) -> str:
@@ -98,10 +105,21 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         if name in {f.name for f in fields} or name in constants:
             raise DefinitionError(f"{where}: field '{name}' is defined twice", name=package)
         array: int | None | bool = None
+        for number_text in (size or "", base.partition("<=")[2]):
+            if len(number_text) > 9:
+                raise DefinitionError(
+                    f"{where}: a size or bound of at most 9 digits, got {len(number_text)}", name=package
+                )
         if brackets:
             array = int(size) if size else True
             if bounded and not size:
                 raise DefinitionError(f"{where}: expected a bound after '<=' in {brackets!r}", name=package)
+            if not bounded and size and int(size) > MAX_FIXED_ARRAY:
+                raise DefinitionError(
+                    f"{where}: a fixed-size array of at most {MAX_FIXED_ARRAY} items, got {int(size)} "
+                    "(a variable-length T[] holds any number)",
+                    name=package,
+                )
         base = _qualify(base, package)
         scalar = base.split("<=")[0]
         if scalar not in PRIMITIVES and "/" not in scalar:
@@ -132,6 +150,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
             else:
                 default = _literal(scalar, rest, where, package)
         fields.append(Field(name, base, array, bool(bounded), default))
+        fields[-1].line = where
     return fields, constants
 
 
@@ -149,7 +168,10 @@ def _qualify(base: str, package: str) -> str:
 def _literal(scalar: str, text: str, where: str, package: str) -> Any:
     try:
         if scalar in INTEGERS:
-            return int(text, 0)
+            value, (low, high) = int(text, 0), INTEGERS[scalar]
+            if not low <= value <= high:
+                raise DefinitionError(f"{where}: {text} is out of {scalar}'s range [{low}, {high}]", name=package)
+            return value
         if scalar in FLOATS:
             return float(text)
         if scalar == "bool":
@@ -178,3 +200,16 @@ def sections(text: str) -> list[tuple[str, int]]:
             current.append(line)
     sections.append(("\n".join(current), first))
     return sections
+
+
+def read_definition(path: Path, name: str) -> str:
+    """A definition file's text; not UTF-8 is a DefinitionError naming the line."""
+    with path.open("rb") as handle:
+        data = handle.read(MAX_DEFINITION_CHARS * 4 + 1)  # UTF-8 takes at most 4 bytes a character
+    if len(data) > MAX_DEFINITION_CHARS * 4:
+        raise DefinitionError(f"{path}: more than {MAX_DEFINITION_CHARS} characters in a definition", name=name)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise DefinitionError(f"{path}, line {line}: not UTF-8 text (byte {exc.start})", name=name) from None

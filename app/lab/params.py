@@ -6,7 +6,7 @@ headless experiment's Setup (sim.procedures.experiment), None where it does not 
 from functools import partial
 
 from sim.controllers.builtin import BUILTIN
-from sim.controllers.interface import LiftingParams
+from sim.controllers.interface import LIFTING_RANGES, LiftingParams
 from sim.person.participants import PARTICIPANTS
 from sim.world import WorldConfig
 
@@ -17,15 +17,16 @@ LIFTING, CONFIG = LiftingParams(), WorldConfig()
 PERSON = PARTICIPANTS[CONFIG.participant]  # the live server's participant at start
 
 
-def _lifting(field: str, description: str, low: float, high: float, offline: bool = True) -> Parameter:
-    """A double of cooperative_lifting that lives in the running controller's LiftingParams."""
+def _lifting(field: str, description: str, offline: bool = True) -> Parameter:
+    """A double of cooperative_lifting that lives in the running controller's LiftingParams (its
+    range: LIFTING_RANGES, which a plug-in's start/stop is held to as well)."""
     return Parameter(
         "cooperative_lifting",
         field,
         "double",
         getattr(LIFTING, field),
         description,
-        (low, high),
+        LIFTING_RANGES[field],
         apply=partial(cmd.set_lifting, field=field),
         read=partial(cmd.get_lifting, field=field),
         offline=(lambda setup, value: setup.with_lifting(field, value)) if offline else None,
@@ -63,25 +64,24 @@ def _config(name: str, part: str, field: str, description: str, low: float, high
     )
 
 
-F_N_MIN_RANGE = (0.0, 60.0)  # N; also the range of the start service's force
+F_N_MIN_RANGE = LIFTING_RANGES["f_n_min"]  # N; also the range of the start service's force
 
 LAB_PARAMETERS = [
     _lifting(
         "f_n_min",
         "lower end of the normal-force band (N); set by start/stop_cooperative_lifting (a trial starts with 10 N)",
-        *F_N_MIN_RANGE,
         offline=False,
     ),
-    _lifting("f_n_band", "width of the band (N): f_n_max = f_n_min + f_n_band", 0.5, 30.0),
-    _lifting("mu", "friction coefficient the controller assumes", 0.05, 2.0),
-    _lifting("alpha", "safety margin on the friction cone (< 1)", 0.1, 1.0),
-    _lifting("k_n", "normal gain ((m/s)/N)", 0.0, 0.1),
-    _lifting("k_t", "tangential gain ((m/s)/N)", 0.0, 1.0),
-    _lifting("k_w", "rotational gain ((rad/s)/Nm)", 0.0, 10.0),
-    _lifting("moment_deadband", "moments below this are noise (Nm)", 0.0, 2.0),
-    _lifting("v_max", "linear speed limit of the command (m/s)", 0.0, 1.7),
-    _lifting("w_max", "angular speed limit of the command (rad/s)", 0.0, 2.5),
-    _lifting("filter_hz", "cut-off of the controller's low-pass on F_ext (Hz, 0 = none)", 0.0, 500.0),
+    _lifting("f_n_band", "width of the band (N): f_n_max = f_n_min + f_n_band"),
+    _lifting("mu", "friction coefficient the controller assumes"),
+    _lifting("alpha", "safety margin on the friction cone (< 1)"),
+    _lifting("k_n", "normal gain ((m/s)/N)"),
+    _lifting("k_t", "tangential gain ((m/s)/N)"),
+    _lifting("k_w", "rotational gain ((rad/s)/Nm)"),
+    _lifting("moment_deadband", "moments below this are noise (Nm)"),
+    _lifting("v_max", "linear speed limit of the command (m/s)"),
+    _lifting("w_max", "angular speed limit of the command (rad/s)"),
+    _lifting("filter_hz", "cut-off of the controller's low-pass on F_ext (Hz, 0 = none)"),
     Parameter(
         "cooperative_lifting",
         "controller",

@@ -20,10 +20,10 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, Field, create_model
 
 from app.interfaces.packages import SEPARATOR, carried
-from app.interfaces.parser import BYTES, FLOATS, INTEGERS, DefinitionError
+from app.interfaces.parser import BYTES, FLOATS, INTEGERS, MAX_DEFINITION_CHARS, DefinitionError
 from app.ros.messages import RosMessage, RosType, integral
 
-MAX_TEXT = 65_536  # characters of a carried definition
+MAX_TEXT = MAX_DEFINITION_CHARS  # characters of a carried definition (the parser's cap)
 MAX_STRING = 10_000  # characters of an unbounded string field (as the lab's own String)
 
 

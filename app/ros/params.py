@@ -9,13 +9,14 @@ Nodes that declare their own parameters (an rclpy node over rosbridge) join thro
 parameters are listed, read, set and described through the node's standard parameter services.
 """
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, Protocol
 
 import yaml
+
+from sim.ranges import range_refusal
 
 from app.ros.names import node_name
 
@@ -186,8 +187,8 @@ class ParameterServer:
         if param.range is not None:
             low, high = param.range
             kind = "floating point" if param.type == "double" else "integer"
-            if not (math.isfinite(value) and low <= value <= high):
-                raise ParameterRefused(f"Parameter {{{name}}} doesn't comply with {kind} range.")
+            if refusal := range_refusal(name, value, low, high, kind):
+                raise ParameterRefused(refusal)
         if param.choices and value not in param.choices:
             raise ParameterRefused(f"Parameter {{{name}}} must be one of {', '.join(param.choices)}.")
         return param, value

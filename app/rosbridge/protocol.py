@@ -13,6 +13,7 @@ from typing import Any
 
 MAX_FRAME = 1_000_000  # characters of one frame
 MAX_DEPTH = 32  # nesting of objects and arrays in one frame
+MAX_STATUS = 2000  # characters of a status message's text: what a client sent is never echoed whole
 LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it
 
 
@@ -91,6 +92,8 @@ def name_field(message: dict, key: str) -> str:
 
 
 def status(level: str, msg: str, id_: Any = None) -> dict:
+    if len(msg) > MAX_STATUS:
+        msg = f"{msg[:MAX_STATUS]}... ({len(msg)} characters)"
     out = {"op": "status", "level": level, "msg": msg}
     if id_ is not None:
         out["id"] = id_

@@ -35,6 +35,8 @@ from app.rosclient import packages
 from app.rosclient.run import command, program_env
 
 GRACE = 10.0  # s a node has to end after Ctrl+C before it is killed
+MAX_INCLUDES = 16  # <include>s within <include>s (a file that includes itself is refused at once)
+NODE_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")  # a ROS graph resource's base name (no namespace, no path)
 
 
 class LaunchError(Exception):
@@ -78,13 +80,16 @@ _SUB = re.compile(r"\$\((\S+)(?:\s+([^)]*))?\)")
 
 
 class Reader:
-    def __init__(self, path: Path, args: dict[str, str]) -> None:
+    def __init__(self, path: Path, args: dict[str, str], including: tuple[Path, ...] = ()) -> None:
         self.path = path.resolve()
         self.args = dict(args)
         self.launch = Launch()
+        self.including = including  # the files whose <include> led here, outermost first
+        self.at: Any = None  # the element being read (lxml's, with its sourceline): where a refusal points
 
     def fail(self, what: str) -> LaunchError:
-        return LaunchError(f"{self.path}: {what}")
+        line = getattr(self.at, "sourceline", None)
+        return LaunchError(f"{self.path}{f', line {line}' if line else ''}: {what}")
 
     def sub(self, text: str | None) -> str:
         if text is None:
@@ -126,10 +131,15 @@ class Reader:
         return self.path.parent
 
     def read(self) -> Launch:
+        from lxml import etree  # each element's line; libxml2's depth limit (256) and no entity expansion
+
+        parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False)
         try:
-            root = ET.parse(self.path).getroot()
-        except (OSError, ET.ParseError) as exc:
+            root = etree.parse(str(self.path), parser).getroot()
+        except OSError as exc:
             raise self.fail(f"not a launch file ({exc})") from None
+        except etree.XMLSyntaxError as exc:
+            raise LaunchError(f"{self.path}, line {exc.lineno}: not a launch file ({exc.msg})") from None
         if root.tag != "launch":
             raise self.fail(f"the root element must be <launch>, not <{root.tag}>")
         self.element(root, "/")
@@ -139,6 +149,7 @@ class Reader:
         for child in parent:
             if not isinstance(child.tag, str):
                 continue
+            self.at = child
             if not self.applies(child):
                 continue
             tag = child.tag
@@ -186,6 +197,11 @@ class Reader:
             raise self.fail("<node> needs type= (ROS 1) or exec= (ROS 2): the program to run")
         program = self.find_program(package, program_name)
         name = self.sub(element.get("name")) or Path(program_name).stem
+        if not NODE_NAME.match(name):
+            raise self.fail(
+                f"node name {name[:100]!r} is not a ROS name: a letter, then letters, digits and '_' "
+                "(a namespace goes in ns=)"
+            )
         spec = NodeSpec(
             name,
             program,
@@ -195,14 +211,21 @@ class Reader:
             ros2=ros2,
         )
         for child in element:
+            self.at = child
             if child.tag == "param":
                 key, value = self.param(child)
                 spec.params[key] = value
             elif child.tag == "rosparam":
                 spec.params.update(self.rosparam(child))
+        self.at = element
         self.launch.nodes.append(spec)
 
     def find_program(self, package: str, name: str) -> Path:
+        if "/" in name or "\\" in name or name in (".", "..") or "/" in package or package in (".", ".."):
+            raise self.fail(
+                f"node program {name[:100]!r} of package {package[:100]!r}: a program's file name in its package, "
+                "not a path"
+            )
         base = self.path.parent
         candidates = []
         for stem in (name, name + ".py") if not name.endswith(".py") else (name,):
@@ -215,8 +238,9 @@ class Reader:
                 self.package_dir(package) / "scripts" / stem,
                 self.package_dir(package) / package / stem,  # an ament_python package's module
             ]
+        inside = (base.resolve(), self.package_dir(package).resolve())  # a link out of them is not the package's
         for candidate in candidates:
-            if candidate.is_file():
+            if candidate.is_file() and any(candidate.resolve().is_relative_to(root) for root in inside):
                 return candidate
         raise self.fail(
             f"node program {name!r} of package {package!r} not found (looked beside the launch file: "
@@ -231,16 +255,21 @@ class Reader:
             raise self.fail("<param> needs a name")
         if "value" not in element.attrib:
             if "textfile" in element.attrib:
-                return name, Path(self.sub(element.get("textfile"))).read_text(encoding="utf-8")
+                return name, self.text_of(self.sub(element.get("textfile")), f'<param name="{name}" textfile=...>')
             raise self.fail(f'<param name="{name}"> needs a value')
         text = self.sub(element.get("value"))
         kind = element.get("type")
         if kind in ("str", "string"):
             return name, text
-        if kind == "int":
-            return name, int(text)
-        if kind == "double":
-            return name, float(text)
+        try:
+            if kind == "int":
+                return name, int(text)
+            if kind == "double":
+                return name, float(text)
+        except ValueError:
+            raise self.fail(
+                f'<param name="{name}" type="{kind}">: {text[:100]!r} is not a{"n" if kind == "int" else ""} {kind}'
+            ) from None
         if kind == "bool":
             return name, text.lower() == "true"
         return name, parse_value(text)
@@ -251,7 +280,7 @@ class Reader:
         if element.get("command", "load") != "load":
             return {}
         if element.get("file"):
-            text = Path(self.sub(element.get("file"))).read_text(encoding="utf-8")
+            text = self.text_of(self.sub(element.get("file")), "<rosparam file=...>")
         else:
             text = self.sub(element.text or "")
         try:
@@ -265,15 +294,29 @@ class Reader:
             raise self.fail("<rosparam> without param= must hold a YAML mapping")
         return data
 
+    def text_of(self, file: str, what: str) -> str:
+        """A file's text for `what`, or a refusal naming it."""
+        try:
+            return Path(file).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise self.fail(f"{what}: cannot read {file}: {exc}") from None
+
     def include(self, element: ET.Element) -> None:
         target = Path(self.sub(element.get("file")))
         if not target.is_absolute():
             target = self.path.parent / target
+        chain = (*self.including, self.path)
+        if target.resolve() in chain:
+            raise self.fail(
+                f"<include> of {target.resolve()}, which is including it: a launch file that includes itself"
+            )
+        if len(chain) > MAX_INCLUDES:
+            raise self.fail(f"<include>s nest deeper than {MAX_INCLUDES}")
         args = {}
         for child in element:
             if child.tag == "arg":
                 args[child.get("name", "")] = self.sub(child.get("value"))
-        inner = Reader(target, args)
+        inner = Reader(target, args, chain)
         included = inner.read()
         self.launch.nodes.extend(included.nodes)
         self.launch.params.update(included.params)

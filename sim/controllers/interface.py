@@ -13,6 +13,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from sim.ranges import range_refusal
 from sim.robot.plate import Plate
 
 
@@ -41,6 +42,34 @@ class LiftingParams:
     def f_n_max(self) -> float:
         """Upper end of the band (N): f_n_min + f_n_band (= force + f_n_band after start; docs/method.md, step 2)."""
         return self.f_n_min + self.f_n_band
+
+
+# the declared range of each lifting parameter the lab lets be set (app/lab/params.py declares them
+# with these; the start service's force is f_n_min's): a plug-in's start()/stop() is held to them too
+LIFTING_RANGES: dict[str, tuple[float, float]] = {
+    "f_n_min": (0.0, 60.0),  # N
+    "f_n_band": (0.5, 30.0),  # N
+    "mu": (0.05, 2.0),
+    "alpha": (0.1, 1.0),
+    "k_n": (0.0, 0.1),  # (m/s)/N
+    "k_t": (0.0, 1.0),  # (m/s)/N
+    "k_w": (0.0, 10.0),  # (rad/s)/Nm
+    "moment_deadband": (0.0, 2.0),  # Nm
+    "v_max": (0.0, 1.7),  # m/s
+    "w_max": (0.0, 2.5),  # rad/s
+    "filter_hz": (0.0, 500.0),  # Hz
+}
+
+
+def lifting_refusal(values: dict[str, float]) -> str:
+    """Why these lifting values cannot be taken (the parameter server's refusal of the first out of
+    its declared range, with the value and the range), '' when all comply."""
+    for name, value in values.items():
+        if name in LIFTING_RANGES:
+            low, high = LIFTING_RANGES[name]
+            if refusal := range_refusal(name, value, low, high):
+                return f"{refusal} ({name} = {value!r}, range {low:g} to {high:g})"
+    return ""
 
 
 LIFTING_FIELDS = tuple(LiftingParams.__dataclass_fields__)  # the order of lifting_vector

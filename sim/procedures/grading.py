@@ -469,10 +469,12 @@ def lost_items(section: str, worths: tuple[tuple[str, float], ...], reason: str)
 class Loaded:
     """Whether a submission loads, found where its battery will run (a worker of the pool or the
     cluster): `error` why the file cannot be loaded (its report's error), `refused` why this
-    machine cannot run it sandboxed (no usable bubblewrap: the batch is refused)."""
+    machine cannot run it sandboxed (no usable bubblewrap: the batch is refused), `reference` how
+    it reached the lab's own controllers as it loaded (the sandbox's watch: not a submission)."""
 
     error: str = ""
     refused: str = ""
+    reference: str = ""
 
 
 def load_check(factory: Callable[[], Controller], sandboxed: bool = True) -> Loaded:
@@ -480,10 +482,20 @@ def load_check(factory: Callable[[], Controller], sandboxed: bool = True) -> Loa
     if sandboxed and (reason := sandbox_unavailable()):
         return Loaded(refused=reason)
     try:
-        getattr(factory(), "close", lambda: None)()  # loads in the sandbox: a file that cannot be loaded is reported
+        controller = factory()  # loads in the sandbox: a file that cannot be loaded is reported
     except PluginError as exc:
         return Loaded(error=str(exc))
-    return Loaded()
+    getattr(controller, "close", lambda: None)()
+    return Loaded(reference=getattr(controller, "reference", ""))
+
+
+REFERENCE_ITEM = ("integrity", "the lab's reference controller")  # a flagged file's item (section, name)
+
+
+def reference_items(reason: str) -> list[Item]:
+    """What a file built on the lab's reference controllers gets when the course flags it instead of
+    scoring it 0 (`--reference flag`): one item, not counted, that says so."""
+    return [Item(*REFERENCE_ITEM, 0.0, 0.0, f"FLAGGED: {reason}")]
 
 
 Items = Job[list[Item]]  # a job of the battery: its items

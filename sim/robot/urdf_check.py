@@ -24,6 +24,8 @@ from lxml import etree
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 MOVABLE_TYPES = ("revolute", "continuous", "prismatic")  # one slider each (joint_state_publisher's)
 MAX_FILE_BYTES = 10_000_000
+MAX_INDENT = 64  # levels of the tree indented in `tree_text`; deeper ones are printed at this indent, their depth said
+XACRO = "http://www.ros.org/wiki/xacro"  # the xacro namespace: its macros are not URDF
 
 
 class UrdfError(ValueError):
@@ -183,6 +185,12 @@ def parse_urdf(text: str | bytes) -> UrdfModel:
     if not robot_name:
         raise UrdfError('<robot> has no name: expected <robot name="...">', _line(root))
 
+    if any(str(e.tag).startswith(f"{{{XACRO}}}") for e in root.iter()):  # declaring the namespace alone is common
+        raise UrdfError(
+            "a xacro file (<xacro:...> elements): hri-lab reads plain URDF; expand it first with ROS's "
+            "xacro (`xacro robot.urdf.xacro > robot.urdf`)",
+            _line(root),
+        )
     links: dict[str, Link] = {}
     for element in root.iterfind("link"):
         name = _name(element, "link")
@@ -280,13 +288,15 @@ def tree_text(model: UrdfModel) -> str:
         f"root Link: {model.root} has {len(model.children[model.root])} child(ren)",
     ]
 
-    def walk(link: str, level: int) -> None:
-        level += 2
-        for count, child in enumerate(model.children[link], start=1):
-            lines.append("  " * level + f"child({count}):  {child}")
-            walk(child, level)
+    def below(link: str, level: int) -> list[tuple[str, int, int]]:  # (child, its level, its count), last first
+        return [(child, level + 2, count) for count, child in enumerate(model.children[link], start=1)][::-1]
 
-    walk(model.root, 0)
+    stack = below(model.root, 0)  # depth first without recursion: a chain of 40,000 links is a file like any
+    while stack:
+        link, level, count = stack.pop()
+        depth = f" (depth {level // 2})" if level > 2 * MAX_INDENT else ""
+        lines.append("  " * min(level, 2 * MAX_INDENT) + f"child({count}):  {link}{depth}")
+        stack += below(link, level)
     return "\n".join(lines) + "\n"
 
 

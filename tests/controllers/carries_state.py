@@ -1,7 +1,7 @@
 """A file that tries to carry state from one graded item to the next (tests/test_sandbox.py): at
-import it looks for what an earlier item left, then leaves all of it for the next. Each step
+import it looks for what an earlier item left; at reset() it leaves all of it for the next. Each step
 returns what it found: twist = [module global, file in /tmp, process, System V segment, POSIX
-queue created, 0]; all zeros when every item starts clean."""
+queue, a POSIX queue made now]; all zeros when every item starts clean."""
 
 import ctypes
 import os
@@ -27,6 +27,7 @@ def _found() -> list[float]:
         float(os.path.exists(MARK)),
         float(bool(others)),
         float(bool(segments)),
+        float(LIBC.mq_open(b"/an-earlier-item", os.O_RDWR, 0o600, None) >= 0),  # a queue an earlier item made
     ]
 
 
@@ -44,10 +45,17 @@ def _leave() -> float:
     return float(queue >= 0)
 
 
-FOUND = _found()
-QUEUE = _leave()
+MADE = float(LIBC.mq_open(b"/made-at-import", os.O_CREAT | os.O_RDWR, 0o600, None) >= 0)  # none can be made
+FOUND = _found()  # at import; what it leaves, at reset() (a process started at import is a load error, in a
+# step a fault at the next look: reset() is not watched, so the item lives on with what it left)
 
 
 class CooperativeLifting(SPController):
+    def reset(self):
+        super().reset()
+        if getattr(self, "loaded", False) and not hasattr(self, "queue"):
+            self.queue = _leave()
+        self.loaded = True  # the constructor's reset() is part of the load
+
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
-        return np.array([*FOUND, QUEUE, 0.0])
+        return np.array([*FOUND, MADE])

@@ -124,3 +124,38 @@ class AnswersEarly(SPController):
         os.write(4, b"\1")
         time.sleep(0.002)  # the parent wakes and sees the stale answer meanwhile
         return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class SleepsNowAndThen(SPController):
+    """Sleeps 2 s on 10 of every 250 steps: within the count of sleeps a step may take (max_sleeps),
+    and no CPU used; only the wall time tells (the issue's `sleeper.py`)."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        self.count = getattr(self, "count", 0) + 1
+        if self.count % 250 < 10:
+            time.sleep(2.0)
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class OpensFiles(SPController):
+    """Opens descriptors without end: files, pipes, sockets (a pair each), memory files."""
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        kept = self.__dict__.setdefault("kept", [])
+        for _ in range(100):
+            kept.append(open(os.devnull))
+            kept.extend(os.pipe())
+            kept.extend(socket.socketpair())
+            kept.append(os.memfd_create("x"))
+        return super().step(wrench_ee, transform_ee_to_base, params, dt)
+
+
+class SetsHugeBand(SPController):
+    """start() writes forces no parameter set would be allowed (the issue's: /lifting_state showed
+    f_n_min 1.7e+308, f_n_max null)."""
+
+    def start(self, params, force):
+        params.f_n_min = 1.7e308
+        params.f_n_band = 1.7e308
+        params.running = True
+        return "started"

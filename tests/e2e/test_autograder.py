@@ -18,17 +18,21 @@ CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 VISIBILITY = {"hidden", "after_due_date", "after_published", "visible"}
 
 
-@pytest.fixture(scope="module")
-def bundle(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("bundle") / "autograder.zip"
+def build_bundle(out: Path, *args: str) -> Path:
     run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--seed", "5", "--hide-until-due"],
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--seed", "5", *args],
         capture_output=True,
         text=True,
         timeout=120,
     )
     assert run.returncode == 0, run.stderr
     return out
+
+
+@pytest.fixture(scope="module")
+def bundle(tmp_path_factory) -> Path:
+    """The course flags a file built on the lab's own SP (the passing submission is the lab's SP)."""
+    return build_bundle(tmp_path_factory.mktemp("bundle") / "autograder.zip", "--hide-until-due", "--reference", "flag")
 
 
 def gradescope(
@@ -81,9 +85,21 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
 def test_a_passing_submission(tmp_path, bundle):
     results = gradescope(tmp_path, bundle, (CONTROLLERS / "reference_sp.py").read_text())
     valid(results)
-    assert results["score"] == 130.0 and len(results["tests"]) == 13 + 9 + 2
+    assert results["score"] == 130.0 and len(results["tests"]) == 13 + 9 + 2 + 1
+    flag = results["tests"][0]
+    assert flag["max_score"] == 0 and "FLAGGED" in flag["output"] and "imports sim.controllers.sp" in flag["output"]
     assert "PASS" in results["output"] and "bubblewrap cannot run" not in results["output"]
     assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}  # --hide-until-due
+
+
+def test_the_labs_own_controller_scores_zero_by_default(tmp_path):
+    """The issue's three lines (`class CooperativeLifting(SPController): pass`) scored 130/130 PASS;
+    a course's bundle without --reference gives 0, saying why, and grades nothing."""
+    plain = build_bundle(tmp_path / "plain.zip")
+    results = gradescope(tmp_path, plain, (CONTROLLERS / "reference_sp.py").read_text())
+    valid(results)
+    assert results["score"] == 0.0 and results["tests"] == []
+    assert "is the lab's reference controller, not a submission: it imports sim.controllers.sp" in results["output"]
 
 
 def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):

@@ -47,10 +47,10 @@ def cli(*args: str, check_status: int | None = None) -> subprocess.CompletedProc
 
 
 def folder_of_three(root: Path) -> Path:
-    """A file that passes the probes (the reference SP), one that raises in step, one that cannot load."""
+    """A file that passes the probes (the template filled in), one that raises in step, one that cannot load."""
     folder = root / "submissions"
     folder.mkdir()
-    (folder / "good.py").write_text((CONTROLLERS / "reference_sp.py").read_text())
+    (folder / "good.py").write_text((CONTROLLERS / "template_filled.py").read_text())
     (folder / "raising.py").write_text(RAISING.format(why="a bug in step"))
     (folder / "syntax.py").write_text("class CooperativeLifting(:\n")
     return folder
@@ -68,7 +68,9 @@ def test_a_cluster_grades_a_folder_as_the_local_run_does(tmp_path, scheduler):
     assert remote.returncode == local.returncode and remote.stdout == local.stdout, remote.stderr
     reports = files_of(tmp_path / "local")
     assert set(reports) == {f"{n}.{e}" for n in ("good", "raising", "syntax") for e in ("txt", "json")} | {
-        "summary.csv"
+        "summary.csv",
+        "similarity.csv",
+        "similarity.html",
     }
     assert files_of(tmp_path / "cluster") == reports  # byte for byte
     good = json.loads(reports["good.json"])

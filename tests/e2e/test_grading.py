@@ -38,7 +38,9 @@ def failed(factory, seed: int = 0) -> dict[str, str]:
 
 
 def test_reference_sp_plugin_gets_full_marks(tmp_path):
-    """The one full battery: sandboxed, every format, exit 0 only with the report written."""
+    """The one full battery: sandboxed, every format, exit 0 only with the report written. The file
+    is the lab's own SP (not a submission: 0 by default, tests/e2e/test_attack_grading.py), graded
+    here with --reference flag: its items as any file's, and one more, not counted, flagging it."""
     out = tmp_path / "reports"
     run = subprocess.run(
         [
@@ -54,6 +56,8 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
             "--jobs",
             "2",
             "--quiet",
+            "--reference",
+            "flag",
         ],
         capture_output=True,
         text=True,
@@ -61,6 +65,8 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     )
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
+    flag = report["items"].pop(0)  # first: what an instructor reads first
+    assert flag["max_points"] == 0 and "FLAGGED" in flag["detail"] and "imports sim.controllers.sp" in flag["detail"]
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
     # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)
     assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
@@ -69,10 +75,10 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     # the hasty trials count (at the default margin the reference SP carries them) and are carried
     hasty = [i for i in report["items"] if "hasty" in i["name"]]
     assert len(hasty) == 3 and all(i["max_points"] == i["points"] == 5.0 and i["mark"] == "ok" for i in hasty)
-    assert "not counted" not in (out / "reference_sp.txt").read_text()
+    assert (out / "reference_sp.txt").read_text().count("not counted") == 1  # the flag alone
     results = json.loads(run.stdout)
     assert results == json.loads((out / "results.json").read_text())
-    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"]) == 13 + 9 + 2
+    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"]) + 1 == 13 + 9 + 2 + 1
     assert set(results["tests"][0]) == {"name", "score", "max_score", "output"}
     assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 

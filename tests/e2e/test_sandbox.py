@@ -46,10 +46,88 @@ def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 30
         ("Forks", SandboxBudget(), "started a thread or a process"),
         ("MemoryBomb", SandboxBudget(memory_bytes=400 << 20), "MemoryError"),
         ("ExitsInStep", SandboxBudget(), "the controller's process exited with code 0"),
+        ("SleepsNowAndThen", SandboxBudget(), "your step() took"),
+        ("OpensFiles", SandboxBudget(), "Too many open files"),
     ],
 )
 def test_each_fault_stops_the_controller_with_its_reason(name, budget, reason):
     assert reason in fault_of(name, budget)
+
+
+def test_a_sleeper_is_stopped_after_its_grace_with_the_wall_time_it_took():
+    """2 s sleeps on 10 of every 250 steps stay within the count of sleeps (max_sleeps) and use no
+    CPU: the wall time tells, counted as sleeping only when the child neither ran nor waited for a CPU."""
+    budget = SandboxBudget()
+    reason = fault_of("SleepsNowAndThen", budget)
+    took = re.search(r"your step\(\) took ([\d.]+) s of wall time in (\d+) steps \(sleeping\?\): ([\d.]+) s", reason)
+    assert took, reason
+    wall, steps, sleeping = float(took[1]), int(took[2]), float(took[3])
+    assert steps == 2  # its second 2-s sleep is beyond the grace (2 s) plus 2 ms of simulated time
+    assert budget.sleep_grace + steps * 1e-3 < sleeping <= wall
+
+
+def test_the_jails_writable_places_hold_what_the_budget_says():
+    """100 files of 15 MiB into /tmp at import (1.5 GiB before): /tmp holds tmp_bytes; /dev/shm and
+    every other place is read-only; memory files (memfd) hold file_bytes each, open_files of them."""
+    budget = SandboxBudget()
+    controller = PluginFactory(str(CONTROLLERS / "fills_disk.py"), budget)()
+    try:
+        in_tmp, elsewhere, in_memfds = controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)[:3]
+    finally:
+        controller.close()
+    mib = 1 << 20
+    assert 0 < in_tmp <= budget.tmp_bytes / mib
+    assert elsewhere == 0
+    assert 0 < in_memfds <= budget.open_files * budget.file_bytes / mib
+
+
+def test_a_thread_or_process_started_at_import_is_a_load_error():
+    with pytest.raises(PluginError, match="started a thread or a process"):
+        PluginFactory(str(CONTROLLERS / "thread_at_import.py"))()
+
+
+def test_a_start_handler_is_held_to_the_parameters_ranges():
+    """What start() writes is checked as a parameter set is (sim/ranges.py): refused, the start
+    service fails with the reason and the lab's parameters stay as they were."""
+    controller = PluginFactory(f"{FAULTS}:SetsHugeBand")()
+    params = LiftingParams()
+    before = repr(params)
+    try:
+        with pytest.raises(ControllerFault, match=r"Parameter \{f_n_min\} doesn't comply with floating point range"):
+            controller.start(params, 10.0)
+        assert repr(params) == before
+        assert controller.step(np.zeros(6), np.eye(4), params, 1e-3).shape == (6,)  # refused, not stopped
+    finally:
+        controller.close()
+
+
+@pytest.mark.parametrize(
+    "name, reach",
+    [
+        ("reference_sp.py", "it imports sim.controllers.sp"),  # the issue's three lines: 130/130 PASS before
+        ("copies_reference.py", "/sim/controllers/sp.py (sim.controllers.sp)"),  # its text read and run
+        ("template_filled.py", ""),  # the template filled in: numpy only
+    ],
+)
+def test_the_sandbox_sees_a_file_reach_for_the_labs_own_controllers(name, reach):
+    controller = PluginFactory(str(CONTROLLERS / name))()
+    try:
+        assert controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3).shape == (6,)
+    finally:
+        controller.close()
+    assert reach in controller.reference and (controller.reference == "") == (reach == "")
+    if reach:
+        assert "is the lab's reference controller, not a submission" in controller.reference
+
+
+def test_reaching_for_the_labs_controllers_after_loading_is_refused():
+    refused = r"the lab's reference controllers are not a submission: your code (imports|reads) .*sim.controllers.sp"
+    with pytest.raises(ControllerFault, match=refused):
+        controller = PluginFactory(str(CONTROLLERS / "imports_reference_late.py"))()
+        try:
+            controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
+        finally:
+            controller.close()
 
 
 def test_exit_at_import_is_a_load_error():
@@ -260,6 +338,7 @@ def test_nothing_one_item_leaves_reaches_the_next():
         try:
             jails.add(id(controller._jail))
             seen.append(controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3).tolist())
+            controller.reset()  # then the item leaves what it can for the next
         finally:
             controller.close()
     assert len(jails) == 1  # the same jail: the zygote forked each item

@@ -122,7 +122,7 @@ def test_killing_the_server_leaves_no_worker(action, goal):
 def test_sigterm_to_grade_leaves_no_worker():
     before = shm()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "app.cli", "grade", str(CONTROLLER), "--jobs", "2"],
+        [sys.executable, "-m", "app.cli", "grade", str(CONTROLLER), "--jobs", "2", "--reference", "flag"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from app.ros.names import node_name
 from app.ros.services import ServiceFailure
 from app.rosbridge.capabilities.op import Op
+from app.rosbridge.internal.node_params import SERVICES as PARAMETER_SERVICES
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 
@@ -16,6 +18,9 @@ async def advertise_service(session: Any, message: dict, id_: Any) -> None:
     text = field(message, "definition", str, None)  # the lab's own client carries the .srv text (not rosbridge_suite's)
     if name.startswith("/rosapi/"):
         raise BadFrame(f"advertise_service: {name} is the lab's")
+    node, _, service = name.rpartition("/")
+    if service in PARAMETER_SERVICES and node_name(node) in {n for n, _ in session.bridge.lab.params.declarations}:
+        raise BadFrame(f"advertise_service: {name} is a parameter service of the lab's own node /{node_name(node)}")
     try:
         warning = session.bridge.nodes.advertise(name, type_name, session, text)
     except ServiceFailure as failure:

@@ -21,6 +21,7 @@ from app.rosbridge.internal.streams import Stream
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_QUEUE = 1000  # queue_length cap
+MAX_TOPICS = 32  # topics one client may be subscribed to at once
 IMAGE_QUEUE = 2  # /image_raw: at most this many images wait for a slow client (the newest)
 
 
@@ -43,6 +44,8 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
     if known is not None and type_name and normalise_type(type_name) != known:
         raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
     stream = session.streams.get(topic)
+    if stream is None and len(session.streams) >= MAX_TOPICS:
+        raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
     if stream is None:
         lab_topic = bridge.topics.get(topic)
         stream = session.streams[topic] = Stream(session, topic, paced=lab_topic is None)
@@ -115,7 +118,7 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
                 if last is None or row[0] - last >= period - 0.0005:
                     last = row[0]
                     stream.offer(wrench_stamped_at(float(row[0]), row[1:]))
-            await asyncio.sleep(POLL_S)
+            await asyncio.sleep(max(POLL_S, period))  # no oftener than it may send: its share of the lab's rate
 
 
 async def sample_images(lab: Any, stream: Stream) -> None:

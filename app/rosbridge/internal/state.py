@@ -4,6 +4,7 @@ no session."""
 
 from __future__ import annotations
 
+import math
 import threading
 from typing import Any
 
@@ -26,6 +27,9 @@ class NodeTopic:
         self.type = type_name
         self.publishers: set[Any] = set()  # sessions
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
+
+
+MAX_OUTGOING_RATE = 5000.0  # messages/s the lab publishes to all its rosbridge clients together (fair_period)
 
 
 def _with_programs_frames(topic: Topic, frames: NodeFrames, static: bool) -> Topic:
@@ -57,10 +61,20 @@ class Bridge:
         self.node_topics: dict[str, NodeTopic] = {}
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[Any] = []
+        self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
         self._counter = 0
         if "/franka_state_controller/franka_states" in self.topics:
             # load franka_states' robot model now, not on the event loop when a node first subscribes
             threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
+
+    def fair_period(self) -> float:
+        """s between two messages of one stream so that all of them together send at most
+        MAX_OUTGOING_RATE messages a second: the event loop keeps most of its time for HTTP and
+        the other ops however many clients subscribe at throttle_rate 0. In steps of a power of two
+        of milliseconds (1, 2, 4, ... ms), so a stream's period changes only when the count of
+        streams crosses one (each change re-paces every stream)."""
+        share = self.streams / MAX_OUTGOING_RATE
+        return 0.0 if share <= 0.001 else 0.001 * 2.0 ** math.ceil(math.log2(share / 0.001))
 
     @property
     def services(self):

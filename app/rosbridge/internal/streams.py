@@ -26,11 +26,17 @@ class Stream:
         self.tasks: list[asyncio.Task] = []
         self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
         self.max_queue: int | None = None  # a cap on the queue whatever was asked (images: a few MB each)
+        self.bridge = getattr(session, "bridge", None)  # its share of the lab's outgoing rate (Bridge.fair_period)
+        self.stopped = False
+        if self.bridge is not None:
+            self.bridge.streams += 1
 
     @property
     def period(self) -> float:
-        """s between messages: the lowest throttle_rate of the subscriptions (at most 1 kHz)."""
-        return max(min(t for t, _ in self.options.values()) / 1000.0, 0.001)
+        """s between messages: the lowest throttle_rate of the subscriptions (at most 1 kHz), and at
+        least this stream's fair share of the lab's outgoing rate (Bridge.fair_period)."""
+        fair = self.bridge.fair_period() if self.bridge is not None else 0.0
+        return max(min(t for t, _ in self.options.values()) / 1000.0, 0.001, fair)
 
     PASS_THROUGH = 1000  # messages kept for a throttle_rate 0, queue_length 0 subscription
 
@@ -63,8 +69,12 @@ class Stream:
                         continue
                     self.last_sent = loop.time()
                 await self.session.send({"op": "publish", "topic": self.topic, "msg": self.queue.popleft()})
+                await asyncio.sleep(0)  # one message, then the others' turn: HTTP waits behind no queue
 
     def stop(self) -> None:
+        if self.bridge is not None and not self.stopped:
+            self.bridge.streams -= 1
+        self.stopped = True
         for task in self.tasks:
             task.cancel()
         for stop in self.on_stop:

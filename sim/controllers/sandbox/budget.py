@@ -18,3 +18,10 @@ class SandboxBudget:
     check_every: int = 250  # steps between looks at the child's threads and CPU time (/proc)
     memory_bytes: int = 1 << 30  # RLIMIT_AS
     cpu_seconds: int = 0  # RLIMIT_CPU of one child (0 = none: the live server runs for hours)
+    tmp_bytes: int = 64 << 20  # size of the jail's /tmp, its one writable file system (bwrap --size)
+    file_bytes: int = 4 << 20  # RLIMIT_FSIZE: one file, /tmp's or an anonymous memory file's (memfd)
+    open_files: int = 64  # RLIMIT_NOFILE: descriptors of one child (files, sockets, pipes, memfds)
+    sleep_ratio: float = 1.0  # s of wall time step() may spend sleeping per s of simulated time ...
+    sleep_grace: float = 2.0  # ... plus this (s): beyond it the item is stopped (parent.py, _account)
+    no_schedstat_ratio: float = 20.0  # where /proc has no schedstat: s of step() wall time per simulated s
+    file_sleep: float = 10.0  # s a file's items may sleep in all (in one process): beyond it, no more of its items run

@@ -3,7 +3,8 @@ one instance of the student's class served over the wire (wire.py). It imports o
 controller interface: nothing of the parent's side, no robot model.
 
 Before the student's code runs: normal scheduling (never the loop's SCHED_FIFO), resource limits
-(memory, CPU time, file size, no real-time priority), one BLAS thread, stdout/stderr discarded.
+(memory, CPU time, file size, open descriptors, no real-time priority), one BLAS thread,
+stdout/stderr discarded.
 The student's file arrives as text in the first message: nothing else of the grader's file system
 needs to be visible.
 """
@@ -23,7 +24,7 @@ import numpy as np
 from sim.controllers.sandbox import wire
 
 
-def limit(memory_bytes: int, cpu_seconds: int) -> None:
+def limit(memory_bytes: int, cpu_seconds: int, file_bytes: int, open_files: int) -> None:
     try:
         os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
     except (OSError, AttributeError):
@@ -32,8 +33,9 @@ def limit(memory_bytes: int, cpu_seconds: int) -> None:
     limits = [
         (resource.RLIMIT_RTPRIO, 0),
         (resource.RLIMIT_CORE, 0),
-        (resource.RLIMIT_FSIZE, 16 << 20),
+        (resource.RLIMIT_FSIZE, file_bytes),  # a file in /tmp, an anonymous memory file (memfd) too
         (resource.RLIMIT_MSGQUEUE, 0),
+        (resource.RLIMIT_NOFILE, open_files),  # files, sockets, pipes, memfds: each memfd at most file_bytes
     ]
     if memory_bytes > 0:
         limits.append((resource.RLIMIT_AS, memory_bytes))
@@ -50,6 +52,71 @@ def limit(memory_bytes: int, cpu_seconds: int) -> None:
     null = os.open(os.devnull, os.O_WRONLY)
     os.dup2(null, 1)
     os.dup2(null, 2)
+
+
+# The lab's own controllers and their kernels: a file that imports, subclasses or copies them (reads
+# their text) is not a submission (docs/sandbox.md, "The lab's reference"): said with its load answer
+REFERENCE_MODULES = (
+    "sim.controllers.sp",
+    "sim.controllers.patch",
+    "sim.controllers.lifting_law",
+    "sim.controllers.compiled_law",
+    "sim.controllers.builtin",
+    "sim.compiled_step",
+)
+MEMORY_SEARCHES = ("gc.get_objects", "gc.get_referrers", "gc.get_referents")  # the lab's objects found in memory
+
+
+class ReferenceWatch:
+    """What the student's code did to reach the lab's reference controllers, from the interpreter's
+    audit events (PEP 578: a hook cannot be removed): an import of one of REFERENCE_MODULES, an open
+    of one of their files (their source or cached bytecode: an import, or a copy read at run time),
+    a search of the process's memory. The zygote imported them: they are forgotten first, so using
+    them takes an import. While the file loads a reach is recorded (the grader decides); after it,
+    it is refused."""
+
+    def __init__(self) -> None:
+        import sim
+
+        self.seen = ""  # the first reach, in words
+        self.loading = True
+        root = os.path.realpath(os.path.dirname(sim.__file__))
+        self.files: dict[tuple[str, str], str] = {}  # (folder, file stem) -> module
+        for name in REFERENCE_MODULES:
+            *folders, stem = name.split(".")[1:]
+            self.files[os.path.join(root, *folders), stem] = name
+            self.files[os.path.join(root, *folders, "__pycache__"), stem] = name
+            sys.modules.pop(name, None)
+            parent = sys.modules.get(name.rpartition(".")[0])
+            if parent is not None and hasattr(parent, stem):
+                delattr(parent, stem)
+        sys.addaudithook(self._hook)
+
+    def _reach(self, event: str, args: tuple) -> str:
+        if event == "import" and args and isinstance(args[0], str):
+            name = args[0]
+            if any(name == m or name.startswith(m + ".") for m in REFERENCE_MODULES):
+                return f"imports {name}"
+        elif event == "open" and args and isinstance(args[0], (str, bytes)):
+            path = os.path.realpath(os.fsdecode(args[0]))
+            folder, base = os.path.split(path)
+            module = self.files.get((folder, base.split(".")[0]))
+            if module is not None:
+                return f"reads {path} ({module})"
+        elif event in MEMORY_SEARCHES:
+            return f"searches the process's memory ({event})"
+        return ""
+
+    def _hook(self, event: str, args: tuple) -> None:
+        if event not in ("import", "open") and event not in MEMORY_SEARCHES:
+            return
+        reach = self._reach(event, args)
+        if not reach:
+            return
+        if self.loading:
+            self.seen = self.seen or reach
+            return
+        raise PermissionError(f"the lab's reference controllers are not a submission: your code {reach}")
 
 
 class ChildEnd:
@@ -86,6 +153,7 @@ class ChildEnd:
             return 0
         seq, _, size = message
         filename, _, source = self.slot.request_payload(size).partition(b"\0")
+        watch = ReferenceWatch()
         try:
             instance = self._load(filename.decode(), source.decode("utf-8", errors="replace"), class_name)
         except BaseException as exc:  # noqa: BLE001 - even sys.exit() at import is a load error
@@ -95,7 +163,8 @@ class ChildEnd:
                 self._send(seq, b"e", f"importing {filename.decode()} failed: {type(exc).__name__}: {exc}".encode())
             return 1
         has = [callable(getattr(instance, name, None)) for name in ("start", "stop")]
-        self._send(seq, b"k", bytes(has))
+        watch.loading = False
+        self._send(seq, b"k", bytes(has) + watch.seen[: wire.MAX_TEXT - 2].encode("utf-8", "replace"))
         while (message := self._receive()) is not None:
             seq, op, size = message
             try:

@@ -1,7 +1,8 @@
 """The jail a student's controller runs in: bubblewrap's command line and the child's environment.
 
 `bwrap --unshare-all --cap-drop ALL`: no network, no other process, a read-only view of only what
-Python needs (/usr, the interpreter, the virtual environment, the `sim` package), a private /tmp;
+Python needs (/usr, the interpreter, the virtual environment, the `sim` package), a private /tmp of
+SandboxBudget.tmp_bytes;
 the child (child.py) sets its own memory and CPU-time limits before the student's code runs.
 """
 
@@ -39,7 +40,9 @@ def _readable_roots() -> list[str]:
     return sorted(r for r in roots if not r.startswith("/usr"))
 
 
-def bwrap_command(child: list[str]) -> list[str]:
+def bwrap_command(child: list[str], tmp_bytes: int = SandboxBudget.tmp_bytes) -> list[str]:
+    """bwrap's command line for `child`; the jail's /tmp holds at most tmp_bytes (a tmpfs is memory:
+    RLIMIT_AS does not count it, nor RLIMIT_FSIZE beyond one file)."""
     bwrap = shutil.which("bwrap") or "bwrap"
     argv = [
         bwrap,
@@ -51,6 +54,8 @@ def bwrap_command(child: list[str]) -> list[str]:
         "--ro-bind",
         "/usr",
         "/usr",
+        "--size",
+        str(tmp_bytes),
         "--tmpfs",
         "/tmp",
         "--proc",
@@ -65,7 +70,8 @@ def bwrap_command(child: list[str]) -> list[str]:
             argv += ["--ro-bind", top, top]
     for root in _readable_roots():
         argv += ["--ro-bind", root, root]
-    # read-only at last: /tmp is the jail's one writable file system (the zygote empties it between items)
+    # read-only at last: /tmp is the jail's one writable file system (the zygote empties it between
+    # items); /dev/shm is a folder of the read-only /dev, /proc's files are the kernel's
     return argv + ["--remount-ro", "/dev", "--remount-ro", "/", "--chdir", "/tmp", "--"] + child
 
 
@@ -77,6 +83,8 @@ def zygote_command(budget: SandboxBudget, class_name: str, jailed: bool) -> list
         ZYGOTE_MODULE,
         str(budget.memory_bytes),
         str(budget.cpu_seconds),
+        str(budget.file_bytes),
+        str(budget.open_files),
         class_name,
         "1" if jailed else "0",
     ]

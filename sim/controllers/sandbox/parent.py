@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sim.controllers.interface import ControllerFault, LiftingParams, start_lifting, stop_lifting
+from sim.controllers.interface import ControllerFault, LiftingParams, lifting_refusal, start_lifting, stop_lifting
 from sim.controllers.sandbox import pool, watch, wire
 from sim.controllers.sandbox.budget import SandboxBudget
 
@@ -40,6 +40,7 @@ SHARED_WINDOW = 1.0  # s between two looks at what else the pinned pair's CPU do
 SHARED_SHARE = 0.25  # of that time: a pair whose CPU did others' work longer is let go (_follow_parent)
 
 _HANDLES = ("_to_child", "_from_child", "_errors")  # our ends of the child's pipes (descriptors)
+_SLEPT: dict[tuple[str, str], float] = {}  # (file, class) -> s its items' steps slept here (SandboxBudget.file_sleep)
 
 
 class SandboxedController:
@@ -67,12 +68,16 @@ class SandboxedController:
         self._switch_mark = self._switch_steps = 0  # the child's voluntary context switches, steps, at the last look
         self._steps = 0
         self._cpu_mark = (0, 0.0)  # (steps, child CPU s) at the start of the CPU window
+        self._stepped = (0.0, 0.0)  # (s of wall time inside step(), s of simulated time: the dt summed) since load
+        self._scheduled_mark: tuple[float | None, float] = (None, 0.0)  # (child's, our run delay) at load
         self._tasks = 0
         self._cpu: int | None = None  # the CPU this thread and the child are kept on (_follow_parent)
         self._affinity: set[int] | None = None  # this thread's CPUs before it was pinned
         self._pinned_thread = 0  # the native id of the thread pinned (the one that steps)
         self._shared_mark = (0.0, 0.0, 0.0)  # _cpu_use() when the pair was pinned or last looked at
         self._jail: pool.Jail | None = None  # the jail whose zygote forked the child
+        self.reference = ""  # how the file reached the lab's own controllers while it loaded ('' if it did not)
+        self._sleeping = 0.0  # s the live child's steps slept, at the last look (added to _SLEPT when it ends)
 
     # the Controller protocol
     def reset(self) -> None:
@@ -91,7 +96,7 @@ class SandboxedController:
         request[-1] = dt
         started = time.perf_counter()
         kind, size = self._call(b"S", None, "step")
-        self._account(time.perf_counter() - started)
+        self._account(time.perf_counter() - started, dt)
         if size != wire.TWIST_BYTES:
             self._fault(f"{self.name}.step returned {size // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
         twist = self._slot.twist_out.copy()  # out of the slot first, then checked: the child cannot change it now
@@ -127,6 +132,10 @@ class SandboxedController:
         slot = handles.pop("_slot", None)
         if slot is not None:
             slot.close()
+        if self._sleeping > 0:
+            key = (str(self.path), self.class_name)
+            _SLEPT[key] = _SLEPT.get(key, 0.0) + self._sleeping
+            self._sleeping = 0.0
         if self._affinity is not None and self._pinned_thread == threading.get_native_id():
             watch.keep_on_cpu([0], self._affinity)  # this thread as it was before the child
         self._cpu = None
@@ -143,7 +152,7 @@ class SandboxedController:
         state = dict(self.__dict__)
         for name in (*_HANDLES, "_slot", "_poll"):
             state.pop(name, None)
-        state.update(pid=None, _owner=0, _jail=None, _cpu=None, _affinity=None, _pinned_thread=0)
+        state.update(pid=None, _owner=0, _jail=None, _cpu=None, _affinity=None, _pinned_thread=0, _sleeping=0.0)
         return state
 
     def load(self) -> SandboxedController:
@@ -168,16 +177,31 @@ class SandboxedController:
             return
         if self._faulted:  # no respawn at every step of the live loop: wait for reset (error_recovery)
             raise ControllerFault(self._faulted)
+        slept = _SLEPT.get((str(self.path), self.class_name), 0.0)
+        if slept > self.budget.file_sleep:  # the file's budget of sleeping is spent: no more of its items
+            raise ControllerFault(
+                f"your step() slept {slept:.1f} s in this file's earlier items (sleeping?): beyond the file's "
+                f"budget of {self.budget.file_sleep:g} s, its later items are not run"
+            )
         self.pid, self._jail = None, None  # a child of another process (fork) is not ours to talk to
         self._spawn()
         kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
-        reply = self._slot.answer_payload(min(size, 2))
+        reply = self._slot.answer_payload(min(size, wire.MAX_TEXT))
         self.has_start, self.has_stop = bool(reply[:1] == b"\1"), bool(reply[1:2] == b"\1")
+        if reach := wire.text(reply[2:]):
+            self.reference = f"{self.path} is the lab's reference controller, not a submission: it {reach}"
         self._steps = 0
         tree = self._tree()
         self._switch_mark, self._switch_steps = watch.voluntary_switches(tree), 0
         self._tasks = watch.count_tasks(tree)
+        if self._tasks > 1:  # the child is one thread when the file starts loading (one BLAS thread)
+            self._fault(
+                f"importing {self.path} started a thread or a process ({self._tasks - 1} more): a controller "
+                "runs in its one thread, each step returns the twist"
+            )
         self._cpu_mark = (0, watch.cpu_time(tree))
+        self._stepped = (0.0, 0.0)
+        self._scheduled_mark = (watch.scheduled_time(tree), watch.own_run_delay())
         self._cpu = None
         self._follow_parent()
 
@@ -288,13 +312,13 @@ class SandboxedController:
             fields.get("f_n_band", np.nan),
             fields.get("running", np.nan),
         )
-        if not (
-            np.isfinite(f_n_min) and np.isfinite(f_n_band) and running in (0.0, 1.0) and f_n_min >= 0 and f_n_band >= 0
-        ):
-            self._fault(
-                f"{self.name}.{what} left f_n_min = {f_n_min}, f_n_band = {f_n_band}, running = {running}: "
-                "expected finite forces >= 0 and running True or False"
-            )
+        # held to what the parameter server takes (LIFTING_RANGES): refused, the call fails and
+        # nothing changes (the child lives on: its own copy is all it changed)
+        refusal = lifting_refusal({"f_n_min": f_n_min, "f_n_band": f_n_band})
+        if running not in (0.0, 1.0):
+            refusal = f"running must be True or False, got {running!r}"
+        if refusal:
+            raise ControllerFault(f"{self.name}.{what} set a lifting parameter the lab refuses: {refusal}")
         # only what the services own changes; the other fields belong to the parameter server
         params.f_n_min, params.f_n_band, params.running = f_n_min, f_n_band, bool(running)
         return wire.text(reply[count:])
@@ -345,13 +369,16 @@ class SandboxedController:
             watch.keep_on_cpu([0, *self._tree()], self._affinity)
         self._cpu = None
 
-    def _account(self, wall: float) -> None:
+    def _account(self, wall: float, dt: float) -> None:
         budget = self.budget
         self._steps += 1
+        walls, simulated = self._stepped
+        self._stepped = (walls + wall, simulated + (dt if math.isfinite(dt) and dt > 0 else 0.0))
         if self._steps % budget.check_every and wall < budget.slow_step:
             return
         self._follow_parent()
         tree = self._tree()
+        self._check_sleeping(tree)
         tasks = watch.count_tasks(tree)
         if tasks > self._tasks:
             self._fault(
@@ -380,6 +407,30 @@ class SandboxedController:
                     f"(budget {budget.mean_cpu * 1e3:g} ms)"
                 )
             self._cpu_mark = (self._steps, used + cpu)
+
+    def _check_sleeping(self, tree: list[int]) -> None:
+        """Stop a child whose step() sleeps through more than `sleep_ratio` times its simulated
+        time plus `sleep_grace` (a sleep costs no CPU: neither RLIMIT_CPU nor `mean_cpu` sees it).
+        Sleeping is the steps' wall time less what the child ran or waited for a CPU and what this
+        thread waited for one (/proc's schedstat): a loaded machine makes steps slow by waiting,
+        which is not counted, so load never fails an honest file. Without schedstat, the steps'
+        whole wall time counts against `no_schedstat_ratio` times the simulated time."""
+        budget = self.budget
+        walls, simulated = self._stepped
+        child_mark, own_mark = self._scheduled_mark
+        scheduled = watch.scheduled_time(tree)
+        if scheduled is None or child_mark is None:
+            sleeping, allowed = walls, budget.no_schedstat_ratio * simulated + budget.sleep_grace
+        else:
+            sleeping = walls - (scheduled - child_mark) - (watch.own_run_delay() - own_mark)
+            allowed = budget.sleep_ratio * simulated + budget.sleep_grace
+        self._sleeping = max(sleeping - (allowed - budget.sleep_grace), 0.0)  # what counts against the file
+        if sleeping > allowed:
+            self._fault(
+                f"your step() took {walls:.1f} s of wall time in {self._steps} steps (sleeping?): "
+                f"{sleeping:.1f} s of it neither running nor waiting for a CPU, for {simulated:.3f} s "
+                f"of simulated time (at most {budget.sleep_ratio:g} x the simulated time + {budget.sleep_grace:g} s)"
+            )
 
     def _death(self) -> str:
         """Why the child is gone (its exit code or signal), with what it said on stderr."""

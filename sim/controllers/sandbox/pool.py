@@ -41,7 +41,7 @@ class Jail:
         self.timer: threading.Timer | None = None
         argv = zygote_command(budget, class_name, jailed=sandboxed)
         if sandboxed:
-            argv = bwrap_command(argv)
+            argv = bwrap_command(argv, budget.tmp_bytes)
         ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         errors_r, errors_w = os.pipe()
         control_fd, errors_w = _above(theirs.detach(), zygote.CONTROL_FD), _above(errors_w, zygote.CONTROL_FD)
@@ -204,7 +204,7 @@ def _thread_token() -> int:
 
 def take(budget: SandboxBudget, class_name: str, sandboxed: bool) -> tuple[Jail, bool]:
     """An idle jail of this process and thread for this class and these limits, or a new one; (it, new)."""
-    key = (os.getpid(), _thread_token(), class_name, sandboxed, budget.memory_bytes, budget.cpu_seconds)
+    key = (os.getpid(), _thread_token(), class_name, sandboxed, budget)
     while True:
         with _lock:
             jail = _idle.get(key, []).pop() if _idle.get(key) else None

@@ -74,6 +74,30 @@ def cpu_time(pids: list[int]) -> float:
     return _summed(pids, ticks) / os.sysconf("SC_CLK_TCK")
 
 
+def scheduled_time(pids: list[int]) -> float | None:
+    """s the processes ran or waited for a CPU (/proc/PID/schedstat: time on a CPU + time runnable
+    on a run queue); what is left of their wall time they slept or blocked. None where the kernel
+    keeps no schedstat."""
+    if not os.path.exists("/proc/self/schedstat"):
+        return None
+
+    def scheduled(pid: int) -> int:
+        with open(f"/proc/{pid}/schedstat") as handle:
+            on_cpu, waiting = handle.read().split()[:2]
+        return int(on_cpu) + int(waiting)
+
+    return _summed(pids, scheduled) / 1e9
+
+
+def own_run_delay() -> float:
+    """s the calling thread waited runnable for a CPU (/proc/thread-self/schedstat); 0 if unknown."""
+    try:
+        with open("/proc/thread-self/schedstat") as handle:
+            return int(handle.read().split()[1]) / 1e9
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
 def cpu_busy_time(cpu: int) -> float:
     """s CPU `cpu` has been busy since boot, whatever ran (/proc/stat: all but idle and iowait;
     steal, the hypervisor's other guests, counts as busy: it is not ours either); 0 if unknown."""

@@ -13,7 +13,7 @@ and the zygote) and waited for, /tmp is emptied (the jail's only writable file s
 mounts / and /dev read-only), System V IPC objects are removed, the user keyrings are cleared.
 POSIX message queues cannot be listed from here, so an item may create none (RLIMIT_MSGQUEUE 0,
 child.py). The zygote is not dumpable: an item cannot ptrace it or read its memory.
-    python -m sim.controllers.sandbox.zygote MEMORY_BYTES CPU_SECONDS CLASS_NAME JAILED
+    python -m sim.controllers.sandbox.zygote MEMORY_BYTES CPU_SECONDS FILE_BYTES OPEN_FILES CLASS_NAME JAILED
 
 The control socket (SOCK_SEQPACKET) on CONTROL_FD:
     parent -> zygote  b"F" with 4 descriptors (SCM_RIGHTS): the item's slot, its wake-up pipe,
@@ -123,7 +123,7 @@ def _reap_all() -> list[tuple[int, int]]:
         ended.append((pid, status))
 
 
-def _item(fds: list[int], control: socket.socket, memory_bytes: int, cpu_seconds: int, class_name: str) -> int:
+def _item(fds: list[int], control: socket.socket, limits: tuple[int, int, int, int], class_name: str) -> int:
     """In the forked child: the item's descriptors where child.py expects them, a session keyring
     of its own, limits, then the student's file served (child.py)."""
     from sim.controllers.sandbox import child, wire
@@ -135,11 +135,12 @@ def _item(fds: list[int], control: socket.socket, memory_bytes: int, cpu_seconds
     os.closerange(wire.SLOT_FD + 1, 1 << 16)
     keyctl(KEYCTL_JOIN_SESSION_KEYRING, 0)  # not the zygote's: the next item gets another
     signal.signal(signal.SIGCHLD, signal.SIG_DFL)
-    child.limit(memory_bytes, cpu_seconds)
+    child.limit(*limits)
     return child.ChildEnd(wire.WAKE_CHILD_FD, wire.WAKE_PARENT_FD, wire.SLOT_FD).serve(class_name)
 
 
-def serve(memory_bytes: int, cpu_seconds: int, class_name: str, jailed: bool) -> int:
+def serve(limits: tuple[int, int, int, int], class_name: str, jailed: bool) -> int:
+    """Fork a child per item (limits: child.limit's memory, CPU time, file size, descriptors)."""
     control = socket.socket(fileno=CONTROL_FD)
     control.send(b"R")
     item, pidfd = 0, -1
@@ -175,7 +176,7 @@ def serve(memory_bytes: int, cpu_seconds: int, class_name: str, jailed: bool) ->
             if pid == 0:
                 code = 1
                 try:
-                    code = _item(high, control, memory_bytes, cpu_seconds, class_name)
+                    code = _item(high, control, limits, class_name)
                 finally:
                     os._exit(code)
             for fd in high:
@@ -186,7 +187,8 @@ def serve(memory_bytes: int, cpu_seconds: int, class_name: str, jailed: bool) ->
 
 
 def main(argv: list[str]) -> int:
-    memory_bytes, cpu_seconds, class_name, jailed = int(argv[0]), int(argv[1]), argv[2], argv[3] == "1"
+    memory_bytes, cpu_seconds, file_bytes, open_files = (int(a) for a in argv[:4])
+    class_name, jailed = argv[4], argv[5] == "1"
     if jailed and os.getpid() != 2:  # clear_jail kills every process it may: only ever inside bwrap's pid namespace
         print("the zygote is not bubblewrap's child in a pid namespace of its own", file=sys.stderr)
         return 1
@@ -205,7 +207,7 @@ def main(argv: list[str]) -> int:
         pass
     null = os.open(os.devnull, os.O_WRONLY)
     os.dup2(null, 1)
-    return serve(memory_bytes, cpu_seconds, class_name, jailed)
+    return serve((memory_bytes, cpu_seconds, file_bytes, open_files), class_name, jailed)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 
 import pytest
 
-from app.interfaces.packages import Interfaces
+from app.interfaces.packages import Interfaces, full_text
 from app.interfaces.parser import DefinitionError
 from tests.ros_running import PROGRAMS
 
@@ -83,6 +83,18 @@ def test_the_lab_interfaces_are_its_own_declarations(interfaces):
         ("int64 a\nfoo bar\n", "line 2: unknown type 'foo'|cannot be read"),
         ("int64 a\nint64 a\n", "line 2: field 'a' is defined twice"),
         ("int32 X=abc\n", "line 1: expected a int32 value"),
+        # the attack suite (docs/operations.md): caps, with the file and line
+        ("int64 a\nfloat64[30000000] v\n", "line 2: a fixed-size array of at most 65536 items, got 30000000"),
+        ("float64[<=99999999999999999999] v\n", "line 1: a size or bound of at most 9 digits"),
+        ("string<=1" + "0" * 5000 + " s\n", "line 1: a size or bound of at most 9 digits"),
+        ("int64 X=9223372036854775808\n", r"line 1: 9223372036854775808 is out of int64's range"),
+        ("uint8 X=-1\n", r"line 1: -1 is out of uint8's range"),
+        ("int32 a 4294967296\n", r"line 1: 4294967296 is out of int32's range"),
+        (
+            "int64 a\nBad again\n",
+            r"line 2: field 'again' has type my_pkg/Bad.*contains itself \(my_pkg/Bad -> my_pkg/Bad\)",
+        ),
+        ("# " + "x" * 70_000 + "\nint64 a\n", "70011 characters, at most 65536"),
     ],
 )
 def test_a_malformed_definition_is_an_import_error_naming_file_and_line(tmp_path, text, expected):
@@ -179,3 +191,49 @@ def test_ros1_header_has_seq_for_rospy(tmp_path):
     stamped.header.stamp.secs, stamped.header.stamp.nsecs = 4, 250
     assert stamped.to_json()["header"] == {"seq": 0, "stamp": {"sec": 4, "nanosec": 250}, "frame_id": ""}
     assert [f.name for f in Interfaces([]).message("std_msgs/Header")._fields] == ["stamp", "frame_id"]  # ROS 2's
+
+
+def _package(tmp_path, files: dict[str, bytes]) -> Interfaces:
+    (tmp_path / "my_pkg" / "msg").mkdir(parents=True)
+    for name, data in files.items():
+        (tmp_path / "my_pkg" / "msg" / f"{name}.msg").write_bytes(data)
+    return Interfaces([tmp_path])
+
+
+def test_a_default_larger_than_the_cap_is_refused_where_it_would_be_built(tmp_path):
+    """Fixed arrays of nested messages multiply: 100 x 100 x 100 values would be built by every
+    A() (and by the lab for a request that leaves the field out); refused with the line."""
+    interfaces = _package(
+        tmp_path, {"A": b"int64 n\nB[100] b\n", "B": b"C[100] c\n", "C": b"float64[100] v\n", "Ok": b"C[600] c\n"}
+    )
+    with pytest.raises(
+        DefinitionError, match=r"A.msg, line 2: the default of my_pkg/A would hold more than 65536 values"
+    ):
+        interfaces.get("my_pkg", "msg", "A")
+    assert interfaces.get("my_pkg", "msg", "Ok")._default_values == 60_000  # under the cap: built as before
+    assert len(interfaces.get("my_pkg", "msg", "Ok")().c) == 600
+
+
+def test_recursion_through_another_type_is_named_with_the_cycle(tmp_path):
+    interfaces = _package(tmp_path, {"Tree": b"Node root\n", "Node": b"float64 v\nTree[] children\nTree left\n"})
+    with pytest.raises(DefinitionError, match=r"contains itself \(my_pkg/Tree -> my_pkg/Node -> my_pkg/Tree\)"):
+        interfaces.get("my_pkg", "msg", "Tree")
+
+
+def test_a_definition_that_is_not_utf8_is_refused_with_its_line(tmp_path):
+    interfaces = _package(tmp_path, {"Latin": b"int64 a\nstring caf\xe9\n"})
+    with pytest.raises(DefinitionError, match=r"Latin.msg, line 2: not UTF-8 text"):
+        interfaces.get("my_pkg", "msg", "Latin")
+
+
+def test_a_definition_too_long_to_send_is_refused_before_it_is_sent(tmp_path):
+    """Each file under the cap, the service with its nested messages over it: full_text (what an
+    advertise_service carries) refuses it in the program, not the lab's frame limit on the way."""
+    fields = "".join(f"float64 value_{i:05d}_{'x' * 40}\n" for i in range(700)).encode()
+    (tmp_path / "my_pkg" / "srv").mkdir(parents=True)
+    interfaces = _package(tmp_path, {"Big": fields, "Big2": fields})
+    (tmp_path / "my_pkg" / "srv" / "Huge.srv").write_text("Big a\nBig2 b\n---\nBig c\n")
+    with pytest.raises(
+        DefinitionError, match=r"my_pkg/Huge with its nested messages' is \d+ characters, at most 65536"
+    ):
+        full_text(interfaces.get("my_pkg", "srv", "Huge"))

@@ -9,7 +9,8 @@ from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
 from app.api.app import create_app
-from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME
+from app.rosbridge.capabilities.subscribe import MAX_TOPICS
+from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME, MAX_STATUS
 from tests.waiting import wait_for, within
 
 
@@ -68,6 +69,27 @@ def call(ws, service, args, id_="c"):
             "the definition of pkg/X cannot be read: <the definition of pkg/srv/X it carried>, line 2: expected 'TYPE NAME'",
         ),
         ({"op": "advertise_service", "service": "/x", "type": "pkg/X", "definition": 3}, "must be a string"),
+        (  # the attack suite (docs/operations.md)
+            {
+                "op": "advertise_service",
+                "service": "/cooperative_lifting/set_parameters",
+                "type": "rcl_interfaces/SetParameters",
+            },
+            "is a parameter service of the lab's own node /cooperative_lifting",
+        ),
+        (
+            {"op": "advertise_service", "service": "/big", "type": "p/Big", "definition": "float64[30000000] v\n---\n"},
+            "line 1: a fixed-size array of at most 65536 items, got 30000000",
+        ),
+        (
+            {
+                "op": "advertise_service",
+                "service": "/r",
+                "type": "p/R",
+                "definition": "p/Node n\n---\n" + "=" * 80 + "\nMSG: p/Node\np/Node next\n",
+            },
+            "contains itself",
+        ),
         ({"op": "call_service", "service": "/add_two_ints", "args": 3}, "field 'args' must be an object"),
         ({"op": "send_action_goal", "action": "/nope", "action_type": "x/Y"}, "action /nope does not exist"),
         ({"op": "cancel_action_goal", "id": "g1", "action": "/count"}, 'no goal with id "g1"'),
@@ -220,3 +242,29 @@ def test_a_services_info_names_the_node_that_provides_it_now(client):
         node = client.get("/services/echo").json()["node"]
         assert node != "/hri_lab" and node in call(ws, "/rosapi/nodes", {})["values"]["nodes"]
     assert wait_for(lambda: client.get("/services/echo").json()["node"] == "/hri_lab")
+
+
+def test_what_a_client_sent_is_echoed_cut_short(client):
+    """A refused 200 KB type name came back whole in the status message; now at most MAX_STATUS characters of it."""
+    with client.websocket_connect("/") as ws:
+        bad = {"op": "advertise_service", "service": "/x", "type": "p/" + "X" * 200_000, "definition": "int64\n---\n"}
+        reply = exchange(ws, bad)
+        assert reply["level"] == "error" and len(reply["msg"]) <= MAX_STATUS + 30
+        assert reply["msg"].endswith("characters)")
+
+
+def test_a_client_subscribes_to_at_most_max_topics(client):
+    with client.websocket_connect("/") as ws:
+        for i in range(MAX_TOPICS):
+            ws.send_json({"op": "subscribe", "topic": f"/t{i}", "type": "std_msgs/String"})
+        reply = exchange(ws, {"op": "subscribe", "topic": "/one_more", "type": "std_msgs/String"})
+        while reply["op"] != "status":
+            reply = ws.receive_json()
+        assert f"at most {MAX_TOPICS} topics per client" in reply["msg"]
+        ws.send_json({"op": "unsubscribe", "topic": "/t0"})
+        ws.send_json({"op": "subscribe", "id": "again", "topic": "/one_more", "type": "std_msgs/String"})
+        ws.send_json({"op": "call_service", "id": "c", "service": "/add_two_ints", "args": {"a": 1, "b": 2}})
+        seen = []
+        while (message := ws.receive_json())["op"] != "service_response":
+            seen.append(message)
+        assert not [m for m in seen if m.get("level") == "error"], seen  # one topic left: the new one is taken

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from sim.robot.assets import panda_urdf
-from sim.robot.urdf_check import UrdfError, parse_urdf, parse_urdf_file, tree_text
+from sim.robot.urdf_check import MAX_INDENT, UrdfError, parse_urdf, parse_urdf_file, tree_text
 
 from app.cli.main import main
 
@@ -134,3 +134,30 @@ def test_the_pandas_urdf_checks():
     model = parse_urdf_file(panda_urdf())
     assert model.name == "panda" and model.root == "panda_link0"
     assert len(model.movable_joints()) == 9  # 7 arm joints and the two fingers
+
+
+def test_a_40000_link_chain_is_checked_and_printed_without_recursion(tmp_path, capsys):
+    """The issue's 7.3 MB chain passed the check, then crashed with RecursionError printing the tree."""
+    count = 40_000
+    links = "".join(f'<link name="l{i}"/>' for i in range(count))
+    joints = "".join(
+        f'<joint name="j{i}" type="fixed"><parent link="l{i}"/><child link="l{i + 1}"/></joint>'
+        for i in range(count - 1)
+    )
+    path = tmp_path / "chain.urdf"
+    path.write_text(f'<robot name="chain">{links}{joints}</robot>')
+    assert main(["urdf", "check", str(path), "--tree-only"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 3 + count - 1
+    assert lines[-1] == "  " * (2 * MAX_INDENT) + f"child(1):  l{count - 1} (depth {count - 1})"
+
+
+def test_a_xacro_file_is_named_as_unsupported():
+    xacro = (
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="leg" params="n"><link name="${n}"/></xacro:macro>\n'
+        '  <xacro:leg n="a"/>\n</robot>\n'
+    )
+    with pytest.raises(UrdfError) as refused:
+        parse_urdf(xacro)
+    assert "a xacro file" in refused.value.message and "xacro robot.urdf.xacro > robot.urdf" in refused.value.message

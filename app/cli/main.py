@@ -116,6 +116,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="leave the handout's exercise services to the students' nodes (rosbridge): "
         "each answers 'not provided yet' until a node advertises it",
     )
+    srv.add_argument(
+        "--replay",
+        action="store_true",
+        help="a lab to play bags into: its simulation publishes no topic over rosbridge, so `hri-lab bag play` "
+        "publishes every recorded topic (/joint_states, /image_raw ...) as the robot would",
+    )
     srv.set_defaults(func=_command("app.cli.serve"))
 
     tpl = sub.add_parser(

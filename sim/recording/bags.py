@@ -3,7 +3,7 @@ written, rosbag1 `.bag` converted to, and any of them (and the lab's own JSON MC
 rosbridge's JSON — all with the `rosbags` library (its type store parses the definitions and does
 the CDR and ROS 1 serialization; nothing here serializes by hand).
 
-- `BagWriter` writes a rosbag2 folder (`NAME/NAME_0.mcap` + `metadata.yaml`) from rosbridge JSON
+- `BagWriter` writes a rosbag2 folder (`NAME/NAME.mcap` + `metadata.yaml`) from rosbridge JSON
   messages and each topic's definition text (a program's own type carries its definition);
 - `open_bag` reads a rosbag1 `.bag`, a rosbag2 folder (MCAP or SQLite), a bare rosbag2 `.mcap` and
   the lab's JSON MCAP: `info()` and `messages()` (time order for rosbag1/SQLite, file order for
@@ -70,10 +70,10 @@ def ros1_type(name: str) -> str:
     return f"{package}/{message}"
 
 
-def typestore(definitions: dict[str, str] | None = None) -> Typestore:
-    """ROS 2's standard types (Humble) and the given ones (type -> full definition text, ROS 1's
-    concatenated form `====...` / `MSG: pkg/Name` for nested types)."""
-    store = get_typestore(Stores.ROS2_HUMBLE)
+def typestore(definitions: dict[str, str] | None = None, ros1: bool = False) -> Typestore:
+    """ROS 2's standard types (Humble; ROS 1's, Noetic, with `ros1`) and the given ones (type ->
+    full definition text, ROS 1's concatenated form `====...` / `MSG: pkg/Name` for nested types)."""
+    store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
     for name, text in (definitions or {}).items():
         register(store, name, text)
     return store
@@ -118,7 +118,8 @@ def from_json(store: Typestore, msgtype: str, data: Any, where: str = "msg") -> 
     _, fields = store.fielddefs[msgtype][:2]
     values = {}
     for name, (kind, desc) in fields:
-        values[name] = _value(store, kind, desc, data.get(name), f"{where}.{name}")
+        value = data.get(name, data.get(name.lower(), data.get(name.upper())))  # CameraInfo's D (ROS 1), d (ROS 2)
+        values[name] = _value(store, kind, desc, value, f"{where}.{name}")
     return store.types[msgtype](**values)
 
 
@@ -231,6 +232,7 @@ class Bag:
     kind: str  # rosbag1 | rosbag2-mcap | rosbag2-sqlite3 | hri-lab
     store: Typestore
     types: dict[str, str] = field(default_factory=dict)  # topic -> pkg/msg/Name
+    definitions: dict[str, str] = field(default_factory=dict)  # pkg/msg/Name -> its text, when the bag carried it
     _info: BagInfo | None = None
 
     def info(self) -> BagInfo:
@@ -277,8 +279,7 @@ def _mcap_file(path: Path) -> Path:
 
 def _is_rosbag2_mcap(path: Path) -> bool:
     """An MCAP whose channels are CDR (a rosbag2's), not the lab's JSON."""
-    with open(path, "rb") as f:
-        found = bounded.summary(f)
+    found = reader.summary(path)
     if found is not None:
         return any(c.message_encoding == "cdr" for c in found.channels.values())
     for channel, _, _ in reader.records(path):
@@ -331,6 +332,7 @@ def _open_mcap(path: Path, kind: str) -> Bag:
     summary_info = reader.info(file)
     store = typestore()
     types: dict[str, str] = {}
+    definitions: dict[str, str] = {}
     if kind == "rosbag2-mcap":
         seen: set[int] = set()
         for channel, schema, _ in _channels(file):
@@ -343,20 +345,20 @@ def _open_mcap(path: Path, kind: str) -> Bag:
                     f"{schema.encoding[:20] if schema else 'none'!r})"
                 )
             msgtype = ros2_type(schema.name)
+            definitions[msgtype] = schema.data.decode("utf-8", errors="replace")
             if msgtype not in store.fielddefs:
-                register(store, msgtype, schema.data.decode("utf-8", errors="replace"))
+                register(store, msgtype, definitions[msgtype])
             types[channel.topic] = msgtype
     else:  # the lab's JSON: its ROS types by name (the foxglove scene types are kept as they are)
         for t in summary_info.topics:
             types[t.name] = ros2_type(t.type) if _TYPE.match(t.type) else t.type
     summary_info.path = path
-    return Bag(path, kind, store, types, summary_info)
+    return Bag(path, kind, store, types, definitions, summary_info)
 
 
 def _channels(file: Path) -> Iterator[tuple[Any, Any, Any]]:
     """(channel, schema, None) of every channel: from the summary, else from the records."""
-    with open(file, "rb") as f:
-        found = bounded.summary(f)
+    found = reader.summary(file)
     if found is not None:
         for channel in found.channels.values():
             yield channel, found.schemas.get(channel.schema_id), None
@@ -366,12 +368,13 @@ def _channels(file: Path) -> Iterator[tuple[Any, Any, Any]]:
 
 def _open_rosbag1(path: Path) -> Bag:
     check_rosbag1(path)
-    store = typestore()
+    store = typestore(ros1=True)
     try:
         with Rosbag1Reader(path) as bag:
-            types = {}
+            types, definitions = {}, {}
             for c in bag.connections:
                 msgtype = ros2_type(c.msgtype)
+                definitions[msgtype] = c.msgdef.data
                 if msgtype not in store.fielddefs:
                     register(store, msgtype, c.msgdef.data)
                 types[c.topic] = msgtype
@@ -385,7 +388,7 @@ def _open_rosbag1(path: Path) -> Bag:
         raise
     except Exception as exc:  # noqa: BLE001 - rosbags' reader errors
         raise RecordingError(f"{path}: not a readable rosbag1 ({type(exc).__name__}: {str(exc)[:200]})") from None
-    return Bag(path, "rosbag1", store, types, info)
+    return Bag(path, "rosbag1", store, types, definitions, info)
 
 
 def _open_sqlite(path: Path) -> Bag:
@@ -402,9 +405,11 @@ def _open_sqlite(path: Path) -> Bag:
     store = typestore()
     try:
         with Rosbag2Reader(path) as bag:
-            types = {}
+            types, definitions = {}, {}
             for c in bag.connections:
                 msgtype = ros2_type(c.msgtype)
+                if c.msgdef and c.msgdef.data:
+                    definitions[msgtype] = c.msgdef.data
                 if msgtype not in store.fielddefs and c.msgdef and c.msgdef.data:
                     register(store, msgtype, c.msgdef.data)
                 types[c.topic] = msgtype
@@ -415,7 +420,7 @@ def _open_sqlite(path: Path) -> Bag:
         raise
     except Exception as exc:  # noqa: BLE001 - rosbags' reader errors
         raise RecordingError(f"{path}: not a readable rosbag2 ({type(exc).__name__}: {str(exc)[:200]})") from None
-    return Bag(path, "rosbag2-sqlite3", store, types, info)
+    return Bag(path, "rosbag2-sqlite3", store, types, definitions, info)
 
 
 def check_rosbag1(path: Path, cap: int = bounded.MAX_CHUNK_BYTES) -> None:
@@ -486,21 +491,26 @@ def _ros1_header(raw: bytes, path: Path) -> dict[str, bytes]:
 
 # --- converting ---------------------------------------------------------------------------------
 def to_rosbag1(source: str | Path, target: str | Path) -> int:
-    """Write any bag as a ROS 1 .bag (rosbags: CDR -> ROS 1 serialization, each type's ROS 1
-    definition and md5sum); the number of messages written."""
+    """Write any bag as a ROS 1 .bag: each message as ROS 1 has its type (the standard types from
+    ROS 1's definitions, e.g. Header with its seq; a program's own from the text the bag carries),
+    serialized by rosbags with ROS 1's definition and md5sum; the number of messages written."""
     bag = open_bag(source)
     target = Path(target)
     if target.exists():
         raise RecordingError(f"{target} exists: choose another name")
+    ros1 = typestore(ros1=True)
+    for msgtype, text in bag.definitions.items():
+        if msgtype not in ros1.fielddefs:
+            register(ros1, msgtype, text)
     count = 0
     with Rosbag1Writer(target) as writer:
         connections: dict[str, Any] = {}
         for m in bag.messages():
-            if m.type not in bag.store.fielddefs:
+            if m.type not in ros1.fielddefs:
                 continue  # the lab's foxglove scene types have no ROS definition
             if m.topic not in connections:
-                connections[m.topic] = writer.add_connection(m.topic, m.type, typestore=bag.store)
-            message = from_json(bag.store, m.type, m.data, m.topic)
-            writer.write(connections[m.topic], m.log_time, bag.store.serialize_ros1(message, m.type))
+                connections[m.topic] = writer.add_connection(m.topic, m.type, typestore=ros1)
+            message = from_json(ros1, m.type, m.data, m.topic)
+            writer.write(connections[m.topic], m.log_time, ros1.serialize_ros1(message, m.type))
             count += 1
     return count

@@ -66,7 +66,8 @@ def check_file(path: Path) -> None:
     )
 
 
-def _summary(path: Path):
+def summary(path: Path):
+    """The file's MCAP summary, None for a file cut short (a hostile one: RecordingError)."""
     try:
         with open(path, "rb") as f:
             return bounded.summary(f)
@@ -83,7 +84,7 @@ def records(path: str | Path, topics: list[str] | None = None) -> Iterator[tuple
     file's broken tail is the end of a file cut short, an error in a finished file."""
     path = Path(path)
     check_file(path)
-    complete = _summary(path) is not None
+    complete = summary(path) is not None
     schemas: dict[int, Schema] = {}
     channels: dict[int, Channel] = {}
     wanted = set(topics) if topics is not None else None
@@ -125,10 +126,10 @@ def metadata(path: str | Path) -> dict[str, dict]:
     path = Path(path)
     check_file(path)
     out: dict[str, dict] = {}
-    summary = _summary(path)
+    indexed = summary(path)
     with open(path, "rb") as f:
         try:
-            found = bounded.metadata(f, summary) if summary is not None else bounded.records(f)
+            found = bounded.metadata(f, indexed) if indexed is not None else bounded.records(f)
             for record in found:
                 if isinstance(record, Metadata):
                     out[record.name] = {k: _json_or_text(v) for k, v in record.metadata.items()}
@@ -188,17 +189,17 @@ def info(path: str | Path) -> BagInfo:
     """What `ros2 bag info` tells: size, duration, start, end, message count, topics with type and count."""
     path = Path(path)
     check_file(path)
-    summary = _summary(path)
-    if summary is not None and summary.statistics is not None:
-        stats = summary.statistics
+    found = summary(path)
+    if found is not None and found.statistics is not None:
+        stats = found.statistics
         topics = [
             TopicInfo(
                 c.topic,
-                summary.schemas[c.schema_id].name if c.schema_id in summary.schemas else "",
+                found.schemas[c.schema_id].name if c.schema_id in found.schemas else "",
                 stats.channel_message_counts.get(cid, 0),
                 c.message_encoding,
             )
-            for cid, c in sorted(summary.channels.items())
+            for cid, c in sorted(found.channels.items())
         ]
         return BagInfo(
             path,

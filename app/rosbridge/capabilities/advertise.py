@@ -11,6 +11,8 @@ from app.rosbridge.internal.node_services import normalise_type
 from app.rosbridge.internal.state import COMMAND_TOPIC, NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
 
+MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
+
 
 async def advertise(session: Any, message: dict, id_: Any) -> None:
     bridge = session.bridge
@@ -32,6 +34,9 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
     if topic != COMMAND_TOPIC:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)
+        definition = message.get("definition")  # hri-lab's programs carry their type's full text
+        if isinstance(definition, str) and not entry.definition and len(definition) <= MAX_DEFINITION:
+            entry.definition = definition
     session.publishing.add(topic)
 
 

@@ -21,6 +21,7 @@ class NodeTopic:
 
     def __init__(self, type_name: str) -> None:
         self.type = type_name
+        self.definition = ""  # the full text its first publisher carried (hri-lab bag record reads it)
         self.publishers: set[Any] = set()  # sessions
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
 
@@ -28,11 +29,15 @@ class NodeTopic:
 class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
-    def __init__(self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None) -> None:
+    def __init__(
+        self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None, replay: bool = False
+    ) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
         self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
         lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
-        self.topics = {t.name: t for t in TOPICS}  # the lab's topics, sampled from its snapshot
+        # the lab's topics, sampled from its snapshot; none in a lab started to replay bags (`serve
+        # --replay`): a player publishes them as a node would
+        self.topics = {} if replay else {t.name: t for t in TOPICS}
         self.min_period_s = dict(MIN_PERIOD_S)  # a topic's own longest rate (app/lab/topics.py)
         self.node_topics: dict[str, NodeTopic] = {}
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image

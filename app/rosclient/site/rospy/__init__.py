@@ -456,7 +456,7 @@ class Publisher:
         self.name = process.resolve(name, get_name())
         self.resolved_name = self.name
         self.data_class, self.type = data_class, data_class._type
-        process.advertise_once(self.name, self.type)
+        process.advertise_once(self.name, self.type, data_class)
 
     def publish(self, *args: Any, **kwds: Any) -> None:
         if process.shutdown_event.is_set():

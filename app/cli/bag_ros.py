@@ -132,11 +132,16 @@ def record(args) -> int:
     output = Path(args.output_name or time.strftime("rosbag2_%Y_%m_%d-%H_%M_%S"))
     if output.suffix in (".bag", ".mcap", ".db3"):
         output = output.with_suffix("")
+    if output.exists():
+        raise c.CliError(f"{output} exists: choose another name with -O")
+    if not args.max_mb > 0:
+        raise c.CliError(f"--max-mb {args.max_mb}: the cap must be a positive number of MiB")
+    bridge = Bridge(args.url)  # the lab first: no bag folder is left when it cannot be reached
     try:
-        writer = bags.BagWriter(output, int(args.max_mb * 2**20))
+        writer = bags.BagWriter(output, int(min(args.max_mb, 2**40) * 2**20))
     except RecordingError as exc:
+        bridge.close()
         raise c.CliError(str(exc)) from None
-    bridge = Bridge(args.url)
     definition = _definition_finder()
     subscribed: set[str] = set()
 
@@ -199,12 +204,17 @@ def record(args) -> int:
 
 
 # --- play ---------------------------------------------------------------------------------------
-def _schedule(bag: bags.Bag, topics: list[str] | None, start_s: float) -> Iterator[bags.BagMessage]:
-    """The bag's messages from start_s seconds after its first one, of the wanted topics."""
-    first = bag.info().start
-    for m in bag.messages(topics):
-        if (m.log_time - first) / 1e9 >= start_s - 1e-9:
-            yield m
+def timeline(
+    messages: Iterator[bags.BagMessage], first: int, rate: float, start_s: float
+) -> Iterator[tuple[float, bags.BagMessage]]:
+    """(s after the play's start, message) of each message from `start_s` s after the bag's first
+    one (`first`, ns): its recorded gap from the first played one divided by the rate."""
+    played0 = None
+    for m in messages:
+        if (m.log_time - first) / 1e9 < start_s - 1e-9:
+            continue
+        played0 = m.log_time if played0 is None else played0
+        yield (m.log_time - played0) / 1e9 / rate, m
 
 
 def play(args) -> int:
@@ -249,11 +259,9 @@ def play(args) -> int:
     try:
         time.sleep(0.2)  # advertisements in place before the first message (rosbag play's delay)
         while True:
-            wall0, bag0, last_clock = time.monotonic(), None, None
-            for m in _schedule(bag, list(playable), args.start):
-                bag0 = m.log_time if bag0 is None else bag0
-                due = wall0 + (m.log_time - bag0) / 1e9 / args.rate
-                wait = due - time.monotonic()
+            wall0, last_clock = time.monotonic(), None
+            for offset, m in timeline(bag.messages(list(playable)), info.start, args.rate, args.start):
+                wait = wall0 + offset - time.monotonic()
                 if wait > 0:
                     _drain(bridge, wait)
                 if args.clock and (last_clock is None or m.log_time - last_clock >= CLOCK_PERIOD_S * 1e9):

@@ -295,7 +295,7 @@ def open_bag(path: str | Path) -> Bag:
     if path.is_dir():
         meta = path / "metadata.yaml"
         if not meta.is_file():
-            raise RecordingError(f"{path}: a folder without metadata.yaml: not a rosbag2")
+            raise RecordingError(f"{path}: a folder, not an MCAP recording or a rosbag2 (no metadata.yaml in it)")
         storage = _rosbag2_storage(meta)
         if storage == "mcap":
             return _open_mcap(path, "rosbag2-mcap")

@@ -45,7 +45,9 @@ def _chunk(stated: int, compression: str, data: bytes) -> bytes:
 
 
 def _end(summary: bytes = b"", summary_start: int = 0) -> bytes:
-    return _record(0x0F, struct.pack("<I", 0)) + summary + _record(0x02, struct.pack("<QQI", summary_start, 0, 0)) + MAGIC
+    return (
+        _record(0x0F, struct.pack("<I", 0)) + summary + _record(0x02, struct.pack("<QQI", summary_start, 0, 0)) + MAGIC
+    )
 
 
 BLOCK = 16 << 20  # zero bytes compressed once; a bomb repeats the compressed block (cheap to make)
@@ -107,8 +109,9 @@ def rosbag1_bomb(path: Path, stated: int | None = None, uncompressed: int = 3 * 
         raw = b"".join(struct.pack("<I", len(k) + 1 + len(v)) + k.encode() + b"=" + v for k, v in fields.items())
         return struct.pack("<I", len(raw)) + raw
 
-    bag_header = header(op=b"\x03", index_pos=struct.pack("<Q", 0), conn_count=struct.pack("<I", 0),
-                        chunk_count=struct.pack("<I", 1))
+    bag_header = header(
+        op=b"\x03", index_pos=struct.pack("<Q", 0), conn_count=struct.pack("<I", 0), chunk_count=struct.pack("<I", 1)
+    )
     bag_header += struct.pack("<I", 4096 - len(bag_header) - 4 - 13) + b" " * (4096 - len(bag_header) - 4 - 13)
     chunk = header(op=b"\x05", compression=b"bz2", size=struct.pack("<I", uncompressed if stated is None else stated))
     chunk += struct.pack("<I", len(data)) + data

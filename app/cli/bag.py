@@ -168,11 +168,17 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     brec.add_argument("-e", "--regex", metavar="REGEX", help="the topics matching this regular expression")
     brec.add_argument("-x", "--exclude", metavar="REGEX", help="not the topics matching this regular expression")
     brec.add_argument(
-        "-O", "-o", "--output-name", dest="output_name", metavar="NAME",
+        "-O",
+        "-o",
+        "--output-name",
+        dest="output_name",
+        metavar="NAME",
         help="the bag's folder (default rosbag2_<date>-<time>): NAME/NAME.mcap and NAME/metadata.yaml",
     )
     brec.add_argument("--duration", type=float, help="stop after this many seconds (default: Ctrl+C)")
-    brec.add_argument("--max-mb", type=float, default=1024.0, help="size cap of the messages (MiB): recording stops there")
+    brec.add_argument(
+        "--max-mb", type=float, default=1024.0, help="size cap of the messages (MiB): recording stops there"
+    )
     brec.set_defaults(func=_bag_record)
 
     bply = bag_sub.add_parser(

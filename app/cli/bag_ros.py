@@ -267,7 +267,9 @@ def play(args) -> int:
                 if args.clock and (last_clock is None or m.log_time - last_clock >= CLOCK_PERIOD_S * 1e9):
                     last_clock = m.log_time
                     sec, nanosec = divmod(m.log_time, 1_000_000_000)
-                    bridge.send({"op": "publish", "topic": "/clock", "msg": {"clock": {"sec": sec, "nanosec": nanosec}}})
+                    bridge.send(
+                        {"op": "publish", "topic": "/clock", "msg": {"clock": {"sec": sec, "nanosec": nanosec}}}
+                    )
                 text = json.dumps({"op": "publish", "topic": m.topic, "msg": m.data}, separators=(",", ":"))
                 if len(text) > MAX_FRAME_CHARS:
                     skipped += 1

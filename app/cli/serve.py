@@ -63,7 +63,9 @@ def serve(
         except (OSError, ParameterRefused) as exc:
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
-    app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay)
+    app = create_app(
+        lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay
+    )
     server = AnnouncingServer(server_config(app, host, port))
     server.run()
     return 0 if server.started else 1

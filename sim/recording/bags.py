@@ -141,6 +141,7 @@ def _value(store: Typestore, kind: Nodetype, desc: Any, value: Any, where: str) 
     inner_kind, inner_desc = inner
     if inner_kind == Nodetype.BASE and inner_desc[0] in _NUMPY:
         dtype = _NUMPY[inner_desc[0]]
+        array: np.ndarray
         if isinstance(value, str) and inner_desc[0] in _BYTES:
             array = np.frombuffer(base64.b64decode(value), dtype=dtype).copy()
         else:
@@ -197,7 +198,9 @@ class BagWriter:
         msgtype = ros2_type(type_name)
         if msgtype not in self.store.fielddefs:
             if not definition:
-                raise RecordingError(f"{topic}: no definition of {type_name} (the program that publishes it carries it)")
+                raise RecordingError(
+                    f"{topic}: no definition of {type_name} (the program that publishes it carries it)"
+                )
             register(self.store, msgtype, definition)
         self._connections[topic] = self._writer.add_connection(topic, msgtype, typestore=self.store)
         self._types[topic] = msgtype
@@ -382,8 +385,16 @@ def _open_rosbag1(path: Path) -> Bag:
                 TopicInfo(name, ros1_type(types[name]), info.msgcount, "ros1") for name, info in bag.topics.items()
             ]
             count = bag.message_count
-            info = BagInfo(path, path.stat().st_size, True, bag.start_time if count else 0,
-                           bag.end_time if count else 0, count, topics, "rosbag1")
+            info = BagInfo(
+                path,
+                path.stat().st_size,
+                True,
+                bag.start_time if count else 0,
+                bag.end_time if count else 0,
+                count,
+                topics,
+                "rosbag1",
+            )
     except RecordingError:
         raise
     except Exception as exc:  # noqa: BLE001 - rosbags' reader errors
@@ -414,8 +425,16 @@ def _open_sqlite(path: Path) -> Bag:
                     register(store, msgtype, c.msgdef.data)
                 types[c.topic] = msgtype
             topics = [TopicInfo(c.topic, c.msgtype, c.msgcount, "cdr") for c in bag.connections]
-            info = BagInfo(path, sum(p.stat().st_size for p in path.iterdir()), True, bag.start_time,
-                           bag.end_time, bag.message_count, topics, "sqlite3")
+            info = BagInfo(
+                path,
+                sum(p.stat().st_size for p in path.iterdir()),
+                True,
+                bag.start_time,
+                bag.end_time,
+                bag.message_count,
+                topics,
+                "sqlite3",
+            )
     except RecordingError:
         raise
     except Exception as exc:  # noqa: BLE001 - rosbags' reader errors

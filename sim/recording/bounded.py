@@ -26,7 +26,7 @@ import lz4.frame
 import zstandard
 from mcap.exceptions import McapError, RecordLengthLimitExceeded
 from mcap.reader import FOOTER_SIZE
-from mcap.records import Chunk, ChunkIndex, Footer, McapRecord
+from mcap.records import Channel, Chunk, ChunkIndex, Footer, McapRecord, MetadataIndex, Schema, Statistics
 from mcap.stream_reader import MAGIC_SIZE, StreamReader, breakup_chunk
 from mcap.summary import Summary
 
@@ -70,8 +70,7 @@ def decompress(chunk: Chunk, cap: int = MAX_CHUNK_BYTES) -> bytes:
             raise HostileRecording(f"an lz4 chunk does not decompress: {exc}") from None
     if len(out) != stated:
         raise HostileRecording(
-            f"a chunk states {stated} bytes uncompressed but holds "
-            f"{'more' if len(out) > stated else len(out)}: refused"
+            f"a chunk states {stated} bytes uncompressed but holds {'more' if len(out) > stated else len(out)}: refused"
         )
     return out
 
@@ -118,13 +117,12 @@ def summary(f: BinaryIO, chunk_cap: int = MAX_CHUNK_BYTES) -> Summary | None:
                 break
             if isinstance(record, Chunk):
                 raise HostileRecording("a chunk inside the summary section: not an MCAP file's layout")
-            kind = type(record).__name__
-            if kind == "Statistics":
-                out.statistics = record  # type: ignore[assignment]
-            elif kind == "Schema":
-                out.schemas[record.id] = record  # type: ignore[attr-defined]
-            elif kind == "Channel":
-                out.channels[record.id] = record  # type: ignore[attr-defined]
+            if isinstance(record, Statistics):
+                out.statistics = record
+            elif isinstance(record, Schema):
+                out.schemas[record.id] = record
+            elif isinstance(record, Channel):
+                out.channels[record.id] = record
             elif isinstance(record, ChunkIndex):
                 if record.uncompressed_size > chunk_cap:
                     raise HostileRecording(
@@ -132,8 +130,8 @@ def summary(f: BinaryIO, chunk_cap: int = MAX_CHUNK_BYTES) -> Summary | None:
                         f"cap of {_mib(chunk_cap)}: refused before decompressing"
                     )
                 out.chunk_indexes.append(record)
-            elif kind == "MetadataIndex":
-                out.metadata_indexes.append(record)  # type: ignore[arg-type]
+            elif isinstance(record, MetadataIndex):
+                out.metadata_indexes.append(record)
     except RecordLengthLimitExceeded as exc:
         raise HostileRecording(f"a summary record over the cap of {_mib(MAX_RECORD_BYTES)}: refused ({exc})") from None
     except (McapError, EOFError) as exc:
@@ -145,6 +143,8 @@ def metadata(f: BinaryIO, found: Summary) -> Iterator[McapRecord]:
     """The metadata records a summary indexes, each read at its offset (nothing decompressed)."""
     for index in found.metadata_indexes:
         if index.length > MAX_RECORD_BYTES:
-            raise HostileRecording(f"a metadata record of {_mib(index.length)}, over the cap of {_mib(MAX_RECORD_BYTES)}")
+            raise HostileRecording(
+                f"a metadata record of {_mib(index.length)}, over the cap of {_mib(MAX_RECORD_BYTES)}"
+            )
         f.seek(index.offset)
         yield next(StreamReader(f, skip_magic=True, record_size_limit=MAX_RECORD_BYTES).records)

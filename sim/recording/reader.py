@@ -98,7 +98,9 @@ def records(path: str | Path, topics: list[str] | None = None) -> Iterator[tuple
                 elif isinstance(record, McapMessage):
                     channel = channels.get(record.channel_id)
                     if channel is None:
-                        raise RecordingError(f"{path}: a message on channel {record.channel_id}, which no record defines")
+                        raise RecordingError(
+                            f"{path}: a message on channel {record.channel_id}, which no record defines"
+                        )
                     if wanted is None or channel.topic in wanted:
                         yield channel, schemas.get(channel.schema_id), record
         except bounded.HostileRecording as exc:

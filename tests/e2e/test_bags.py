@@ -16,8 +16,9 @@ import roslibpy
 from rosbags.rosbag1 import Writer as Rosbag1Writer
 from rosbags.typesys import Stores, get_typestore
 
-from app.cli.launch import running_server
 from sim.recording import bags, bounded
+
+from app.cli.launch import running_server
 from tests import hostile_bags
 from tests.http_client import http
 from tests.ros_running import run
@@ -125,7 +126,11 @@ def test_a_ros1_bag_made_with_rosbags_plays_into_the_lab(lab, ros, tmp_path):
     with Rosbag1Writer(tmp_path / "real.bag") as writer:
         connection = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=store)
         for i in range(5):
-            writer.write(connection, 1_000_000_000 + i * 50_000_000, store.serialize_ros1(String(data=f"hello {i}"), connection.msgtype))
+            writer.write(
+                connection,
+                1_000_000_000 + i * 50_000_000,
+                store.serialize_ros1(String(data=f"hello {i}"), connection.msgtype),
+            )
     heard: list[str] = []
     topic = roslibpy.Topic(ros, "/chatter", "std_msgs/String", queue_length=100)
     topic.subscribe(lambda message: heard.append(message["data"]))
@@ -152,7 +157,16 @@ def test_the_camera_recorded_once_then_the_detector_runs_on_the_bag(lab, ros, tm
     try:
         wait_for(lambda: images, timeout=120)
         recorded = hri_lab(
-            "bag", "record", "--url", lab.url, "/image_raw", "/camera_info", "-O", str(tmp_path / "cam"), "--duration", "5"
+            "bag",
+            "record",
+            "--url",
+            lab.url,
+            "/image_raw",
+            "/camera_info",
+            "-O",
+            str(tmp_path / "cam"),
+            "--duration",
+            "5",
         )
     finally:
         watch.unsubscribe()

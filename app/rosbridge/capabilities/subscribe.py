@@ -60,7 +60,9 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
             )
         elif topic == F_EXT and lab_topic is not None:  # every step's sample, not only the newest when we look
             stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
-        elif topic == IMAGE and lab_topic is not None:  # the camera process's images, rendered while somebody subscribes
+        elif (
+            topic == IMAGE and lab_topic is not None
+        ):  # the camera process's images, rendered while somebody subscribes
             stream.tasks.append(asyncio.ensure_future(sample_images(session.lab, stream)))
         elif lab_topic is not None:
             stream.tasks.append(

@@ -17,6 +17,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from sim.recording import bags
 from sim.recording.reader import RecordingError
+
 from tests import hostile_bags
 
 STUDENT_INFO = "string name\nint32 age\nfloat64[] marks\n"
@@ -33,7 +34,11 @@ def _image() -> dict:
     pixels = np.arange(2 * 3 * 3, dtype=np.uint8)
     return {
         "header": {"stamp": {"sec": 1, "nanosec": 2}, "frame_id": "camera"},
-        "height": 2, "width": 3, "encoding": "rgb8", "is_bigendian": 0, "step": 9,
+        "height": 2,
+        "width": 3,
+        "encoding": "rgb8",
+        "is_bigendian": 0,
+        "step": 9,
         "data": base64.b64encode(pixels.tobytes()).decode(),
     }
 
@@ -134,7 +139,9 @@ def test_a_ros1_bag_from_rosbags_writer_is_read(tmp_path):
     with writer:
         conn = writer.add_connection("/target", "geometry_msgs/msg/Point", typestore=store)
         for i in range(5):
-            writer.write(conn, 2_000_000_000 + i * 100_000_000, store.serialize_ros1(Point(x=i, y=2.0, z=-1.0), conn.msgtype))
+            writer.write(
+                conn, 2_000_000_000 + i * 100_000_000, store.serialize_ros1(Point(x=i, y=2.0, z=-1.0), conn.msgtype)
+            )
     bag = bags.open_bag(tmp_path / "real.bag")
     assert bag.info().storage == "rosbag1"
     assert [m.data for m in bag.messages()] == [{"x": float(i), "y": 2.0, "z": -1.0} for i in range(5)]
@@ -148,7 +155,9 @@ def test_a_sqlite_rosbag2_is_read(tmp_path):
         writer.write(conn, 5, store.serialize_cdr(String(data="hello"), conn.msgtype))
     bag = bags.open_bag(tmp_path / "db")
     assert bag.kind == "rosbag2-sqlite3"
-    assert [(m.topic, m.type, m.data) for m in bag.messages()] == [("/chatter", "std_msgs/msg/String", {"data": "hello"})]
+    assert [(m.topic, m.type, m.data) for m in bag.messages()] == [
+        ("/chatter", "std_msgs/msg/String", {"data": "hello"})
+    ]
 
 
 def test_a_rosbag1_bomb_is_refused_before_decompressing(tmp_path):

@@ -9,6 +9,7 @@ from mcap.records import Chunk
 from mcap.writer import CompressionType, Writer
 
 from sim.recording import bounded, reader
+
 from tests import hostile_bags
 
 
@@ -52,15 +53,25 @@ def test_a_record_longer_than_the_cap_is_refused_before_it_is_read(tmp_path):
 def test_decompress_keeps_to_the_stated_size():
     data = b"abc" * 1000
     chunk = Chunk(
-        compression="zstd", data=zstandard.compress(data), message_start_time=0, message_end_time=0,
-        uncompressed_crc=0, uncompressed_size=len(data),
+        compression="zstd",
+        data=zstandard.compress(data),
+        message_start_time=0,
+        message_end_time=0,
+        uncompressed_crc=0,
+        uncompressed_size=len(data),
     )
     assert bounded.decompress(chunk) == data
     short = Chunk(
-        compression="zstd", data=zstandard.compress(data), message_start_time=0, message_end_time=0,
-        uncompressed_crc=0, uncompressed_size=len(data) + 5,
+        compression="zstd",
+        data=zstandard.compress(data),
+        message_start_time=0,
+        message_end_time=0,
+        uncompressed_crc=0,
+        uncompressed_size=len(data) + 5,
     )
-    with pytest.raises(bounded.HostileRecording, match=f"states {len(data) + 5} bytes uncompressed but holds {len(data)}"):
+    with pytest.raises(
+        bounded.HostileRecording, match=f"states {len(data) + 5} bytes uncompressed but holds {len(data)}"
+    ):
         bounded.decompress(short)
 
 

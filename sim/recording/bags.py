@@ -85,7 +85,7 @@ def register(store: Typestore, name: str, text: str) -> None:
         store.register(get_types_from_msg(text, ros2_type(name)))
     except RecordingError:
         raise
-    except Exception as exc:  # noqa: BLE001 - rosbags' parser errors have several types
+    except (Exception, RecursionError) as exc:  # noqa: BLE001 - rosbags' parser errors have several types
         raise RecordingError(f"the definition of {name[:100]} does not parse: {str(exc)[:200]}") from None
 
 
@@ -253,7 +253,12 @@ class Bag:
                 msgtype = self.types[channel.topic]
                 yield BagMessage(channel.topic, msgtype, record.log_time, self._decode_cdr(record.data, msgtype))
         else:
-            opened = Rosbag1Reader(self.path) if self.kind == "rosbag1" else Rosbag2Reader(self.path)
+            yield from self._rosbags_messages(wanted)
+
+    def _rosbags_messages(self, wanted: set[str] | None) -> Iterator[BagMessage]:
+        """A rosbag1 (its chunks checked when it was opened) or a rosbag2 SQLite, through rosbags."""
+        opened = Rosbag1Reader(self.path) if self.kind == "rosbag1" else Rosbag2Reader(self.path)
+        try:
             with opened as bag:
                 connections = [c for c in bag.connections if wanted is None or c.topic in wanted]
                 for connection, log_time, raw in bag.messages(connections=connections):
@@ -263,6 +268,12 @@ class Bag:
                     else:
                         data = self._decode_cdr(raw, msgtype)
                     yield BagMessage(connection.topic, msgtype, log_time, data)
+        except RecordingError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - rosbags' reader and deserializers: a broken bag
+            raise RecordingError(
+                f"{self.path}: a message cannot be read ({type(exc).__name__}: {str(exc)[:200]})"
+            ) from None
 
     def _decode_cdr(self, raw: bytes, msgtype: str) -> dict:
         try:

@@ -201,3 +201,13 @@ def test_the_size_cap_stops_recording(tmp_path):
     assert "the cap of 0 MiB" in writer.stopped
     writer.close()
     assert bags.open_bag(tmp_path / "b").info().messages == 1
+
+
+def test_a_message_that_is_not_its_types_bytes_is_refused_with_the_reason(tmp_path):
+    store = get_typestore(Stores.ROS1_NOETIC)
+    with Rosbag1Writer(tmp_path / "broken.bag") as writer:
+        conn = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=store)
+        writer.write(conn, 1, b"\xff\xff\xff\x7f")  # a string of 2 GB, in four bytes
+    bag = bags.open_bag(tmp_path / "broken.bag")
+    with pytest.raises(RecordingError, match="broken.bag: a message cannot be read"):
+        list(bag.messages())

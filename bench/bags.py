@@ -23,11 +23,13 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from sim.recording import bags
 
-from app.cli.launch import running_server
+from app.cli.launch import ServerProcess
 
 ROOT = Path(__file__).parent.parent
 HZ = os.sysconf("SC_CLK_TCK")
@@ -47,6 +49,16 @@ def tree_cpu_s(pid: int) -> float:
             continue
         pids.extend(int(c) for c in children)
     return total
+
+
+@contextmanager
+def running_server(*args: str) -> Iterator[ServerProcess]:
+    """A server with a start-up bound for a loaded machine (10 min)."""
+    server = ServerProcess(*args, timeout=600.0)
+    try:
+        yield server
+    finally:
+        server.stop()
 
 
 def cli(*args: str) -> list[str]:

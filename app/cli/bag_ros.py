@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import re
+import signal
 import sys
 import time
 from collections.abc import Iterator
@@ -89,6 +90,15 @@ class Bridge:
         self.ws.close()
 
 
+def _stop_on_sigterm() -> None:
+    """SIGTERM ends a recording or a playback as Ctrl+C does: the bag is finished, the summary printed."""
+
+    def interrupt(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, interrupt)
+
+
 # --- record -------------------------------------------------------------------------------------
 def _definition_finder() -> Any:
     """The .msg files a program's imports would find: the current folder's workspace, then the
@@ -136,6 +146,7 @@ def record(args) -> int:
         raise c.CliError(f"{output} exists: choose another name with -O")
     if not args.max_mb > 0:
         raise c.CliError(f"--max-mb {args.max_mb}: the cap must be a positive number of MiB")
+    _stop_on_sigterm()
     bridge = Bridge(args.url)  # the lab first: no bag folder is left when it cannot be reached
     try:
         writer = bags.BagWriter(output, int(min(args.max_mb, 2**40) * 2**20))
@@ -232,6 +243,7 @@ def play(args) -> int:
     if wanted is not None:
         for t in set(wanted) - set(bag.types):
             print(f"[WARN] {t} is not in the bag", file=sys.stderr, flush=True)
+    _stop_on_sigterm()
     bridge = Bridge(args.url)
     lab_topics = set(bridge.call(LAB_NODE_TOPICS, {"node": _lab_node(bridge)}).get("publishing", []))
     for topic in sorted(set(playable) & lab_topics):

@@ -93,6 +93,7 @@ def test_a_programs_topic_is_recorded_and_played_back_looped_at_2x(lab, tmp_path
     finally:
         listener.interrupt()
     assert "at 2x" in output and "looping" in output, output
+    assert "messages published" in output  # SIGTERM ends a playback as Ctrl+C does
     marks = next(line for line in listener.lines if line.startswith(wanted[1]))
     assert marks.endswith(f"marks [1.5, {ages[1] / 2.0}]")
 

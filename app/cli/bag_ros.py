@@ -22,6 +22,7 @@ import re
 import signal
 import sys
 import time
+from collections import deque
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -40,6 +41,7 @@ LAB_NODE_TOPICS = "/rosapi/node_details"
 DISCOVERY_PERIOD_S = 1.0  # -a, -e: how often new topics are looked for
 CLOCK_PERIOD_S = 0.01  # --clock: /clock at 100 Hz of bag time (ros2 bag play's --clock default is 40 Hz)
 CLOCK_TYPE = "rosgraph_msgs/Clock"
+MAX_PENDING = 10_000  # frames held while a service's answer is awaited
 
 
 class Bridge:
@@ -56,7 +58,9 @@ class Bridge:
             )
         except (OSError, WebSocketException) as exc:
             raise c.CliError(f"cannot reach the hri-lab server at {url}: {exc}") from None
-        self.pending: list[dict] = []  # frames received while waiting for a service's answer
+        # frames received while waiting for a service's answer, the newest MAX_PENDING (a recorder
+        # that falls behind loses the oldest, as rosbag's bounded buffer does)
+        self.pending: deque[dict] = deque(maxlen=MAX_PENDING)
         self._id = 0
 
     def send(self, frame: dict) -> None:
@@ -68,7 +72,8 @@ class Bridge:
         self.send({"op": "call_service", "id": wanted, "service": service, "args": args or {}})
         end = time.monotonic() + timeout
         while True:
-            frame = self.receive(max(0.0, end - time.monotonic()))
+            left = end - time.monotonic()
+            frame = self._read(left) if left > 0 else None
             if frame is None:
                 raise c.CliError(f"{service}: no answer in {timeout:.0f} s")
             if frame.get("op") == "service_response" and frame.get("id") == wanted:
@@ -78,8 +83,12 @@ class Bridge:
             self.pending.append(frame)
 
     def receive(self, timeout: float) -> dict | None:
+        """The next frame: one that came while a service was called first, else the socket's."""
         if self.pending:
-            return self.pending.pop(0)
+            return self.pending.popleft()
+        return self._read(timeout)
+
+    def _read(self, timeout: float) -> dict | None:
         try:
             text = self.ws.recv(timeout=timeout)
         except TimeoutError:
@@ -185,8 +194,11 @@ def record(args) -> int:
         while end is None or time.monotonic() < end:
             now = time.monotonic()
             if now >= next_discovery and (args.all or args.regex or len(subscribed) < len(args.topics)):
-                discover()
-                next_discovery = now + DISCOVERY_PERIOD_S
+                try:
+                    discover()
+                except c.CliError as exc:  # a busy lab: look again at the next period
+                    print(f"[WARN] looking for new topics: {exc}", file=sys.stderr, flush=True)
+                next_discovery = time.monotonic() + DISCOVERY_PERIOD_S
             frame = bridge.receive(0.1 if end is None else max(0.0, min(0.1, end - now)))
             if frame is None or frame.get("op") != "publish" or not writer.has(frame.get("topic", "")):
                 continue

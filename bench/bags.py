@@ -2,6 +2,7 @@
 converting a minute's bag to ROS 1, and the resident memory of the commands on a decompression bomb.
 
     .venv/bin/python -m bench.bags [--record-seconds 20] [--play-seconds 10] [--convert-seconds 60]
+                                   [--parts bomb,play,record,convert]
 
 1. `hri-lab bag record -a` (every topic: /image_raw as fast as the camera renders, F_ext every
    step, the rest at rosbridge's pass-through) for `--record-seconds`: the recorder's CPU share
@@ -216,14 +217,20 @@ def main() -> None:
     parser.add_argument("--record-seconds", type=float, default=20.0)
     parser.add_argument("--play-seconds", type=float, default=10.0)
     parser.add_argument("--convert-seconds", type=float, default=60.0)
+    parser.add_argument("--parts", default="bomb,play,record,convert", help="which of the four to run")
     args = parser.parse_args()
+    parts = args.parts.split(",")
     print(f"load average before: {os.getloadavg()[0]:.1f} (2 cores, shared)")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        bomb_memory(folder)
-        play_cost(args.play_seconds, folder)
-        record_cost(args.record_seconds, folder)
-        convert_cost(args.convert_seconds, folder)
+        if "bomb" in parts:
+            bomb_memory(folder)
+        if "play" in parts:
+            play_cost(args.play_seconds, folder)
+        if "record" in parts:
+            record_cost(args.record_seconds, folder)
+        if "convert" in parts:
+            convert_cost(args.convert_seconds, folder)
     print(f"load average after: {os.getloadavg()[0]:.1f}")
 
 

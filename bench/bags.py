@@ -28,6 +28,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+import httpx
+
 from sim.recording import bags
 
 from app.cli.launch import ServerProcess
@@ -68,6 +70,7 @@ def cli(*args: str) -> list[str]:
 
 def record_cost(seconds: float, folder: Path) -> None:
     with running_server("--view", "none") as server:
+        httpx.get(f"{server.url}/camera/image.png", timeout=300)  # the camera process started and rendering
         time.sleep(3.0)
         server_before, wall = tree_cpu_s(server.proc.pid), time.monotonic()
         recorder = subprocess.Popen(

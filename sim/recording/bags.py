@@ -80,9 +80,12 @@ def typestore(definitions: dict[str, str] | None = None, ros1: bool = False) -> 
 
 
 def register(store: Typestore, name: str, text: str) -> None:
-    """Add a type from its definition text; a definition that does not parse is refused by name."""
+    """Add a type (and the nested types it brings that the store lacks: a standard type the store
+    has keeps its own definition, e.g. ROS 1's Header with its seq in a ROS 1 store) from its
+    definition text; a definition that does not parse is refused by name."""
     try:
-        store.register(get_types_from_msg(text, ros2_type(name)))
+        found = get_types_from_msg(text, ros2_type(name))
+        store.register({k: v for k, v in found.items() if k not in store.fielddefs})
     except RecordingError:
         raise
     except (Exception, RecursionError) as exc:  # noqa: BLE001 - rosbags' parser errors have several types

@@ -211,3 +211,14 @@ def test_a_message_that_is_not_its_types_bytes_is_refused_with_the_reason(tmp_pa
     bag = bags.open_bag(tmp_path / "broken.bag")
     with pytest.raises(RecordingError, match="broken.bag: a message cannot be read"):
         list(bag.messages())
+
+
+def test_a_programs_type_with_a_header_converts_to_ros1s_header(tmp_path):
+    """A type's ROS 2 text names std_msgs/Header; in the ROS 1 bag it is ROS 1's Header (with seq)."""
+    writer = bags.BagWriter(tmp_path / "b", max_bytes=1 << 20)
+    writer.add_topic("/stamped", "student_pkg/Stamped", "std_msgs/Header header\nint32 value\n")
+    writer.write("/stamped", 7, {"header": {"stamp": {"sec": 3, "nanosec": 4}, "frame_id": "f"}, "value": 9})
+    writer.close()
+    assert bags.to_rosbag1(tmp_path / "b", tmp_path / "b.bag") == 1
+    (message,) = bags.open_bag(tmp_path / "b.bag").messages()
+    assert message.data == {"header": {"seq": 0, "stamp": {"sec": 3, "nanosec": 4}, "frame_id": "f"}, "value": 9}

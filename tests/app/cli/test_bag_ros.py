@@ -5,8 +5,9 @@ import argparse
 
 import pytest
 
-from app.cli.bag_ros import chosen, timeline
 from sim.recording import bags
+
+from app.cli.bag_ros import chosen, timeline
 
 TOPICS = {
     "/joint_states": "sensor_msgs/JointState",

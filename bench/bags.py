@@ -33,6 +33,7 @@ import httpx
 from sim.recording import bags
 
 from app.cli.launch import ServerProcess
+from tests import hostile_bags
 
 ROOT = Path(__file__).parent.parent
 HZ = os.sysconf("SC_CLK_TCK")
@@ -180,28 +181,14 @@ def convert_cost(seconds: float, folder: Path) -> None:
     )
 
 
-MEASURE = """
-import resource, sys
-from app.cli.main import main
-try:
-    code = main(sys.argv[1:])
-finally:
-    print("maxrss_kib", resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)
-raise SystemExit(code)
-"""
-
-
 def maxrss_mib(*args: str) -> tuple[float, str]:
-    done = subprocess.run([sys.executable, "-c", MEASURE, *args], capture_output=True, text=True, cwd=ROOT)
+    done = subprocess.run([sys.executable, "-c", hostile_bags.MEASURE, *args], capture_output=True, text=True, cwd=ROOT)
     rss = int(done.stderr.split("maxrss_kib")[1].split()[0]) / 1024
     reason = next((line for line in done.stderr.splitlines() if line.startswith("error")), "")
     return rss, reason
 
 
 def bomb_memory(folder: Path) -> None:
-    sys.path.insert(0, str(ROOT))
-    from tests import hostile_bags
-
     bomb = hostile_bags.bomb(folder / "bomb.mcap")
     honest = folder / "honest"
     if not honest.exists():

@@ -117,3 +117,16 @@ def rosbag1_bomb(path: Path, stated: int | None = None, uncompressed: int = 3 * 
     chunk += struct.pack("<I", len(data)) + data
     path.write_bytes(b"#ROSBAG V2.0\n" + bag_header + chunk)
     return path
+
+
+# `python -c MEASURE hri-lab-arguments...`: the command run in this process, then its peak resident
+# memory (maxrss, KiB) on stderr as `maxrss_kib N` (the tests' and bench/bags.py's memory bound)
+MEASURE = """
+import resource, sys
+from app.cli.main import main
+try:
+    code = main(sys.argv[1:])
+finally:
+    print("maxrss_kib", resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)
+raise SystemExit(code)
+"""

@@ -383,18 +383,27 @@ def _channels(file: Path) -> Iterator[tuple[Any, Any, Any]]:
     yield from reader.records(file)
 
 
+def _connections(store: Typestore, connections: list[Any]) -> tuple[dict[str, str], dict[str, str]]:
+    """topic -> type and type -> definition text of rosbags' connections, each type the store lacks
+    registered from the text the bag carries."""
+    types, definitions = {}, {}
+    for c in connections:
+        msgtype = ros2_type(c.msgtype)
+        text = c.msgdef.data if c.msgdef else ""
+        if text:
+            definitions[msgtype] = text
+            if msgtype not in store.fielddefs:
+                register(store, msgtype, text)
+        types[c.topic] = msgtype
+    return types, definitions
+
+
 def _open_rosbag1(path: Path) -> Bag:
     check_rosbag1(path)
     store = typestore(ros1=True)
     try:
         with Rosbag1Reader(path) as bag:
-            types, definitions = {}, {}
-            for c in bag.connections:
-                msgtype = ros2_type(c.msgtype)
-                definitions[msgtype] = c.msgdef.data
-                if msgtype not in store.fielddefs:
-                    register(store, msgtype, c.msgdef.data)
-                types[c.topic] = msgtype
+            types, definitions = _connections(store, bag.connections)
             topics = [
                 TopicInfo(name, ros1_type(types[name]), info.msgcount, "ros1") for name, info in bag.topics.items()
             ]
@@ -430,14 +439,7 @@ def _open_sqlite(path: Path) -> Bag:
     store = typestore()
     try:
         with Rosbag2Reader(path) as bag:
-            types, definitions = {}, {}
-            for c in bag.connections:
-                msgtype = ros2_type(c.msgtype)
-                if c.msgdef and c.msgdef.data:
-                    definitions[msgtype] = c.msgdef.data
-                if msgtype not in store.fielddefs and c.msgdef and c.msgdef.data:
-                    register(store, msgtype, c.msgdef.data)
-                types[c.topic] = msgtype
+            types, definitions = _connections(store, bag.connections)
             topics = [TopicInfo(c.topic, c.msgtype, c.msgcount, "cdr") for c in bag.connections]
             info = BagInfo(
                 path,

@@ -192,23 +192,16 @@ def test_the_camera_recorded_once_then_the_detector_runs_on_the_bag(lab, ros, tm
     assert "not played" not in output  # the replay lab publishes none of them itself
 
 
-MEASURE = """
-import resource, sys
-from app.cli.main import main
-try:
-    code = main(sys.argv[1:])
-finally:
-    print("maxrss_kib", resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr)
-raise SystemExit(code)
-"""
-
-
 @pytest.mark.parametrize("command", [("bag", "info"), ("bag", "play", "--url", "http://127.0.0.1:9"), ("play",)])
 @pytest.mark.parametrize("make", [hostile_bags.bomb, hostile_bags.lz4_liar, hostile_bags.rosbag1_bomb])
 def test_a_bomb_is_refused_with_its_reason_within_the_memory_bound(tmp_path, command, make):
     path = make(tmp_path / ("bomb.bag" if make is hostile_bags.rosbag1_bomb else "bomb.mcap"))
     done = subprocess.run(
-        [sys.executable, "-c", MEASURE, *command, str(path)], capture_output=True, text=True, timeout=300, cwd=ROOT
+        [sys.executable, "-c", hostile_bags.MEASURE, *command, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
     )
     assert done.returncode == 1, done.stderr
     if command == ("play",) and make is hostile_bags.rosbag1_bomb:  # the 3D replay reads the lab's MCAP only

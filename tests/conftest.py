@@ -69,6 +69,7 @@ LONG_FILES_FIRST = (
     "e2e/test_ros_lifting_node.py",
     "e2e/test_lifting_node.py",
     "e2e/test_camera.py",
+    "e2e/test_bags.py",
     "e2e/test_course_scale.py",
     "e2e/test_cli_server.py",
     "e2e/test_mobile_world.py",

@@ -48,12 +48,15 @@ def create_app(
     view_port: int = 8080,
     token: str | None = None,
     exercises: bool = False,
+    replay: bool = False,
 ) -> FastAPI:
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
     view_host: the address the server (API and view) is bound to; requests must name it
     (app/api/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
-    exercises: the handout's exercise services are left to the students' nodes (rosbridge)."""
+    exercises: the handout's exercise services are left to the students' nodes (rosbridge).
+    replay: the simulation publishes no topic over rosbridge: a bag played into the lab publishes them
+    (app/rosbridge/internal/state.py, docs/recording.md)."""
     if token and token_problem(token):
         raise ValueError(token_problem(token))
     lab = lab or Lab()
@@ -135,7 +138,7 @@ def create_app(
         app.include_router(robot_api.router)
         app.include_router(camera_api.router)
     app.include_router(files_api.router)
-    app.state.bridge = Bridge(lab, nodes, app.state.actions, token)
+    app.state.bridge = Bridge(lab, nodes, app.state.actions, token, replay=replay)
     app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
     document(app)

@@ -56,14 +56,43 @@ def record(args) -> int:
 
 
 def info(args) -> int:
-    from sim.recording import reader
+    """What `ros2 bag info` prints, of any bag: the lab's MCAP, a rosbag2 (folder, .mcap), a rosbag1 .bag."""
+    from sim.recording import bags, reader
 
     try:
-        bag = reader.info(args.file)
+        bag = bags.open_bag(args.file).info()
     except reader.RecordingError as exc:
         raise c.CliError(str(exc)) from None
     print(json.dumps(bag.as_dict(), indent=2) if args.json else reader.format_info(bag))
     return 0
+
+
+def convert(args) -> int:
+    """Any bag to a ROS 1 .bag (rosbag1), as `rosbags-convert` does."""
+    from sim.recording import bags, reader
+
+    output = Path(args.output)
+    if output.suffix != ".bag":
+        raise c.CliError(f"{output}: a ROS 1 bag's name ends in .bag")
+    try:
+        count = bags.to_rosbag1(args.file, output)
+    except reader.RecordingError as exc:
+        raise c.CliError(str(exc)) from None
+    print(f"[INFO] {count} messages written", file=sys.stderr)
+    print(output)
+    return 0
+
+
+def _bag_record(args) -> int:
+    from app.cli import bag_ros
+
+    return bag_ros.record(args)
+
+
+def _bag_play(args) -> int:
+    from app.cli import bag_ros
+
+    return bag_ros.play(args)
 
 
 def play(args) -> int:
@@ -136,7 +165,44 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 
     bag = sub.add_parser("bag", help="recordings (like ros2 bag)")
     bag_sub = bag.add_subparsers(dest="action", required=True)
-    inf = bag_sub.add_parser("info", help="duration, topics, types and counts of a recording")
-    inf.add_argument("file", metavar="FILE.mcap")
+    inf = bag_sub.add_parser("info", help="duration, topics, types and counts of a bag (rosbag info, ros2 bag info)")
+    inf.add_argument("file", metavar="BAG", help="an hri-lab .mcap, a rosbag2 (folder or .mcap) or a ROS 1 .bag")
     inf.add_argument("--json", action="store_true")
     inf.set_defaults(func=info)
+
+    brec = bag_sub.add_parser(
+        "record", parents=[url], help="record topics of the lab's graph to a rosbag2 (like rosbag record)"
+    )
+    brec.add_argument("topics", nargs="*", metavar="TOPIC", help="the topics to record")
+    brec.add_argument("-a", "--all", action="store_true", help="every topic, new ones as they appear")
+    brec.add_argument("-e", "--regex", metavar="REGEX", help="the topics matching this regular expression")
+    brec.add_argument("-x", "--exclude", metavar="REGEX", help="not the topics matching this regular expression")
+    brec.add_argument(
+        "-O",
+        "-o",
+        "--output-name",
+        dest="output_name",
+        metavar="NAME",
+        help="the bag's folder (default rosbag2_<date>-<time>): NAME/NAME.mcap and NAME/metadata.yaml",
+    )
+    brec.add_argument("--duration", type=float, help="stop after this many seconds (default: Ctrl+C)")
+    brec.add_argument(
+        "--max-mb", type=float, default=1024.0, help="size cap of the messages (MiB): recording stops there"
+    )
+    brec.set_defaults(func=_bag_record)
+
+    bply = bag_sub.add_parser(
+        "play", parents=[url], help="publish a bag's topics into the lab over rosbridge (like rosbag play)"
+    )
+    bply.add_argument("file", metavar="BAG", help="an hri-lab .mcap, a rosbag2 (folder or .mcap) or a ROS 1 .bag")
+    bply.add_argument("-l", "--loop", action="store_true", help="play again from the start at the end")
+    bply.add_argument("-r", "--rate", type=float, default=1.0, help="rate multiplier (2: twice as fast)")
+    bply.add_argument("--topics", nargs="+", default=[], metavar="TOPIC", help="only these topics")
+    bply.add_argument("-s", "--start", type=float, default=0.0, help="start this many seconds into the bag")
+    bply.add_argument("--clock", action="store_true", help="publish the bag's time on /clock (rosgraph_msgs/Clock)")
+    bply.set_defaults(func=_bag_play)
+
+    bcv = bag_sub.add_parser("convert", help="convert a bag to a ROS 1 .bag (rosbag1)")
+    bcv.add_argument("file", metavar="BAG", help="an hri-lab .mcap, a rosbag2 (folder or .mcap) or a ROS 1 .bag")
+    bcv.add_argument("output", metavar="OUT.bag")
+    bcv.set_defaults(func=convert)

@@ -147,6 +147,12 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="--world mobile: the arena, the start pose and the noise this seed draws (default: the standard arena)",
     )
+    srv.add_argument(
+        "--replay",
+        action="store_true",
+        help="a lab to play bags into: its simulation publishes no topic over rosbridge, so `hri-lab bag play` "
+        "publishes every recorded topic (/joint_states, /image_raw ...) as the robot would",
+    )
     srv.set_defaults(func=_command("app.cli.serve"))
 
     tpl = sub.add_parser(

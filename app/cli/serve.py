@@ -49,6 +49,7 @@ def serve(
     output_dir: str = ".",
     world: str = "lifting",
     arena_seed: int | None = None,
+    replay: bool = False,
 ) -> int:
     if not is_loopback(host) and not token:
         print(
@@ -70,7 +71,9 @@ def serve(
         except (OSError, ParameterRefused) as exc:
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
-    app = create_app(lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises)
+    app = create_app(
+        lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay
+    )
     server = AnnouncingServer(server_config(app, host, port))
     server.run()
     return 0 if server.started else 1
@@ -174,6 +177,7 @@ def run(args: argparse.Namespace) -> int:
         factory(),
         args.token,
         exercises=args.exercises,
+        replay=args.replay,
         output_dir=args.output_dir,
         world=args.world,
         arena_seed=args.arena_seed,

@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-MAX_FRAME = 1_000_000  # characters of one frame
+MAX_FRAME = 1_600_000  # characters of one frame: a 640x480 rgb8 sensor_msgs/Image (base64) a bag plays
 MAX_DEPTH = 32  # nesting of objects and arrays in one frame
 MAX_STATUS = 2000  # characters of a status message's text: what a client sent is never echoed whole
 LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it

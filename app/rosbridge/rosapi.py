@@ -293,6 +293,8 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name == "/rosapi/topics_and_raw_types":
         texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(bridge, lab.snapshot()).items()}
         topics = bridge.topic_types()
+        # a node topic: the full text its publisher carried (hri-lab's programs do), not a lab sample's
+        texts.update({name: t.definition for name, t in bridge.node_topics.items() if t.definition})
         return {
             "topics": list(topics),
             "types": list(topics.values()),
@@ -311,7 +313,7 @@ def call(bridge, session, name: str, args: dict) -> dict:
         if node == LAB_NODE:
             return {
                 "subscribing": [bridge.command_topic],
-                "publishing": [t.name for t in lab_topics(bridge)] + [rosout.TOPIC],
+                "publishing": list(bridge.topics) + [rosout.TOPIC],
                 "services": [
                     s.name
                     for s in bridge.services

@@ -16,6 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from app.interfaces.packages import full_text
 from app.rosclient.connection import Connection
 
 POLL = 0.1  # s between looks at the lab's registry while waiting for a service or an action server
@@ -76,10 +77,16 @@ def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
     return remaps.get(resolved, resolved)
 
 
-def advertise_once(topic: str, type_name: str) -> None:
+def advertise_once(topic: str, type_name: str, msg_class: Any = None) -> None:
+    """Advertise a topic once; with its message class, its full definition goes along (beyond
+    rosbridge's fields, as ROS's connection header carries it): `hri-lab bag record` writes it into
+    the bag's schema, so a program's own types are in the file."""
     if topic not in _advertised:
         _advertised.add(topic)
-        connection().send({"op": "advertise", "topic": topic, "type": type_name})
+        frame = {"op": "advertise", "topic": topic, "type": type_name}
+        if msg_class is not None and hasattr(msg_class, "_fields"):
+            frame["definition"] = full_text(msg_class)
+        connection().send(frame)
 
 
 def unadvertise(topic: str) -> None:

@@ -31,6 +31,9 @@ class Frame:
     mu: float
 
 
+MAX_REPLAY_BYTES = 512 << 20  # the messages a 3D replay holds (the lab's 10-minute recording: ~250 MiB)
+
+
 def _vec(d: dict) -> np.ndarray:
     return np.array([d["x"], d["y"], d["z"]], float)
 
@@ -67,9 +70,17 @@ class Playback:
         self.times = np.array([f.time for f in self.frames])
 
     def _read(self, tf: dict[int, dict], scenes: dict[int, dict], joints: list[tuple[int, np.ndarray]]) -> None:
-        """Every message of the file into the /tf samples, /scene samples, joint states and topics."""
+        """Every message of the file into the /tf samples, /scene samples, joint states and topics
+        (at most MAX_REPLAY_BYTES of them: a bigger file is refused, `hri-lab bag play` streams it)."""
+        held = 0
         for m in reader.messages(self.path, decode=False):
             raw_data = cast(bytes, m.data)  # decode=False: the raw JSON
+            held += len(raw_data)
+            if held > MAX_REPLAY_BYTES:
+                raise reader.RecordingError(
+                    f"{self.path}: more than {MAX_REPLAY_BYTES >> 20} MiB of messages, over what the 3D replay holds "
+                    "(`hri-lab bag play` streams any size into a lab)"
+                )
             if m.topic == "/tf":
                 data = json.loads(raw_data)
                 tf.setdefault(m.log_time, {})[data["child_frame_id"]] = (

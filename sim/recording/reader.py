@@ -1,20 +1,28 @@
 """Reading recordings back (the `mcap` library): messages, metadata and `bag info`.
 
-A finished file is read through its index and summary; a file cut short (its writer was killed)
-has neither: it is read front to back up to the last complete chunk, and `complete` says so.
+Every file is read front to back, in file order, within the stated memory bound of
+sim/recording/bounded.py (a crafted file is refused with its reason, never decompressed beyond its
+caps); a finished file's summary gives `bag info` without reading the messages. A file cut short
+(its writer was killed) has no summary: it is read up to the last complete chunk, and `complete`
+says so.
 """
 
 from __future__ import annotations
 
 import codecs
 import json
+import struct
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import NamedTuple
 
-from mcap.reader import NonSeekingReader, make_reader
+from mcap.exceptions import McapError
+from mcap.records import Channel, Metadata, Schema
+from mcap.records import Message as McapMessage
+
+from sim.recording import bounded
 
 
 class Message(NamedTuple):
@@ -58,40 +66,61 @@ def check_file(path: Path) -> None:
     )
 
 
-def _summary(path: Path):
+def summary(path: Path):
+    """The file's MCAP summary, None for a file cut short (a hostile one: RecordingError)."""
     try:
         with open(path, "rb") as f:
-            return make_reader(f).get_summary()
-    except Exception as exc:  # noqa: BLE001 - a file cut short has no summary
-        if isinstance(exc, OSError) and not path.exists():
+            return bounded.summary(f)
+    except bounded.HostileRecording as exc:
+        raise RecordingError(f"{path}: {exc}") from None
+    except OSError:
+        if not path.exists():
             raise RecordingError(f"{path}: no such file") from None
-        return None
+        raise
+
+
+def records(path: str | Path, topics: list[str] | None = None) -> Iterator[tuple[Channel, Schema | None, McapMessage]]:
+    """Every message record with its channel and schema, in file order (bounded.py's caps); a
+    file's broken tail is the end of a file cut short, an error in a finished file."""
+    path = Path(path)
+    check_file(path)
+    complete = summary(path) is not None
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, Channel] = {}
+    wanted = set(topics) if topics is not None else None
+    with open(path, "rb") as f:
+        try:
+            for record in bounded.records(f):
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, McapMessage):
+                    channel = channels.get(record.channel_id)
+                    if channel is None:
+                        raise RecordingError(
+                            f"{path}: a message on channel {record.channel_id}, which no record defines"
+                        )
+                    if wanted is None or channel.topic in wanted:
+                        yield channel, schemas.get(channel.schema_id), record
+        except bounded.HostileRecording as exc:
+            raise RecordingError(f"{path}: {exc}") from None
+        except (McapError, EOFError, ValueError, struct.error, UnicodeDecodeError) as exc:
+            if complete:
+                raise RecordingError(f"{path}: broken MCAP ({type(exc).__name__}: {str(exc)[:200]})") from None
 
 
 def messages(path: str | Path, topics: list[str] | None = None, decode: bool = True) -> Iterator[Message]:
-    """Every message in log-time order (file order for a file cut short), decoded from JSON
+    """Every message in file order (the lab writes them in log-time order), decoded from JSON
     (decode=False: the raw bytes)."""
-    path = Path(path)
-    check_file(path)
-    complete = _summary(path) is not None
-    with open(path, "rb") as f:
-        reader = make_reader(f) if complete else NonSeekingReader(f)
-        iterator = (
-            reader.iter_messages(topics=topics, log_time_order=True)
-            if complete
-            else reader.iter_messages(topics=topics, log_time_order=False)
-        )
+    for channel, schema, message in records(path, topics):
         try:
-            for schema, channel, message in iterator:
-                yield Message(
-                    channel.topic,
-                    schema.name if schema else "",
-                    message.log_time,
-                    json.loads(message.data) if decode else bytes(message.data),
-                )
-        except Exception as exc:  # noqa: BLE001 - the tail of a file cut short
-            if complete:
-                raise RecordingError(f"{path}: {exc}") from exc
+            data = json.loads(message.data) if decode else bytes(message.data)
+        except ValueError:
+            raise RecordingError(
+                f"{path}: a message on {channel.topic[:100]} is not JSON (encoding {channel.message_encoding[:20]!r})"
+            ) from None
+        yield Message(channel.topic, schema.name if schema else "", message.log_time, data)
 
 
 def metadata(path: str | Path) -> dict[str, dict]:
@@ -99,14 +128,17 @@ def metadata(path: str | Path) -> dict[str, dict]:
     path = Path(path)
     check_file(path)
     out: dict[str, dict] = {}
-    complete = _summary(path) is not None
+    indexed = summary(path)
     with open(path, "rb") as f:
-        reader = make_reader(f) if complete else NonSeekingReader(f)
         try:
-            for record in reader.iter_metadata():
-                out[record.name] = {k: _json_or_text(v) for k, v in record.metadata.items()}
-        except Exception:  # noqa: BLE001 - a file cut short: what was written so far
-            pass
+            found = bounded.metadata(f, indexed) if indexed is not None else bounded.records(f)
+            for record in found:
+                if isinstance(record, Metadata):
+                    out[record.name] = {k: _json_or_text(v) for k, v in record.metadata.items()}
+        except bounded.HostileRecording as exc:
+            raise RecordingError(f"{path}: {exc}") from None
+        except (McapError, EOFError, ValueError, struct.error, UnicodeDecodeError):
+            pass  # a file cut short: what was written so far
     return out
 
 
@@ -134,6 +166,7 @@ class BagInfo:
     end: int  # ns
     messages: int
     topics: list[TopicInfo] = field(default_factory=list)
+    storage: str = "mcap"  # what `ros2 bag info` calls the storage (rosbag1 for a ROS 1 .bag)
 
     @property
     def duration(self) -> float:
@@ -150,6 +183,7 @@ class BagInfo:
             "end": self.end,
             "messages": self.messages,
             "topics": [vars(t) for t in self.topics],
+            "storage": self.storage,
         }
 
 
@@ -157,17 +191,17 @@ def info(path: str | Path) -> BagInfo:
     """What `ros2 bag info` tells: size, duration, start, end, message count, topics with type and count."""
     path = Path(path)
     check_file(path)
-    summary = _summary(path)
-    if summary is not None and summary.statistics is not None:
-        stats = summary.statistics
+    found = summary(path)
+    if found is not None and found.statistics is not None:
+        stats = found.statistics
         topics = [
             TopicInfo(
                 c.topic,
-                summary.schemas[c.schema_id].name if c.schema_id in summary.schemas else "",
+                found.schemas[c.schema_id].name if c.schema_id in found.schemas else "",
                 stats.channel_message_counts.get(cid, 0),
                 c.message_encoding,
             )
-            for cid, c in sorted(summary.channels.items())
+            for cid, c in sorted(found.channels.items())
         ]
         return BagInfo(
             path,
@@ -200,7 +234,7 @@ def format_info(bag: BagInfo) -> str:
     lines = [
         f"Files:             {bag.path.name}",
         f"Bag size:          {human}",
-        "Storage id:        mcap"
+        f"Storage id:        {bag.storage}"
         + ("" if bag.complete else "  (cut short: no index; read up to the last complete chunk)"),
         f"Duration:          {bag.duration:.3f}s",
         f"Start:             {_when(bag.start)}",

@@ -18,6 +18,8 @@ from app.rosbridge.internal.node_services import normalise_type
 from app.rosbridge.internal.state import NodeTopic
 from app.rosbridge.protocol import BadFrame, field, name_field
 
+MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
+
 
 def advertise_ids(session: Any, topic: str) -> set[Any]:
     """The ids of the advertise ops this client's publisher of `topic` holds."""
@@ -50,6 +52,9 @@ async def advertise(session: Any, message: dict, id_: Any) -> None:
     if topic != bridge.command_topic:
         entry = bridge.node_topics.setdefault(topic, NodeTopic(type_name))
         entry.publishers.add(session)
+        definition = message.get("definition")  # hri-lab's programs carry their type's full text
+        if isinstance(definition, str) and not entry.definition and len(definition) <= MAX_DEFINITION:
+            entry.definition = definition
     session.publishing.add(topic)
     advertise_ids(session, topic).add(id_)
 

@@ -50,7 +50,7 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
         lab_topic = bridge.topics.get(topic)
         stream = session.streams[topic] = Stream(session, topic, paced=lab_topic is None)
         if topic == IMAGE:
-            stream.max_queue = IMAGE_QUEUE
+            stream.max_queue = IMAGE_QUEUE  # the camera's or a played bag's
         stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
         stream.configure()
         stream.tasks.append(asyncio.ensure_future(stream.deliver()))
@@ -61,9 +61,11 @@ async def subscribe(session: Any, message: dict, id_: Any) -> None:
                     lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))
                 )
             )
-        elif topic == F_EXT:  # every step's sample, not only the newest when we look
+        elif topic == F_EXT and lab_topic is not None:  # every step's sample, not only the newest when we look
             stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
-        elif topic == IMAGE:  # the camera process's images, rendered while somebody subscribes
+        elif (
+            topic == IMAGE and lab_topic is not None
+        ):  # the camera process's images, rendered while somebody subscribes
             stream.tasks.append(asyncio.ensure_future(sample_images(session.lab, stream)))
         elif lab_topic is not None:
             stream.tasks.append(

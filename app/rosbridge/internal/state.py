@@ -25,6 +25,7 @@ class NodeTopic:
 
     def __init__(self, type_name: str) -> None:
         self.type = type_name
+        self.definition = ""  # the full text its first publisher carried (hri-lab bag record reads it)
         self.publishers: set[Any] = set()  # sessions
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
 
@@ -44,13 +45,16 @@ def _with_programs_frames(topic: Topic, frames: NodeFrames, static: bool) -> Top
 class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
-    def __init__(self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None) -> None:
+    def __init__(
+        self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None, replay: bool = False
+    ) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
         self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
         lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
         # the lab's topics, sampled from its snapshot, and the one a node's Twists drive its robot
-        # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's
-        self.topics = {t.name: t for t in getattr(lab, "topics", TOPICS)}
+        # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
+        # lab started to replay bags (`serve --replay`): a player publishes them as a node would
+        self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
         self.frames = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
         for name, static in TF_TOPICS.items():
             if name in self.topics:

@@ -24,7 +24,7 @@ class Publisher:
         self.node, self.msg_type, self.qos_profile = node, msg_type, profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
         self.type = type_name(msg_type)
-        process.advertise_once(self.topic_name, self.type)
+        process.advertise_once(self.topic_name, self.type, msg_type)
 
     @property
     def topic(self) -> str:

@@ -78,7 +78,7 @@ class Publisher(Topic):
         self.seq = 0
         self._lock = threading.Lock()
         self._has_header = _has_header(data_class)
-        process.advertise_once(self.name, self.type)
+        process.advertise_once(self.name, self.type, self.data_class)
         if subscriber_listener is not None:
             threading.Thread(
                 target=self._watch_peers, args=(subscriber_listener,), daemon=True, name=f"rospy-peers{self.name}"

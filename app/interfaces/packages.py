@@ -67,7 +67,9 @@ class Interfaces:
         self._cache: dict[tuple[str, str, str], Any] = {}
         self._making: list[tuple[str, str, str]] = []  # the definitions being made now: a type met again is recursive
         self._lock = threading.RLock()
-        self.named: dict[str, Path] = {}  # a workspace's packages by their package.xml names (app/rosclient/packages.py)
+        self.named: dict[
+            str, Path
+        ] = {}  # a workspace's packages by their package.xml names (app/rosclient/packages.py)
 
     def use_ros1(self) -> None:
         """ROS 1's versions of the standard messages first (rospy's import: a Header with `seq`); the

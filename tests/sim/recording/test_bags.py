@@ -84,7 +84,7 @@ def test_rosbags_reads_back_exactly_what_was_written(written):
         for connection, t, raw in bag.messages():
             store.register(bags.get_types_from_msg(connection.msgdef.data, connection.msgtype))
             got.append((connection.topic, t, bags.to_json(store.deserialize_cdr(raw, connection.msgtype))))
-    key = lambda m: (m[1], m[0])  # noqa: E731
+    key = lambda m: (m[1], m[0])  # noqa: E731 - a one-line sort key
     expected = [(topic, t, _filled(topic, msg)) for topic, t, msg in sent]
     assert sorted(got, key=key) == sorted(expected, key=key)
 

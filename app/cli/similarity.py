@@ -4,13 +4,20 @@ sandbox watches, sim/controllers/sandbox/child.py's REFERENCE_MODULES), by copyd
 (MOSS's method: fingerprints of every 25-token stretch, names and literals abstracted), written
 beside the reports as `similarity.csv` (every pair) and `similarity.html` (copydetect's report of
 the pairs at or above the threshold, their shared code highlighted). A pair is flagged when either
-file has at least `threshold` of its tokens in the other."""
+file has at least `threshold` of its tokens in the other.
+
+copydetect fingerprints k-grams with Python's `hash()`, which every process salts differently: the
+comparison runs in a child process with PYTHONHASHSEED=0, so a batch's report is the same wherever
+and whenever it is made (a resumed batch, a Dask cluster's run and the local run agree)."""
 
 from __future__ import annotations
 
 import csv
 import importlib.util
 import io
+import os
+import subprocess
+import sys
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,7 +52,30 @@ def reference_files() -> list[Path]:
 
 def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[Pair]:
     """Every pair of `files` and each against the lab's reference, written to out/similarity.csv and
-    out/similarity.html; the pairs, flagged first, the most similar first."""
+    out/similarity.html; the pairs, flagged first, the most similar first (computed in a child
+    process with a fixed hash seed: see the module's docstring)."""
+    command = [sys.executable, "-m", "app.cli.similarity", str(out), repr(threshold), *map(str, files)]
+    env = dict(os.environ, PYTHONHASHSEED="0")
+    done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
+    if done.returncode != 0:
+        raise RuntimeError(done.stderr.strip().splitlines()[-1] if done.stderr.strip() else "the comparison failed")
+    with (out / "similarity.csv").open(encoding="utf-8", newline="") as table:
+        rows = list(csv.DictReader(table))
+    return [
+        Pair(
+            r["file"],
+            r["other"],
+            float(r["share_of_file"]),
+            float(r["share_of_other"]),
+            r["other_is_reference"] == "True",
+            r["flagged"] == "True",
+        )
+        for r in rows
+    ]
+
+
+def _compare_here(files: list[Path], out: Path, threshold: float) -> list[Pair]:
+    """compare's work, in this process (its hash seed decides the fingerprints)."""
     from copydetect import CopyDetector
 
     references = reference_files()
@@ -55,7 +85,7 @@ def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[
         guarantee_t=GUARANTEE_TOKENS,
         display_t=threshold,
         force_language="python",
-        out_file=str(out / "similarity.html"),
+        out_file="similarity.html",  # shown in the report: the same wherever the batch is written
         autoopen=False,
         silent=True,
     )
@@ -95,9 +125,14 @@ def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[
 
 def _write(path: Path, text: str) -> None:
     """The file's text, written only when it changed (a resumed batch leaves an unchanged report as it was)."""
+    data = text.encode("utf-8")  # as written: csv's rows end in \r\n, which read_text would fold
     try:
-        if path.read_text(encoding="utf-8") == text:
+        if path.read_bytes() == data:
             return
-    except (OSError, UnicodeDecodeError):
+    except OSError:
         pass
-    path.write_text(text, encoding="utf-8")
+    path.write_bytes(data)
+
+
+if __name__ == "__main__":  # compare's child: OUT THRESHOLD FILE...
+    _compare_here([Path(f) for f in sys.argv[3:]], Path(sys.argv[1]), float(sys.argv[2]))

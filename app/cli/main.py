@@ -210,6 +210,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     agr.set_defaults(func=_command("app.cli.autograder"))
 
+    hnd = sub.add_parser(
+        "handout",
+        help="write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, "
+        "the reference) and no bench/",
+    )
+    hnd.add_argument("-o", "--output", default="hri-lab-students.zip", metavar="ZIP", help="default %(default)s")
+    hnd.add_argument("--folder", default="hri-lab", help="the folder in the zip (default %(default)s)")
+    hnd.set_defaults(func=_command("app.cli.handout"))
+
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
     run.add_argument(
         "--url",

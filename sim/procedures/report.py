@@ -156,7 +156,12 @@ class Report:
                 "score": 0.0,
                 "output": f"{self.kind} ({seed_note(self.seed)}): not graded: {self.error}",
                 "tests": [
-                    {"name": f"{self.kind}: not graded", "score": 0.0, "max_score": self.max_points, "output": self.error}
+                    {
+                        "name": f"{self.kind}: not graded",
+                        "score": 0.0,
+                        "max_score": self.max_points,
+                        "output": self.error,
+                    }
                 ],
             }
         return {

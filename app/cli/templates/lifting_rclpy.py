@@ -18,7 +18,6 @@ from hri_lab.msg import FrankaState
 from hri_lab.srv import StartCooperativeLifting, StopCooperativeLifting
 from rclpy.node import Node
 
-
 PARAMS = {}  # @lab-defaults
 
 

@@ -79,7 +79,9 @@ class ChildEnd:
         self._send(
             seq,
             b"e",
-            f"raised {type(exc).__name__}: {exc}\n{self._trace(exc)}"[: wire.MAX_TEXT].encode("utf-8", errors="replace"),
+            f"raised {type(exc).__name__}: {exc}\n{self._trace(exc)}"[: wire.MAX_TEXT].encode(
+                "utf-8", errors="replace"
+            ),
         )
 
     def _trace(self, exc: BaseException) -> str:
@@ -89,7 +91,11 @@ class ChildEnd:
         if not frames:
             return ""
         return "".join(
-            ["Traceback (most recent call last):\n", *traceback.format_list(frames), *traceback.format_exception_only(exc)]
+            [
+                "Traceback (most recent call last):\n",
+                *traceback.format_list(frames),
+                *traceback.format_exception_only(exc),
+            ]
         )
 
     def serve(self, class_name: str) -> int:

@@ -37,7 +37,7 @@ DOCS = ROOT / "docs"
 NOT_RUN = "(not run by the docs test:"
 EXIT_STATUS = re.compile(r"exit status (\d+)")
 SHELL_BLOCKS = ("", "sh", "bash", "shell")
-COMMAND_TIMEOUT = 900.0  # s: a bound for a hung command on a loaded machine (a grade takes ~1 min there)
+COMMAND_TIMEOUT = 1800.0  # s: a bound for a hung command (a whole grade took 15 min at a load average of 28)
 READY_TIMEOUT = 180.0  # s: a background program's first line, a lab's first answer
 
 

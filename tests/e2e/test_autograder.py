@@ -72,8 +72,10 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
         assert z.getinfo("run_autograder").external_attr >> 16 & 0o111
     assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/sim/procedures/grading.py"} <= names
     assert config["seed"] == 5 and config["hide_until_due"] is True
-    assert "bubblewrap" in setup and "pip install" in setup
-    for snippet in re.findall(r'python -c "([^"]+)"', setup):  # what setup.sh runs in the lab's Python
+    assert "bubblewrap" in setup and 'pip" install --quiet --editable' in setup
+    snippets = re.findall(r'python"? -c "([^"]+)"', setup)
+    assert snippets == ["from sim.warm_up import warm_up; warm_up()"]
+    for snippet in snippets:  # what setup.sh runs in the lab's Python
         done = subprocess.run([sys.executable, "-c", snippet], capture_output=True, text=True, timeout=600)
         assert done.returncode == 0, (snippet, done.stderr[-2000:])
 

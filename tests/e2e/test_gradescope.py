@@ -131,19 +131,28 @@ def test_a_rospy_node(autograder):
     assert results["score"] == 130.0 + 1.0
 
 
-def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path, autograder):
+def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path):
     """An image whose python3 is 3.10 and whose apt has no python3.11: setup.sh stops, naming the
     base image to pick (stubs stand in for the image's python3 and apt-get; nothing is installed)."""
     stubs = tmp_path / "bin"
     stubs.mkdir()
     (stubs / "python3").write_text('#!/bin/bash\n[ "$1" = --version ] && echo "Python 3.10.12" && exit 0\nexit 1\n')
-    (stubs / "apt-get").write_text(  # the lists update; the package is not found
-        '#!/bin/bash\necho "apt-get $*" >> "$(dirname "$0")/apt.log"\n[ "$1" = update ] && exit 0\nexit 100\n'
+    (stubs / "apt-get").write_text(  # the lists update; the package is not found (no dirname: bash alone)
+        '#!/bin/bash\necho "apt-get $*" >> "${0%/*}/apt.log"\n[ "$1" = update ] && exit 0\nexit 100\n'
     )
     for stub in stubs.iterdir():
         stub.chmod(0o755)
+    bundle = tmp_path / "autograder.zip"
+    subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(bundle), "--seed", "31", "--services"],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
+    with zipfile.ZipFile(bundle) as z:
+        (tmp_path / "setup.sh").write_bytes(z.read("setup.sh"))
     done = subprocess.run(
-        ["/bin/bash", str(autograder / "setup.sh")],
+        ["/bin/bash", str(tmp_path / "setup.sh")],
         capture_output=True,
         text=True,
         timeout=60,

@@ -65,12 +65,22 @@ def round_trips(page, clicks: int, pause: float = 0.0) -> list[float]:
     return times
 
 
+CONTROL_PANEL_TAB = "[data-dock-tab='viser-control-panel']"  # viser's tab of its docked control panel
+
+
 def embed_view(page):
-    """Click "Show the 3D view here" and wait for the view's controls: the view's frame locator."""
+    """Click "Show the 3D view here" and wait for the view (its control panel, collapsed to its tab
+    at first: app/view/view3d.py): the view's frame locator."""
     page.locator("#view-embed").click()
     view = page.frame_locator("#view")
-    view.get_by_text("Take over the palm").wait_for(state="attached", timeout=180_000)
+    view.locator(CONTROL_PANEL_TAB).wait_for(state="attached", timeout=180_000)
     return view
+
+
+def open_controls(view) -> None:
+    """Open the embedded view's control panel (one click on its tab) and wait for its controls."""
+    view.locator(CONTROL_PANEL_TAB).click()
+    view.get_by_text("Take over the palm").wait_for(state="attached", timeout=180_000)
 
 
 def measure(view_mode: str, clicks: int, browser) -> dict[str, list[float]]:

@@ -358,6 +358,13 @@ function showTrial(t) {
 
 // --- status ---------------------------------------------------------------------------------
 const state = { lifting: null, contact: null, controller: "…", alpha: 0.5 };
+// the person's hold on the box: while they grasp it (before the lift) the grasp holds it, whatever
+// the palm's contact points do; after they let go, the palm holds it by friction alone
+function personContact(l, c) {
+  if (!c.human_contact) return "no";
+  if (l && l.human_phase === "grasping") return "holds it (grasp)";
+  return c.human_slipping ? "palm slipping" : "palm holds";
+}
 function renderStatus() {
   const l = state.lifting, c = state.contact;
   if (l) {
@@ -379,7 +386,7 @@ function renderStatus() {
     const where = !l || !l.started ? "" : c.normal_force < l.f_n_min ? "below the band" : c.normal_force > l.f_n_max ? "above the band" : "in the band";
     fn.textContent = `${c.normal_force.toFixed(1)} N${where ? ` (${where})` : ""}`;
     fn.className = where === "in the band" ? "on" : where ? "warn" : "";
-    byId("st-contact").textContent = `robot ${c.robot_contact ? (c.robot_slipping ? "slipping" : "yes") : "no"}, person ${c.human_contact ? (c.human_slipping ? "slipping" : "yes") : "no"}, |f_t|/(mu f_n) ${c.friction_ratio.toFixed(2)}`;
+    byId("st-contact").textContent = `robot ${c.robot_contact ? (c.robot_slipping ? "slipping" : "yes") : "no"}, person ${personContact(l, c)}, |f_t|/(mu f_n) ${c.friction_ratio.toFixed(2)}`;
   }
   byId("st-controller").textContent = state.controller;
 }
@@ -441,6 +448,10 @@ function makeChart(id, title, series, scales, axes, columns) {
   plots.charts.push({ chart, buffer });
   return buffer;
 }
+// the twist plot's two axes share their zero line (each symmetric about 0): |w| on the right is
+// drawn above it, never read as a negative speed on the left
+const symmetric = (u, min, max) => { const m = Math.max(Math.abs(min ?? 0), Math.abs(max ?? 0), 1e-3); return [-m, m]; };
+const TWIST_SCALES = { y: { range: symmetric }, w: { range: symmetric } };
 function buildPlots() {
   const value = (digits) => (u, v) => (v == null ? "--" : v.toFixed(digits));
   const contact = makeChart("plot-contact", "Contact: f_n with the band, friction ratio with its cone margin", [
@@ -457,7 +468,10 @@ function buildPlots() {
   const twist = makeChart("plot-twist", "Commanded twist (base frame)", [
     { label: "v_x (m/s)", stroke: "#1f77b4", value: value(3) }, { label: "v_y (m/s)", stroke: "#2ca02c", value: value(3) },
     { label: "v_z (m/s)", stroke: "#d62728", value: value(3) }, { label: "|w| (rad/s)", stroke: "#ff7f0e", scale: "w", value: value(3) },
-  ], { w: { auto: true } }, [{}, { label: "v (m/s)" }, { scale: "w", side: 1, label: "|w| (rad/s)", grid: { show: false } }], [0, 1, 2, 3, 4]);
+  ], TWIST_SCALES, [{}, { label: "v (m/s)" }, {
+    scale: "w", side: 1, label: "|w| (rad/s), right axis", stroke: "#ff7f0e", grid: { show: false },
+    values: (u, splits) => splits.map((v) => (v < 0 ? "" : v.toFixed(2))),  // |w| is never negative: no ticks below 0
+  }], [0, 1, 2, 3, 4]);
   const latest = { lifting: null, wrench: null, twist: null };
   stream("/lifting_state", 10, (m) => { latest.lifting = m; state.lifting = m; renderStatus(); });
   stream("/franka_state_controller/F_ext", RATE_HZ, (m) => { latest.wrench = m; });

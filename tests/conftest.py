@@ -58,7 +58,10 @@ TESTS = Path(__file__).resolve().parent
 # the run never ends with one worker still on a long file while the others have nothing left
 # (longest processing time first). Paths from tests/.
 LONG_FILES_FIRST = (
+    "e2e/test_gradescope.py",
     "e2e/browser/test_page.py",
+    "e2e/test_docs_student_pages.py",
+    "e2e/test_docs_instructor_pages.py",
     "e2e/test_ros_programs.py",
     "e2e/test_rclpy_programs.py",
     "e2e/test_tf_programs.py",

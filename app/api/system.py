@@ -19,6 +19,12 @@ def dashboard() -> FileResponse:
     return FileResponse(STATIC / "index.html")
 
 
+@router.get("/favicon.ico", include_in_schema=False)
+def favicon() -> FileResponse:
+    """The lab's icon where browsers ask for it first (the page names it too: static/favicon.svg)."""
+    return FileResponse(STATIC / "favicon.svg", media_type="image/svg+xml")
+
+
 @router.get("/health", summary="Is the simulation loop running, and how well")
 def health(lab: LabDep) -> dict:
     health = lab.runtime.health()

@@ -29,11 +29,12 @@ import time
 import zipfile
 from pathlib import Path
 
-import sim
 from sim.controllers.plugin import DEFAULT_CLASS, PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
 from sim.procedures.grading import battery, load_check, new_report, reference_items, run_items
-from sim.procedures.report import Report
+from sim.procedures.report import PUBLIC_SEED, Report, seed_note
+
+from app.cli.handout import lab_files
 
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
 SOURCE = "hri-lab"  # the lab's source in the bundle (pip installs it)
@@ -42,16 +43,40 @@ SERVICES_NAME = "services_node.py"  # the name `hri-lab template services` sugge
 NODE_READY_TIMEOUT = 60.0  # s the student's node has to say "node ready" (both templates print it)
 NODE_SETTLE_S = 5.0  # s more, after it, for the lab to have every exercise service the node advertised
 
+PYTHON_NEEDED = (3, 11)  # pyproject.toml's requires-python
+BASE_IMAGE = "Ubuntu 24.04"  # Gradescope's base image to pick: its python3 is 3.12 (22.04's, the default, is 3.10)
+
 SETUP_SH = """#!/usr/bin/env bash
-# Gradescope runs this once, as root, in its Ubuntu image: bubblewrap (the sandbox) and this lab,
-# hri-lab {version} with its pinned dependencies, in a virtual environment of its own.
+# Gradescope runs this once, as root, when it builds the image. Pick the {base_image} base image
+# (python3 3.12); on Ubuntu 22.04 (python3 3.10) Ubuntu's python3.11 is installed. hri-lab {version}
+# needs Python >= {needed}: this script finds or installs one, checks it, and stops with a message
+# when there is none. Then bubblewrap (the sandbox) and this lab with its pinned dependencies{nodes}
+# in a virtual environment of its own, and its compiled kernels.
 set -euo pipefail
-apt-get update -qq
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv python3-pip bubblewrap >/dev/null
-python3 -m venv /autograder/hri-lab
-/autograder/hri-lab/bin/pip install --quiet /autograder/source/{source}
+ROOT="${{HRI_LAB_GRADESCOPE_ROOT:-/autograder}}"
+version_ok() {{ "$1" -c 'import sys; sys.exit(sys.version_info < ({needed_tuple}))' 2>/dev/null; }}
+venv_ok() {{ "$1" -c 'import ensurepip, venv' 2>/dev/null; }}
+apt_install() {{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null; }}
+PYTHON=""
+for candidate in python3 python3.13 python3.12 python3.11; do
+  if command -v "$candidate" >/dev/null && version_ok "$candidate"; then PYTHON="$(command -v "$candidate")"; break; fi
+done
+if [ -z "$PYTHON" ]; then
+  apt_install python3.11 python3.11-venv || true
+  if command -v python3.11 >/dev/null && version_ok python3.11; then PYTHON="$(command -v python3.11)"; fi
+fi
+if [ -z "$PYTHON" ]; then
+  echo "setup.sh: hri-lab needs Python >= {needed}; this image has $(python3 --version 2>&1) and no python3.11 package:" \
+    "pick Gradescope's {base_image} base image" >&2
+  exit 1
+fi
+venv_ok "$PYTHON" || apt_install "$(basename "$PYTHON")-venv"
+command -v bwrap >/dev/null || apt_install bubblewrap
+echo "setup.sh: $("$PYTHON" --version) at $PYTHON"
+"$PYTHON" -m venv "$ROOT/hri-lab"
+"$ROOT/hri-lab/bin/pip" install --quiet --editable "$ROOT/source/{source}{extras}"
 # the simulation's compiled kernels, cached now rather than by every submission's grade
-/autograder/hri-lab/bin/python -c "from sim.warm_up import warm_up; warm_up()"
+"$ROOT/hri-lab/bin/python" -c "from sim.warm_up import warm_up; warm_up()"
 """
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
@@ -65,17 +90,6 @@ exec "$PYTHON" -m app.cli.autograder "$ROOT/source/{config}"
 """
 
 
-def _lab_files() -> list[tuple[Path, str]]:
-    """(file, name in the bundle) of the lab's source: the sim and app packages, pyproject.toml, README.md."""
-    top = Path(sim.__file__).resolve().parent.parent
-    found = [(top / "pyproject.toml", "pyproject.toml"), (top / "README.md", "README.md")]
-    for package in ("sim", "app"):
-        for path in sorted((top / package).rglob("*")):
-            if path.is_file() and "__pycache__" not in path.parts and path.suffix not in (".nbi", ".nbc", ".pyc"):
-                found.append((path, path.relative_to(top).as_posix()))
-    return found
-
-
 def version() -> str:
     from importlib.metadata import version as installed
 
@@ -84,7 +98,15 @@ def version() -> str:
 
 def build(args: argparse.Namespace) -> int:
     """Write the bundle; 2 when the lab's source is not where its packages are (a wheel install)."""
-    files = _lab_files()
+    if args.seed == PUBLIC_SEED and not args.public_seed:
+        print(
+            f"hri-lab autograder: seed {PUBLIC_SEED} is the public default: every student can run this grade at "
+            "home and learn its numbers. Give the course's private --seed N (or $HRI_LAB_GRADE_SEED), or "
+            "--public-seed for a trial run",
+            file=sys.stderr,
+        )
+        return 2
+    files = lab_files()
     if not files[0][0].is_file():
         print("hri-lab autograder: the lab's source (pyproject.toml) is not beside its packages", file=sys.stderr)
         return 2
@@ -97,7 +119,18 @@ def build(args: argparse.Namespace) -> int:
     }
     with zipfile.ZipFile(args.output, "w", zipfile.ZIP_DEFLATED) as bundle:
         for name, text in (
-            ("setup.sh", SETUP_SH.format(version=config["version"], source=SOURCE)),
+            (
+                "setup.sh",
+                SETUP_SH.format(
+                    version=config["version"],
+                    source=SOURCE,
+                    base_image=BASE_IMAGE,
+                    needed=".".join(map(str, PYTHON_NEEDED)),
+                    needed_tuple=", ".join(map(str, PYTHON_NEEDED)),
+                    nodes=" (and roslibpy, for students' roslibpy nodes)" if args.services else "",
+                    extras="[nodes]" if args.services else "",
+                ),
+            ),
             ("run_autograder", RUN_AUTOGRADER.format(config=CONFIG)),
         ):
             info = zipfile.ZipInfo(name)
@@ -107,7 +140,7 @@ def build(args: argparse.Namespace) -> int:
         bundle.writestr(CONFIG, json.dumps(config, indent=2) + "\n")
         for path, name in files:
             bundle.write(path, f"{SOURCE}/{name}")
-    print(f"{args.output}: setup.sh, run_autograder, hri-lab {config['version']}, seed {args.seed}")
+    print(f"{args.output}: setup.sh, run_autograder, hri-lab {config['version']}, {seed_note(args.seed)}")
     return 0
 
 
@@ -192,7 +225,7 @@ def services_report(folder: Path, seed: int) -> Report:
 
     found = sorted(folder.rglob(SERVICES_NAME))
     if not found:
-        report = Report("services", "services", seed)
+        report = Report("services", "services", seed, full_points=sum(e.points for e in EXERCISES))
         report.error = f"no {SERVICES_NAME} in the submission (start from `hri-lab template services`)"
         return report
     node_file = found[0]

@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     reports: list[Report] = []
     to_load, kept = [], []  # kept: the reports up to date in --out
     for spec in specs:
-        report = new_report(spec, args.seed)
+        report = new_report(spec, args.seed, sections)
         report.sha256 = file_sha256(spec)
         if not args.force and (old := up_to_date(report, out, sections)) is not None:
             reports.append(old)

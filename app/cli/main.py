@@ -9,15 +9,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import multiprocessing
 import os
 import re
 import signal
 import sys
-from pathlib import Path
 
 from sim.person.participants import PARTICIPANTS
+from sim.procedures.report import PUBLIC_SEED
 
 from app.cli import bag
 from app.cli import client as client_cli
@@ -246,8 +245,15 @@ def build_parser() -> argparse.ArgumentParser:
     agr.add_argument(
         "--seed",
         type=int,
-        default=os.environ.get("HRI_LAB_GRADE_SEED", "0"),
-        help="seed of the probe values and trials (default $HRI_LAB_GRADE_SEED or 0: a course's private seed)",
+        default=os.environ.get("HRI_LAB_GRADE_SEED", str(PUBLIC_SEED)),
+        help="the course's private seed of the probe values and trials (default $HRI_LAB_GRADE_SEED; "
+        f"the public default {PUBLIC_SEED}, which every student can grade with at home, is refused "
+        "without --public-seed)",
+    )
+    agr.add_argument(
+        "--public-seed",
+        action="store_true",
+        help=f"accept the public default seed {PUBLIC_SEED} (a trial run, not a course's grades)",
     )
     agr.add_argument(
         "--services",
@@ -261,6 +267,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _reference_option(agr)
     agr.set_defaults(func=_command("app.cli.autograder"))
+
+    hnd = sub.add_parser(
+        "handout",
+        help="write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, "
+        "the reference) and no bench/",
+    )
+    hnd.add_argument("-o", "--output", default="hri-lab-students.zip", metavar="ZIP", help="default %(default)s")
+    hnd.add_argument("--folder", default="hri-lab", help="the folder in the zip (default %(default)s)")
+    hnd.set_defaults(func=_command("app.cli.handout"))
 
     run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
     run.add_argument(
@@ -328,28 +343,17 @@ def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
     parser.add_argument(
         "--seed",
         type=int,
-        default=os.environ.get("HRI_LAB_GRADE_SEED", "0"),
+        default=os.environ.get("HRI_LAB_GRADE_SEED", str(PUBLIC_SEED)),
         help=f"seed of the {drawn} "
-        "(default $HRI_LAB_GRADE_SEED or 0; a course's private seed gives numbers students never saw)",
+        f"(default $HRI_LAB_GRADE_SEED or {PUBLIC_SEED}, the public one; a course's private seed gives numbers "
+        "students never saw)",
     )
 
 
 def _template(args: argparse.Namespace) -> int:
-    if args.kind == "controller":
-        spec = importlib.util.find_spec("sim.controllers.template")
-        assert spec is not None and spec.origin is not None  # a module of this package
-        path = Path(spec.origin)
-    else:
-        names = {
-            ("services", "roslibpy"): "services_node.py",
-            ("node", "roslibpy"): "lifting_node.py",
-            ("services", "rospy"): "services_rospy.py",
-            ("node", "rospy"): "lifting_rospy.py",
-            ("services", "rclpy"): "services_rclpy.py",
-            ("node", "rclpy"): "lifting_rclpy.py",
-        }
-        path = Path(__file__).parent / "templates" / names[args.kind, args.api]
-    print(path.read_text(encoding="utf-8"), end="")
+    from app.cli.templates import render
+
+    print(render(args.kind, args.api), end="")
     return 0
 
 

@@ -75,7 +75,10 @@ def serve(
         lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay
     )
     server = AnnouncingServer(server_config(app, host, port))
-    server.run()
+    try:
+        server.run()
+    except KeyboardInterrupt:  # Ctrl+C: the server shut down first (uvicorn, or asyncio's runner, re-raises it)
+        pass  # the lab stops as asked: no traceback in the terminal
     return 0 if server.started else 1
 
 

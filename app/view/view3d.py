@@ -263,6 +263,7 @@ class LabView(SceneView):
         self.controls = controls  # off when the API needs a token: the view then only shows
         self._build_scene()
         self._build_gui()
+        self.server.gui.main_panel.minimize()  # the page embeds this view: the scene first, the controls one click away
         self.status_message = ""  # the answer to the last control used here
         self.frame_times: deque[float] = deque(maxlen=1000)
         self._path: deque[np.ndarray] = deque(maxlen=300)

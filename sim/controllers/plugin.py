@@ -74,6 +74,9 @@ class PluginFactory:
     sandboxed: bool = True
     eager: bool = True  # load now (False: at the first call, in the process that steps it)
     carried: SandboxedController | None = None  # the file read where the factory was made (carrying())
+    # a file without start()/stop(): the lab's handlers stand in (the live lab), or none (a grade: the
+    # handlers are part of the exercise, and a missing one scores as one that does nothing)
+    stand_in: bool = True
 
     def carrying(self) -> PluginFactory:
         """This factory with the file's text read now and carried along: it makes the same
@@ -90,6 +93,7 @@ class PluginFactory:
         else:
             check_file(path)
             controller = SandboxedController(path, name, self.budget, self.sandboxed)
+        controller.stand_in = self.stand_in
         if self.eager:
             try:
                 controller.load()

@@ -34,8 +34,8 @@ from functools import partial
 
 import numpy as np
 
-from sim.controllers.interface import Controller, ControllerFault, LiftingParams, start_lifting, stop_lifting
-from sim.controllers.plugin import PluginError
+from sim.controllers.interface import Controller, ControllerFault, LiftingParams
+from sim.controllers.plugin import PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
 from sim.monitor import TrialRules
 from sim.person.participants import PARTICIPANTS, Participant
@@ -62,8 +62,23 @@ COUNTED_PARTICIPANTS = ("calm", "average", "hasty")
 PROBE_POINTS, TRIAL_POINTS, ROBUSTNESS_POINTS = 5.0, 5.0, 10.0
 
 
-def new_report(subject: str, seed: int) -> Report:
-    return Report(subject, "controller", seed, marks={"": PASS_MARK, "probe": PROBE_PASS_MARK})
+def new_report(
+    subject: str, seed: int, sections: tuple[str, ...] = ("probe", "trial", "robustness"), trials: int = 9
+) -> Report:
+    """An empty report of the battery's sections: a file that cannot be graded is 0 of their points."""
+    report = Report(subject, "controller", seed, marks={"": PASS_MARK, "probe": PROBE_PASS_MARK})
+    report.full_points = battery_points(sections, trials)
+    return report
+
+
+def battery_points(sections: tuple[str, ...] = ("probe", "trial", "robustness"), trials: int = 9) -> float:
+    """What the battery's sections are worth (130 for the whole battery)."""
+    counted = sum(person.name in COUNTED_PARTICIPANTS for _, person, _, _ in plan(trials, seed=0))
+    return (
+        ("probe" in sections) * len(PROBES) * PROBE_POINTS
+        + ("trial" in sections) * counted * TRIAL_POINTS
+        + ("robustness" in sections) * len(ROBUSTNESS) * ROBUSTNESS_POINTS
+    )
 
 
 # --- 1. probes ----------------------------------------------------------------------------------
@@ -153,9 +168,8 @@ class ProbeStream:
             self.controller.reset()
             self.params = LiftingParams()
             start = getattr(self.controller, "start", None)  # the world's start_lifting: the controller's handler
-            start(self.params, TrialRules().force) if callable(start) else start_lifting(
-                self.params, TrialRules().force
-            )
+            if callable(start):  # none: not started, as a file's start() that does nothing (graded())
+                start(self.params, TrialRules().force)
         return self.controller
 
     def close(self) -> None:
@@ -179,19 +193,27 @@ def _split(twist: np.ndarray, rotation: np.ndarray) -> tuple[float, np.ndarray]:
     return v_n, twist[:3] - v_n * normal
 
 
+def _defines(controller: Controller, name: str) -> bool:
+    """Whether the controller has its own handler `name` (a sandboxed file's: has_start/has_stop,
+    as its child found them; the lab's handler stands in for a missing one in the live lab)."""
+    return callable(getattr(controller, name, None)) and bool(getattr(controller, f"has_{name}", True))
+
+
 def _probe_start_stop(stream: ProbeStream, draw: Draw) -> str:
     """The handlers alone, on a LiftingParams of their own (no stepping)."""
     controller, params = stream.started(), LiftingParams()
     force = round(draw.force, 1)
-    start, stop = getattr(controller, "start", None), getattr(controller, "stop", None)
+    missing = [f"{name}()" for name in ("start", "stop") if not _defines(controller, name)]
+    if missing:  # no more than a start()/stop() left as the template's TODO scores
+        return f"no {' and no '.join(missing)}: the start/stop services' handlers are part of the exercise"
     top = force + params.f_n_band  # the lab's band, read before the handler may change it
-    start(params, force) if callable(start) else start_lifting(params, force)
+    controller.start(params, force)
     if not (np.isclose(params.f_n_min, force) and np.isclose(params.f_n_max, top) and params.running):
         return (
             f"after start({force:g}): f_n_min={params.f_n_min:g}, f_n_max={params.f_n_max:g}, running={params.running}; "
             f"expected {force:g}, {top:g}, True"
         )
-    stop(params) if callable(stop) else stop_lifting(params)
+    controller.stop(params)
     if (params.f_n_min, params.running) != (0.0, False):
         return f"after stop(): f_n_min={params.f_n_min:g}, running={params.running}; expected 0, False"
     return ""
@@ -331,10 +353,16 @@ PROBES = [
 STREAM_ORDER = (2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 3, 1, 0)
 
 
+def graded(factory: Callable[[], Controller]) -> Callable[[], Controller]:
+    """The factory a grade uses: a student's file without start()/stop() gets no stand-in handlers
+    (the live lab's), so it scores as one whose handlers do nothing: no more than the template's TODOs."""
+    return replace(factory, stand_in=False) if isinstance(factory, PluginFactory) else factory
+
+
 def probe_items(factory: Callable[[], Controller], seed: int = 0) -> list[Item]:
     """The probes' items (in PROBES order) from one stream; a fault costs the phase it broke."""
     reasons: dict[int, str] = {}
-    stream = ProbeStream(factory, seed)
+    stream = ProbeStream(graded(factory), seed)
     try:
         for index in STREAM_ORDER:
             try:
@@ -555,6 +583,7 @@ def battery(
     ones); outputs: a TrialOutputs (sim/recording/trial.py) to record and plot every trial;
     key: every job's (a batch's: the report it belongs to)."""
     jobs: list[Items] = []
+    factory = graded(factory)
     if "probe" in sections:
         jobs.append(probes_job(factory, seed, key))
     if "trial" in sections:

@@ -2,7 +2,10 @@
 
 A report is a list of items (points out of max points, and why points were lost) and its pass
 rules: the score over all items, and optionally over one section, must reach a mark (%).
-An item worth 0 points is reported but not counted ("not counted").
+An item worth 0 points is reported but not counted ("not counted"). A report that graded nothing
+(a file that cannot be loaded) is 0 of its full points in every format. Every format says the seed
+and whether it is the public default (PUBLIC_SEED, what every student can run at home).
+A fault (a traceback) that cost several items is written once, with the items it cost.
 """
 
 from __future__ import annotations
@@ -11,6 +14,16 @@ import csv
 import io
 import json
 from dataclasses import asdict, dataclass, field
+
+PUBLIC_SEED = 0  # the grade's seed when none is given: every student can run this same grade at home
+TRACE = "\nTraceback (most recent call last):"  # where an item's detail carries a fault's traceback
+
+
+def seed_note(seed: int) -> str:
+    """What a report says of its seed."""
+    if seed == PUBLIC_SEED:
+        return f"seed {seed}, the public default: students can run this same grade at home"
+    return f"seed {seed}, a private seed"
 
 
 @dataclass
@@ -37,6 +50,7 @@ class Report:
     marks: dict[str, float] = field(default_factory=lambda: {"": 60.0})  # section ("" = all) -> pass mark %
     error: str = ""  # why nothing could be graded (a file that cannot be loaded)
     sha256: str = ""  # of the graded file's bytes: with the seed, says whether a written report is still up to date
+    full_points: float = 0.0  # what a grade is out of when it graded nothing (else: the items' total)
 
     def points_of(self, section: str = "") -> tuple[float, float]:
         items = [i for i in self.items if not section or i.section == section]
@@ -52,7 +66,15 @@ class Report:
 
     @property
     def max_points(self) -> float:
-        return self.points_of()[1]
+        return self.points_of()[1] if self.items else self.full_points
+
+    def faults(self) -> list[tuple[str, list[str]]]:
+        """Each traceback in the items' details, once, with the names of the items it cost."""
+        found: dict[str, list[str]] = {}
+        for i in self.items:
+            if TRACE in i.detail:
+                found.setdefault(i.detail[i.detail.index(TRACE) + 1 :], []).append(f"{i.section}: {i.name}")
+        return list(found.items())
 
     @property
     def score(self) -> float:
@@ -73,6 +95,7 @@ class Report:
             "subject": self.subject,
             "kind": self.kind,
             "seed": self.seed,
+            "public_seed": self.seed == PUBLIC_SEED,
             "points": self.points,
             "max_points": self.max_points,
             "score": round(self.score, 1),
@@ -81,6 +104,8 @@ class Report:
             "passed": self.passed,
             "error": self.error,
             "sha256": self.sha256,
+            "full_points": self.full_points,
+            "faults": [{"traceback": trace, "items": names} for trace, names in self.faults()],
             "items": [asdict(i) | {"mark": i.mark} for i in self.items],
         }
 
@@ -98,44 +123,68 @@ class Report:
             marks={("" if s == "all" else s): float(m) for s, m in data["pass_marks"].items()},
             error=str(data.get("error", "")),
             sha256=str(data.get("sha256", "")),
+            full_points=float(data.get("full_points", 0.0)),
         )
 
     def json(self) -> str:
         return json.dumps(self.as_dict(), indent=2)
 
     def text(self) -> str:
-        lines = [f"hri-lab grade ({self.kind}): {self.subject}, seed {self.seed}"]
+        lines = [f"hri-lab grade ({self.kind}): {self.subject}, {seed_note(self.seed)}"]
         if self.error:
-            return "\n".join(lines + [f"NOT GRADED: {self.error}", "score: 0: FAIL"])
+            return "\n".join(lines + [f"NOT GRADED: {self.error}", f"score: 0/{self.max_points:g}: FAIL"])
         lines.append(" points  item")
         for i in self.items:
             lines.append(
                 f" {i.points:>4g}/{i.max_points:<3g} {i.section}: {i.name} — {i.mark}"
-                + (f": {i.detail}" if i.detail else "")
+                + (f": {_short_detail(i.detail)}" if i.detail else "")
             )
         lines.append(self.verdict())
-        return "\n".join(lines)
+        return "\n".join(lines + self._fault_lines())
+
+    def _fault_lines(self) -> list[str]:
+        lines = []
+        for trace, names in self.faults():
+            lines += ["", f"A fault cost {len(names)} item(s): {', '.join(names)}", trace.rstrip()]
+        return lines
 
     def gradescope(self) -> dict:
-        """Gradescope's results.json: the total and one test per item."""
+        """Gradescope's results.json: the total and one test per item (a report that graded
+        nothing: one test, 0 of the full points, saying why)."""
         if self.error:
-            return {"score": 0.0, "output": f"not graded: {self.error}", "tests": []}
+            return {
+                "score": 0.0,
+                "output": f"{self.kind} ({seed_note(self.seed)}): not graded: {self.error}",
+                "tests": [
+                    {
+                        "name": f"{self.kind}: not graded",
+                        "score": 0.0,
+                        "max_score": self.max_points,
+                        "output": self.error,
+                    }
+                ],
+            }
         return {
             "score": self.points,
-            "output": self.verdict(),
+            "output": "\n".join([f"{self.kind} ({seed_note(self.seed)}): {self.verdict()}", *self._fault_lines()]),
             "tests": [
                 {
                     "name": f"{i.section}: {i.name}",
                     "score": i.points,
                     "max_score": i.max_points,
-                    "output": i.mark + (f": {i.detail}" if i.detail else ""),
+                    "output": i.mark + (f": {_short_detail(i.detail)}" if i.detail else ""),
                 }
                 for i in self.items
             ],
         }
 
 
-SUMMARY_FIELDS = ("subject", "points", "max_points", "score", "passed", "error")
+def _short_detail(detail: str) -> str:
+    """An item's detail without its traceback (written once, below the items: Report.faults)."""
+    return detail[: detail.index(TRACE)] + " (traceback below)" if TRACE in detail else detail
+
+
+SUMMARY_FIELDS = ("subject", "points", "max_points", "score", "passed", "error", "seed", "public_seed")
 
 
 def summary_csv(reports: list[Report]) -> str:
@@ -152,6 +201,8 @@ def summary_csv(reports: list[Report]) -> str:
                 f"{r.score:.1f}",
                 "yes" if r.passed else "no",
                 r.error.splitlines()[0] if r.error else "",
+                r.seed,
+                "yes" if r.seed == PUBLIC_SEED else "no",
             ]
         )
     return out.getvalue()

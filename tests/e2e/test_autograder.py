@@ -76,10 +76,26 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
         assert z.getinfo("run_autograder").external_attr >> 16 & 0o111
     assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/sim/procedures/grading.py"} <= names
     assert config["seed"] == 5 and config["hide_until_due"] is True
-    assert "bubblewrap" in setup and "pip install" in setup
-    for snippet in re.findall(r'python -c "([^"]+)"', setup):  # what setup.sh runs in the lab's Python
+    assert "bubblewrap" in setup and 'pip" install --quiet --editable' in setup
+    snippets = re.findall(r'python"? -c "([^"]+)"', setup)
+    assert snippets == ["from sim.warm_up import warm_up; warm_up()"]
+    for snippet in snippets:  # what setup.sh runs in the lab's Python
         done = subprocess.run([sys.executable, "-c", snippet], capture_output=True, text=True, timeout=600)
         assert done.returncode == 0, (snippet, done.stderr[-2000:])
+
+
+def test_the_public_default_seed_is_refused_unless_asked_for(tmp_path):
+    """Seed 0 is what every student grades with at home: a bundle with it would grade with numbers
+    the students know. Refused (exit 2, saying why) unless --public-seed."""
+    env = {k: v for k, v in os.environ.items() if k != "HRI_LAB_GRADE_SEED"}
+    argv = [sys.executable, "-m", "app.cli", "autograder", "-o", str(tmp_path / "a.zip")]
+    refused = subprocess.run(argv, capture_output=True, text=True, timeout=120, env=env)
+    assert refused.returncode == 2 and "public default" in refused.stderr and "--public-seed" in refused.stderr
+    assert not (tmp_path / "a.zip").exists()
+    done = subprocess.run([*argv, "--public-seed"], capture_output=True, text=True, timeout=120, env=env)
+    assert done.returncode == 0 and "seed 0, the public default" in done.stdout, done.stderr
+    private = subprocess.run(argv, capture_output=True, text=True, timeout=120, env={**env, "HRI_LAB_GRADE_SEED": "77"})
+    assert private.returncode == 0 and "seed 77, a private seed" in private.stdout, private.stderr
 
 
 def test_a_passing_submission(tmp_path, bundle):
@@ -106,16 +122,19 @@ def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):
     # no bwrap on the PATH: as in a container where it cannot create namespaces
     results = gradescope(tmp_path, bundle, "class CooperativeLifting(:\n", {"PATH": "/nonexistent"})
     valid(results)
-    assert results["score"] == 0.0 and results["tests"] == []
+    # not graded: one test, 0 of the full 130 points (a gradebook reads 0/130, not 0/0)
+    assert results["score"] == 0.0 and [(t["score"], t["max_score"]) for t in results["tests"]] == [(0.0, 130.0)]
     assert "bubblewrap cannot run in this container" in results["output"]
-    assert "SyntaxError" in results["output"]
+    assert "SyntaxError" in results["output"] and "seed 5, a private seed" in results["output"]
 
 
 def test_the_services_exercises_with_services(tmp_path):
     """--services: the submission's services node against a lab started in the container."""
     out = tmp_path / "services.zip"
     subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services"], check=True, timeout=120
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services", "--seed", "5"],
+        check=True,
+        timeout=120,
     )
     node = (Path(__file__).resolve().parents[1] / "nodes" / "services_solution.py").read_text()
     root = tmp_path / "gs"
@@ -133,7 +152,9 @@ def test_a_node_that_says_ready_before_the_lab_has_its_services_gets_them_graded
     lab has them, not counted as missing."""
     out = tmp_path / "services.zip"
     subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services"], check=True, timeout=120
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services", "--public-seed"],
+        check=True,
+        timeout=120,
     )
     node = (Path(__file__).resolve().parents[1] / "nodes" / "services_solution.py").read_text()
     early = 'import time\nprint("node ready (too early)", flush=True)\ntime.sleep(1.0)\n' + node

@@ -4,12 +4,14 @@ import os
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 
 import pytest
 
 from app.cli.launch import running_server
 from tests.http_client import http
+from tests.waiting import wait_for
 
 
 @pytest.fixture(scope="module")
@@ -165,3 +167,38 @@ def test_action_cli(server):
     assert out.stdout.rstrip().endswith("Goal finished with status: SUCCEEDED")
     bad = cli(url, "action", "send_goal", "/count", "{count: -3}")
     assert bad.returncode == 1 and "count" in bad.stderr
+
+
+def test_ctrl_c_stops_the_lab_without_a_traceback():
+    """Ctrl+C in `hri-lab serve`'s terminal (SIGINT to its process group): the lab stops, exit 0,
+    and the terminal shows no traceback (uvicorn re-raises the signal once it has shut down)."""
+    import signal
+
+    from app.cli.launch import free_port
+
+    port = free_port()
+    serve = subprocess.Popen(
+        [sys.executable, "-m", "app.cli", "serve", "--view", "none", "--port", str(port), "--output-dir", "."],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+        cwd=tempfile.mkdtemp(),
+    )
+    try:
+        wait_for(lambda: _answers(f"http://127.0.0.1:{port}/health"), timeout=180)
+        os.killpg(serve.pid, signal.SIGINT)
+        output, _ = serve.communicate(timeout=60)
+    finally:
+        if serve.poll() is None:
+            serve.kill()
+            serve.wait()
+    assert serve.returncode == 0, output
+    assert "Traceback" not in output and "KeyboardInterrupt" not in output, output
+
+
+def _answers(url: str) -> bool:
+    try:
+        return http.get(url, timeout=5).status_code == 200
+    except Exception:  # noqa: BLE001 - not listening yet
+        return False

@@ -84,3 +84,46 @@ def test_a_lab_that_cannot_be_reached_is_said_so():
         timeout=60,
     )
     assert result.returncode == 2 and "cannot reach the lab at http://127.0.0.1:9" in result.stderr
+
+
+STOP = "/stop_cooperative_lifting: f_n_min = 0, stopped (Exercises 11-14)"
+STOP_NODE = """import sys
+
+from app.cli.templates import services_node as node
+
+MESSAGE = sys.argv.pop()  # the last argument: the stop message
+
+
+def stop(request, response):
+    response["message"] = MESSAGE
+    return True
+
+
+node.main({"/stop_cooperative_lifting": ("hri_lab/StopCooperativeLifting", stop)})
+"""
+
+
+@pytest.mark.parametrize(
+    ("message", "passes"),
+    [
+        ("Cooperative Lifting was stopped! The force limit was set back to 12.5 N", True),  # the handout's own
+        ("Cooperative Lifting stopped.", True),
+        ("Stop.", True),
+        ("Cooperative Lifting ended.", False),
+        ("TODO", False),
+    ],
+)
+def test_stop_is_judged_by_the_labs_state_and_the_messages_sense(lab, tmp_path, message, passes):
+    """The lab applies a node's stop (not started, f_n_min 0); the message must say it stopped and
+    need state no number (the handout's own stop states the force limit it set back)."""
+    script = tmp_path / "stop_node.py"
+    script.write_text(STOP_NODE)
+    node = start_node(lab, str(script), message)
+    try:
+        report = grade_services(lab.url, seed=5)
+    finally:
+        stop_node(node)
+    item = next(i for i in report.items if i.name == STOP)
+    assert (item.points == item.max_points) is passes, item.detail
+    if not passes:
+        assert item.detail == f"message {message!r} does not say that lifting stopped"

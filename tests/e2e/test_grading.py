@@ -11,7 +11,8 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, new_report, probe_items
+from sim.procedures.experiment import plan
+from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, graded, new_report, probe_items, trial_items
 from sim.procedures.report import Item, summary_csv
 from sim.procedures.trial import Trial
 
@@ -177,10 +178,84 @@ def test_not_counted_items_and_the_summary():
     broken = new_report("b.py", 0)
     broken.error = "importing b.py failed: SyntaxError"
     assert summary_csv([report, broken]).splitlines() == [
-        "subject,points,max_points,score,passed,error",
-        "a.py,5,5,100.0,yes,",
-        "b.py,0,0,0.0,no,importing b.py failed: SyntaxError",
+        "subject,points,max_points,score,passed,error,seed,public_seed",
+        "a.py,5,5,100.0,yes,,0,yes",
+        "b.py,0,130,0.0,no,importing b.py failed: SyntaxError,0,yes",  # 0 of the full points, not 0/0
     ]
+
+
+NO_HANDLERS = """
+from sim.controllers.sp import SPController
+
+
+class CooperativeLifting:  # the SP law, and no start()/stop() of its own
+    def __init__(self):
+        self.sp = SPController()
+
+    def reset(self):
+        self.sp.reset()
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        return self.sp.step(wrench_ee, transform_ee_to_base, params, dt)
+"""
+
+
+def test_a_file_without_start_and_stop_scores_no_more_than_the_templates_todo_ones(tmp_path):
+    """The lab's own handlers stand in for missing ones in the live lab (the robot lifts there), but
+    a grade asks for the student's: a file without them is graded as one whose start()/stop() do
+    nothing, as the template's TODO ones (the same items lost, a trial never started)."""
+    path = tmp_path / "no_handlers.py"
+    path.write_text(NO_HANDLERS)
+    lost = failed(PluginFactory(str(path)))
+    assert "no start() and no stop()" in lost["start and stop set the band [force, force + 5] and running"]
+    todo = tmp_path / "todo.py"
+    todo.write_text(
+        NO_HANDLERS
+        + "\n    def start(self, params, force):\n        return 'TODO'\n\n    def stop(self, params):\n        return 'TODO'\n"
+    )
+    assert set(lost) == set(failed(PluginFactory(str(todo)))) and len(lost) > 1
+    (index, person, attempt, seed), *_ = plan(1, seed=0)
+    (trial,) = trial_items(index, person, attempt, seed, graded(PluginFactory(str(path))))
+    assert trial.points == 0 and trial.detail.startswith("no grip"), trial.detail
+    live = PluginFactory(str(path))()  # the live lab: the lab's handlers stand in
+    try:
+        params = LiftingParams()
+        live.start(params, 10.0)
+        assert params.running and params.f_n_min == 10.0
+    finally:
+        live.close()
+
+
+RAISES = """
+import numpy as np
+
+
+def helper(x):
+    return x / 0.0 if x > 1e9 else 1 // int(x * 0)
+
+
+class CooperativeLifting:
+    def reset(self):
+        pass
+
+    def step(self, wrench_ee, transform_ee_to_base, params, dt):
+        return np.zeros(6) * helper(float(wrench_ee[2]))
+"""
+
+
+def test_a_crash_shows_the_students_frames_once_with_the_items_it_cost(tmp_path):
+    path = tmp_path / "raises.py"
+    path.write_text(RAISES)
+    report = new_report(str(path), 0, ("probe",))
+    report.items = probe_items(PluginFactory(str(path)))
+    text = report.text()
+    assert text.count("Traceback (most recent call last)") == 1, text
+    trace = text[text.index("Traceback") :]
+    assert f'File "{path}", line 14, in step' in trace and f'File "{path}", line 6, in helper' in trace
+    assert "ZeroDivisionError: integer division or modulo by zero" in trace
+    assert "sandbox" not in trace and "child.py" not in trace and "sim/" not in trace  # no grader frame
+    cost = [line for line in text.splitlines() if line.startswith("A fault cost")]
+    assert len(cost) == 1 and "12 item(s)" in cost[0], cost  # every probe that steps it (start/stop do not)
 
 
 def test_plugin_loading_errors(tmp_path):

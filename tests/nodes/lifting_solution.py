@@ -4,7 +4,10 @@ import math
 
 import numpy as np
 
+from app.cli.templates import lab_defaults
 from app.cli.templates import lifting_node as node
+
+node.PARAMS.update(lab_defaults())  # what `hri-lab template node` writes into the file
 
 
 def start(request, response):

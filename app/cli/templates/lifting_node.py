@@ -23,21 +23,7 @@ import time
 import numpy as np
 import roslibpy
 
-# the lifting law's parameters (the lab's /cooperative_lifting defaults)
-PARAMS = {
-    "f_n_band": 5.0,
-    "mu": 0.5,
-    "alpha": 0.8,
-    "k_n": 0.005,
-    "k_t": 0.1,
-    "k_w": 1.0,
-    "moment_deadband": 0.1,
-    "f_contact": 1.0,
-    "v_max": 0.5,
-    "w_max": 1.0,
-    "filter_hz": 10.0,
-    "plate_offset": 0.02,
-}
+PARAMS = {}  # @lab-defaults
 lifting = {"running": False, "f_n_min": 0.0}  # set by the start/stop services below
 
 

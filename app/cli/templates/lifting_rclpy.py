@@ -18,6 +18,8 @@ from hri_lab.msg import FrankaState
 from hri_lab.srv import StartCooperativeLifting, StopCooperativeLifting
 from rclpy.node import Node
 
+PARAMS = {}  # @lab-defaults
+
 
 def lifting_law(wrench_ee, f_n_min, p):
     """The SP method: F_ext (6, flange frame, filtered) -> twist_ee (6, flange frame)."""
@@ -28,20 +30,7 @@ def lifting_law(wrench_ee, f_n_min, p):
 class Lifting(Node):
     def __init__(self):
         super().__init__("cooperative_lifting")
-        for name, value in {
-            "f_n_band": 5.0,
-            "mu": 0.5,
-            "alpha": 0.8,
-            "k_n": 0.005,
-            "k_t": 0.1,
-            "k_w": 1.0,
-            "moment_deadband": 0.1,
-            "f_contact": 1.0,
-            "v_max": 0.5,
-            "w_max": 1.0,
-            "filter_hz": 10.0,
-            "plate_offset": 0.02,
-        }.items():
+        for name, value in PARAMS.items():
             self.declare_parameter(name, value)  # `hri-lab param set /cooperative_lifting k_n 0.01` while it runs
         self.running, self.f_n_min = False, 0.0
         self.rotation, self.filtered, self.stamp = None, None, None

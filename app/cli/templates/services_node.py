@@ -9,6 +9,10 @@ Each handler gets the request (a dict) and fills the response (a dict); it retur
 for a failed call (then fill response["error"] with the reason). The lab checks every answer
 against the service's .srv (`hri-lab service show /divide_ints`). When this node stops, its services
 go with it. Units: N, Nm, rad. Needs roslibpy (pip install roslibpy).
+
+Unfilled, every handler answers a well-formed wrong value and `hri-lab grade-services` gives
+1/15 (add_two_ints, the done example). "Graded:" in each docstring is the rule its item checks
+with cases drawn from the grade's seed (docs/students.md, "The services exercises").
 """
 
 import argparse
@@ -23,14 +27,17 @@ robot = {"O_Jac_EE": None}  # the latest /franka_state_controller/franka_states 
 
 
 def add_two_ints(request, response):
-    """AddTwoInts: int64 a, int64 b --- int64 sum. (Done: the example.)"""
+    """AddTwoInts: int64 a, int64 b --- int64 sum. (Done: the example.)
+    Graded: the exact sum, also near 2^63."""
     response["sum"] = request["a"] + request["b"]
     return True
 
 
 def divide_ints(request, response):
     """DivideInts: int64 a, int64 b --- float64 result, string message.
-    result = a / b and "Division ok."; for b = 0: result 0.0 and "Division by zero!"."""
+    result = a / b and "Division ok."; for b = 0: result 0.0 and "Division by zero!".
+    Graded: result = a / b with the message "Division ok."; for b = 0 the message "Division by
+    zero!"."""
     # TODO
     response["result"] = 0.0
     response["message"] = ""
@@ -38,14 +45,16 @@ def divide_ints(request, response):
 
 
 def multiply_three(request, response):
-    """MultiplyThree: int64 a, b, c --- int64 product. A product outside int64 is a failure."""
+    """MultiplyThree: int64 a, b, c --- int64 product. A product outside int64 is a failure.
+    Graded: the exact product; a product outside int64 is a failed call."""
     # TODO (return False with response["error"] = "..." when it does not fit in int64)
     response["product"] = 0
     return True
 
 
 def echo(request, response):
-    """Echo: string in --- string out = in."""
+    """Echo: string in --- string out = in.
+    Graded: out = in, for unicode text and the empty string."""
     # TODO
     response["out"] = ""
     return True
@@ -53,7 +62,9 @@ def echo(request, response):
 
 def login(request, response):
     """Login: string username, int64 magic_number --- bool success, string message.
-    Success for a non-empty user name with the magic number 42: "Welcome, NAME!"; else "Login failed: ..."."""
+    Success for a non-empty user name with the magic number 42: "Welcome, NAME!"; else "Login failed: ...".
+    Graded: success for a non-empty user name with 42 ("Welcome, NAME!"), failure for another number
+    or an empty name."""
     # TODO
     response["success"] = False
     response["message"] = "Login failed: TODO"
@@ -63,7 +74,8 @@ def login(request, response):
 def planar_torques(request, response):
     """PlanarTorques (Exercise 1): float64[3] q, float64[] force ([fx, fy] or [fx, fy, mz]) --- float64[] torques.
     The 3-link planar arm, links of 1 m: tau = J(q)^T F, theta_i = q_1 + ... + q_i,
-    J = [[-sum_{i>=j} sin(theta_i)], [sum_{i>=j} cos(theta_i)], [1]] (columns j = 1..3)."""
+    J = [[-sum_{i>=j} sin(theta_i)], [sum_{i>=j} cos(theta_i)], [1]] (columns j = 1..3).
+    Graded: tau = J(q)^T F of the planar arm, 3 values within 1e-4, for [fx, fy] and [fx, fy, mz]."""
     # TODO
     response["torques"] = [0.0, 0.0, 0.0]
     return True
@@ -73,7 +85,8 @@ def compute_torques(request, response):
     """ComputeTorques (Exercise 8): float64[6] force = [fx, fy, fz, mx, my, mz] at the flange, base frame
     --- float64[] torques (7): tau = J(q)^T F at the robot's current q.
     J: robot["O_Jac_EE"], 42 numbers, the 6x7 flange Jacobian column-major (libfranka's zeroJacobian):
-    J = np.array(robot["O_Jac_EE"]).reshape(7, 6).T"""
+    J = np.array(robot["O_Jac_EE"]).reshape(7, 6).T
+    Graded: tau = J(q)^T F, 7 values within 1e-4, at the robot's q, for three wrenches."""
     if robot["O_Jac_EE"] is None:
         response["error"] = "no robot state received yet"
         return False
@@ -84,7 +97,8 @@ def compute_torques(request, response):
 
 def compute_wrench(request, response):
     """ComputeWrench (Exercise 2): float64[7] torques --- float64[] force, string message.
-    The least-squares F with J^T F = tau (np.linalg.lstsq); the message may report the residual."""
+    The least-squares F with J^T F = tau (np.linalg.lstsq); the message may report the residual.
+    Graded: the least-squares F, 6 values within 1e-4, for a tau that J^T F makes and one none does."""
     # TODO
     response["force"] = [0.0] * 6
     response["message"] = "least-squares wrench"
@@ -94,17 +108,23 @@ def compute_wrench(request, response):
 def start_cooperative_lifting(request, response):
     """StartCooperativeLifting: float64 force, string controller --- string message.
     f_n_min = force, f_n_max = f_n_min + 5: "Cooperative Lifting started with f_n_min = 10 N, f_n_max = 15 N."
-    (The lab then shows that band and the person waits for it.)"""
+    (The lab then shows that band and the person waits for it.)
+    Graded: the lab applies the band when this answers (its /lifting_state must show started,
+    f_n_min = force, f_n_max = force + 5), and the message states the force ("Cooperative
+    Lifting started with 11.5 N")."""
     # TODO
-    response["message"] = "Cooperative Lifting started."
+    response["message"] = "TODO"
     return True
 
 
 def stop_cooperative_lifting(request, response):
     """StopCooperativeLifting: --- string message. f_n_min = 0:
-    "Cooperative Lifting was stopped! Force limit f_n_min reset to 0 N." """
+    "Cooperative Lifting was stopped! Force limit f_n_min reset to 0 N."
+    Graded: the lab stops when this answers (its /lifting_state must show stopped, f_n_min 0), and
+    the message says it stopped ("Cooperative Lifting was stopped! The force limit was set back
+    to 0 N")."""
     # TODO
-    response["message"] = "Cooperative Lifting was stopped!"
+    response["message"] = "TODO"
     return True
 
 

@@ -7,9 +7,16 @@
     hri-lab service call /divide_ints '{a: 7, b: 2}'      # now answered by this node
     hri-lab grade-services              # grades what your node answers
 
-Each handler gets the request and returns the response (rospy also takes a tuple of its fields, or
-the value of a one-field response); raise rospy.ServiceException("reason") for a failed call.
-`hri-lab service show /divide_ints` prints a service's .srv. Units: N, Nm, rad.
+Each handler gets the request and returns the response. rospy's return rules: the response
+(`DivideIntsResponse(result, message)`), a dict of its fields, a tuple or list of its fields in
+order, or, for a one-field response, the field's value. A list field is the exception: a bare list
+is read as the list of the fields, so return `PlanarTorquesResponse(torques=tau.tolist())` (or
+`{"torques": tau.tolist()}`), never `tau.tolist()` alone. Raise rospy.ServiceException("reason")
+for a failed call. `hri-lab service show /divide_ints` prints a service's .srv. Units: N, Nm, rad.
+
+Unfilled, every handler answers a well-formed wrong value and `hri-lab grade-services` gives
+1/15 (add_two_ints, the done example). "Graded:" in each docstring is the rule its item checks
+with cases drawn from the grade's seed (docs/students.md, "The services exercises").
 """
 
 import numpy as np
@@ -19,12 +26,15 @@ from hri_lab.srv import (
     AddTwoInts,
     AddTwoIntsResponse,
     ComputeTorques,
+    ComputeTorquesResponse,
     ComputeWrench,
+    ComputeWrenchResponse,
     DivideInts,
     Echo,
     Login,
     MultiplyThree,
     PlanarTorques,
+    PlanarTorquesResponse,
     StartCooperativeLifting,
     StopCooperativeLifting,
 )
@@ -34,58 +44,70 @@ robot = {"O_Jac_EE": None}  # the latest franka_states Jacobian (42 numbers, 6x7
 
 
 def add_two_ints(req):
-    """int64 a, int64 b --- int64 sum. (Done: the example.)"""
+    """int64 a, int64 b --- int64 sum. (Done: the example.)
+    Graded: the exact sum, also near 2^63."""
     return AddTwoIntsResponse(req.a + req.b)
 
 
 def divide_ints(req):
-    """int64 a, int64 b --- float64 result, string message: a / b and "Division ok.";
-    for b = 0: 0.0 and "Division by zero!"."""
+    """int64 a, int64 b --- float64 result, string message.
+    Graded: result = a / b with the message "Division ok."; for b = 0 the message "Division by zero!"."""
     return 0.0, ""  # TODO
 
 
 def multiply_three(req):
-    """int64 a, b, c --- int64 product; a product outside int64 is a failed call."""
+    """int64 a, b, c --- int64 product.
+    Graded: the exact product; a product outside int64 is a failed call (raise rospy.ServiceException)."""
     return 0  # TODO (raise rospy.ServiceException("...") when it does not fit in int64)
 
 
 def echo(req):
-    """string in --- string out = in (`in` is a Python keyword: the field is req.in_)."""
+    """string in --- string out (`in` is a Python keyword: the field is req.in_).
+    Graded: out = in, for unicode text and the empty string."""
     return ""  # TODO
 
 
 def login(req):
-    """string username, int64 magic_number --- bool success, string message: success for a
-    non-empty user name with 42 ("Welcome, NAME!"), else "Login failed: ..."."""
+    """string username, int64 magic_number --- bool success, string message.
+    Graded: success true for a non-empty user name with magic number 42 (message "Welcome, NAME!"),
+    false for another number or an empty name (message "Login failed: ...")."""
     return False, "Login failed: TODO"
 
 
 def planar_torques(req):
-    """float64[3] q, float64[] force ([fx, fy] or [fx, fy, mz]) --- float64[] torques: tau = J(q)^T F
-    of the 3-link planar arm, links of 1 m."""
-    return [0.0, 0.0, 0.0]  # TODO
+    """float64[3] q, float64[] force ([fx, fy] or [fx, fy, mz]) --- float64[] torques.
+    Graded: tau = J(q)^T F of the 3-link planar arm (links of 1 m), 3 values, within 1e-4."""
+    return PlanarTorquesResponse(torques=[0.0, 0.0, 0.0])  # TODO (a bare list would be read as the fields)
 
 
 def compute_torques(req):
-    """float64[6] force at the flange, base frame --- float64[] torques (7): tau = J(q)^T F."""
+    """float64[6] force at the flange, base frame --- float64[] torques.
+    Graded: tau = J(q)^T F (7 values, within 1e-4) at the robot's q, for three wrenches."""
     if robot["O_Jac_EE"] is None:
         raise rospy.ServiceException("no robot state received yet")
     jacobian = np.array(robot["O_Jac_EE"]).reshape(7, 6).T
-    return [0.0] * 7  # TODO with jacobian
+    return ComputeTorquesResponse(torques=[0.0] * 7)  # TODO with jacobian
 
 
 def compute_wrench(req):
-    """float64[7] torques --- float64[] force (6): the least-squares F with J^T F = tau."""
-    return [0.0] * 6, ""  # TODO (force, message)
+    """float64[7] torques --- float64[] force, string message.
+    Graded: the least-squares F (6 values, within 1e-4) with J^T F = tau, for a tau that J^T F makes
+    and one that none does; the message is free (e.g. the residual)."""
+    return ComputeWrenchResponse(force=[0.0] * 6, message="")  # TODO
 
 
 def start_cooperative_lifting(req):
-    """float64 force --- string message: f_n_min = force, f_n_max = f_n_min + 5; say it starts, with the force."""
+    """float64 force --- string message. When this answers, the lab applies the band
+    f_n_min = force, f_n_max = force + 5 and starts.
+    Graded: the lab's /lifting_state shows the band and started, and the message states the force
+    (e.g. "Cooperative Lifting started with 11.5 N")."""
     return "TODO"
 
 
 def stop_cooperative_lifting(req):
-    """--- string message: f_n_min = 0; say it stopped."""
+    """--- string message. When this answers, the lab stops lifting and sets f_n_min = 0.
+    Graded: the lab's /lifting_state shows stopped with f_n_min 0, and the message says it stopped
+    (e.g. "Cooperative Lifting was stopped! The force limit was set back to 0 N")."""
     return "TODO"
 
 

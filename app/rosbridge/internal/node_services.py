@@ -204,6 +204,12 @@ class NodeServices:
         self.registry.put(replace(declared, type=type_name, text=own_text(text or "")))
         return None
 
+    def answers_itself(self, name: str) -> bool:
+        """Whether the lab answers `name` itself now (declared, not left to the students, and no
+        node provides it): a node advertising it replaces the lab's own service."""
+        with self._lock:
+            return name in self.declared and name not in self.slots and name not in self.providers
+
     def unadvertise(self, name: str, session: Any) -> bool:
         with self._lock:
             provider = self.providers.get(name)

@@ -126,6 +126,7 @@ class ChildEnd:
         self.wake_fd, self.answer_fd = wake_fd, answer_fd
         self.slot = wire.Slot(slot_fd)
         self.seen = 0  # the last request's sequence number
+        self.filename = ""  # the student's file, as its code's frames name it
 
     def _receive(self) -> tuple[int, bytes, int] | None:
         """The next request (sequence number, opcode, payload bytes); None at the end of input."""
@@ -142,9 +143,26 @@ class ChildEnd:
         os.write(self.answer_fd, b"\1")
 
     def _error(self, seq: int, exc: BaseException) -> None:
-        trace = "".join(traceback.format_exception(exc))
         self._send(
-            seq, b"e", f"raised {type(exc).__name__}: {exc}\n{trace}"[: wire.MAX_TEXT].encode("utf-8", errors="replace")
+            seq,
+            b"e",
+            f"raised {type(exc).__name__}: {exc}\n{self._trace(exc)}"[: wire.MAX_TEXT].encode(
+                "utf-8", errors="replace"
+            ),
+        )
+
+    def _trace(self, exc: BaseException) -> str:
+        """The traceback of the student's own frames (none of this file's, the grader's): what a
+        student can act on. Empty when the student's code is not in it (a wrong return, checked here)."""
+        frames = [frame for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == self.filename]
+        if not frames:
+            return ""
+        return "".join(
+            [
+                "Traceback (most recent call last):\n",
+                *traceback.format_list(frames),
+                *traceback.format_exception_only(exc),
+            ]
         )
 
     def serve(self, class_name: str) -> int:
@@ -154,6 +172,7 @@ class ChildEnd:
         seq, _, size = message
         filename, _, source = self.slot.request_payload(size).partition(b"\0")
         watch = ReferenceWatch()
+        self.filename = filename.decode()
         try:
             instance = self._load(filename.decode(), source.decode("utf-8", errors="replace"), class_name)
         except BaseException as exc:  # noqa: BLE001 - even sys.exit() at import is a load error

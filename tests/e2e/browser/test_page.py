@@ -11,7 +11,14 @@ from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from sim.controllers.interface import LiftingParams
 
 from app.cli.launch import free_port, running_server
-from bench.page_responsiveness import ARGS, CHROMIUM, describe, embed_view, round_trips
+from bench.page_responsiveness import (
+    ARGS,
+    CHROMIUM,
+    describe,
+    embed_view,
+    open_controls,
+    round_trips,
+)
 from tests.http_client import http
 
 SCREENSHOTS = Path(__file__).resolve().parents[3] / "build" / "screenshots"
@@ -101,6 +108,10 @@ def test_docs_and_redoc_render_offline(server, browser):
 
 
 def test_the_page_as_a_student_uses_it(server, page):
+    # before the lift the person holds the box by its grasp: not "slipping" (the palm's contact points
+    # may slide while the grasp holds it)
+    wait_text(page, "#st-person", "grasping")
+    wait_text(page, "#st-contact", "person holds it (grasp)")
     # the services, generated from the API: .srv text, description, the form's hints
     start = page.locator(".service[data-name='/start_cooperative_lifting']")
     start.wait_for()
@@ -238,6 +249,12 @@ def the_3d_view_on_demand(server, page):
     without = round_trips(page, 3)
     view = embed_view(page)
     assert page.locator("#view").get_attribute("src").startswith("http://localhost:")
+    # its control panel starts collapsed to a tab at the edge: the scene has the whole frame
+    assert view.locator("[data-dock-collapsed='true']").count() >= 1
+    assert view.get_by_text("Take over the palm").count() == 0
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SCREENSHOTS / "view-collapsed.png"))
+    open_controls(view)  # one click opens it
     assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
     embedded = round_trips(page, 3)
     print(
@@ -392,3 +409,55 @@ def test_the_camera_panel_shows_the_image_and_a_programs_imshow_window(page, ser
         assert program.interrupt() == 0, program.output
     page.wait_for_function("() => !document.querySelector('img[data-window=\"detection\"]')")
     page.uncheck("#camera-live")
+
+
+def test_the_favicon_and_no_request_that_fails(server, browser):
+    """The page names its icon, /favicon.ico answers it too (a browser's first guess): no 404."""
+    page = browser.new_page()
+    page.set_default_timeout(90_000)
+    failed = []
+    page.on("response", lambda r: failed.append((r.url, r.status)) if r.status >= 400 else None)
+    try:
+        page.goto(server + "/")
+        page.wait_for_function("plots.charts.length === 3 && plots.charts[2].chart.data[0].length > 5")
+        icon = page.evaluate("document.querySelector('link[rel=icon]').href")
+        assert icon == f"{server}/static/favicon.svg"
+        page.goto(server + "/favicon.ico")
+    finally:
+        page.close()
+    assert not failed, failed
+    answer = http.get(f"{server}/favicon.ico")
+    assert answer.status_code == 200 and answer.headers["content-type"] == "image/svg+xml"
+    assert answer.content.startswith(b"<svg")
+
+
+def test_the_twist_plot_keeps_one_zero_for_v_and_w(page):
+    """|w| (right axis) is never negative: both axes are symmetric about 0, so their zero lines
+    are one, |w| is drawn above it, and the right axis labels no negative value."""
+    page.wait_for_function("plots.charts[2].chart.data[0].length > 5")
+    y_min, y_max, w_min, w_max, labels = page.evaluate(
+        """(() => { const c = plots.charts[2].chart;
+        return [c.scales.y.min, c.scales.y.max, c.scales.w.min, c.scales.w.max, c.axes[2].values(c, [-0.1, 0, 0.1])]; })()"""
+    )
+    assert y_min == -y_max and w_min == -w_max and w_max > 0
+    assert labels == ["", "0.00", "0.10"]
+    assert page.evaluate("plots.charts[2].chart.axes[2].label").startswith("|w| (rad/s)")
+
+
+def test_a_node_replacing_a_labs_service_is_warned_on_the_console(page, server):
+    import roslibpy
+
+    ros = roslibpy.Ros("127.0.0.1", int(server.rsplit(":", 1)[1]), transport="asyncio")
+    ros.run()
+    service = roslibpy.Service(ros, "/multiply_three", "hri_lab/MultiplyThree")
+    try:
+        service.advertise(lambda request, response: response.update(product=0) or True)
+        page.locator("nav button[data-tab=console]").click()
+        page.locator("#console-node").select_option("")
+        page.locator("#console-level").select_option("WARN")
+        wait_text(page, "#console-lines", "/multiply_three is one of the lab's own services")
+        page.locator("#console-lines").screenshot(path=str(SCREENSHOTS / "console-replaced-service.png"))
+    finally:
+        service.unadvertise()
+        ros.close()
+        ros.terminate()

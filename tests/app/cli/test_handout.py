@@ -1,0 +1,32 @@
+"""The lab as students get it (app/cli/handout.py): what runs the lab and what they read, none of
+what grades them (the reference plug-in, the templates filled in, the filled nodes and programs)."""
+
+import argparse
+import zipfile
+
+from app.cli.handout import lab_files, run
+
+SOLUTIONS = ("reference_sp.py", "template_filled.py", "services_solution.py", "lifting_solution.py")
+
+
+def test_the_students_zip_holds_the_lab_and_no_solution(tmp_path, capsys):
+    out = tmp_path / "students.zip"
+    assert run(argparse.Namespace(output=str(out), folder="hri-lab")) == 0
+    with zipfile.ZipFile(out) as z:
+        names = [n.removeprefix("hri-lab/") for n in z.namelist()]
+    assert {"Makefile", "pyproject.toml", "static/index.html", "app/cli/templates/services_rospy.py"} <= set(names)
+    assert (
+        "sim/controllers/template.py" in names
+        and "docs/students.md" in names
+        and "examples/04_grade_a_file.py" in names
+    )
+    assert not [n for n in names if n.split("/")[0] in ("tests", "bench", ".ci")]
+    assert not [n for n in names if n.rsplit("/", 1)[-1] in SOLUTIONS]
+    assert "no tests/" in capsys.readouterr().out
+
+
+def test_the_autograder_bundle_carries_the_lab_alone():
+    names = {name for _, name in lab_files()}
+    assert {"pyproject.toml", "static/index.html"} <= names
+    assert any(n.startswith("app/") and n.endswith("/std_msgs/msg/String.msg") for n in names)  # the message texts
+    assert not [n for n in names if n.split("/")[0] in ("docs", "examples", "tests", "bench")]

@@ -1,0 +1,165 @@
+"""The Gradescope bundle run the way Gradescope runs it ([its autograder specification](
+https://gradescope-autograders.readthedocs.io/en/latest/specs/), docs/course-scale.md): a root laid
+out like /autograder — the bundle unzipped into source/, setup.sh and run_autograder beside it —
+then `setup.sh` once, as root, which finds (or installs) a Python >= 3.11, checks it and installs
+the lab from the bundle's own source into a fresh virtual environment (roslibpy too: the bundle
+grades services), then `run_autograder` once per submission with the files in submission/, which
+writes results/results.json. Nothing of this checkout's venv is used after setup.sh: the
+submissions are graded by the bundle's own install. The only change from Gradescope's layout: the
+root is a temporary folder ($HRI_LAB_GRADESCOPE_ROOT) instead of /autograder.
+
+Graded here: a controller file, a roslibpy services node and a rospy services node (each with
+the other part missing or broken, so every report's shape is seen)."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+TESTS = Path(__file__).resolve().parents[1]
+SETUP_TIMEOUT = 2400.0  # s: a fresh venv from the package cache and the kernels compiled, on a loaded machine
+RUN_TIMEOUT = 1200.0  # s: a whole battery, and a lab started for the services
+
+
+def clean_env(**extra: str) -> dict:
+    """The environment of Gradescope's harness: none of this checkout's venv or settings."""
+    keep = {k: v for k, v in os.environ.items() if not k.startswith(("HRI_LAB_", "VIRTUAL_ENV", "PYTHON"))}
+    keep["PATH"] = os.pathsep.join(p for p in keep.get("PATH", "").split(os.pathsep) if ".venv" not in p)
+    return keep | extra
+
+
+@pytest.fixture(scope="module")
+def autograder(tmp_path_factory) -> Path:
+    """/autograder after the image was built: the bundle unzipped, setup.sh run."""
+    root = tmp_path_factory.mktemp("gradescope") / "autograder"
+    bundle = root.parent / "autograder.zip"
+    made = subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(bundle), "--seed", "31", "--services"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert made.returncode == 0, made.stderr
+    with zipfile.ZipFile(bundle) as z:
+        z.extractall(root / "source")
+    for name in ("setup.sh", "run_autograder"):  # Gradescope copies them to /autograder, executable
+        shutil.copy(root / "source" / name, root / name)
+        (root / name).chmod(0o755)
+    setup = subprocess.run(
+        [str(root / "setup.sh")],
+        capture_output=True,
+        text=True,
+        timeout=SETUP_TIMEOUT,
+        cwd=root,
+        env=clean_env(HRI_LAB_GRADESCOPE_ROOT=str(root)),
+    )
+    assert setup.returncode == 0, setup.stdout[-3000:] + setup.stderr[-3000:]
+    assert "setup.sh: Python 3." in setup.stdout
+    assert (root / "hri-lab" / "bin" / "python").exists()
+    return root
+
+
+def submit(root: Path, files: dict[str, str]) -> dict:
+    """One submission: submission/ holds `files`, run_autograder grades it; its results.json."""
+    for folder in ("submission", "results"):
+        shutil.rmtree(root / folder, ignore_errors=True)
+    (root / "submission").mkdir()
+    for name, text in files.items():
+        (root / "submission" / name).write_text(text)
+    done = subprocess.run(
+        [str(root / "run_autograder")],
+        capture_output=True,
+        text=True,
+        timeout=RUN_TIMEOUT,
+        cwd=root,
+        env=clean_env(HRI_LAB_GRADESCOPE_ROOT=str(root)),
+    )
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    results = json.loads((root / "results" / "results.json").read_text())
+    assert results["score"] == sum(t["score"] for t in results["tests"])
+    return results
+
+
+def by_section(results: dict) -> dict[str, list[dict]]:
+    sections: dict[str, list[dict]] = {}
+    for test in results["tests"]:
+        sections.setdefault(test["name"].split(":")[0], []).append(test)
+    return sections
+
+
+def test_a_controller_file(autograder):
+    results = submit(autograder, {"cooperative_lifting.py": (TESTS / "controllers" / "reference_sp.py").read_text()})
+    sections = by_section(results)
+    controller = sections["probe"] + sections["experiment"] + sections["robustness"]
+    assert sum(t["score"] for t in controller) == sum(t["max_score"] for t in controller) == 130.0
+    # no services_node.py: 0 of the services' 15 points, one test saying why
+    assert [(t["score"], t["max_score"]) for t in sections["services"]] == [(0.0, 15.0)]
+    assert results["score"] == 130.0
+    assert "seed 31, a private seed" in results["output"]
+
+
+def test_a_roslibpy_node(autograder):
+    node = (TESTS / "nodes" / "services_solution.py").read_text()  # the roslibpy template, filled in
+    results = submit(autograder, {"services_node.py": node, "cooperative_lifting.py": "class CooperativeLifting(:\n"})
+    sections = by_section(results)
+    assert len(sections["services"]) == 10
+    assert all(t["score"] == t["max_score"] > 0 for t in sections["services"]), sections["services"]
+    assert [(t["score"], t["max_score"]) for t in sections["controller"]] == [(0.0, 130.0)]  # cannot be loaded
+    assert results["score"] == 15.0 and "SyntaxError" in results["output"]
+
+
+def test_a_rospy_node(autograder):
+    """The rospy template as printed (unfilled): run through the bundle's `hri-lab run`, with the
+    lab's rospy layer and message packages from the bundle's install; 1/15, the done example."""
+    node = subprocess.run(
+        [sys.executable, "-m", "app.cli", "template", "services"], capture_output=True, text=True, check=True
+    ).stdout
+    results = submit(
+        autograder,
+        {"services_node.py": node, "cooperative_lifting.py": (TESTS / "controllers" / "reference_sp.py").read_text()},
+    )
+    services = by_section(results)["services"]
+    assert len(services) == 10
+    assert [t["name"] for t in services if t["score"] > 0] == [
+        "services: /add_two_ints: sum of two int64 (exact near 2^63)"
+    ]
+    assert results["score"] == 130.0 + 1.0
+
+
+def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path):
+    """An image whose python3 is 3.10 and whose apt has no python3.11: setup.sh stops, naming the
+    base image to pick (stubs stand in for the image's python3 and apt-get; nothing is installed)."""
+    stubs = tmp_path / "bin"
+    stubs.mkdir()
+    (stubs / "python3").write_text('#!/bin/bash\n[ "$1" = --version ] && echo "Python 3.10.12" && exit 0\nexit 1\n')
+    (stubs / "apt-get").write_text(  # the lists update; the package is not found (no dirname: bash alone)
+        '#!/bin/bash\necho "apt-get $*" >> "${0%/*}/apt.log"\n[ "$1" = update ] && exit 0\nexit 100\n'
+    )
+    for stub in stubs.iterdir():
+        stub.chmod(0o755)
+    bundle = tmp_path / "autograder.zip"
+    subprocess.run(
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(bundle), "--seed", "31", "--services"],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
+    with zipfile.ZipFile(bundle) as z:
+        (tmp_path / "setup.sh").write_bytes(z.read("setup.sh"))
+    done = subprocess.run(
+        ["/bin/bash", str(tmp_path / "setup.sh")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={"PATH": str(stubs), "HRI_LAB_GRADESCOPE_ROOT": str(tmp_path / "root")},
+    )
+    assert done.returncode == 1
+    assert "needs Python >= 3.11" in done.stderr and "Python 3.10.12" in done.stderr
+    assert "Ubuntu 24.04 base image" in done.stderr
+    assert "install -y -qq python3.11 python3.11-venv" in (stubs / "apt.log").read_text()  # 22.04's package, tried
+    assert not (tmp_path / "root").exists()

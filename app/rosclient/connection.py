@@ -265,9 +265,8 @@ class Connection:
             if id_ == "rosout":
                 if message.get("level") == "error":
                     self.rosout_refused(str(message.get("msg")))
-            elif id_ in self._refusals:
-                if message.get("level") == "error":
-                    self._refusals[id_].append(str(message.get("msg")))
+            elif id_ in self._refusals and message.get("level") == "error":  # the op's refusal: raised by its caller
+                self._refusals[id_].append(str(message.get("msg")))
             elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
                 self.status_handler(message)
 

@@ -110,11 +110,12 @@ def test_a_passing_submission(tmp_path, bundle):
 
 def test_the_labs_own_controller_scores_zero_by_default(tmp_path):
     """The issue's three lines (`class CooperativeLifting(SPController): pass`) scored 130/130 PASS;
-    a course's bundle without --reference gives 0, saying why, and grades nothing."""
+    a course's bundle without --reference gives 0 of the full points, saying why, and grades nothing."""
     plain = build_bundle(tmp_path / "plain.zip")
     results = gradescope(tmp_path, plain, (CONTROLLERS / "reference_sp.py").read_text())
     valid(results)
-    assert results["score"] == 0.0 and results["tests"] == []
+    assert results["score"] == 0.0
+    assert [(t["name"], t["score"], t["max_score"]) for t in results["tests"]] == [("controller: not graded", 0.0, 130.0)]
     assert "is the lab's reference controller, not a submission: it imports sim.controllers.sp" in results["output"]
 
 

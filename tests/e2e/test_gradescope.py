@@ -93,7 +93,7 @@ def by_section(results: dict) -> dict[str, list[dict]]:
 
 
 def test_a_controller_file(autograder):
-    results = submit(autograder, {"cooperative_lifting.py": (TESTS / "controllers" / "reference_sp.py").read_text()})
+    results = submit(autograder, {"cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text()})
     sections = by_section(results)
     controller = sections["probe"] + sections["experiment"] + sections["robustness"]
     assert sum(t["score"] for t in controller) == sum(t["max_score"] for t in controller) == 130.0
@@ -121,7 +121,7 @@ def test_a_rospy_node(autograder):
     ).stdout
     results = submit(
         autograder,
-        {"services_node.py": node, "cooperative_lifting.py": (TESTS / "controllers" / "reference_sp.py").read_text()},
+        {"services_node.py": node, "cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text()},
     )
     services = by_section(results)["services"]
     assert len(services) == 10

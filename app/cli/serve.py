@@ -84,6 +84,7 @@ def serve(
 
 READ_TIMEOUT_S = 10.0
 KEEP_ALIVE_S = 5
+WS_PING_TIMEOUT_S = 60.0  # a rosbridge client's pong may wait behind its backlog of a 1 kHz topic on a busy machine
 SHUTDOWN_S = 3
 
 
@@ -100,8 +101,9 @@ def server_config(app, host: str, port: int, read_timeout_s: float = READ_TIMEOU
         timeout_keep_alive=KEEP_ALIVE_S,
         timeout_graceful_shutdown=SHUTDOWN_S,
         h11_max_incomplete_event_size=64 * 1024,
-        ws_max_size=2 * MAX_FRAME,
-    )  # bytes; a longer rosbridge frame is refused by the session
+        ws_max_size=2 * MAX_FRAME,  # bytes; a longer rosbridge frame is refused by the session
+        ws_ping_timeout=WS_PING_TIMEOUT_S,
+    )
 
 
 class TimedHttpProtocol(HttpToolsProtocol):

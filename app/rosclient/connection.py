@@ -52,6 +52,9 @@ class Connection:
                 open_timeout=10,
                 close_timeout=1,
                 compression=None,  # images (/image_raw, 1.2 MB each) would be deflated and inflated at 30 Hz
+                # no keepalive pings: a program behind on a 1 kHz topic reads the lab's pong behind its
+                # backlog, and a live, slow program is not a lost lab (a lab that goes away closes the socket)
+                ping_interval=None,
             )
         except (OSError, TimeoutError) as exc:
             raise ConnectionError(

@@ -115,7 +115,9 @@ def test_the_labs_own_controller_scores_zero_by_default(tmp_path):
     results = gradescope(tmp_path, plain, (CONTROLLERS / "reference_sp.py").read_text())
     valid(results)
     assert results["score"] == 0.0
-    assert [(t["name"], t["score"], t["max_score"]) for t in results["tests"]] == [("controller: not graded", 0.0, 130.0)]
+    assert [(t["name"], t["score"], t["max_score"]) for t in results["tests"]] == [
+        ("controller: not graded", 0.0, 130.0)
+    ]
     assert "is the lab's reference controller, not a submission: it imports sim.controllers.sp" in results["output"]
 
 

@@ -121,7 +121,10 @@ def test_a_rospy_node(autograder):
     ).stdout
     results = submit(
         autograder,
-        {"services_node.py": node, "cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text()},
+        {
+            "services_node.py": node,
+            "cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text(),
+        },
     )
     services = by_section(results)["services"]
     assert len(services) == 10

@@ -37,7 +37,9 @@ class SubscribeListener:
     `peer_unsubscribe` when one leaves (with how many are left). The lab cannot address one
     subscriber, so `peer_publish` publishes to all of them, as `topic_publish` does."""
 
-    def peer_subscribe(self, topic_name: str, topic_publish: Callable[..., Any], peer_publish: Callable[..., Any]) -> None:
+    def peer_subscribe(
+        self, topic_name: str, topic_publish: Callable[..., Any], peer_publish: Callable[..., Any]
+    ) -> None:
         pass
 
     def peer_unsubscribe(self, topic_name: str, num_peers: int) -> None:
@@ -147,7 +149,12 @@ class Subscriber(Topic):
         self._ready = threading.Condition()
         self._closed = False
         threading.Thread(target=self._deliver, daemon=True, name=f"rospy-sub{self.name}").start()
-        self._sid = process.connection().subscribe(self.name, data_class._type, self._offer)
+        # the lab holds at most queue_size messages for this subscriber while its socket is busy, as a
+        # ROS publisher's queue drops for a subscriber that cannot keep up: a program behind on a 1 kHz
+        # topic gets the newest message, not a growing backlog of stale ones (a carry failed on those)
+        self._sid = process.connection().subscribe(
+            self.name, data_class._type, self._offer, queue_length=queue_size if queue_size and queue_size > 0 else 0
+        )
 
     def _offer(self, data: dict[str, Any]) -> None:
         with self._ready:

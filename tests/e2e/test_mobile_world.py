@@ -90,7 +90,9 @@ def test_a_twist_with_a_bad_field_is_refused(lab, ros):
 
 
 def test_the_keys_to_twist_node_drives_the_base_and_param_set_changes_its_speed(lab):
-    node = run(lab.url, "keys_to_twist_rclpy.py", "wa", "--ros-args", "-r", "key_twist:=cmd_vel")
+    # each key held for two of the node's 0.2 s ticks: at the base's acceleration limits (sim/mobile/base.py)
+    # a speed below reaches 1.5 rad/s or 0.22 m/s from rest in more than one tick
+    node = run(lab.url, "keys_to_twist_rclpy.py", "wwaa", "--ros-args", "-r", "key_twist:=cmd_vel")
 
     def param_set(name: str, value: str) -> None:
         changed = subprocess.run(

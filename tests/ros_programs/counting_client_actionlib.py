@@ -11,11 +11,22 @@ rospy.init_node("counting_client")
 client = actionlib.SimpleActionClient("counting", CountingAction)
 client.wait_for_server(rospy.Duration(30))
 two = threading.Event()
-client.send_goal(
-    CountingGoal(count=10),
-    feedback_cb=lambda fb: (print("at %d" % fb.current, flush=True), fb.current >= 2 and two.set()),
-)
+printing = threading.Lock()  # feedback comes on rospy's thread: one line at a time on stdout
+
+
+def say(line):
+    with printing:
+        print(line, flush=True)
+
+
+def feedback(fb):
+    say("at %d" % fb.current)
+    if fb.current >= 2:
+        two.set()
+
+
+client.send_goal(CountingGoal(count=10), feedback_cb=feedback)
 two.wait(60)
 client.cancel_goal()
 client.wait_for_result(rospy.Duration(30))
-print("state %d reached %d" % (client.get_state(), client.get_result().reached), flush=True)
+say("state %d reached %d" % (client.get_state(), client.get_result().reached))

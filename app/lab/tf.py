@@ -90,10 +90,11 @@ def tree() -> list[tuple[str, str, bool]]:
 
 def transform_stamped(s: Snapshot, parent: str, child: str, pose_parent: np.ndarray, pose_child: np.ndarray) -> dict:
     """geometry_msgs/TransformStamped: the child's pose in the parent's frame."""
-    return _stamped(s, parent, child, np.linalg.solve(pose_parent, pose_child))
+    return relative_stamped(s, parent, child, np.linalg.solve(pose_parent, pose_child))
 
 
-def _stamped(s: Snapshot, parent: str, child: str, relative: np.ndarray) -> dict:
+def relative_stamped(s: Snapshot, parent: str, child: str, relative: np.ndarray) -> dict:
+    """geometry_msgs/TransformStamped of `relative`, the child's pose (4x4) in the parent's frame."""
     x, y, z, w = pin.Quaternion(relative[:3, :3]).coeffs()
     t = relative[:3, 3]
     return {
@@ -139,7 +140,9 @@ def tf_static(s: Snapshot) -> dict:
     hold at any time), so the message changes only when they do (the plate's offset)."""
     fixed = dict(_fixed_links())
     fixed[(PandaModel.flange_name, PLATE)] = _pose(np.eye(3), np.array([0.0, 0.0, s.lifting.plate_offset]))
-    transforms = [_stamped(s, parent, child, fixed[(parent, child)]) for parent, child, is_fixed in tree() if is_fixed]
+    transforms = [
+        relative_stamped(s, parent, child, fixed[(parent, child)]) for parent, child, is_fixed in tree() if is_fixed
+    ]
     for transform in transforms:
         transform["header"]["stamp"] = {"sec": 0, "nanosec": 0}
     return {"transforms": transforms}

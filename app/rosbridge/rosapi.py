@@ -303,8 +303,9 @@ def call(bridge, session, name: str, args: dict) -> dict:
     if name in ("/rosapi/publishers", "/rosapi/subscribers"):  # the nodes on a topic, as rosapi names them
         topic = "/" + str(args.get("topic", "")).strip("/")
         if name == "/rosapi/subscribers":
-            return {"subscribers": [s.name for s in bridge.sessions if topic in s.streams]}
-        lab = [LAB_NODE] if topic in bridge.topics or topic == rosout.TOPIC else []
+            lab = [LAB_NODE] if topic in bridge.tf_republisher.inputs else []
+            return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.streams]}
+        lab = [LAB_NODE] if bridge.lab_publishes(topic) else []
         return {"publishers": lab + [s.name for s in bridge.sessions if topic in s.publishing]}
     if name == "/rosapi/nodes":
         return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
@@ -312,8 +313,8 @@ def call(bridge, session, name: str, args: dict) -> dict:
         node = str(args.get("node", ""))
         if node == LAB_NODE:
             return {
-                "subscribing": [bridge.command_topic],
-                "publishing": list(bridge.topics) + [rosout.TOPIC],
+                "subscribing": [bridge.command_topic, *bridge.tf_republisher.inputs],
+                "publishing": [t for t in bridge.topic_types() if bridge.lab_publishes(t)],
                 "services": [
                     s.name
                     for s in bridge.services

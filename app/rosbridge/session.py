@@ -53,6 +53,7 @@ class Session:
         await self.ws.accept()
         self.loop = asyncio.get_running_loop()
         self.bridge.sessions.append(self)
+        self.bridge.tf_republisher.start()
         try:
             while True:
                 frame = await self.ws.receive()

@@ -1,13 +1,15 @@
 """tf like ROS against a real lab: a program's static and dynamic frames (tests/ros_programs/
 frame_broadcaster_rclpy.py, tf2_ros' broadcasters) join the lab's tree — an rclpy listener
 (tf2_ros Buffer/TransformListener) and a rospy one (ROS 1's tf) look them up through the lab's
-frames, roslibpy's /republish_tfs resolves them, /tf_static carries them latched — and a program that
+frames, roslibpy's /republish_tfs and the tf2_web_republisher action (roslibpy's ROS 1 ActionClient,
+as roslibjs' TFClient uses it) resolve them, /tf_static carries them latched — and a program that
 sends one of the lab's own frames is refused with the reason while its other frames are taken."""
 
 import math
 
 import numpy as np
 import roslibpy
+from roslibpy.ros1.actionlib import ActionClient, Goal, GoalStatus
 
 from tests.e2e.serving import served_lab
 from tests.ros_running import run
@@ -31,6 +33,29 @@ def _republished(ros, sources: list[str], target: str) -> dict[str, dict]:
         wait_for(lambda: set(sources) <= set(got))
     finally:
         topic.unsubscribe()
+    return got
+
+
+def _from_the_action(ros, sources: list[str], target: str) -> dict[str, dict]:
+    """The transforms a goal of the tf2_web_republisher action gets as feedback (the first with all);
+    the goal, cancelled, ends PREEMPTED."""
+    client = ActionClient(ros, "/tf2_web_republisher", "tf2_web_republisher/TFSubscriptionAction")
+    thresholds = {"angular_thres": 0.01, "trans_thres": 0.01}  # roslibjs' example's
+    goal = Goal(
+        client, roslibpy.Message({"source_frames": sources, "target_frame": target, "rate": 10.0, **thresholds})
+    )
+    got: dict[str, dict] = {}
+    goal.on("feedback", lambda f: got.update({t["child_frame_id"]: t["transform"] for t in f["transforms"]}))
+    goal.send()
+    try:
+        wait_for(lambda: {s.strip("/") for s in sources} <= set(got))  # as tf2 names them: no leading slash
+    finally:
+        goal.cancel()
+    try:
+        wait_for(lambda: goal.is_finished)
+        assert goal.status["status"] == GoalStatus.PREEMPTED
+    finally:
+        client.dispose()
     return got
 
 
@@ -70,6 +95,12 @@ def test_a_programs_frames_join_the_tree_for_listeners_and_republish_tfs(ros, la
         )
         carrot_from_marker = np.linalg.norm(_vector(lab_frames["carrot"]["translation"]) - lab_marker)
         assert math.isclose(float(carrot_from_marker), CARROT_RADIUS_M, abs_tol=1e-3)
+        # the tf2_web_republisher action resolves the same frames (the still ones: the carrot turns)
+        action_frames = _from_the_action(ros, ["/plate", "plate_marker", "carrot"], "panda_link0")
+        for name in ("plate", "plate_marker"):
+            assert np.allclose(
+                _vector(action_frames[name]["translation"]), _vector(lab_frames[name]["translation"]), atol=1e-6
+            )
         # /tf_static carries the program's static frame with the lab's (latched: a new subscriber gets it)
         static: list[dict] = []
         topic = roslibpy.Topic(ros, "/tf_static", "tf2_msgs/TFMessage")

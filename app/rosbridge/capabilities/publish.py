@@ -1,7 +1,8 @@
 """publish: a node's message to the other subscribers of its topic; a geometry_msgs/Twist on the
 command topic drives the robot (commands.external_twist, through the lab's one door); a log line
 on /rosout joins the lab's log (app/ros/rosout.py); a program's transforms on /tf and /tf_static
-join the lab's tree (app/rosbridge/internal/node_frames.py)."""
+join the lab's tree (app/rosbridge/internal/node_frames.py); a goal or a cancel of the
+tf2_web_republisher action goes to the lab's server of it (app/rosbridge/tf_republisher.py)."""
 
 from __future__ import annotations
 
@@ -53,6 +54,8 @@ async def publish(session: Any, message: dict, id_: Any) -> None:
     entry = bridge.node_topics.get(topic)
     if entry is None or session not in entry.publishers:
         raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
+    if topic in bridge.tf_republisher.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
+        bridge.tf_republisher.take(session, topic, msg)
     if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
         bridge.windows[topic] = msg
     for stream in list(entry.subscriptions):

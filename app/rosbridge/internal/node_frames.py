@@ -8,7 +8,7 @@ refused transform is reported to the program that sent it (a status error naming
 the message's other transforms are taken. The newest transform of each frame is kept while its
 program is connected: the lab's /tf and /tf_static carry them with its own (the static ones latched,
 as tf2_ros' static broadcaster's), and /republish_tfs and the tf2_web_republisher action resolve them
-(a frame's pose in the world through its parents, up to a lab frame).
+through the tree those topics carry (app/rosbridge/tf_republisher.py).
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ def _number(value: Any) -> float:
     return float(value)
 
 
-def _matrix(transform: dict) -> np.ndarray:
+def transform_matrix(transform: dict) -> np.ndarray:
     """The 4x4 of a geometry_msgs/Transform (ValueError naming the field when it is not one)."""
     translation, rotation = transform.get("translation", {}), transform.get("rotation", {})
     if not isinstance(translation, dict) or not isinstance(rotation, dict):
@@ -96,7 +96,7 @@ class NodeFrames:
         if child in lab:
             return f"frame {child[:80]} is the lab's: a program cannot move it (publish frames of your own, below it)"
         try:
-            _matrix(item["transform"] if isinstance(item.get("transform"), dict) else {})
+            transform_matrix(item["transform"] if isinstance(item.get("transform"), dict) else {})
         except ValueError as bad:
             return f"frame {child[:80]}: {bad}"
         with self._lock:
@@ -121,18 +121,3 @@ class NodeFrames:
     def names(self) -> set[str]:
         with self._lock:
             return set(self._frames)
-
-    def poses(self, lab_poses: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        """The lab's poses (in the world) and every program frame's whose parents reach one."""
-        with self._lock:
-            published = {c: (p.parent, p.transform["transform"]) for c, p in self._frames.items()}
-        poses = dict(lab_poses)
-        pending = dict(published)
-        while pending:
-            placed = [c for c, (parent, _) in pending.items() if parent in poses]
-            if not placed:
-                break  # the rest hang below frames nobody publishes (or loop)
-            for child in placed:
-                parent, transform = pending.pop(child)
-                poses[child] = poses[parent] @ _matrix(transform)
-        return poses

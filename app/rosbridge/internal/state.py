@@ -16,6 +16,7 @@ from app.rosbridge.internal.node_actions import NodeActions
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
 from app.rosbridge.internal.node_params import NodeParameters
 from app.rosbridge.internal.node_services import NodeServices
+from app.rosbridge.tf_republisher import TFSubscriptionServer
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 
@@ -23,8 +24,9 @@ COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 class NodeTopic:
     """A topic that nodes publish (not one of the lab's): its type and who is on it."""
 
-    def __init__(self, type_name: str) -> None:
+    def __init__(self, type_name: str, lab: bool = False) -> None:
         self.type = type_name
+        self.lab = lab  # a topic of the lab's own node (the tf2_web_republisher action's): kept while the lab runs
         self.definition = ""  # the full text its first publisher carried (hri-lab bag record reads it)
         self.publishers: set[Any] = set()  # sessions
         self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
@@ -63,6 +65,7 @@ class Bridge:
         self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
         self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
         self.node_topics: dict[str, NodeTopic] = {}
+        self.tf_republisher = TFSubscriptionServer(self)  # its action's topics are node topics of the lab's
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[Any] = []
         self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
@@ -97,6 +100,16 @@ class Bridge:
         self.topics.pop(name, None)
         self.min_period_s.pop(name, None)
 
+    def add_lab_node_topic(self, name: str, type_name: str) -> None:
+        """A topic the lab's own node publishes or subscribes as a program's node would (relayed, not
+        sampled from the snapshot): kept while the lab runs."""
+        self.node_topics[name] = NodeTopic(type_name, lab=True)
+
+    def lab_publishes(self, topic: str) -> bool:
+        """The lab's node publishes `topic`: a topic of its own, /rosout, or one of its node topics."""
+        entry = self.node_topics.get(topic)
+        return topic in self.topics or topic == rosout.TOPIC or (entry is not None and entry.lab)
+
     def topic_types(self) -> dict[str, str]:
         types = {t.name: t.type for t in self.topics.values()}
         types[rosout.TOPIC] = rosout.TYPE
@@ -113,5 +126,5 @@ class Bridge:
         entry.subscriptions.discard(subscription)
         if not entry.publishers:
             self.windows.pop(topic, None)  # the program that showed it is gone
-        if not entry.publishers and not entry.subscriptions:
+        if not entry.publishers and not entry.subscriptions and not entry.lab:
             del self.node_topics[topic]

@@ -1,6 +1,6 @@
 """Programs' frames on /tf and /tf_static (app/rosbridge/internal/node_frames.py): taken below any
 frame, refused when they would move the lab's frames or another program's, placed in the world
-through their parents (hand-computed poses), gone with their program."""
+through their parents (hand-computed poses, app/rosbridge/tf_republisher.py's tree), gone with their program."""
 
 import math
 from types import SimpleNamespace
@@ -9,6 +9,13 @@ import numpy as np
 
 from app.lab import tf
 from app.rosbridge.internal.node_frames import NodeFrames
+from app.rosbridge.tf_republisher import relative, tree_poses
+
+
+def world_poses(frames: NodeFrames) -> dict[str, np.ndarray]:
+    """The programs' frames placed in the world (a lab publishing no tf of its own: `serve --replay`)."""
+    poses = tree_poses(SimpleNamespace(topics={}, frames=frames), None)
+    return {name: pose for name in poses if (pose := relative(poses, "world", name)) is not None}
 
 
 def stamped(parent: str, child: str, xyz=(0.0, 0.0, 0.0), xyzw=(0.0, 0.0, 0.0, 1.0)) -> dict:
@@ -30,7 +37,7 @@ def test_a_programs_frames_are_placed_in_the_world_through_their_parents():
     frames = NodeFrames()
     assert frames.offer(ADA, {"transforms": [stamped("world", "a", (1, 2, 3), QUARTER_TURN_Z)]}, static=True) == []
     assert frames.offer(ADA, {"transforms": [stamped("a", "b", (1, 0, 0))]}, static=False) == []
-    poses = frames.poses({"world": np.eye(4)})
+    poses = world_poses(frames)
     assert np.allclose(poses["a"][:3, 3], [1, 2, 3])
     assert np.allclose(poses["b"][:3, 3], [1, 3, 3])  # a's x axis is the world's y after the quarter turn
     assert np.allclose(poses["b"][:3, :3], poses["a"][:3, :3])
@@ -54,10 +61,10 @@ def test_the_labs_frames_and_another_programs_are_refused_the_rest_taken():
     assert "transforms" in frames.offer(ADA, {"transform": []}, static=False)[0]
 
 
-def test_a_programs_frames_go_with_it_and_a_frame_below_nothing_has_no_pose():
+def test_a_programs_frames_go_with_it_and_a_frame_of_another_tree_has_no_pose_in_the_world():
     frames = NodeFrames()
     frames.offer(ADA, {"transforms": [stamped("nowhere", "lost"), stamped("world", "kept")]}, static=False)
-    poses = frames.poses({"world": np.eye(4)})
+    poses = world_poses(frames)
     assert "kept" in poses and "lost" not in poses
     frames.drop(ADA)
     assert frames.names() == set()

@@ -1,0 +1,108 @@
+"""tf2_web_republisher's pieces, against hand-computed transforms: the tree from /tf and /tf_static,
+a pair of frames in one tree, a goal's thresholds (upstream's TFPair), a request's fields."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from sim.messages import Topic
+
+from app.rosbridge.internal.node_frames import NodeFrames
+from app.rosbridge.tf_republisher import Pair, _request, relative, tree_poses
+
+
+def stamped(parent: str, child: str, xyz=(0.0, 0.0, 0.0), yaw_rad: float = 0.0) -> dict:
+    return {
+        "header": {"frame_id": parent},
+        "child_frame_id": child,
+        "transform": {
+            "translation": dict(zip("xyz", xyz)),
+            "rotation": {"x": 0.0, "y": 0.0, "z": math.sin(yaw_rad / 2), "w": math.cos(yaw_rad / 2)},
+        },
+    }
+
+
+def bridge_with(moving: list[dict], fixed: list[dict]):
+    topics = {
+        "/tf": Topic("/tf", "tf2_msgs/TFMessage", lambda s: {"transforms": moving}),
+        "/tf_static": Topic("/tf_static", "tf2_msgs/TFMessage", lambda s: {"transforms": fixed}),
+    }
+    return SimpleNamespace(topics=topics, frames=NodeFrames())
+
+
+def test_a_chain_is_composed_from_its_root_and_a_pair_is_relative():
+    # world -> base 1 m along x, turned 90 deg; base -> tool 0.5 m along the base's x (world's y)
+    bridge = bridge_with(
+        [stamped("base", "/tool", (0.5, 0.0, 0.0))], [stamped("/world", "base", (1.0, 0.0, 0.0), math.pi / 2)]
+    )
+    poses = tree_poses(bridge, None)
+    assert set(poses) == {"world", "base", "tool"} and {root for _, root in poses.values()} == {"world"}
+    assert np.allclose(poses["tool"][0][:3, 3], [1.0, 0.5, 0.0])
+    tool_in_world = relative(poses, "world", "tool")
+    world_in_tool = relative(poses, "tool", "world")
+    assert np.allclose(tool_in_world[:3, 3], [1.0, 0.5, 0.0])
+    assert np.allclose(world_in_tool @ tool_in_world, np.eye(4))
+
+
+def test_frames_of_two_trees_or_below_a_loop_do_not_resolve():
+    bridge = bridge_with(
+        [stamped("a", "b"), stamped("b", "a"), stamped("a", "c"), stamped("odom", "base_footprint")],
+        [stamped("world", "base")],
+    )
+    poses = tree_poses(bridge, None)
+    assert {"a", "b", "c"}.isdisjoint(poses)  # a loop, and what hangs below it
+    assert relative(poses, "world", "base_footprint") is None  # two trees: odom's and world's
+    assert relative(poses, "odom", "base_footprint") is not None and relative(poses, "world", "nowhere") is None
+
+
+def test_programs_frames_serve_when_the_lab_publishes_no_tf():
+    bridge = SimpleNamespace(topics={}, frames=NodeFrames())  # a lab started to replay bags
+    session = SimpleNamespace(name="/talker")
+    assert bridge.frames.offer(session, {"transforms": [stamped("map", "robot", (2.0, 0.0, 0.0))]}, static=False) == []
+    assert np.allclose(relative(tree_poses(bridge, None), "map", "robot")[:3, 3], [2.0, 0.0, 0.0])
+
+
+def pose(x_m: float = 0.0, yaw_rad: float = 0.0) -> np.ndarray:
+    matrix = np.eye(4)
+    c, s = math.cos(yaw_rad), math.sin(yaw_rad)
+    matrix[:2, :2] = [[c, -s], [s, c]]
+    matrix[0, 3] = x_m
+    return matrix
+
+
+def test_a_pair_sends_when_it_moved_or_turned_beyond_its_thresholds():
+    pair = Pair("tool")
+    assert pair.moved(pose(), 0.01, 0.01)  # never sent: always
+    pair.sent = pose()
+    assert not pair.moved(pose(x_m=0.009), 0.01, 0.01)
+    assert pair.moved(pose(x_m=0.011), 0.01, 0.01)
+    assert not pair.moved(pose(yaw_rad=0.009), 0.01, 0.01)
+    assert pair.moved(pose(yaw_rad=0.011), 0.01, 0.01)
+    assert pair.moved(pose(), 0.0, 0.01) and pair.moved(pose(), 0.01, 0.0)  # a threshold 0: every period
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        ({"source_frames": "plate"}, "'source_frames' must be a list"),
+        ({"source_frames": ["plate", 3]}, "'source_frames' must be a frame name"),
+        ({"source_frames": ["a"] * 101}, "at most 100"),
+        ({"target_frame": "/"}, "'target_frame' must be a frame name"),
+        ({"rate": 0}, "'rate' must be a positive number"),
+        ({"rate": float("nan")}, "'rate' must be a positive number"),
+        ({"rate": True}, "'rate' must be a positive number"),
+    ],
+)
+def test_a_bad_request_is_refused_naming_its_field(args, says):
+    with pytest.raises(ValueError, match=says):
+        _request(args)
+
+
+def test_a_request_strips_slashes_and_caps_the_rate():
+    assert _request({"source_frames": ["/plate"], "target_frame": "/world", "rate": 1000.0}) == (
+        ["plate"],
+        "world",
+        100.0,
+    )

@@ -1,5 +1,6 @@
 """roslibjs's own tests that talk to a ROS system (its `test/examples/*.js` and
-`test/service.test.js`, unchanged) against the lab: issue 31's measure of a JavaScript client
+`test/service.test.js`, unchanged; the latter imports the package built, so its `dist/` is built
+first when the checkout has none) against the lab: issue 31's measure of a JavaScript client
 nobody here wrote (docs/ros-programs.md).
 
 The tests connect to `ws://localhost:9090` (hard-coded in them), so this starts `hri-lab serve
@@ -40,8 +41,9 @@ from pathlib import Path
 from bench.ros_corpus import ROOT, Lab, Process, find_checkouts, serving, stop_on_sigterm
 
 PORT = 9090  # the tests' own
-# the files that talk to ws://localhost:9090 (test/service.test.js imports the built package: not built here)
-TESTS = ("test/examples",)
+# the files that talk to ws://localhost:9090 (test/service.test.js imports the built package, dist/: built
+# first, as the package's `prepare` script does, when the checkout has none)
+TESTS = ("test/examples", "test/service.test.js")
 NODES = Path(__file__).with_name("roslibjs_nodes")
 SUITE_TIMEOUT_S = 900.0  # a bound for a hung suite, not a speed figure
 SETUP_S = 60.0  # for the setup's programs to be up (as setup_examples.bash waits for /listener)
@@ -120,6 +122,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
+    if not (checkout / "dist").is_dir():
+        built = subprocess.run(["npx", "vite", "build"], cwd=checkout, capture_output=True, text=True, timeout=600)
+        if built.returncode != 0:
+            print(f"{checkout}: `npx vite build` failed:\n{(built.stdout + built.stderr)[-2000:]}", file=sys.stderr)
+            return 1
     if not port_free(PORT):
         print(f"port {PORT} is taken (another lab or rosbridge?): the tests need it", file=sys.stderr)
         return 1

@@ -7,7 +7,11 @@ folders of a roslibpy checkout into another one (so neither this repository's no
 settings apply), runs each with the lab's pinned roslibpy and prints pytest's summary line of each.
 
     git clone https://github.com/gramaziokohler/roslibpy /tmp/roslibpy   # not part of this repository
-    .venv/bin/python -m bench.roslibpy_suite /tmp/roslibpy [-- PYTEST ARGS]
+    .venv/bin/python -m bench.roslibpy_suite /tmp/roslibpy [--python PY] [-- PYTEST ARGS]
+
+`--python PY` runs the suites with another interpreter's roslibpy: the release the checkout's tests
+were written for (e.g. a venv with `pip install roslibpy==1.8.1 pytest` for the 1.8.1 checkout,
+whose ros1 `test_actionlib.py` imports `roslibpy.actionlib`, which 2.x moved to `roslibpy.ros1`).
 """
 
 from __future__ import annotations
@@ -43,6 +47,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("checkout", type=Path, help="a roslibpy checkout (its tests/ros2 and tests/ros1 are run)")
     parser.add_argument("pytest_args", nargs="*", help="more pytest arguments (after --)")
+    parser.add_argument(
+        "--python", default=sys.executable, help="the interpreter (with roslibpy and pytest) that runs the suites"
+    )
     args = parser.parse_args()
     missing = [s for s in SUITES if not (args.checkout / "tests" / s).is_dir()]
     if missing:
@@ -63,7 +70,7 @@ def main() -> int:
             for suite in SUITES:
                 extra = ["--continue-on-collection-errors"] if suite == "ros1" else []
                 run = subprocess.run(
-                    [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--rootdir", tmp, *extra]
+                    [args.python, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--rootdir", tmp, *extra]
                     + [*args.pytest_args, suite],
                     cwd=tmp,
                     capture_output=True,

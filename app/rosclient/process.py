@@ -26,6 +26,7 @@ _connection: list[Connection] = []
 shutdown_event = threading.Event()
 shutdown_reason: list[str] = []
 _advertised: set[str] = set()
+_publishers: dict[str, int] = {}  # topic -> the publisher objects of it in this program (rospy's and rclpy's)
 CALLBACK_GRACE_S = 2.0  # s a callback in progress gets to finish when the program ends
 _callbacks = [0]  # callbacks running now (rospy's subscriber threads)
 _callbacks_done = threading.Condition()
@@ -94,6 +95,30 @@ def unadvertise(topic: str) -> None:
     if topic in _advertised:
         _advertised.discard(topic)
         connection().send({"op": "unadvertise", "topic": topic})
+
+
+def add_publisher(topic: str, type_name: str, msg_class: Any = None) -> None:
+    """A publisher object of `topic` made: the program advertises the topic while it holds one (as
+    rospy's publishers of one topic share its connection, counted)."""
+    with _lock:
+        _publishers[topic] = _publishers.get(topic, 0) + 1
+    advertise_once(topic, type_name, msg_class)
+
+
+def remove_publisher(topic: str) -> None:
+    """A publisher object of `topic` gone: the last one unadvertises it."""
+    with _lock:
+        left = _publishers.get(topic, 0) - 1
+        if left > 0:
+            _publishers[topic] = left
+            return
+        _publishers.pop(topic, None)
+    unadvertise(topic)
+
+
+def publishers_of(topic: str) -> int:
+    """This program's publisher objects of `topic`."""
+    return _publishers.get(topic, 0)
 
 
 node_names: list[str] = []  # the nodes this program runs, as it named them (rospy's init_node, rclpy's Node)

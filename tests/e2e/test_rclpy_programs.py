@@ -3,9 +3,13 @@ run` against a real lab (`serve --exercises`): `with rclpy.init():` and External
 an `async def` action server whose cancels are accepted or rejected (the client told which), a
 coroutine on the executor awaiting `call_async`, a MultiThreadedExecutor's mutually exclusive
 group, a package's own modules and service type found by its package.xml's name (run and launch),
-and the camera handout's image server answering its service while images stream in."""
+the camera handout's image server answering its service while images stream in, and the graph's
+counts and matched events as another client subscribes and leaves, and service introspection's events."""
 
 import signal
+from base64 import b64decode
+
+import roslibpy
 
 from app.cli.launch import running_server
 from tests.e2e.serving import served_lab
@@ -212,3 +216,43 @@ def test_a_second_server_of_a_provided_service_raises_rclerror(lab):
         assert http.post(f"{lab.url}/services/add_two_ints", json={"a": 1, "b": 2}, timeout=30).json() == {"sum": 3}
     finally:
         assert first.interrupt() == 0, first.output
+
+
+def test_a_publishers_matched_events_and_counts_follow_the_graph(lab, ros):
+    program = run(lab.url, "graph_counts_rclpy.py")
+    try:
+        program.wait_for_line("graph counts ready")
+        assert program.wait_for_line("joint_states publishers:").endswith(": 1")  # the lab's node
+        got: list[dict] = []
+        topic = roslibpy.Topic(ros, "/counted", "std_msgs/String")
+        topic.subscribe(got.append)
+        try:
+            assert program.wait_for_line("matched current=1").endswith("change=1 total=1 count=1")
+            wait_for(lambda: got)  # still advertised: its spare publisher's destruction left it to the other
+        finally:
+            topic.unsubscribe()
+        assert program.wait_for_line("matched current=0").endswith("change=-1 total=1 count=0")
+    finally:
+        program.interrupt()
+
+
+def test_service_introspection_publishes_each_step_of_a_call(lab, ros):
+    program = run(lab.url, "introspection_rclpy.py")
+    events: list[dict] = []
+    topic = roslibpy.Topic(ros, "/introspected_sum/_service_event", "example_interfaces/srv/AddTwoInts_Event")
+    topic.subscribe(events.append)
+    try:
+        program.wait_for_line("sum 5")
+
+        def a_whole_call() -> dict[int, dict] | None:  # ServiceEventInfo's steps of one client call and one served
+            client = {e["info"]["event_type"]: e for e in events if any(b64decode(e["info"]["client_gid"]))}
+            served = {e["info"]["event_type"]: e for e in events if not any(b64decode(e["info"]["client_gid"]))}
+            return {**client, **served} if {0, 3} <= set(client) and {1, 2} <= set(served) else None
+
+        steps = wait_for(a_whole_call)
+    finally:
+        topic.unsubscribe()
+        program.interrupt()
+    assert steps[0]["request"] == [{"a": 2, "b": 3}] and steps[3]["response"] == [{"sum": 5}]  # the client: CONTENTS
+    assert steps[1]["request"] == [] and steps[2]["response"] == []  # the service: METADATA only
+    assert len(b64decode(steps[0]["info"]["client_gid"])) == 16  # char[16], base64 as rosbridge sends it

@@ -14,6 +14,13 @@ from rclpy import context
 from rclpy._entity import Call, Entity
 from rclpy.callback_groups import CallbackGroup
 from rclpy.exceptions import ServiceCallFailed
+from rclpy.service_introspection import (
+    REQUEST_SENT,
+    RESPONSE_RECEIVED,
+    Introspection,
+    ServiceIntrospectionState,
+    client_gid,
+)
 from rclpy.task import Future
 
 if TYPE_CHECKING:
@@ -28,8 +35,14 @@ class Client(Entity):
         self.callback_group = callback_group
         callback_group.add_entity(self)
         self.srv_name = node.resolve_service_name(name)
-        self._responses: deque[tuple[Future, WireFuture[Any]]] = deque()
+        self._responses: deque[tuple[Future, WireFuture[Any], int]] = deque()
         self._pending: set[Future] = set()
+        self._introspection = Introspection(self.srv_name, srv_type, client_gid())
+
+    def configure_introspection(self, clock: Any, service_event_qos_profile: Any,
+                                introspection_state: ServiceIntrospectionState | int) -> None:
+        """Publish this client's calls on <service>/_service_event (rclpy/service_introspection.py)."""
+        self._introspection.configure(clock, service_event_qos_profile, introspection_state)
 
     def service_is_ready(self) -> bool:
         return self.srv_name in process.service_names()
@@ -46,13 +59,15 @@ class Client(Entity):
         self._check(request)
         future = Future()
         self._pending.add(future)
+        sequence = next(self._introspection.sequence)
         wire = process.connection().call_service_async(self.srv_name, request.to_json())
-        wire.add_done_callback(lambda done: self._arrived(future, done))
+        self._introspection.event(REQUEST_SENT, sequence, request=request)
+        wire.add_done_callback(lambda done: self._arrived(future, done, sequence))
         return future
 
-    def _arrived(self, future: Future, done: WireFuture[Any]) -> None:
+    def _arrived(self, future: Future, done: WireFuture[Any], sequence: int) -> None:
         with context.CONDITION:
-            self._responses.append((future, done))
+            self._responses.append((future, done, sequence))
         context.wake()
 
     def _is_ready(self) -> bool:
@@ -62,10 +77,10 @@ class Client(Entity):
         with context.CONDITION:
             if not self._responses:
                 return None
-            future, done = self._responses.popleft()
-        return lambda: self._complete(future, done)
+            future, done, sequence = self._responses.popleft()
+        return lambda: self._complete(future, done, sequence)
 
-    def _complete(self, future: Future, done: WireFuture[Any]) -> None:
+    def _complete(self, future: Future, done: WireFuture[Any], sequence: int) -> None:
         self._pending.discard(future)
         if future.done():
             return
@@ -77,17 +92,25 @@ class Client(Entity):
             future.set_exception(ServiceCallFailed(f"service {self.srv_name} failed: {values}"))
             return
         try:
-            future.set_result(self.srv_type.Response.from_json(values if values is not None else {}))
+            response = self.srv_type.Response.from_json(values if values is not None else {})
         except (TypeError, ValueError) as exc:
             future.set_exception(ServiceCallFailed(f"service {self.srv_name} answered with a bad response: {exc}"))
+            return
+        self._introspection.event(RESPONSE_RECEIVED, sequence, response=response)
+        future.set_result(response)
 
     def call(self, request: Any, timeout_sec: float | None = None) -> Any:
         """The response; blocks (the lab answers on the connection's own thread)."""
         self._check(request)
-        ok, values = process.connection().call_service_async(self.srv_name, request.to_json()).result(timeout_sec)
+        sequence = next(self._introspection.sequence)
+        wire = process.connection().call_service_async(self.srv_name, request.to_json())
+        self._introspection.event(REQUEST_SENT, sequence, request=request)
+        ok, values = wire.result(timeout_sec)
         if not ok:
             raise ServiceCallFailed(f"service {self.srv_name} failed: {values}")
-        return self.srv_type.Response.from_json(values if values is not None else {})
+        response = self.srv_type.Response.from_json(values if values is not None else {})
+        self._introspection.event(RESPONSE_RECEIVED, sequence, response=response)
+        return response
 
     def remove_pending_request(self, future: Future) -> None:
         self._pending.discard(future)

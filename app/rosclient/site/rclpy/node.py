@@ -14,6 +14,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
+from rclpy import _graph
 from rclpy import context as _context
 from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from rclpy.client import Client
@@ -26,6 +27,7 @@ from rclpy.exceptions import (
     ParameterAlreadyDeclaredException,
     ParameterNotDeclaredException,
 )
+from rclpy.event_handler import publisher_handlers, subscription_handlers
 from rclpy.guard_condition import GuardCondition
 from rclpy.logging import RcutilsLogger, get_logger
 from rclpy.parameter import Parameter, range_refusal
@@ -162,13 +164,23 @@ class Node:
                          **other: Any) -> Publisher:
         publisher = Publisher(self, msg_type, topic, qos_profile)
         self.publishers.append(publisher)
+        if event_callbacks is not None:
+            publisher.event_handlers = publisher_handlers(event_callbacks, self._group(callback_group), publisher.topic)
+            for handler in publisher.event_handlers:
+                self.add_waitable(handler)
         return publisher
 
     def create_subscription(self, msg_type: type, topic: str, callback: Callable[..., Any],
                             qos_profile: QoSProfile | int, *, callback_group: CallbackGroup | None = None,
                             event_callbacks: Any = None, raw: bool = False, **other: Any) -> Subscription:
-        return self._added(self.subscriptions, Subscription(self, msg_type, topic, callback, qos_profile,
-                                                            self._group(callback_group), raw))
+        group = self._group(callback_group)
+        subscription = self._added(self.subscriptions, Subscription(self, msg_type, topic, callback, qos_profile,
+                                                                    group, raw))
+        if event_callbacks is not None:
+            subscription.event_handlers = subscription_handlers(event_callbacks, group, subscription.topic)
+            for handler in subscription.event_handlers:
+                self.add_waitable(handler)
+        return subscription
 
     def create_service(self, srv_type: Any, srv_name: str, callback: Callable[..., Any], *,
                        qos_profile: QoSProfile | None = None, callback_group: CallbackGroup | None = None) -> Service:
@@ -203,10 +215,17 @@ class Node:
         return True
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
+        self._drop_events(publisher)
         return self._removed(self.publishers, publisher)
 
     def destroy_subscription(self, subscription: Subscription) -> bool:
+        self._drop_events(subscription)
         return self._removed(self.subscriptions, subscription)
+
+    def _drop_events(self, entity: Publisher | Subscription) -> None:
+        for handler in entity.event_handlers:
+            self.remove_waitable(handler)
+            handler.destroy()
 
     def destroy_service(self, service: Service) -> bool:
         return self._removed(self.services, service)
@@ -240,10 +259,12 @@ class Node:
             self._executor.remove_node(self)
 
     def count_publishers(self, topic_name: str) -> int:
-        return 0
+        """The publishers of the topic in the graph (rclpy/_graph.py)."""
+        return _graph.count_publishers(self.resolve_topic_name(topic_name))
 
     def count_subscribers(self, topic_name: str) -> int:
-        return 0
+        """The subscriptions of the topic in the graph (rclpy/_graph.py)."""
+        return _graph.count_subscriptions(self.resolve_topic_name(topic_name))
 
     def get_node_names(self) -> list[str]:
         return [n.strip("/") for n in process.connection().call_service("/rosapi/nodes", {}).get("nodes", [])]

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
 from app.interfaces.messages import Message
+from rclpy import _graph
 from rclpy.qos import QoSProfile, profile
 
 if TYPE_CHECKING:
@@ -24,7 +25,9 @@ class Publisher:
         self.node, self.msg_type, self.qos_profile = node, msg_type, profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
         self.type = type_name(msg_type)
-        process.advertise_once(self.topic_name, self.type, msg_type)
+        self._destroyed = False
+        _graph.add_publisher(self.topic_name, self.type, msg_type)
+        self.event_handlers: list[Any] = []  # rclpy/event_handler.py
 
     @property
     def topic(self) -> str:
@@ -36,7 +39,8 @@ class Publisher:
         process.publish(self.topic_name, self.type, msg.to_json())
 
     def get_subscription_count(self) -> int:
-        return 1
+        """The subscriptions of its topic in the graph (rclpy/_graph.py)."""
+        return _graph.count_subscriptions(self.topic_name)
 
     def wait_for_all_acked(self, timeout: Any = None) -> bool:
         return True
@@ -45,4 +49,7 @@ class Publisher:
         pass
 
     def destroy(self) -> None:
-        process.connection().send({"op": "unadvertise", "topic": self.topic_name})
+        """The topic is unadvertised when no other publisher of it is left in the program."""
+        if not self._destroyed:
+            self._destroyed = True
+            _graph.remove_publisher(self.topic_name)

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
 from app.interfaces.messages import Message
-from rclpy import context
+from rclpy import _graph, context
 from rclpy._entity import Call, Entity
 from rclpy.callback_groups import CallbackGroup
 from rclpy.publisher import type_name
@@ -42,6 +42,9 @@ class Subscription(Entity):
         self._sid = process.connection().subscribe(
             self.topic_name, type_name(msg_type), self._offer, queue_length=LAB_QUEUE
         )
+        self._destroyed = False
+        self.event_handlers: list[Any] = []  # rclpy/event_handler.py
+        _graph.add_subscription(self.topic_name)
 
     def _offer(self, data: dict[str, Any]) -> None:
         """A message from the lab (the connection's reader thread)."""
@@ -67,5 +70,12 @@ class Subscription(Entity):
     def topic(self) -> str:
         return self.topic_name
 
+    def get_publisher_count(self) -> int:
+        """The publishers of its topic in the graph (rclpy/_graph.py)."""
+        return _graph.count_publishers(self.topic_name)
+
     def destroy(self) -> None:
-        process.connection().unsubscribe(self.topic_name, self._sid, self._offer)
+        if not self._destroyed:
+            self._destroyed = True
+            _graph.remove_subscription(self.topic_name)
+            process.connection().unsubscribe(self.topic_name, self._sid, self._offer)

@@ -80,7 +80,8 @@ class Publisher(Topic):
         self.seq = 0
         self._lock = threading.Lock()
         self._has_header = _has_header(data_class)
-        process.advertise_once(self.name, self.type, self.data_class)
+        self._registered = True
+        process.add_publisher(self.name, self.type, self.data_class)
         if subscriber_listener is not None:
             threading.Thread(
                 target=self._watch_peers, args=(subscriber_listener,), daemon=True, name=f"rospy-peers{self.name}"
@@ -125,7 +126,12 @@ class Publisher(Topic):
             process.publish(self.name, self.type, data)
 
     def unregister(self) -> None:
-        process.unadvertise(self.name)
+        """This publisher is done: the topic is unadvertised when no other publisher of it is left
+        in the program (rospy shares one connection per topic between its publishers)."""
+        with self._lock:
+            registered, self._registered = self._registered, False
+        if registered:
+            process.remove_publisher(self.name)
 
 
 class Subscriber(Topic):

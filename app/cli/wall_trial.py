@@ -1,7 +1,7 @@
 """One wall-following trial of a student's program (the grader's job: app/cli/grade_wall.py hands it to
 sim/procedures/runner.py): the trial's mobile world served on a free loopback port (the lab, its
-rosbridge endpoint), the program started as `hri-lab run` starts it (its own process and session;
-it reaches the world only through rosbridge: /scan in, /cmd_vel out), and the verdict read from the
+rosbridge endpoint), the program started as `hri-lab run` starts it (its own process and session,
+in bubblewrap's jail; it reaches the world only through rosbridge: /scan in, /cmd_vel out), and the verdict read from the
 world's monitor (sim/mobile/monitor.py), which the program cannot reach.
 
 The trial's clock starts at the program's first /cmd_vel (its start-up is not timed); the
@@ -12,6 +12,7 @@ time limit of wall-clock time.
 from __future__ import annotations
 
 import os
+import resource
 import signal
 import subprocess
 import sys
@@ -25,6 +26,7 @@ from pathlib import Path
 
 import uvicorn
 
+from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command
 from sim.mobile.world import MobileConfig
 from sim.procedures.report import Item
 from sim.procedures.wall_grading import TrialOutcome, trial_item
@@ -61,14 +63,34 @@ def served(config: MobileConfig) -> Iterator[tuple[MobileLab, str]]:
         thread.join(timeout=30.0)
 
 
-class Program:
-    """The student's program under `hri-lab run`, its output kept (the last lines)."""
+PROGRAM_MEMORY_BYTES = 2 << 30  # RLIMIT_AS of a jailed program (Python, numpy, the rospy/rclpy layer)
+PROGRAM_OPEN_FILES = 256  # RLIMIT_NOFILE: its sockets, pipes and files
+LAB_CODE = str(Path(__file__).resolve().parents[1])  # the `app` package `hri-lab run` imports (not its checkout)
 
-    def __init__(self, url: str, path: Path) -> None:
+
+def _limits() -> None:
+    """The jailed program's limits, set in the child before bubblewrap starts (inherited)."""
+    resource.setrlimit(resource.RLIMIT_AS, (PROGRAM_MEMORY_BYTES, PROGRAM_MEMORY_BYTES))
+    resource.setrlimit(resource.RLIMIT_NOFILE, (PROGRAM_OPEN_FILES, PROGRAM_OPEN_FILES))
+
+
+class Program:
+    """The student's program under `hri-lab run`, its output kept (the last lines). Jailed (the
+    default) it runs in bubblewrap as a graded controller does (sim/controllers/sandbox/jail.py), with
+    the host's network to reach its trial's lab: it sees the interpreter, the lab's packages and its own
+    folder (a copy of its file alone) read-only, a private /tmp, no other process; its memory and descriptors are limited."""
+
+    def __init__(self, url: str, path: Path, jailed: bool = True) -> None:
         self.lines: deque[str] = deque(maxlen=OUTPUT_LINES)
-        env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_TOKEN")}
+        command = [sys.executable, "-m", "app.cli", "run", "--url", url, str(path)]
+        if jailed:
+            folder = str(path.parent)
+            command = bwrap_command(command, readable=(LAB_CODE, folder), network=True, workdir=folder)
+            env = dict(CHILD_ENV)
+        else:
+            env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_TOKEN")}
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "app.cli", "run", "--url", url, str(path)],
+            command,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
@@ -77,6 +99,7 @@ class Program:
             env=env,
             cwd=path.parent,
             start_new_session=True,  # its own group: stopped whole, with anything it started
+            preexec_fn=_limits if jailed else None,
         )
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
@@ -134,13 +157,14 @@ def judge(lab: MobileLab, program: Program, config: MobileConfig) -> TrialOutcom
         time.sleep(POLL_S)
 
 
-def run_trial(program_name: str, program_text: str, config: MobileConfig, index: int) -> Item:
-    """Trial `index` of the program (its file's name and text: a worker elsewhere has no copy)."""
+def run_trial(program_name: str, program_text: str, config: MobileConfig, index: int, jailed: bool = True) -> Item:
+    """Trial `index` of the program (its file's name and text: a worker elsewhere has no copy);
+    jailed unless the grader said --unsandboxed."""
     with tempfile.TemporaryDirectory(prefix="hri-lab-wall-") as folder:
         path = Path(folder) / Path(program_name).name
         path.write_text(program_text, encoding="utf-8")
         with served(config) as (lab, url):
-            program = Program(url, path)
+            program = Program(url, path, jailed)
             try:
                 outcome = judge(lab, program, config)
             finally:

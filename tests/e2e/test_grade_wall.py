@@ -1,6 +1,6 @@
 """`hri-lab grade-wall`: the reference wall followers (rclpy, rospy) pass; one that drives straight, one that spins
 in place and one that follows the arena's wall fail, each with its reason and figures; a batch
-writes every report (Gradescope's too) and the summary."""
+writes every report (Gradescope's too) and the summary; a program runs jailed."""
 
 import json
 import subprocess
@@ -60,3 +60,18 @@ def test_a_program_that_never_drives_is_reported(tmp_path):
     (item,) = json.loads(done.stdout)["items"]
     assert item["detail"].startswith("program: before its first /cmd_vel the program ended (exit status 0)")
     assert "I only print" in item["detail"]
+
+
+def test_a_program_runs_jailed(tmp_path):
+    out = tmp_path / "reports"
+    done = subprocess.run(
+        [sys.executable, "-m", "app.cli", "grade-wall", str(PROGRAMS / "jail_probe.py"), "--trials", "1", "--quiet"]
+        + ["--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 1, done.stdout + done.stderr
+    (item,) = json.loads((out / "jail_probe.json").read_text())["items"]
+    for attempt in ("host file", "checkout's tests", "own folder write", "tmp 100 MB"):
+        assert f"{attempt}: denied" in item["detail"], item["detail"]

@@ -40,13 +40,22 @@ def _readable_roots() -> list[str]:
     return sorted(r for r in roots if not r.startswith("/usr"))
 
 
-def bwrap_command(child: list[str], tmp_bytes: int = SandboxBudget.tmp_bytes) -> list[str]:
+def bwrap_command(
+    child: list[str],
+    tmp_bytes: int = SandboxBudget.tmp_bytes,
+    readable: tuple[str, ...] = (),
+    network: bool = False,
+    workdir: str = "/tmp",
+) -> list[str]:
     """bwrap's command line for `child`; the jail's /tmp holds at most tmp_bytes (a tmpfs is memory:
-    RLIMIT_AS does not count it, nor RLIMIT_FSIZE beyond one file)."""
+    RLIMIT_AS does not count it, nor RLIMIT_FSIZE beyond one file). `readable`: more folders it sees,
+    read-only (a student's ROS program's own folder, the lab's code its `hri-lab run` imports);
+    `network`: the host's network (a ROS program reaches its trial's lab over loopback TCP), else none."""
     bwrap = shutil.which("bwrap") or "bwrap"
     argv = [
         bwrap,
         "--unshare-all",
+        *(["--share-net"] if network else []),
         "--die-with-parent",
         "--new-session",
         "--cap-drop",
@@ -68,11 +77,11 @@ def bwrap_command(child: list[str], tmp_bytes: int = SandboxBudget.tmp_bytes) ->
             argv += ["--symlink", os.readlink(top), top]
         elif os.path.isdir(top):
             argv += ["--ro-bind", top, top]
-    for root in _readable_roots():
+    for root in [*_readable_roots(), *readable]:
         argv += ["--ro-bind", root, root]
     # read-only at last: /tmp is the jail's one writable file system (the zygote empties it between
     # items); /dev/shm is a folder of the read-only /dev, /proc's files are the kernel's
-    return argv + ["--remount-ro", "/dev", "--remount-ro", "/", "--chdir", "/tmp", "--"] + child
+    return argv + ["--remount-ro", "/dev", "--remount-ro", "/", "--chdir", workdir, "--"] + child
 
 
 def zygote_command(budget: SandboxBudget, class_name: str, jailed: bool) -> list[str]:

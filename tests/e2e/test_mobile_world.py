@@ -1,7 +1,7 @@
 """`hri-lab serve --world mobile`: the base driven over rosbridge (/cmd_vel), its sensors as ROS has
 them (/scan, /odom, /tf, /joint_states, /robot_description), the watchdog, and the handout's
-keys-to-twist node driving it with `hri-lab param set` changing its speed; `hri-lab record`, `bag info`
-and `play` of it."""
+keys-to-twist node driving it with `hri-lab param set` changing its speed; its frames through
+/republish_tfs (tf2_web_republisher, as a TFClient reads them); `hri-lab record`, `bag info` and `play` of it."""
 
 import math
 import subprocess
@@ -118,6 +118,26 @@ def test_the_keys_to_twist_node_drives_the_base_and_param_set_changes_its_speed(
         wait_for(lambda: twist() == (0.0, 1.5), timeout=60)
     finally:
         node.interrupt()
+
+
+def test_republish_tfs_serves_the_mobile_worlds_frames(lab, ros):
+    still = {"x": 0.0, "y": 0.0, "z": 0.0}
+    wait_for(lambda: latest(lab, "odom")["twist"]["twist"] == {"linear": still, "angular": still}, timeout=60)
+    answer = roslibpy.Service(ros, "/republish_tfs", "tf2_web_republisher/RepublishTFs").call(
+        roslibpy.ServiceRequest({"source_frames": ["base_footprint", "base_scan"], "target_frame": "odom"}), timeout=30
+    )
+    got: dict[str, dict] = {}
+    topic = roslibpy.Topic(ros, answer["topic_name"], "tf2_web_republisher/TFArray")
+    topic.subscribe(lambda m: got.update({t["child_frame_id"]: t["transform"] for t in m["transforms"]}))
+    try:
+        wait_for(lambda: {"base_footprint", "base_scan"} <= set(got))
+    finally:
+        topic.unsubscribe()
+    pose = latest(lab, "odom")["pose"]["pose"]  # the base stands still: odom -> base_footprint is /odom's pose
+    footprint = got["base_footprint"]
+    assert math.isclose(footprint["translation"]["x"], pose["position"]["x"], abs_tol=1e-9)
+    assert math.isclose(footprint["rotation"]["z"], pose["orientation"]["z"], abs_tol=1e-9)
+    assert got["base_scan"]["translation"]["z"] > 0.1  # the lidar above the floor (base_link, then its mount)
 
 
 def test_the_world_publishes_its_clock(lab, ros):

@@ -1,7 +1,7 @@
 """mkdocs hook: the reference pages' tables, generated at build time from the code's own declarations.
 
 A page says `<!-- generated: NAME -->` where a table goes; NAME is a key of GENERATORS. Each table
-is read from the one place the fact is declared: the HTTP API from `create_app().openapi()`, the CLI
+is read from the one place the fact is declared: the HTTP API from `create_app().openapi()` (app/cli/compose.py), the CLI
 from `app.cli.main.build_parser()`, the parameters from `app.lab.params.LAB_PARAMETERS`, the topics
 from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SERVICES` and
 `app.lab.actions.ACTIONS`, rosbridge's ops from its connection's handlers, rosapi's services from
@@ -59,7 +59,7 @@ def _table(header: list[str], rows: list[list[Any]]) -> str:
 
 @functools.cache
 def _openapi() -> dict:
-    from app.api.app import create_app
+    from app.cli.compose import create_app
 
     return create_app().openapi()  # the app is built, never served: no simulation runs
 

@@ -4,7 +4,7 @@ lasts while one of the advertise ids that made it is not withdrawn, as rosbridge
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from tests.waiting import within
 
 

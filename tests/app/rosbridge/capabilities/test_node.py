@@ -4,7 +4,7 @@ service's info, errors and /rosout show; a bad or the lab's own name is refused 
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from tests.waiting import wait_for, within
 
 

@@ -32,7 +32,7 @@ from pydantic import ValidationError
 
 from app.ros.actions import Action, ActionServer, GoalFailure, GoalHandle, GoalPreempted, GoalSucceeded
 from app.ros.messages import RosMessage, validation_reason
-from app.rosbridge.internal.node_services import OpenMessage, normalise_type
+from app.ros.node_services import OpenMessage, normalise_type
 
 POLL_S = 0.02  # how often a goal's thread looks for a cancel while it waits for the node
 # action_msgs/GoalStatus codes an action_result may carry

@@ -13,7 +13,8 @@ request to the node and waits for its `service_response`.
   --exercises`): the handout's exercise services stay declared but are left to the students:
   "not provided yet" (404) until a node advertises the name. A node's successful
   start/stop_cooperative_lifting also applies its effect to the lab (the band the person
-  expects, the running flag), as the lab's own service does.
+  expects, the running flag), as the lab's own service does: the lab's `effects`
+  (app/lab/services.py NODE_EFFECTS), handed in by whoever builds the registry.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from __future__ import annotations
 import asyncio
 import itertools
 import threading
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
@@ -28,7 +30,6 @@ from typing import Any
 
 from pydantic import ConfigDict, ValidationError
 
-from app.lab import commands as cmd
 from app.ros.interface_models import BadDefinition, own_text, service_models
 from app.ros.messages import Bool, Empty, RosMessage, String, definition, validation_reason
 from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
@@ -76,9 +77,15 @@ class Provider:
 
 class NodeServices:
     def __init__(
-        self, base: ServiceRegistry, lab: Any, exercises: tuple[str, ...] = (), timeout: float = NODE_SERVICE_TIMEOUT
+        self,
+        base: ServiceRegistry,
+        lab: Any,
+        exercises: tuple[str, ...] = (),
+        timeout: float = NODE_SERVICE_TIMEOUT,
+        effects: Mapping[str, Callable[[Any, RosMessage], None]] | None = None,
     ) -> None:
         self.lab = lab
+        self.effects = dict(effects or {})  # service name -> what a node's answer does to the lab
         self.timeout = timeout
         self.slots = {name for name in exercises if base.get(name) is not None}
         self.declared = {s.name for s in base}
@@ -321,6 +328,8 @@ class NodeServices:
         that are a response still delivers them: the call succeeds with those values. Values that
         are no response make a failed call: with `result: false`, the values are its reason."""
         service = self.registry.get(name)
+        if service is None:  # the node withdrew it while answering
+            raise NodeFailure(f"service {name} is no longer provided")
         try:
             return service.response.model_validate(values if values is not None else {})
         except ValidationError as exc:
@@ -330,11 +339,10 @@ class NodeServices:
             raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
 
     def _effect(self, name: str, request: RosMessage) -> None:
-        """A node's start/stop answered: the lab applies the service's meaning to the world."""
-        if name == "/start_cooperative_lifting":
-            self.lab.call(cmd.lifting_effect, True, request.force)
-        elif name == "/stop_cooperative_lifting":
-            self.lab.call(cmd.lifting_effect, False)
+        """A node's answer of a service with an effect (start/stop): the lab applies its meaning."""
+        effect = self.effects.get(name)
+        if effect is not None:
+            effect(self.lab, request)
 
 
 def _lines(text: str) -> list[str]:

@@ -1,0 +1,130 @@
+"""What the parts of rosbridge see of each other, as Protocols: a capability, rosapi and the service
+table are handed a session (SessionLike: one client's connection, app/rosbridge/session.py) and
+through it the bridge (BridgeLike: what every session shares, app/rosbridge/bridge.py).
+They import neither class, so neither imports them back."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable, Coroutine, Iterable
+from typing import Any, Protocol, TypeVar
+
+from sim.messages import Topic
+
+from app.ros.actions import ActionServer
+from app.ros.node_actions import NodeActions
+from app.ros.node_services import NodeServices
+from app.ros.services import Service
+from app.rosbridge.internal.node_frames import NodeFrames
+
+C = TypeVar("C")
+Id = str | int | None  # a frame's "id" when it is a string or an integer (else None)
+
+
+class StreamLike(Protocol):
+    """A topic as one client receives it (app/rosbridge/internal/streams.py)."""
+
+    topic: str
+
+    def offer(self, message: dict) -> None: ...
+
+
+class NodeTopicLike(Protocol):
+    """A topic nodes publish: its type, the full text its first publisher carried, who is on it."""
+
+    type: str
+    definition: str
+    publishers: set[SessionLike]
+    subscriptions: set[StreamLike]
+
+
+class ServiceEntryLike(Protocol):
+    """One service a client may call (app/rosbridge/services.py)."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def type(self) -> str: ...
+
+    @property
+    def writes(self) -> bool: ...  # with a token set, the caller must have presented it
+
+
+class ServiceTableLike(Protocol):
+    """Every service a client may call, by name (app/rosbridge/services.py)."""
+
+    def get(self, name: str) -> ServiceEntryLike | None: ...
+
+    def answers_itself(self, name: str) -> bool: ...
+
+    def names(self) -> list[str]: ...
+
+    async def call(self, caller: Any, name: str, args: dict | list | None) -> tuple[bool, Any]: ...
+
+
+class BridgeLike(Protocol):
+    """What every session shares: the lab, its registries, the node topics, the sessions."""
+
+    lab: Any  # the lifting lab (app/lab/lab.py) or the mobile world (app/mobile/lab.py)
+    nodes: NodeServices
+    actions: ActionServer
+    node_actions: NodeActions
+    token: str | None
+    topics: dict[str, Topic]
+    frames: NodeFrames  # the frames programs publish on /tf and /tf_static
+    min_period_s: dict[str, float]
+    command_topic: str
+    latched: Iterable[str]
+    node_topics: dict[str, NodeTopicLike]
+    windows: dict[str, dict]
+    sessions: list[SessionLike]
+    streams: int
+    service_table: ServiceTableLike
+
+    @property
+    def services(self) -> Iterable[Service]: ...
+
+    def fair_period(self) -> float: ...
+
+    def next_name(self) -> str: ...
+
+    def add_topic(self, topic: Topic, min_period_s: float = 0.0) -> None: ...
+
+    def remove_topic(self, name: str) -> None: ...
+
+    def topic_types(self) -> dict[str, str]: ...
+
+    def node_topic(self, topic: str, type_name: str) -> NodeTopicLike: ...
+
+    def leave(
+        self, topic: str, publisher: SessionLike | None = None, subscription: StreamLike | None = None
+    ) -> None: ...
+
+
+class SessionLike(Protocol):
+    """One client's connection, as a capability may use it."""
+
+    bridge: BridgeLike
+    client_name: str
+    node_names: list[str]
+    loop: asyncio.AbstractEventLoop | None
+    authorized: bool
+    level: str
+    in_flight: int  # its service calls and goals being served (capabilities/call_service.py)
+
+    @property
+    def name(self) -> str: ...
+
+    async def send(self, message: dict) -> None: ...
+
+    async def report(self, level: str, msg: str, id_: Id = None) -> None: ...
+
+    def spawn(self, coroutine: Coroutine[Any, Any, Any]) -> None: ...
+
+    def capability(self, kind: type[C]) -> C: ...
+
+    def details(self) -> dict[str, list[str]]: ...
+
+
+Closing = Callable[[], None]  # what goes with a client (e.g. a republished tf topic)

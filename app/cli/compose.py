@@ -12,10 +12,13 @@ which runs while the app is served.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from fastapi import FastAPI
 from starlette.datastructures import State
+
+from sim.messages import Topic
 
 from app.api.app import create_api
 from app.lab.actions import ACTIONS
@@ -24,7 +27,7 @@ from app.lab.services import EXERCISES, NODE_EFFECTS, SERVICES
 from app.lab.topics import TOPICS
 from app.mobile.lab import MobileLab
 from app.mobile.services import SERVICES as MOBILE_SERVICES
-from app.ros.actions import ActionServer
+from app.ros.actions import Action, ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_params import NodeParameters
 from app.ros.node_services import NodeServices
@@ -50,13 +53,49 @@ def create_app(
     (app/rosbridge/bridge.py, docs/recording.md)."""
     if token and token_problem(token):
         raise ValueError(token_problem(token))
-    lab = lab or Lab()
-    lifting = not isinstance(lab, MobileLab)  # the mobile world (app/mobile/lab.py) declares topics only
+    parts = build(lab or Lab(), token, exercises, replay)
+    lab = parts.lab
+    maker = _view_maker(lab, parts.actions, parts.nodes, view, view_host, view_port, token)
+    view_part = ViewPart(maker) if view != "none" else None
+    app = create_api(
+        lab,
+        parts.nodes,
+        parts.actions,
+        parts.actions_declared,
+        parts.topics_declared,
+        lifting=parts.lifting,
+        bound_host=view_host,
+        token=token,
+        running=[lab] if view_part is None else [lab, view_part],
+        routers=[rosbridge.router(parts.bridge)],  # rosbridge v2: WebSocket at /
+    )
+    app.state.bridge = parts.bridge  # its programs' image windows: app/api/camera.py
+    if view_part is not None:
+        view_part.state = app.state
+    return app
+
+
+@dataclass(frozen=True)
+class Parts:
+    """The lab and what serves it, wired: what the API, rosbridge and the view are handed."""
+
+    lab: Lab | MobileLab
+    lifting: bool  # the lifting lab (else the mobile world: it declares topics only)
+    nodes: NodeServices  # the declared services and the nodes'
+    actions: ActionServer  # the declared actions and the nodes'
+    actions_declared: list[Action]
+    topics_declared: list[Topic]
+    bridge: rosbridge.Bridge  # what every rosbridge client shares
+
+
+def build(lab: Lab | MobileLab, token: str | None = None, exercises: bool = False, replay: bool = False) -> Parts:
+    """The lab's registries, the nodes' parts of them and the rosbridge state, wired once."""
+    lifting = not isinstance(lab, MobileLab)
     if isinstance(lab, MobileLab):
         services_declared, actions_declared, topics_declared = MOBILE_SERVICES, [], lab.topics
     else:
         services_declared, actions_declared, topics_declared = SERVICES, ACTIONS, TOPICS
-    nodes = NodeServices(  # the declared services and the nodes'
+    nodes = NodeServices(
         services_declared,
         lab,
         EXERCISES if exercises and lifting else (),
@@ -65,25 +104,7 @@ def create_app(
     actions = ActionServer(actions_declared, lab)
     lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
     bridge = rosbridge.Bridge(lab, nodes, actions, NodeActions(actions), token, replay=replay)
-    view_part = (
-        ViewPart(_view_maker(lab, actions, nodes, view, view_host, view_port, token)) if view != "none" else None
-    )
-    app = create_api(
-        lab,
-        nodes,
-        actions,
-        actions_declared,
-        topics_declared,
-        lifting=lifting,
-        bound_host=view_host,
-        token=token,
-        running=[lab] if view_part is None else [lab, view_part],
-        routers=[rosbridge.router(bridge)],  # rosbridge v2: WebSocket at /
-    )
-    app.state.bridge = bridge  # its programs' image windows: app/api/camera.py
-    if view_part is not None:
-        view_part.state = app.state
-    return app
+    return Parts(lab, lifting, nodes, actions, actions_declared, topics_declared, bridge)
 
 
 class ViewPart:

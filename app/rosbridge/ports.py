@@ -60,7 +60,7 @@ class ServiceTableLike(Protocol):
 
     def names(self) -> list[str]: ...
 
-    async def call(self, caller: Any, name: str, args: dict | list | None) -> tuple[bool, Any]: ...
+    async def call(self, caller: Caller, name: str, args: dict | list | None) -> tuple[bool, object]: ...
 
 
 class BridgeLike(Protocol):
@@ -128,3 +128,12 @@ class SessionLike(Protocol):
 
 
 Closing = Callable[[], None]  # what goes with a client (e.g. a republished tf topic)
+
+
+class Caller(Protocol):
+    """Who calls a service of the table: a client's call_service capability (its session, the
+    bridge, and what goes with the client: a /republish_tfs topic)."""
+
+    session: SessionLike
+    bridge: BridgeLike
+    on_close: list[Closing]

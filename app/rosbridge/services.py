@@ -9,16 +9,16 @@ from __future__ import annotations
 import asyncio
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import Any
 
 from app.ros.messages import BadArguments, message_from_args
 from app.ros.node_services import NodeServices
 from app.ros.services import Service, ServiceFailure
 from app.rosbridge import rosapi, tf_republisher
+from app.rosbridge.ports import Caller
 
 Args = dict | list | None  # a call's args: an object, or the request's fields in order
-# answer(the calling client's call_service capability: has .session, .bridge, .on_close; args) -> values
-Answer = Callable[[Any, Args], Awaitable[Any]]
+# answer(the caller: a client's call_service capability, its args) -> the response's values
+Answer = Callable[[Caller, Args], Awaitable[object]]
 
 
 @dataclass(frozen=True)
@@ -35,13 +35,13 @@ def _fields(args: Args) -> dict:
 
 
 def _rosapi_entry(service: rosapi.RosapiService) -> ServiceEntry:
-    async def answer(caller: Any, args: Args) -> Any:  # in a worker thread: parameters ask the simulation
+    async def answer(caller: Caller, args: Args) -> object:  # in a worker thread: parameters ask the simulation
         return await asyncio.to_thread(service.handler, caller.bridge, _fields(args))
 
     return ServiceEntry(service.name, service.type, answer, service.writes)
 
 
-async def _republish(caller: Any, args: Args) -> Any:
+async def _republish(caller: Caller, args: Args) -> object:
     return tf_republisher.republish(caller, _fields(args))
 
 
@@ -75,7 +75,7 @@ class ServiceTable:
     def _lab_entry(self, service: Service) -> ServiceEntry:
         nodes = self.nodes
 
-        async def answer(caller: Any, args: Args) -> Any:
+        async def answer(caller: Caller, args: Args) -> object:
             try:
                 request = message_from_args(service.request, args)
             except BadArguments as bad:
@@ -88,7 +88,7 @@ class ServiceTable:
 
         return ServiceEntry(service.name, service.type, answer, writes=True)
 
-    async def call(self, caller: Any, name: str, args: Args) -> tuple[bool, Any]:
+    async def call(self, caller: Caller, name: str, args: Args) -> tuple[bool, object]:
         """(True, the response's values) or (False, the reason)."""
         entry = self.get(name)
         if entry is None:

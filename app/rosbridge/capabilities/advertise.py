@@ -9,13 +9,11 @@ is withdrawn.
 
 from __future__ import annotations
 
-from typing import Any
-
 from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.node_frames import TF_TOPICS
-from app.rosbridge.ports import Id
+from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
@@ -27,7 +25,7 @@ class Advertise(Capability):
 
     DETAILS = "publishing"
 
-    def __init__(self, session: Any) -> None:
+    def __init__(self, session: SessionLike) -> None:
         super().__init__(session)
         self.ids: dict[str, set[Id]] = {}  # topic -> the ids of the advertise ops that hold its publisher
         self.rosout_type = rosout.TYPE

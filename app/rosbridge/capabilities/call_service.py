@@ -4,10 +4,8 @@ failed call is `result: false` with the reason as its values (and an error statu
 
 from __future__ import annotations
 
-from typing import Any
-
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
-from app.rosbridge.ports import Closing, Id
+from app.rosbridge.ports import Closing, Id, SessionLike
 from app.rosbridge.protocol import BadFrame, name_field
 
 MAX_CALLS_IN_FLIGHT = 64  # per client: service calls and goals being served at once
@@ -17,7 +15,7 @@ class CallService(Capability):
     """This client's calls: each served in a task of its own; what a call left behind for the
     client (a /republish_tfs topic) goes with it."""
 
-    def __init__(self, session: Any) -> None:
+    def __init__(self, session: SessionLike) -> None:
         super().__init__(session)
         self.on_close: list[Closing] = []  # what goes with the client (app/rosbridge/tf_republisher.py)
 

@@ -180,13 +180,18 @@ def actions() -> str:
 
 
 def rosapi() -> str:
-    """rosapi's services as the lab answers them, and which of them change something."""
+    """rosapi's services as the lab answers them (rosbridge's service table), and which change something."""
     from app.rosbridge import rosapi as api
+    from app.rosbridge.services import REPUBLISH
 
     rows = [
-        [f"`{name}`", "changes (needs the token)" if name in api.WRITING else "reads"] for name in sorted(api.NAMES)
+        [f"`{s.name}`", f"`{s.type}`", "changes (needs the token)" if s.writes else "reads"]
+        for s in sorted(api.SERVICES, key=lambda s: s.name)
     ]
-    return _table(["service", "access"], rows)
+    rows.append(
+        [f"`{REPUBLISH.name}`", f"`{REPUBLISH.type}`", "changes (needs the token)" if REPUBLISH.writes else "reads"]
+    )
+    return _table(["service", "type", "access"], rows)
 
 
 def rosbridge_ops() -> str:
@@ -194,8 +199,8 @@ def rosbridge_ops() -> str:
     from app.rosbridge.ops import OPS
 
     def token(name: str) -> str:
-        if name == "call_service":  # decided per service (capabilities/call_service.py)
-            return "yes, but for rosapi's reading services (below)"
+        if name == "call_service":  # decided per service: its entry's flag (app/rosbridge/services.py)
+            return "yes, but for rosapi's reading services and /republish_tfs (below)"
         return "yes" if OPS[name].mutating else ""
 
     return _table(

@@ -18,7 +18,7 @@ from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeServices
 from app.ros.services import ServiceRegistry
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
-from app.rosbridge.ports import NodeTopicLike, ServiceTableLike, SessionLike, StreamLike
+from app.rosbridge.ports import FramesLike, NodeTopicLike, ServiceTableLike, SessionLike, StreamLike
 from app.rosbridge.services import ServiceTable
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
@@ -65,7 +65,7 @@ class Bridge:
         # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
         # lab started to replay bags (`serve --replay`): a player publishes them as a node would
         self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
-        self.frames = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
+        self.frames: FramesLike = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
         for name, static in TF_TOPICS.items():
             if name in self.topics:
                 self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)

@@ -9,13 +9,14 @@ import asyncio
 from collections.abc import Callable, Coroutine, Iterable
 from typing import Any, Protocol, TypeVar
 
+import numpy as np
+
 from sim.messages import Topic
 
 from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
-from app.ros.node_services import NodeServices
+from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
-from app.rosbridge.internal.node_frames import NodeFrames
 
 C = TypeVar("C")
 Id = str | int | None  # a frame's "id" when it is a string or an integer (else None)
@@ -27,6 +28,22 @@ class StreamLike(Protocol):
     topic: str
 
     def offer(self, message: dict) -> None: ...
+
+
+class FramesLike(Protocol):
+    """The frames programs publish on /tf and /tf_static (app/rosbridge/internal/node_frames.py)."""
+
+    def offer(self, session: NodeClient, message: dict, static: bool) -> list[str]: ...
+
+    def drop(self, session: NodeClient) -> None: ...
+
+    def transforms(self, static: bool) -> list[dict]: ...
+
+    def names(self) -> set[str]: ...
+
+    def lab_frames(self) -> set[str]: ...
+
+    def poses(self, lab_poses: dict[str, np.ndarray]) -> dict[str, np.ndarray]: ...
 
 
 class NodeTopicLike(Protocol):
@@ -72,7 +89,7 @@ class BridgeLike(Protocol):
     node_actions: NodeActions
     token: str | None
     topics: dict[str, Topic]
-    frames: NodeFrames  # the frames programs publish on /tf and /tf_static
+    frames: FramesLike
     min_period_s: dict[str, float]
     command_topic: str
     latched: Iterable[str]

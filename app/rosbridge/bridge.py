@@ -65,7 +65,9 @@ class Bridge:
         # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
         # lab started to replay bags (`serve --replay`): a player publishes them as a node would
         self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
-        self.frames: FramesLike = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
+        self.frames: FramesLike = (
+            NodeFrames()
+        )  # the frames programs publish: /tf and /tf_static carry them with the lab's
         for name, static in TF_TOPICS.items():
             if name in self.topics:
                 self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)

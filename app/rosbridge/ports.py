@@ -6,7 +6,7 @@ They import neither class, so neither imports them back."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable, Coroutine, Iterable
+from collections.abc import Awaitable, Callable, Iterable
 from typing import Any, Protocol, TypeVar
 
 import numpy as np
@@ -17,9 +17,9 @@ from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
+from app.rosbridge.protocol import Id
 
 C = TypeVar("C")
-Id = str | int | None  # a frame's "id" when it is a string or an integer (else None)
 
 
 class StreamLike(Protocol):
@@ -137,7 +137,7 @@ class SessionLike(Protocol):
 
     async def report(self, level: str, msg: str, id_: Id = None) -> None: ...
 
-    def spawn(self, coroutine: Coroutine[Any, Any, Any]) -> None: ...
+    def spawn(self, coroutine: Awaitable[object]) -> None: ...
 
     def capability(self, kind: type[C]) -> C: ...
 

@@ -42,7 +42,7 @@ NESTED = {
 }
 
 
-def _scalar(value: Any) -> str:
+def _scalar(value: object) -> str:
     return {bool: "bool", int: "int32", float: "float64", str: "string"}.get(type(value), "string")
 
 

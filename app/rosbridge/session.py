@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import json
-from collections.abc import Coroutine
-from typing import Any
+from collections.abc import Awaitable
 
 from fastapi import WebSocket
 
@@ -95,7 +94,7 @@ class Session:
         if self.level != "none" and order(level) >= order(self.level):
             await self.send(status(level, msg, id_))
 
-    def spawn(self, coroutine: Coroutine[Any, Any, Any]) -> None:
+    def spawn(self, coroutine: Awaitable[object]) -> None:
         task = asyncio.ensure_future(coroutine)
         self.tasks.add(task)
         task.add_done_callback(self.tasks.discard)

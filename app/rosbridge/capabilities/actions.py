@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-from typing import Any
 
 from app.ros.actions import TERMINAL, GoalHandle, GoalStatus
 from app.ros.messages import BadArguments, message_from_args
@@ -67,7 +66,7 @@ class Actions(Capability):
         values = view["result"] if view["result"] is not None else view["message"]
         await self._result(name, id_, GOAL_STATUS.get(status_, 0), status_ == GoalStatus.SUCCEEDED, values)
 
-    async def _result(self, name: str, id_: Id, code: int, ok: bool, values: Any) -> None:
+    async def _result(self, name: str, id_: Id, code: int, ok: bool, values: object) -> None:
         await self.session.send(
             {"op": "action_result", "id": id_, "action": name, "values": values, "status": code, "result": ok}
         )

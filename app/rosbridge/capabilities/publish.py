@@ -9,7 +9,6 @@ import asyncio
 import json
 import math
 from concurrent.futures import Future
-from typing import Any
 
 from app.interfaces.image_windows import WINDOWS
 from app.lab import commands as cmd
@@ -104,7 +103,7 @@ class Commands:
         finally:
             self.forwarding = False
 
-    def done(self, future: Future[Any]) -> None:
+    def done(self, future: Future[object]) -> None:
         self.in_flight -= 1
         if future.exception() is not None:
             topic = self.session.bridge.command_topic

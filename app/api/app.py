@@ -7,7 +7,7 @@ from collections.abc import Sequence
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
 from importlib.metadata import version as package_version
-from typing import Any, Protocol
+from typing import Protocol
 
 from fastapi import APIRouter, FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -33,6 +33,8 @@ from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
 from app.lab.events import LAB_NODE
+from app.lab.lab import Lab
+from app.mobile.lab import MobileLab
 from app.ros.actions import Action, ActionServer
 from app.ros.node_services import NodeServices
 from app.runtime.process import SimulationRestarting
@@ -48,7 +50,7 @@ class Running(Protocol):
 
 
 def create_api(
-    lab: Any,
+    lab: Lab | MobileLab,
     nodes: NodeServices,
     actions: ActionServer,
     actions_declared: list[Action],

@@ -13,14 +13,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 from fastapi import FastAPI
 from starlette.datastructures import State
 
 from sim.messages import Topic
 
-from app.api.app import create_api
+from app.api.app import Running, create_api
 from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
 from app.lab.services import EXERCISES, NODE_EFFECTS, SERVICES
@@ -111,9 +110,9 @@ class ViewPart:
     """The 3D view, made when the app starts (after the lab: it draws the lab's first snapshot) and
     shown to the API (app.state.view: app/api/system.py, serve's banner)."""
 
-    def __init__(self, make: Callable[[], Any]) -> None:
+    def __init__(self, make: Callable[[], Running]) -> None:
         self.make = make
-        self.view: Any = None
+        self.view: Running | None = None
         self.state: State | None = None  # the app's state, where the API finds the view
 
     def start(self) -> None:
@@ -137,19 +136,19 @@ def _view_maker(
     host: str,
     port: int,
     token: str | None,
-) -> Callable[[], Any]:
+) -> Callable[[], Running]:
     """How to make the lab's 3D view (viser is imported only when a view is asked for)."""
     light = view == "light"
     if isinstance(lab, MobileLab):
 
-        def mobile() -> Any:
+        def mobile() -> Running:
             from app.view.mobile_view import MobileView
 
             return MobileView(lab, host, port, light=light)
 
         return mobile
 
-    def lifting() -> Any:
+    def lifting() -> Running:
         from app.view.view3d import LabView
 
         return LabView(lab, actions, nodes.registry, host, port, light=light, controls=token is None)

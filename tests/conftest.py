@@ -153,7 +153,7 @@ def client(tmp_path_factory):
     recordings and figures go to a temporary folder, never into the working tree."""
     from fastapi.testclient import TestClient
 
-    from app.api.app import create_app
+    from app.cli.compose import create_app
 
     with TestClient(create_app()) as c:
         output = tmp_path_factory.mktemp("lab")

@@ -1,6 +1,6 @@
 """/actions: send goals, follow their feedback (long-poll or WebSocket) and cancel them
 (ros2 action list / send_goal), for every action of the server: the lab's, and those nodes
-provide over rosbridge (app/rosbridge/internal/node_actions.py)."""
+provide over rosbridge (app/ros/node_actions.py)."""
 
 import asyncio
 from typing import Any

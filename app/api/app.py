@@ -1,14 +1,20 @@
 """The FastAPI app: one router per resource (services, parameters, topics, actions, teleop, robot,
-system), around one Lab whose simulation runs while the app is served."""
+system), around one Lab whose simulation runs while the app is served. It is handed what it serves
+(the lab, its registries, the other front ends' routes and what runs beside it) by the composition
+root, app/cli/compose.py; it builds none of them."""
 
+from collections.abc import Sequence
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
 from importlib.metadata import version as package_version
+from typing import Protocol
 
-from fastapi import FastAPI, Request
+from fastapi import APIRouter, FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+
+from sim.messages import Topic
 
 from app.api import actions as actions_api
 from app.api import camera as camera_api
@@ -26,69 +32,55 @@ from app.api.docs import add_offline_docs
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
 from app.api.security import SiteGuard
-from app.lab.actions import ACTIONS
 from app.lab.events import LAB_NODE
 from app.lab.lab import Lab
-from app.lab.services import EXERCISES, SERVICES
-from app.lab.topics import TOPICS
 from app.mobile.lab import MobileLab
-from app.mobile.services import SERVICES as MOBILE_SERVICES
-from app.ros.actions import ActionServer
-from app.rosbridge import server as rosbridge
-from app.rosbridge.internal.node_services import NodeServices
-from app.rosbridge.internal.state import Bridge
+from app.ros.actions import Action, ActionServer
+from app.ros.node_services import NodeServices
 from app.runtime.process import SimulationRestarting
-from app.tokens import token_problem
 
 
-def create_app(
-    lab: Lab | MobileLab | None = None,
-    view: str = "none",
-    view_host: str = "127.0.0.1",
-    view_port: int = 8080,
+class Running(Protocol):
+    """What runs while the app is served (the lab's simulation, the 3D view): started in order,
+    stopped in reverse."""
+
+    def start(self) -> None: ...
+
+    def stop(self) -> None: ...
+
+
+def create_api(
+    lab: Lab | MobileLab,
+    nodes: NodeServices,
+    actions: ActionServer,
+    actions_declared: list[Action],
+    topics_declared: list[Topic],
+    *,
+    lifting: bool,
+    bound_host: str = "127.0.0.1",
     token: str | None = None,
-    exercises: bool = False,
-    replay: bool = False,
+    running: Sequence[Running] = (),
+    routers: Sequence[APIRouter] = (),
 ) -> FastAPI:
-    """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
-    view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
-    view_host: the address the server (API and view) is bound to; requests must name it
-    (app/api/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
-    exercises: the handout's exercise services are left to the students' nodes (rosbridge).
-    replay: the simulation publishes no topic over rosbridge: a bag played into the lab publishes them
-    (app/rosbridge/internal/state.py, docs/recording.md)."""
-    if token and token_problem(token):
-        raise ValueError(token_problem(token))
-    lab = lab or Lab()
-    lifting = isinstance(lab, Lab)  # else the mobile world (app/mobile/lab.py): it declares topics only
-    if isinstance(lab, Lab):
-        services_declared, actions_declared, topics_declared = SERVICES, ACTIONS, TOPICS
-    else:
-        services_declared, actions_declared, topics_declared = MOBILE_SERVICES, [], lab.topics
-    nodes = NodeServices(services_declared, lab, EXERCISES if exercises and lifting else ())  # declared + nodes'
+    """The HTTP API of `lab` (app.state.lab) with its service registry `nodes` and its `actions`.
+    lifting: the lifting lab's routes (teleop, robot, camera), else the mobile world's page.
+    bound_host: the address the server is bound to; requests must name it (app/api/security.py).
+    token: when set, state-changing requests must carry it (app/api/access.py).
+    running: what runs while the app is served (the lab first); routers: the other front ends'
+    routes (rosbridge's WebSocket at /), after the API's own."""
     services = nodes.registry
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
-        lab.start()
-        if view != "none" and isinstance(lab, MobileLab):
-            from app.view.mobile_view import MobileView  # viser only when a view is asked for
-
-            app.state.view = MobileView(lab, view_host, view_port, light=view == "light")
-            app.state.view.start()
-        elif view != "none":
-            from app.view.view3d import LabView
-
-            app.state.view = LabView(
-                lab, app.state.actions, services, view_host, view_port, light=view == "light", controls=token is None
-            )
-            app.state.view.start()
+        started: list[Running] = []
         try:
+            for part in running:
+                part.start()
+                started.append(part)
             yield
         finally:
-            if app.state.view is not None:
-                app.state.view.stop()
-            lab.stop()
+            for part in reversed(started):
+                part.stop()
 
     app = FastAPI(
         title="hri-lab",
@@ -101,11 +93,11 @@ def create_app(
     )
     add_offline_docs(app)
     app.state.lab = lab
-    app.state.view = None
-    app.state.actions = ActionServer(actions_declared, lab)
+    app.state.view = None  # the 3D view, when the composition root makes one (app/api/system.py shows it)
+    app.state.actions = actions
     if token:
         app.add_middleware(TokenMiddleware, token=token)
-    app.add_middleware(SiteGuard, bound_host=view_host)  # outermost: cross-site refusals come first
+    app.add_middleware(SiteGuard, bound_host=bound_host)  # outermost: cross-site refusals come first
 
     @app.exception_handler(RequestValidationError)
     async def refuse(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -138,8 +130,8 @@ def create_app(
         app.include_router(robot_api.router)
         app.include_router(camera_api.router)
     app.include_router(files_api.router)
-    app.state.bridge = Bridge(lab, nodes, app.state.actions, token, replay=replay)
-    app.include_router(rosbridge.router(app.state.bridge))  # rosbridge v2: WebSocket at /
+    for router in routers:
+        app.include_router(router)
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")
     document(app)
     return app

@@ -12,8 +12,8 @@ from pydantic import ValidationError
 
 from app.api.deps import LabDep
 from app.ros.names import absolute
+from app.ros.node_services import NodeServices
 from app.ros.services import ServiceFailure
-from app.rosbridge.internal.node_services import NodeServices
 
 
 def router(nodes: NodeServices) -> APIRouter:

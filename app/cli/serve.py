@@ -19,7 +19,7 @@ from sim.controllers.plugin import PluginFactory
 from sim.mobile.world import seeded_config
 
 from app.api.access import is_loopback
-from app.api.app import create_app
+from app.cli.compose import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
 from app.mobile.lab import MobileLab

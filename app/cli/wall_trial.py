@@ -31,7 +31,7 @@ from sim.mobile.world import MobileConfig
 from sim.procedures.report import Item
 from sim.procedures.wall_grading import TrialOutcome, trial_item
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from app.cli.launch import free_port
 from app.cli.serve import server_config
 from app.mobile.lab import MobileLab

@@ -380,6 +380,13 @@ SERVICES = ServiceRegistry(
     ]
 )
 
+# What a node's answer of these does to the lab (app/ros/node_services.py): the world's side of
+# the service, which the lab's own handlers (start, stop) apply in the same step
+NODE_EFFECTS = {
+    "/start_cooperative_lifting": lambda lab, request: lab.call(cmd.lifting_effect, True, request.force),
+    "/stop_cooperative_lifting": lambda lab, request: lab.call(cmd.lifting_effect, False),
+}
+
 # `hri-lab serve --exercises`: these stay declared but are left to the students' nodes
 EXERCISES = (
     "/add_two_ints",

@@ -82,7 +82,7 @@ class ParameterRefused(Exception):
 
 class RemoteParameters(Protocol):
     """The parameters of nodes that run elsewhere (a rosbridge client's rclpy node), reached through
-    the node's own parameter services: app/rosbridge/internal/node_params.py. Each method raises
+    the node's own parameter services: app/ros/node_params.py. Each method raises
     ParameterRefused with the node's reason (or why the node could not be asked)."""
 
     def nodes(self) -> list[str]: ...  # the nodes whose parameters can be reached now

@@ -1,5 +1,5 @@
 """The ops of rosbridge v2 by name: each capability module's OPS, gathered once (an op declared
-twice is a bug found at import)."""
+twice is a bug found at import), and the capabilities a session makes one of for its client."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from app.rosbridge.capabilities import (
     service_response,
     subscribe,
 )
-from app.rosbridge.capabilities.op import Op
+from app.rosbridge.capabilities.capability import Capability, Ops
 
 MODULES = (
     connection,
@@ -31,8 +31,8 @@ MODULES = (
 )
 
 
-def _gather() -> dict[str, Op]:
-    ops: dict[str, Op] = {}
+def _gather() -> Ops:
+    ops: Ops = {}
     for module in MODULES:
         for name, op in module.OPS.items():
             if name in ops:
@@ -42,3 +42,5 @@ def _gather() -> dict[str, Op]:
 
 
 OPS = _gather()
+# one object of each per client, made in this order and finished in it (app/rosbridge/session.py)
+CAPABILITIES: tuple[type[Capability], ...] = tuple(dict.fromkeys(op.capability for op in OPS.values()))

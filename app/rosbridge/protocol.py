@@ -14,6 +14,7 @@ from typing import Any
 MAX_FRAME = 1_600_000  # characters of one frame: a 640x480 rgb8 sensor_msgs/Image (base64) a bag plays
 MAX_DEPTH = 32  # nesting of objects and arrays in one frame
 MAX_STATUS = 2000  # characters of a status message's text: what a client sent is never echoed whole
+Id = str | int | None  # a frame's "id" when it is a string or an integer (else None)
 LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it
 
 
@@ -91,10 +92,10 @@ def name_field(message: dict, key: str) -> str:
     return "/" + value.strip("/")
 
 
-def status(level: str, msg: str, id_: Any = None) -> dict:
+def status(level: str, msg: str, id_: Id = None) -> dict:
     if len(msg) > MAX_STATUS:
         msg = f"{msg[:MAX_STATUS]}... ({len(msg)} characters)"
-    out = {"op": "status", "level": level, "msg": msg}
+    out: dict[str, str | int] = {"op": "status", "level": level, "msg": msg}
     if id_ is not None:
         out["id"] = id_
     return out

@@ -6,6 +6,8 @@ text, as rosapi has them."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from app.lab.events import LAB_NODE
@@ -15,32 +17,9 @@ from app.ros.messages import RosType
 from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
-from app.rosbridge import tf_republisher
+from app.rosbridge.ports import BridgeLike
 
-READ_ONLY = {
-    "/rosapi/topics",
-    "/rosapi/topic_type",
-    "/rosapi/topics_for_type",
-    "/rosapi/services",
-    "/rosapi/service_type",
-    "/rosapi/services_for_type",
-    "/rosapi/service_request_details",
-    "/rosapi/service_response_details",
-    "/rosapi/message_details",
-    "/rosapi/nodes",
-    "/rosapi/node_details",
-    "/rosapi/publishers",
-    "/rosapi/subscribers",
-    "/rosapi/get_param_names",
-    "/rosapi/get_param",
-    "/rosapi/has_param",
-    "/rosapi/search_param",
-    "/rosapi/get_time",
-    "/rosapi/topics_and_raw_types",
-    "/rosapi/action_servers",
-}
-WRITING = {"/rosapi/set_param", "/rosapi/delete_param"}
-NAMES = READ_ONLY | WRITING
+Handler = Callable[["BridgeLike", dict], dict]  # (the bridge, the request's fields) -> the response's values
 
 # nested message types of the lab's topics, by field name (ROS's own spellings)
 NESTED = {
@@ -63,7 +42,7 @@ NESTED = {
 }
 
 
-def _scalar(value: Any) -> str:
+def _scalar(value: object) -> str:
     return {bool: "bool", int: "int32", float: "float64", str: "string"}.get(type(value), "string")
 
 
@@ -226,116 +205,188 @@ def _search_param(lab, args: dict) -> dict:
     return {"global_name": found or ""}
 
 
-PARAM_SERVICES = {
-    "/rosapi/get_param": _get_param,
-    "/rosapi/set_param": _set_param,
-    "/rosapi/delete_param": _delete_param,
-    "/rosapi/has_param": _has_param,
-    "/rosapi/get_param_names": _get_param_names,
-    "/rosapi/search_param": _search_param,
-}
 _UNSET = object()
 
 
-def lab_topics(bridge) -> list:
+def lab_topics(bridge: BridgeLike) -> list:
     """The topics the lab's world publishes (the mobile world's its own: app/mobile/lab.py)."""
     return getattr(bridge.lab, "topics", TOPICS)
 
 
-def _samples(bridge, snapshot) -> dict[str, tuple[str, dict]]:
+def _samples(bridge: BridgeLike, snapshot: Any) -> dict[str, tuple[str, dict]]:
     """topic -> (type, a message of it): the lab's topics from the snapshot, /rosout a line."""
     samples = {t.name: (t.type, t.build(snapshot)) for t in lab_topics(bridge)}
     samples[rosout.TOPIC] = (rosout.TYPE, rosout.LogLine(0.0, "INFO", "", "").message())
     return samples
 
 
-def call(bridge, session, name: str, args: dict) -> dict:
-    """Answer a rosapi service (runs in a worker thread: parameters ask the simulation)."""
-    lab = bridge.lab
-    if name == "/rosapi/topics":
-        topics = bridge.topic_types()
-        return {"topics": list(topics), "types": list(topics.values())}
-    if name == "/rosapi/topics_for_type":
-        return {"topics": [t for t, ty in bridge.topic_types().items() if ty == args.get("type")]}
-    if name == "/rosapi/topic_type":
-        return {"type": bridge.topic_types().get("/" + str(args.get("topic", "")).strip("/"), "")}
-    if name == "/rosapi/services":
-        offered = [s.name for s in bridge.services if bridge.nodes.offered(s.name)]
-        return {"services": offered + sorted(NAMES) + [tf_republisher.SERVICE]}
-    if name == "/rosapi/services_for_type":
-        return {
-            "services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]
-        }
-    if name == "/rosapi/service_type":
-        wanted = str(args.get("service", ""))
-        if wanted == tf_republisher.SERVICE:
-            return {"type": tf_republisher.TYPE}
-        service = bridge.services.get(wanted)
-        return {"type": service.type if service else ""}
-    if name in ("/rosapi/service_request_details", "/rosapi/service_response_details"):
+# --- the services, one handler each: (bridge, args) -> the response's values --------------------
+
+
+def _topics(bridge: BridgeLike, args: dict) -> dict:
+    topics = bridge.topic_types()
+    return {"topics": list(topics), "types": list(topics.values())}
+
+
+def _topics_for_type(bridge: BridgeLike, args: dict) -> dict:
+    return {"topics": [t for t, ty in bridge.topic_types().items() if ty == args.get("type")]}
+
+
+def _topic_type(bridge: BridgeLike, args: dict) -> dict:
+    return {"type": bridge.topic_types().get("/" + str(args.get("topic", "")).strip("/"), "")}
+
+
+def _services(bridge: BridgeLike, args: dict) -> dict:
+    return {"services": bridge.service_table.names()}
+
+
+def _services_for_type(bridge: BridgeLike, args: dict) -> dict:
+    return {
+        "services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]
+    }
+
+
+def _service_type(bridge: BridgeLike, args: dict) -> dict:
+    entry = bridge.service_table.get(str(args.get("service", "")))
+    return {"type": entry.type if entry is not None else ""}
+
+
+def _details(part: str) -> Handler:
+    """service_request_details / service_response_details: the TypeDefs of a service type's part."""
+
+    def details(bridge: BridgeLike, args: dict) -> dict:
         wanted = str(args.get("type", ""))
         service = next((s for s in bridge.services if s.type == wanted), None)
         if service is None:
             return {"typedefs": []}
-        part = "request" if name.endswith("request_details") else "response"
         return {"typedefs": model_typedefs(f"{wanted}_{part.capitalize()}", getattr(service, part))}
-    if name == "/rosapi/message_details":
-        wanted = str(args.get("type", ""))
-        samples = _samples(bridge, lab.snapshot())
-        sample = next((m for t, m in samples.values() if t == wanted), None)
-        if sample is not None:
-            return {"typedefs": message_typedefs(wanted, sample)}
-        for typedefs in (message_typedefs(t, m) for t, m in samples.values()):
-            nested = next((d for d in typedefs if d["type"] == wanted), None)
-            if nested is not None:
-                return {"typedefs": [nested]}
-        return {"typedefs": []}
-    if name == "/rosapi/topics_and_raw_types":
-        texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in _samples(bridge, lab.snapshot()).items()}
-        topics = bridge.topic_types()
-        # a node topic: the full text its publisher carried (hri-lab's programs do), not a lab sample's
-        texts.update({name: t.definition for name, t in bridge.node_topics.items() if t.definition})
+
+    return details
+
+
+def _message_details(bridge: BridgeLike, args: dict) -> dict:
+    wanted = str(args.get("type", ""))
+    samples = _samples(bridge, bridge.lab.snapshot())
+    sample = next((m for t, m in samples.values() if t == wanted), None)
+    if sample is not None:
+        return {"typedefs": message_typedefs(wanted, sample)}
+    for typedefs in (message_typedefs(t, m) for t, m in samples.values()):
+        nested = next((d for d in typedefs if d["type"] == wanted), None)
+        if nested is not None:
+            return {"typedefs": [nested]}
+    return {"typedefs": []}
+
+
+def _topics_and_raw_types(bridge: BridgeLike, args: dict) -> dict:
+    samples = _samples(bridge, bridge.lab.snapshot())
+    texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in samples.items()}
+    topics = bridge.topic_types()
+    # a node topic: the full text its publisher carried (hri-lab's programs do), not a lab sample's
+    texts.update({name: t.definition for name, t in bridge.node_topics.items() if t.definition})
+    return {
+        "topics": list(topics),
+        "types": list(topics.values()),
+        "typedefs_full_text": [texts.get(t, "") for t in topics],
+    }
+
+
+def _topic_arg(args: dict) -> str:
+    return "/" + str(args.get("topic", "")).strip("/")
+
+
+def _publishers(bridge: BridgeLike, args: dict) -> dict:
+    """The nodes on a topic, as rosapi names them: the lab's node for its own topics, then clients."""
+    topic = _topic_arg(args)
+    lab = [LAB_NODE] if bridge.lab_publishes(topic) else []
+    return {"publishers": lab + [s.name for s in bridge.sessions if topic in s.details()["publishing"]]}
+
+
+def _subscribers(bridge: BridgeLike, args: dict) -> dict:
+    topic = _topic_arg(args)
+    lab = [LAB_NODE] if topic in bridge.tf_republisher.inputs else []  # tf2_web_republisher's goal, cancel
+    return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.details()["subscribing"]]}
+
+
+def _nodes(bridge: BridgeLike, args: dict) -> dict:
+    return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
+
+
+def _node_details(bridge: BridgeLike, args: dict) -> dict:
+    node = str(args.get("node", ""))
+    if node == LAB_NODE:
         return {
-            "topics": list(topics),
-            "types": list(topics.values()),
-            "typedefs_full_text": [texts.get(t, "") for t in topics],
+            "subscribing": [bridge.command_topic, *bridge.tf_republisher.inputs],
+            "publishing": [t for t in bridge.topic_types() if bridge.lab_publishes(t)],
+            "services": [
+                s.name
+                for s in bridge.services
+                if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)
+            ],
         }
-    if name in ("/rosapi/publishers", "/rosapi/subscribers"):  # the nodes on a topic, as rosapi names them
-        topic = "/" + str(args.get("topic", "")).strip("/")
-        if name == "/rosapi/subscribers":
-            lab = [LAB_NODE] if topic in bridge.tf_republisher.inputs else []
-            return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.streams]}
-        lab = [LAB_NODE] if bridge.lab_publishes(topic) else []
-        return {"publishers": lab + [s.name for s in bridge.sessions if topic in s.publishing]}
-    if name == "/rosapi/nodes":
-        return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
-    if name == "/rosapi/node_details":
-        node = str(args.get("node", ""))
-        if node == LAB_NODE:
-            return {
-                "subscribing": [bridge.command_topic, *bridge.tf_republisher.inputs],
-                "publishing": [t for t in bridge.topic_types() if bridge.lab_publishes(t)],
-                "services": [
-                    s.name
-                    for s in bridge.services
-                    if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)
-                ],
-            }
-        other = next((s for s in bridge.sessions if node in (s.node_names or [s.client_name])), None)
-        if other is None:
-            return {"subscribing": [], "publishing": [], "services": []}
-        return other.details()
-    if name == "/rosapi/action_servers":
-        return {"action_servers": list(bridge.actions.actions)}
-    if name in PARAM_SERVICES:
+    other = next((s for s in bridge.sessions if node in (s.node_names or [s.client_name])), None)
+    if other is None:
+        return {"subscribing": [], "publishing": [], "services": []}
+    return other.details()
+
+
+def _action_servers(bridge: BridgeLike, args: dict) -> dict:
+    return {"action_servers": list(bridge.actions.actions)}
+
+
+def _get_time(bridge: BridgeLike, args: dict) -> dict:
+    time = bridge.lab.snapshot().time
+    sec = int(time)
+    nanosec = int(round((time - sec) * 1e9))
+    # ROS 2 builtin_interfaces/Time (sec, nanosec); roslibpy's get_time reads ROS 1's secs/nsecs
+    return {"time": {"sec": sec, "nanosec": nanosec, "secs": sec, "nsecs": nanosec}}
+
+
+def _parameters(name: str, handler: Callable[[Any, dict], dict]) -> Handler:
+    """A parameter service: it reads the lab's parameters; a malformed name is a failed call."""
+
+    def parameters(bridge: BridgeLike, args: dict) -> dict:
         try:
-            return PARAM_SERVICES[name](lab, args)
+            return handler(bridge.lab, args)
         except ParamError as error:
-            raise ServiceFailure(f"{name.removeprefix('/rosapi/')}: {error}") from None
-    if name == "/rosapi/get_time":
-        time = lab.snapshot().time
-        sec = int(time)
-        nanosec = int(round((time - sec) * 1e9))
-        # ROS 2 builtin_interfaces/Time (sec, nanosec); roslibpy's get_time reads ROS 1's secs/nsecs
-        return {"time": {"sec": sec, "nanosec": nanosec, "secs": sec, "nsecs": nanosec}}
-    raise ServiceFailure(f"service {name} does not exist")
+            raise ServiceFailure(f"{name}: {error}") from None
+
+    return parameters
+
+
+@dataclass(frozen=True)
+class RosapiService:
+    """One rosapi service: its name, type (rosapi's ROS 1 spelling), handler, and whether it
+    changes the lab (with a token set, the caller must have presented it)."""
+
+    name: str
+    type: str
+    handler: Handler
+    writes: bool = False
+
+
+SERVICES = (
+    RosapiService("/rosapi/topics", "rosapi/Topics", _topics),
+    RosapiService("/rosapi/topic_type", "rosapi/TopicType", _topic_type),
+    RosapiService("/rosapi/topics_for_type", "rosapi/TopicsForType", _topics_for_type),
+    RosapiService("/rosapi/topics_and_raw_types", "rosapi/TopicsAndRawTypes", _topics_and_raw_types),
+    RosapiService("/rosapi/services", "rosapi/Services", _services),
+    RosapiService("/rosapi/service_type", "rosapi/ServiceType", _service_type),
+    RosapiService("/rosapi/services_for_type", "rosapi/ServicesForType", _services_for_type),
+    RosapiService("/rosapi/service_request_details", "rosapi/ServiceRequestDetails", _details("request")),
+    RosapiService("/rosapi/service_response_details", "rosapi/ServiceResponseDetails", _details("response")),
+    RosapiService("/rosapi/message_details", "rosapi/MessageDetails", _message_details),
+    RosapiService("/rosapi/nodes", "rosapi/Nodes", _nodes),
+    RosapiService("/rosapi/node_details", "rosapi/NodeDetails", _node_details),
+    RosapiService("/rosapi/publishers", "rosapi/Publishers", _publishers),
+    RosapiService("/rosapi/subscribers", "rosapi/Subscribers", _subscribers),
+    RosapiService("/rosapi/action_servers", "rosapi/GetActionServers", _action_servers),
+    RosapiService("/rosapi/get_time", "rosapi/GetTime", _get_time),
+    RosapiService("/rosapi/get_param", "rosapi/GetParam", _parameters("get_param", _get_param)),
+    RosapiService("/rosapi/has_param", "rosapi/HasParam", _parameters("has_param", _has_param)),
+    RosapiService("/rosapi/search_param", "rosapi/SearchParam", _parameters("search_param", _search_param)),
+    RosapiService("/rosapi/get_param_names", "rosapi/GetParamNames", _parameters("get_param_names", _get_param_names)),
+    RosapiService("/rosapi/set_param", "rosapi/SetParam", _parameters("set_param", _set_param), writes=True),
+    RosapiService(
+        "/rosapi/delete_param", "rosapi/DeleteParam", _parameters("delete_param", _delete_param), writes=True
+    ),
+)

@@ -1,6 +1,7 @@
 """One rosbridge connection (rosbridge_suite's Protocol): reads frames, dispatches each to its op
-(app/rosbridge/ops.py), sends answers, and holds what this client has open — its subscriptions,
-advertised topics and services, goals — which it gives back when the client goes.
+(app/rosbridge/ops.py) on this client's object of the op's capability, and sends answers. What the
+client has open (its subscriptions, advertised topics and services, goals ...) is its capabilities'
+to hold; when the client goes, the session calls each one's `finish()` and knows nothing else.
 
 Every refusal is a `status` message naming the op and the field; the connection goes on, except
 for a frame beyond MAX_FRAME (closed with 1009).
@@ -10,36 +11,31 @@ from __future__ import annotations
 
 import asyncio
 import json
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Awaitable
 
 from fastapi import WebSocket
 
-from app.ros.actions import TERMINAL
-from app.rosbridge.internal.state import Bridge
-from app.rosbridge.ops import OPS
+from app.rosbridge.capabilities.capability import Capability
+from app.rosbridge.ops import CAPABILITIES, OPS
+from app.rosbridge.ports import BridgeLike, C, Id
 from app.rosbridge.protocol import LEVELS, MAX_FRAME, BadFrame, parse, status
 from app.tokens import presented_token, token_matches
 
+DETAILS = ("subscribing", "publishing", "services")  # rosapi's node_details, in its order
+
 
 class Session:
-    def __init__(self, bridge: Bridge, websocket: WebSocket) -> None:
+    def __init__(self, bridge: BridgeLike, websocket: WebSocket) -> None:
         self.bridge, self.ws = bridge, websocket
-        self.lab = bridge.lab
         self.client_name = bridge.next_name()  # its name until it names its node (op node)
         self.node_names: list[str] = []  # the nodes it runs, in the order it named them
         self.loop: asyncio.AbstractEventLoop | None = None
         token = bridge.token
         self.authorized = token is None or token_matches(presented_token(websocket.scope["headers"]), token)
         self.level = "error"
-        self.streams: dict[str, Any] = {}  # topic -> app.rosbridge.internal.streams.Stream
-        self.publishing: set[str] = set()
-        self.services: set[str] = set()
-        self.goals: dict[Any, Any] = {}  # goal id -> GoalHandle
-        self.state: dict[str, Any] = {}  # a capability's own per-client state, by capability
-        self.on_close: list[Callable[[], None]] = []  # what goes with the client (e.g. its tf topics)
         self.tasks: set[asyncio.Task] = set()
-        self.in_flight = 0
+        self.in_flight = 0  # its service calls and goals being served (capabilities/call_service.py)
+        self.capabilities: dict[type, Capability] = {kind: kind(self) for kind in CAPABILITIES}
         self.closed = False
         self._send_lock = asyncio.Lock()
 
@@ -78,21 +74,10 @@ class Session:
             return
         self.closed = True
         self.bridge.sessions.remove(self)
-        self.bridge.nodes.drop(self)
-        self.bridge.node_actions.drop(self)
-        self.bridge.frames.drop(self)
-        for stream in self.streams.values():
-            stream.stop()
-            self.bridge.leave(stream.topic, subscription=stream)
-        for topic in self.publishing:
-            self.bridge.leave(topic, publisher=self)
-        for handle in self.goals.values():  # the client is gone: its goals stop
-            if handle.status not in TERMINAL:
-                self.bridge.actions.cancel(handle)
+        for capability in self.capabilities.values():
+            capability.finish()
         for task in list(self.tasks):
             task.cancel()
-        for closing in self.on_close:
-            closing()
 
     async def send(self, message: dict) -> None:
         if self.closed:
@@ -104,36 +89,48 @@ class Session:
             except Exception:  # noqa: BLE001 - the client went away; run() ends the session
                 pass
 
-    async def report(self, level: str, msg: str, id_: Any = None) -> None:
+    async def report(self, level: str, msg: str, id_: Id = None) -> None:
         """A status message, if the client's level shows it (rosbridge's default: errors)."""
         order = LEVELS.index
         if self.level != "none" and order(level) >= order(self.level):
             await self.send(status(level, msg, id_))
 
-    def spawn(self, coroutine) -> None:
+    def spawn(self, coroutine: Awaitable[object]) -> None:
         task = asyncio.ensure_future(coroutine)
         self.tasks.add(task)
         task.add_done_callback(self.tasks.discard)
 
-    def details(self) -> dict:
-        return {"subscribing": list(self.streams), "publishing": list(self.publishing), "services": list(self.services)}
+    def capability(self, kind: type[C]) -> C:
+        """This client's object of a capability (one capability may read another's: publish, advertise's)."""
+        capability = self.capabilities[kind]
+        if not isinstance(capability, kind):
+            raise TypeError(f"{kind.__name__} is not a capability of this session")
+        return capability
+
+    def details(self) -> dict[str, list[str]]:
+        """What rosapi's node_details shows of this client: the names its capabilities hold."""
+        details: dict[str, list[str]] = {key: [] for key in DETAILS}
+        for capability in self.capabilities.values():
+            if capability.DETAILS is not None:
+                details[capability.DETAILS] += capability.names()
+        return details
 
     # --- dispatch ---------------------------------------------------------------------------
     async def handle(self, text: str) -> None:
-        id_ = None
+        id_: Id = None
         try:
             message = parse(text)
             id_ = message.get("id") if isinstance(message.get("id"), (str, int)) else None
             op = message["op"]
-            capability = OPS.get(op)
-            if capability is None:
+            entry = OPS.get(op)
+            if entry is None:
                 raise BadFrame(f"unknown op '{op[:40]}'")
-            if capability.mutating and not self.authorized:
+            if entry.mutating and not self.authorized:
                 raise BadFrame(
                     f"{op}: this lab needs a token for changes: connect with 'Authorization: Bearer "
                     f'<token>\' or send {{"op": "auth", "mac": "<token>"}}'
                 )
-            await capability.handler(self, message, id_)
+            await entry.handler(self.capabilities[entry.capability], message, id_)
         except BadFrame as bad:
             await self.report("error", str(bad), id_)
         except Exception as exc:  # noqa: BLE001 - a bug here is reported, the connection goes on

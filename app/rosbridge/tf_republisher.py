@@ -105,14 +105,15 @@ def _request(args: dict) -> tuple[list[str], str, float]:
 
 
 # --- the service ----------------------------------------------------------------------------------
-def republish(session: Any, args: dict) -> dict:
-    """Answer the service for `session`: a new topic of the transforms, named in the response."""
-    bridge = session.bridge
+def republish(caller: Any, args: dict) -> dict:
+    """Answer the service for `caller` (a client's call capability: its bridge, what goes with it):
+    a new topic of the transforms, named in the response."""
+    bridge = caller.bridge
     try:
         sources, target, rate = _request(args)
     except ValueError as bad:
         raise ServiceFailure(f"republish_tfs: {bad}") from None
-    known = tree_poses(bridge, session.lab.snapshot())
+    known = tree_poses(bridge, bridge.lab.snapshot())
     for name in [*sources, target]:
         if name not in known:
             raise ServiceFailure(
@@ -128,7 +129,7 @@ def republish(session: Any, args: dict) -> dict:
 
     name = f"/tf_repub_{next(_NUMBERS)}"
     bridge.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / rate)
-    session.on_close.append(lambda: bridge.remove_topic(name))
+    caller.on_close.append(lambda: bridge.remove_topic(name))
     return {"topic_name": name}
 
 
@@ -257,7 +258,11 @@ class TFSubscriptionServer:
         )
         self.goals[id_] = goal
         goal.task = asyncio.ensure_future(self._feed(goal))
-        session.on_close.append(lambda: self._end(goal, PREEMPTED, "its client disconnected"))
+
+    def drop(self, session: Any) -> None:
+        """`session`'s client is gone: its active goals end PREEMPTED (capabilities/publish.py's finish)."""
+        for goal in [g for g in self.goals.values() if g.session is session and g.status == ACTIVE]:
+            self._end(goal, PREEMPTED, "its client disconnected")
 
     def _cancel(self, msg: dict) -> None:
         """actionlib's cancel rules: an id cancels that goal; no id and no stamp, every goal; a stamp,

@@ -1,7 +1,7 @@
 """mkdocs hook: the reference pages' tables, generated at build time from the code's own declarations.
 
 A page says `<!-- generated: NAME -->` where a table goes; NAME is a key of GENERATORS. Each table
-is read from the one place the fact is declared: the HTTP API from `create_app().openapi()`, the CLI
+is read from the one place the fact is declared: the HTTP API from `create_app().openapi()` (app/cli/compose.py), the CLI
 from `app.cli.main.build_parser()`, the parameters from `app.lab.params.LAB_PARAMETERS`, the topics
 from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SERVICES` and
 `app.lab.actions.ACTIONS`, rosbridge's ops from its connection's handlers, rosapi's services from
@@ -59,7 +59,7 @@ def _table(header: list[str], rows: list[list[Any]]) -> str:
 
 @functools.cache
 def _openapi() -> dict:
-    from app.api.app import create_app
+    from app.cli.compose import create_app
 
     return create_app().openapi()  # the app is built, never served: no simulation runs
 
@@ -180,13 +180,18 @@ def actions() -> str:
 
 
 def rosapi() -> str:
-    """rosapi's services as the lab answers them, and which of them change something."""
+    """rosapi's services as the lab answers them (rosbridge's service table), and which change something."""
     from app.rosbridge import rosapi as api
+    from app.rosbridge.services import REPUBLISH
 
     rows = [
-        [f"`{name}`", "changes (needs the token)" if name in api.WRITING else "reads"] for name in sorted(api.NAMES)
+        [f"`{s.name}`", f"`{s.type}`", "changes (needs the token)" if s.writes else "reads"]
+        for s in sorted(api.SERVICES, key=lambda s: s.name)
     ]
-    return _table(["service", "access"], rows)
+    rows.append(
+        [f"`{REPUBLISH.name}`", f"`{REPUBLISH.type}`", "changes (needs the token)" if REPUBLISH.writes else "reads"]
+    )
+    return _table(["service", "type", "access"], rows)
 
 
 def rosbridge_ops() -> str:
@@ -194,8 +199,8 @@ def rosbridge_ops() -> str:
     from app.rosbridge.ops import OPS
 
     def token(name: str) -> str:
-        if name == "call_service":  # decided per service (capabilities/call_service.py)
-            return "yes, but for rosapi's reading services (below)"
+        if name == "call_service":  # decided per service: its entry's flag (app/rosbridge/services.py)
+            return "yes, but for rosapi's reading services and /republish_tfs (below)"
         return "yes" if OPS[name].mutating else ""
 
     return _table(

@@ -1,5 +1,5 @@
 """advertise_service / unadvertise_service: a client provides a service
-(app/rosbridge/internal/node_services.py); every caller reaches it through the lab's registry.
+(app/ros/node_services.py); every caller reaches it through the lab's registry.
 
 A node that takes over one of the lab's own services (a name the lab answers itself: e.g.
 /add_two_ints in a lab started without --exercises) is warned whatever its status level, and the
@@ -7,37 +7,61 @@ warning is on /rosout (the page's console): its answers replace the lab's until 
 
 from __future__ import annotations
 
-from typing import Any
-
 from app.ros.names import node_name
+from app.ros.node_params import SERVICES as PARAMETER_SERVICES
 from app.ros.services import ServiceFailure
-from app.rosbridge.capabilities.op import Op
-from app.rosbridge.internal.node_params import SERVICES as PARAMETER_SERVICES
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field, status
 
 
-async def advertise_service(session: Any, message: dict, id_: Any) -> None:
-    name = name_field(message, "service")
-    type_name = field(message, "type", str)
-    text = field(message, "definition", str, None)  # the lab's own client carries the .srv text (not rosbridge_suite's)
-    if name.startswith("/rosapi/"):
-        raise BadFrame(f"advertise_service: {name} is the lab's")
-    node, _, service = name.rpartition("/")
-    if service in PARAMETER_SERVICES and node_name(node) in {n for n, _ in session.bridge.lab.params.declarations}:
-        raise BadFrame(f"advertise_service: {name} is a parameter service of the lab's own node /{node_name(node)}")
-    replaces = session.bridge.nodes.answers_itself(name)
-    try:
-        warning = session.bridge.nodes.advertise(name, type_name, session, text)
-    except ServiceFailure as failure:
-        raise BadFrame(f"advertise_service: {failure}") from None
-    session.services.add(name)
-    await session.report("info", f"advertise_service: {name} [{type_name}] is provided by {session.name}", id_)
-    if warning:
-        await session.report("warning", f"advertise_service: {warning}", id_)
-    if replaces:
-        note = replaced_warning(name, session.name)
-        session.bridge.lab.rosout.log("service", note, "WARN")
-        await session.send(status("warning", f"advertise_service: {note}", id_))
+class AdvertiseService(Capability):
+    """The services this client provides (in the lab's registry while it is connected)."""
+
+    DETAILS = "services"
+
+    def __init__(self, session: SessionLike) -> None:
+        super().__init__(session)
+        self.services: set[str] = set()
+
+    def names(self) -> list[str]:
+        return list(self.services)
+
+    async def advertise_service(self, message: dict, id_: Id) -> None:
+        session, bridge = self.session, self.bridge
+        name = name_field(message, "service")
+        type_name = field(message, "type", str)
+        text = field(
+            message, "definition", str, None
+        )  # the lab's own client carries the .srv text (not rosbridge_suite's)
+        if bridge.service_table.answers_itself(name):  # rosapi's, /republish_tfs
+            raise BadFrame(f"advertise_service: {name} is the lab's")
+        node, _, service = name.rpartition("/")
+        if service in PARAMETER_SERVICES and node_name(node) in {n for n, _ in bridge.lab.params.declarations}:
+            raise BadFrame(f"advertise_service: {name} is a parameter service of the lab's own node /{node_name(node)}")
+        replaces = bridge.nodes.answers_itself(name)
+        try:
+            warning = bridge.nodes.advertise(name, type_name, session, text)
+        except ServiceFailure as failure:
+            raise BadFrame(f"advertise_service: {failure}") from None
+        self.services.add(name)
+        await session.report("info", f"advertise_service: {name} [{type_name}] is provided by {session.name}", id_)
+        if warning:
+            await session.report("warning", f"advertise_service: {warning}", id_)
+        if replaces:
+            note = replaced_warning(name, session.name)
+            bridge.lab.rosout.log("service", note, "WARN")
+            await session.send(status("warning", f"advertise_service: {note}", id_))
+
+    async def unadvertise_service(self, message: dict, id_: Id) -> None:
+        name = name_field(message, "service")
+        if not self.bridge.nodes.unadvertise(name, self.session):
+            await self.session.report("warning", f"unadvertise_service: {name} is not provided by this client", id_)
+        self.services.discard(name)
+
+    def finish(self) -> None:
+        self.bridge.nodes.drop(self.session)  # its services go with it (their calls in flight fail)
+        self.services.clear()
 
 
 def replaced_warning(name: str, node: str) -> str:
@@ -48,14 +72,7 @@ def replaced_warning(name: str, node: str) -> str:
     )
 
 
-async def unadvertise_service(session: Any, message: dict, id_: Any) -> None:
-    name = name_field(message, "service")
-    if not session.bridge.nodes.unadvertise(name, session):
-        await session.report("warning", f"unadvertise_service: {name} is not provided by this client", id_)
-    session.services.discard(name)
-
-
-OPS = {
-    "advertise_service": Op(advertise_service, mutating=True),
-    "unadvertise_service": Op(unadvertise_service, mutating=True),
+OPS: Ops = {
+    "advertise_service": Op(AdvertiseService, AdvertiseService.advertise_service, mutating=True),
+    "unadvertise_service": Op(AdvertiseService, AdvertiseService.unadvertise_service, mutating=True),
 }

@@ -3,33 +3,38 @@ ops this lab does not support (fragment, png) refused with the reason."""
 
 from __future__ import annotations
 
-from typing import Any
-
-from app.rosbridge.capabilities.op import Op
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.ports import Id
 from app.rosbridge.protocol import LEVELS, BadFrame, field
 from app.tokens import token_matches
 
 
-async def auth(session: Any, message: dict, id_: Any) -> None:
-    if session.bridge.token is None:
-        return
-    session.authorized = token_matches(field(message, "mac", str), session.bridge.token)
-    if not session.authorized:
-        raise BadFrame("auth: wrong token")
+class Connection(Capability):
+    """The client's access (its token) and the status level it asked for: the session's own."""
+
+    async def auth(self, message: dict, id_: Id) -> None:
+        token = self.bridge.token
+        if token is None:
+            return
+        self.session.authorized = token_matches(field(message, "mac", str), token)
+        if not self.session.authorized:
+            raise BadFrame("auth: wrong token")
+
+    async def set_level(self, message: dict, id_: Id) -> None:
+        level = field(message, "level", str)
+        if level in LEVELS:  # rosbridge drops a bad level silently
+            self.session.level = level
+
+    async def fragment(self, message: dict, id_: Id) -> None:
+        raise BadFrame("fragment: fragmented messages are not supported by this lab; send the whole message")
+
+    async def png(self, message: dict, id_: Id) -> None:
+        raise BadFrame("png: PNG-compressed messages are not supported by this lab")
 
 
-async def set_level(session: Any, message: dict, id_: Any) -> None:
-    level = field(message, "level", str)
-    if level in LEVELS:  # rosbridge drops a bad level silently
-        session.level = level
-
-
-async def fragment(session: Any, message: dict, id_: Any) -> None:
-    raise BadFrame("fragment: fragmented messages are not supported by this lab; send the whole message")
-
-
-async def png(session: Any, message: dict, id_: Any) -> None:
-    raise BadFrame("png: PNG-compressed messages are not supported by this lab")
-
-
-OPS = {"auth": Op(auth), "set_level": Op(set_level), "fragment": Op(fragment), "png": Op(png)}
+OPS: Ops = {
+    "auth": Op(Connection, Connection.auth),
+    "set_level": Op(Connection, Connection.set_level),
+    "fragment": Op(Connection, Connection.fragment),
+    "png": Op(Connection, Connection.png),
+}

@@ -7,29 +7,33 @@ and its name is what errors, rosapi (`/rosapi/nodes`, `node_details`), `GET /ser
 from __future__ import annotations
 
 import re
-from typing import Any
 
 from app.lab.events import LAB_NODE
-from app.rosbridge.capabilities.op import Op
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.ports import Id
 from app.rosbridge.protocol import BadFrame, name_field
 
 MAX_NODES = 64  # names one connection may declare
 _NODE_NAME = re.compile(r"^(/[A-Za-z_][A-Za-z0-9_]*)+$")  # ROS: namespaces, then the base name
 
 
-async def node(session: Any, message: dict, id_: Any) -> None:
-    name = name_field(message, "name")
-    if not _NODE_NAME.match(name):
-        raise BadFrame(
-            f"node: field 'name' must be a ROS node name (letters, digits, '_', namespaces by '/'), got {name[:80]!r}"
-        )
-    if name == LAB_NODE:
-        raise BadFrame(f"node: {name} is the lab's own node")
-    if name in session.node_names:
-        return
-    if len(session.node_names) >= MAX_NODES:
-        raise BadFrame(f"node: a connection names at most {MAX_NODES} nodes")
-    session.node_names.append(name)
+class Node(Capability):
+    """The nodes the client runs (session.node_names: its name in errors, rosapi and the lab)."""
+
+    async def node(self, message: dict, id_: Id) -> None:
+        name = name_field(message, "name")
+        if not _NODE_NAME.match(name):
+            raise BadFrame(
+                f"node: field 'name' must be a ROS node name (letters, digits, '_', namespaces by '/'), got {name[:80]!r}"
+            )
+        if name == LAB_NODE:
+            raise BadFrame(f"node: {name} is the lab's own node")
+        names = self.session.node_names
+        if name in names:
+            return
+        if len(names) >= MAX_NODES:
+            raise BadFrame(f"node: a connection names at most {MAX_NODES} nodes")
+        names.append(name)
 
 
-OPS = {"node": Op(node)}
+OPS: Ops = {"node": Op(Node, Node.node)}

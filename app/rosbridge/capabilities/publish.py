@@ -9,64 +9,79 @@ from __future__ import annotations
 import asyncio
 import json
 import math
-from typing import Any
+from concurrent.futures import Future
 
 from app.interfaces.image_windows import WINDOWS
 from app.lab import commands as cmd
 from app.ros import rosout
-from app.rosbridge.capabilities.op import Op
+from app.rosbridge.capabilities.advertise import Advertise
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.node_frames import TF_TOPICS
+from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 
 
-async def publish(session: Any, message: dict, id_: Any) -> None:
-    topic = name_field(message, "topic")
-    msg = field(message, "msg", dict)
-    bridge = session.bridge
-    if topic == bridge.command_topic:
-        commands = session.state.get("commands")
-        if commands is None:
-            commands = session.state["commands"] = Commands(session)
-        commands.offer(twist_values(msg, topic))
-        return
-    if topic == rosout.TOPIC:
-        if topic not in session.publishing:
-            raise BadFrame(f"publish: advertise {topic} first (op advertise with type {rosout.TYPE})")
-        try:
-            line = rosout.from_message(msg, session.state["rosout_type"], session.name)
-        except rosout.BadLogMessage as bad:
-            raise BadFrame(f"publish {topic}: {bad}") from None
-        session.lab.rosout.publish(line)
-        return
-    if topic in TF_TOPICS:  # a program's frames join the lab's tree; the lab's own frames stay the lab's
-        if topic not in session.publishing:
-            raise BadFrame(f"publish: advertise {topic} first (op advertise with type tf2_msgs/TFMessage)")
-        told = session.state.setdefault("tf_refused", set())  # each reason once, not at the broadcaster's rate
-        refused = [reason for reason in bridge.frames.offer(session, msg, TF_TOPICS[topic]) if reason not in told]
-        if refused:
-            told.update(refused)
-            raise BadFrame(f"publish {topic}: refused " + "; ".join(refused))
-        return
-    if topic in bridge.topics:
-        raise BadFrame(f"publish: topic {topic} is published by the lab")
-    entry = bridge.node_topics.get(topic)
-    if entry is None or session not in entry.publishers:
-        raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
-    if topic in bridge.tf_republisher.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
-        bridge.tf_republisher.take(session, topic, msg)
-    if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
-        bridge.windows[topic] = msg
-    for stream in list(entry.subscriptions):
-        stream.offer(msg)
+class Publish(Capability):
+    """What this client publishes goes where its topic takes it: its Twists to the simulation (its
+    Commands), its log lines to /rosout, its transforms into the lab's tree (the reasons a frame was
+    refused told once each), other topics to their subscribers."""
+
+    def __init__(self, session: SessionLike) -> None:
+        super().__init__(session)
+        self.commands: Commands | None = None
+        self.tf_refused: set[str] = set()  # each reason once, not at the broadcaster's rate
+
+    async def publish(self, message: dict, id_: Id) -> None:
+        topic = name_field(message, "topic")
+        msg = field(message, "msg", dict)
+        bridge, advertised = self.bridge, self.session.capability(Advertise)
+        if topic == bridge.command_topic:
+            if self.commands is None:
+                self.commands = Commands(self.session)
+            self.commands.offer(twist_values(msg, topic))
+            return
+        if topic == rosout.TOPIC:
+            if topic not in advertised.publishing:
+                raise BadFrame(f"publish: advertise {topic} first (op advertise with type {rosout.TYPE})")
+            try:
+                line = rosout.from_message(msg, advertised.rosout_type, self.session.name)
+            except rosout.BadLogMessage as bad:
+                raise BadFrame(f"publish {topic}: {bad}") from None
+            bridge.lab.rosout.publish(line)
+            return
+        if topic in TF_TOPICS:  # a program's frames join the lab's tree; the lab's own frames stay the lab's
+            if topic not in advertised.publishing:
+                raise BadFrame(f"publish: advertise {topic} first (op advertise with type tf2_msgs/TFMessage)")
+            offered = bridge.frames.offer(self.session, msg, TF_TOPICS[topic])
+            refused = [reason for reason in offered if reason not in self.tf_refused]
+            if refused:
+                self.tf_refused.update(refused)
+                raise BadFrame(f"publish {topic}: refused " + "; ".join(refused))
+            return
+        if topic in bridge.topics:
+            raise BadFrame(f"publish: topic {topic} is published by the lab")
+        entry = bridge.node_topics.get(topic)
+        if entry is None or self.session not in entry.publishers:
+            raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
+        if topic in bridge.tf_republisher.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
+            bridge.tf_republisher.take(self.session, topic, msg)
+        if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
+            bridge.windows[topic] = msg
+        for stream in list(entry.subscriptions):
+            stream.offer(msg)
+
+    def finish(self) -> None:
+        self.bridge.frames.drop(self.session)  # its frames leave the lab's tree
+        self.bridge.tf_republisher.drop(self.session)  # its tf2_web_republisher goals end
 
 
 class Commands:
     """A client's Twists into the simulation, newest first: sent without waiting for the step that
     applies them, at most MAX_COMMANDS_IN_FLIGHT unanswered (beyond, a flood is coalesced)."""
 
-    def __init__(self, session: Any) -> None:
+    def __init__(self, session: SessionLike) -> None:
         self.session = session
         self.newest: list[float] | None = None  # the newest Twist not yet handed to the simulation
         self.forwarding = False
@@ -79,7 +94,7 @@ class Commands:
             self.session.spawn(self.forward())
 
     async def forward(self) -> None:
-        session = self.session
+        lab, loop = self.session.bridge.lab, asyncio.get_running_loop()  # the session's loop
         try:
             while self.newest is not None:
                 if self.in_flight >= MAX_COMMANDS_IN_FLIGHT:
@@ -87,12 +102,12 @@ class Commands:
                     continue
                 twist, self.newest = self.newest, None
                 self.in_flight += 1
-                future = session.lab.submit(getattr(session.lab, "command", cmd.external_twist), twist)
-                future.add_done_callback(lambda f: session.loop.call_soon_threadsafe(self.done, f))
+                future = lab.submit(getattr(lab, "command", cmd.external_twist), twist)
+                future.add_done_callback(lambda f: loop.call_soon_threadsafe(self.done, f))
         finally:
             self.forwarding = False
 
-    def done(self, future) -> None:
+    def done(self, future: Future[object]) -> None:
         self.in_flight -= 1
         if future.exception() is not None:
             topic = self.session.bridge.command_topic
@@ -120,4 +135,4 @@ def twist_values(msg: dict, topic: str) -> list[float]:
     return values
 
 
-OPS = {"publish": Op(publish, mutating=True)}
+OPS: Ops = {"publish": Op(Publish, Publish.publish, mutating=True)}

@@ -7,17 +7,18 @@ log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Iterable
 from contextlib import ExitStack
 from typing import Any
 
-from sim.messages import F_EXT, wrench_stamped_at
+from sim.messages import F_EXT, Topic, wrench_stamped_at
 
 from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
-from app.rosbridge.capabilities.op import Op
-from app.rosbridge.internal.node_services import normalise_type
-from app.rosbridge.internal.state import NodeTopic
+from app.ros.node_services import normalise_type
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.streams import Stream
+from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
 
 MAX_QUEUE = 1000  # queue_length cap
@@ -25,61 +26,96 @@ MAX_TOPICS = 32  # topics one client may be subscribed to at once
 IMAGE_QUEUE = 2  # /image_raw: at most this many images wait for a slow client (the newest)
 
 
-async def subscribe(session: Any, message: dict, id_: Any) -> None:
-    bridge = session.bridge
-    topic = name_field(message, "topic")
-    type_name = field(message, "type", str, None)
-    throttle = field(message, "throttle_rate", int, 0)
-    queue_length = field(message, "queue_length", int, 0)
-    if throttle < 0 or queue_length < 0:
-        raise BadFrame("subscribe: 'throttle_rate' and 'queue_length' must be >= 0")
-    compression = field(message, "compression", str, "none")
-    if compression not in ("none", ""):
-        raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
-    known = bridge.topic_types().get(topic)
-    if known is None and not type_name:
-        raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
-    if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
-        known = normalise_type(type_name)  # a ROS 1 client reads /rosout as rosgraph_msgs/Log
-    if known is not None and type_name and normalise_type(type_name) != known:
-        raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
-    stream = session.streams.get(topic)
-    if stream is None and len(session.streams) >= MAX_TOPICS:
-        raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
-    if stream is None:
-        lab_topic = bridge.topics.get(topic)
-        stream = session.streams[topic] = Stream(session, topic, paced=lab_topic is None)
+class Subscribe(Capability):
+    """The topics this client subscribes to: one stream each (app/rosbridge/internal/streams.py)."""
+
+    DETAILS = "subscribing"
+
+    def __init__(self, session: SessionLike) -> None:
+        super().__init__(session)
+        self.streams: dict[str, Stream] = {}  # topic -> its stream
+
+    def names(self) -> list[str]:
+        return list(self.streams)
+
+    async def subscribe(self, message: dict, id_: Id) -> None:
+        bridge = self.bridge
+        topic = name_field(message, "topic")
+        type_name = field(message, "type", str, None)
+        throttle = field(message, "throttle_rate", int, 0)
+        queue_length = field(message, "queue_length", int, 0)
+        if throttle < 0 or queue_length < 0:
+            raise BadFrame("subscribe: 'throttle_rate' and 'queue_length' must be >= 0")
+        compression = field(message, "compression", str, "none")
+        if compression not in ("none", ""):
+            raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
+        known = bridge.topic_types().get(topic)
+        if known is None and not type_name:
+            raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
+        if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
+            known = normalise_type(type_name)  # a ROS 1 client reads /rosout as rosgraph_msgs/Log
+        if known is not None and type_name and normalise_type(type_name) != known:
+            raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
+        stream = self.streams.get(topic)
+        if stream is None and len(self.streams) >= MAX_TOPICS:
+            raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
+        if stream is not None:
+            stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
+            stream.configure()
+            return
+        stream = self.streams[topic] = self._open(topic, id_, throttle, queue_length)
+        lab, lab_topic = bridge.lab, bridge.topics.get(topic)
+        if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
+            loop = asyncio.get_running_loop()
+            stream.on_stop.append(
+                lab.rosout.listen(lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind)))
+            )
+        elif topic == F_EXT and lab_topic is not None:  # every step's sample, not only the newest when we look
+            stream.tasks.append(asyncio.ensure_future(sample_every_step(lab, stream)))
+        elif topic == IMAGE and lab_topic is not None:  # the camera's images, rendered while somebody subscribes
+            stream.tasks.append(asyncio.ensure_future(sample_images(lab, stream)))
+        elif lab_topic is not None:
+            min_period_s = bridge.min_period_s.get(topic, 0.0)
+            stream.tasks.append(asyncio.ensure_future(sample(lab, stream, lab_topic, min_period_s, bridge.latched)))
+        else:
+            bridge.node_topic(topic, normalise_type(type_name or known or "")).subscriptions.add(stream)
+
+    def _open(self, topic: str, id_: Id, throttle: int, queue_length: int) -> Stream:
+        """A new stream of `topic` for this client, sending from now on."""
+        stream = Stream(self.session, topic, paced=topic not in self.bridge.topics)
         if topic == IMAGE:
             stream.max_queue = IMAGE_QUEUE  # the camera's or a played bag's
         stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
         stream.configure()
         stream.tasks.append(asyncio.ensure_future(stream.deliver()))
-        if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
-            loop = asyncio.get_running_loop()
-            stream.on_stop.append(
-                session.lab.rosout.listen(
-                    lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind))
-                )
-            )
-        elif topic == F_EXT and lab_topic is not None:  # every step's sample, not only the newest when we look
-            stream.tasks.append(asyncio.ensure_future(sample_every_step(session.lab, stream)))
-        elif (
-            topic == IMAGE and lab_topic is not None
-        ):  # the camera process's images, rendered while somebody subscribes
-            stream.tasks.append(asyncio.ensure_future(sample_images(session.lab, stream)))
-        elif lab_topic is not None:
-            stream.tasks.append(
-                asyncio.ensure_future(sample(session.lab, stream, lab_topic, bridge.min_period_s.get(topic, 0.0)))
-            )
-        else:
-            entry = bridge.node_topics.setdefault(topic, NodeTopic(normalise_type(type_name or known)))
-            entry.subscriptions.add(stream)
-    else:
-        stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
-        stream.configure()
+        return stream
+
+    async def unsubscribe(self, message: dict, id_: Id) -> None:
+        topic = name_field(message, "topic")
+        stream = self.streams.get(topic)
+        if stream is None:
+            await self.session.report("warning", f"unsubscribe: not subscribed to {topic}", id_)
+            return
+        if id_ is not None and id_ in stream.options and len(stream.options) > 1:
+            del stream.options[id_]
+            stream.configure()
+            return
+        del self.streams[topic]
+        self._close(stream)
+
+    def _close(self, stream: Stream) -> None:
+        stream.stop()
+        self.bridge.leave(stream.topic, subscription=stream)
+
+    def finish(self) -> None:
+        for stream in self.streams.values():
+            self._close(stream)
+        self.streams.clear()
 
 
-async def sample(lab: Any, stream: Stream, topic, min_period_s: float = 0.0) -> None:
+async def sample(
+    lab: Any, stream: Stream, topic: Topic, min_period_s: float = 0.0, latched: Iterable[str] = ()
+) -> None:
     """A lab topic from the snapshot: at most one message per throttle_rate of simulation time
     (rosbridge's minimum gap; the topic's own min_period_s when longer), paced by the wall clock;
     behind, it skips, it never queues up. A latched topic is sent again only when it changed."""
@@ -93,7 +129,7 @@ async def sample(lab: Any, stream: Stream, topic, min_period_s: float = 0.0) -> 
             if last is None or snapshot.time - last >= period - 0.0005:
                 last = snapshot.time
                 message = topic.build(snapshot)
-                if topic.name not in stream.session.bridge.latched or message != sent:
+                if topic.name not in latched or message != sent:
                     stream.offer(message)
                 sent = message
                 due = max(due + period, loop.time())
@@ -167,19 +203,7 @@ class Need:
         self._held.close()
 
 
-async def unsubscribe(session: Any, message: dict, id_: Any) -> None:
-    topic = name_field(message, "topic")
-    stream = session.streams.get(topic)
-    if stream is None:
-        await session.report("warning", f"unsubscribe: not subscribed to {topic}", id_)
-        return
-    if id_ is not None and id_ in stream.options and len(stream.options) > 1:
-        del stream.options[id_]
-        stream.configure()
-        return
-    stream.stop()
-    del session.streams[topic]
-    session.bridge.leave(topic, subscription=stream)
-
-
-OPS = {"subscribe": Op(subscribe), "unsubscribe": Op(unsubscribe)}
+OPS: Ops = {
+    "subscribe": Op(Subscribe, Subscribe.subscribe),
+    "unsubscribe": Op(Subscribe, Subscribe.unsubscribe),
+}

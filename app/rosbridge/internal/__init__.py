@@ -1,3 +1,3 @@
-"""What every rosbridge connection shares (rosbridge_suite's `internal/`): the bridge state, the
-services nodes provide, the topic streams. Imported by the capabilities and the session, never
-importing them."""
+"""The pieces the shared state is made of (rosbridge_suite's `internal/`): a topic as one client
+receives it (streams.py), the frames programs publish (node_frames.py). Imported by the bridge
+(app/rosbridge/bridge.py), the capabilities and the session, never importing them."""

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from app.lab import tf
+from app.ros.node_services import NodeClient
 
 MAX_FRAMES = 1000  # frames programs may publish, all together
 TF_TOPICS = {"/tf": False, "/tf_static": True}  # topic -> static
@@ -32,10 +33,10 @@ class Published:
     child: str
     transform: dict  # geometry_msgs/TransformStamped as JSON
     static: bool
-    session: Any
+    session: NodeClient  # the program that published it
 
 
-def _number(value: Any) -> float:
+def _number(value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise ValueError(f"{value!r} is not a finite number")
     return float(value)
@@ -71,7 +72,7 @@ class NodeFrames:
     def lab_frames() -> set[str]:
         return {child for _, child, _ in tf.tree()} | {tf.WORLD}
 
-    def offer(self, session: Any, message: dict, static: bool) -> list[str]:
+    def offer(self, session: NodeClient, message: dict, static: bool) -> list[str]:
         """Take a TFMessage's transforms from `session`; the reasons of those refused."""
         transforms = message.get("transforms")
         if not isinstance(transforms, list):
@@ -83,7 +84,7 @@ class NodeFrames:
                 refused.append(reason)
         return refused
 
-    def _take(self, session: Any, item: Any, static: bool, lab: set[str]) -> str:
+    def _take(self, session: NodeClient, item: Any, static: bool, lab: set[str]) -> str:
         if not isinstance(item, dict):
             return "a transform must be a geometry_msgs/TransformStamped object"
         header = item["header"] if isinstance(item.get("header"), dict) else {}
@@ -108,7 +109,7 @@ class NodeFrames:
             self._frames[child] = Published(parent, child, dict(item, child_frame_id=child), static, session)
         return ""
 
-    def drop(self, session: Any) -> None:
+    def drop(self, session: NodeClient) -> None:
         """A program disconnected: its frames go with it."""
         with self._lock:
             for child in [c for c, p in self._frames.items() if p.session is session]:

@@ -6,7 +6,8 @@ import asyncio
 import math
 from collections import deque
 from collections.abc import Callable
-from typing import Any
+
+from app.rosbridge.ports import BridgeLike, Id, SessionLike
 
 
 class Stream:
@@ -17,16 +18,18 @@ class Stream:
     (full: the oldest is dropped) and the sender waits out the throttle period (wall clock) before
     the next, so the newest message of a burst is always sent, at most one throttle period late."""
 
-    def __init__(self, session: Any, topic: str, paced: bool = False) -> None:
+    def __init__(self, session: SessionLike, topic: str, paced: bool = False) -> None:
         self.session, self.topic, self.paced = session, topic, paced  # session: has `async send(dict)`
-        self.options: dict[Any, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
+        self.options: dict[Id, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
         self.queue: deque[dict] = deque(maxlen=1)
         self.ready = asyncio.Event()
         self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
         self.tasks: list[asyncio.Task] = []
         self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
         self.max_queue: int | None = None  # a cap on the queue whatever was asked (images: a few MB each)
-        self.bridge = getattr(session, "bridge", None)  # its share of the lab's outgoing rate (Bridge.fair_period)
+        self.bridge: BridgeLike | None = getattr(
+            session, "bridge", None
+        )  # its share of the lab's outgoing rate (Bridge.fair_period)
         self.stopped = False
         if self.bridge is not None:
             self.bridge.streams += 1

@@ -10,7 +10,7 @@ from mcap.reader import make_reader
 
 from sim.recording import reader
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from app.lab.lab import Lab
 
 

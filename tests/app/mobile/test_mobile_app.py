@@ -11,7 +11,7 @@ from sim.mobile.playback import is_mobile
 from sim.mobile.world import MobileConfig
 from sim.recording import reader
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from app.mobile.lab import MobileLab
 from tests.waiting import wait_for
 

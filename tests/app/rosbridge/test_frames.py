@@ -8,7 +8,7 @@ import pytest
 from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
-from app.api.app import create_app
+from app.cli.compose import create_app
 from app.rosbridge.capabilities.subscribe import MAX_TOPICS
 from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME, MAX_STATUS
 from tests.waiting import wait_for, within

@@ -1,5 +1,6 @@
 """tf2_web_republisher's pieces, against hand-computed transforms: the tree from /tf and /tf_static,
-a pair of frames in one tree, a goal's thresholds (upstream's TFPair), a request's fields."""
+a pair of frames in one tree, a goal's thresholds (upstream's TFPair), a request's fields; its action
+on a real bridge in memory: feedback, cancel, a client's going, a rejected goal."""
 
 import math
 from types import SimpleNamespace
@@ -11,6 +12,7 @@ from sim.messages import Topic
 
 from app.rosbridge.internal.node_frames import NodeFrames
 from app.rosbridge.tf_republisher import Pair, _request, relative, tree_poses
+from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 
 def stamped(parent: str, child: str, xyz=(0.0, 0.0, 0.0), yaw_rad: float = 0.0) -> dict:
@@ -106,3 +108,65 @@ def test_a_request_strips_slashes_and_caps_the_rate():
         "world",
         100.0,
     )
+
+
+# --- the action, on a real bridge in memory (tests/app/rosbridge/clients.py) -------------------------
+GOAL, CANCEL = "/tf2_web_republisher/goal", "/tf2_web_republisher/cancel"
+FEEDBACK, RESULT = "/tf2_web_republisher/feedback", "/tf2_web_republisher/result"
+
+
+async def action_client(lab):
+    """A client of the action as roslibjs' ActionClient makes one: goal and cancel advertised,
+    feedback and result subscribed."""
+    session = await connect(lab)
+    await op(session, op="advertise", topic=GOAL, type="tf2_web_republisher/TFSubscriptionActionGoal")
+    await op(session, op="advertise", topic=CANCEL, type="actionlib_msgs/GoalID")
+    await op(session, op="subscribe", topic=FEEDBACK, type="tf2_web_republisher/TFSubscriptionActionFeedback")
+    await op(session, op="subscribe", topic=RESULT, type="tf2_web_republisher/TFSubscriptionActionResult")
+    return session
+
+
+def goal(id_: str, **fields) -> dict:
+    body = {"source_frames": ["plate"], "target_frame": "panda_link8", "rate": 50.0, **fields}
+    return {"goal_id": {"stamp": {"secs": 0, "nsecs": 0}, "id": id_}, "goal": body}
+
+
+def on(session, topic: str) -> list[dict]:
+    return [m["msg"] for m in sent(session, "publish") if m["topic"] == topic]
+
+
+def test_a_goal_gets_its_frames_as_feedback_and_a_cancel_ends_it_preempted():
+    async def check() -> None:
+        lab = parts()
+        client = await action_client(lab)
+        await op(client, op="publish", topic=GOAL, msg=goal("g1"))
+        feedback = await until(lambda: on(client, FEEDBACK), "feedback")
+        (transform,) = feedback[0]["feedback"]["transforms"]
+        assert feedback[0]["status"]["goal_id"]["id"] == "g1" and feedback[0]["status"]["status"] == 1  # ACTIVE
+        assert transform["header"]["frame_id"] == "panda_link8" and transform["child_frame_id"] == "plate"
+        offset = lab.lab.snapshot().lifting.plate_offset  # the plate hangs on the flange's z (app/lab/tf.py)
+        assert math.isclose(transform["transform"]["translation"]["z"], offset, abs_tol=1e-9)
+        await op(client, op="publish", topic=CANCEL, msg={"id": "g1"})
+        (result,) = await until(lambda: on(client, RESULT), "result")
+        assert result["status"] == {"goal_id": goal("g1")["goal_id"], "status": 2, "text": "cancelled"}  # PREEMPTED
+        assert lab.bridge.tf_republisher.subscriptions() == 0
+
+    run(check())
+
+
+def test_a_goal_ends_with_its_client_and_a_bad_goal_is_rejected_naming_its_field():
+    async def check() -> None:
+        lab = parts()
+        watcher, client = await action_client(lab), await action_client(lab)
+        await op(client, op="publish", topic=GOAL, msg=goal("g2"))
+        assert lab.bridge.tf_republisher.subscriptions() == 1
+        await client.close()
+        (result,) = await until(lambda: on(watcher, RESULT), "result")
+        assert result["status"]["status"] == 2 and result["status"]["text"] == "its client disconnected"
+        refused = await op(watcher, op="publish", topic=GOAL, msg=goal("g3", rate=0))
+        assert "goal rejected: 'rate' must be a positive number" in refused[0]["msg"]
+        rejected = await until(lambda: on(watcher, RESULT)[1:], "the rejected goal's result")
+        assert rejected[0]["status"]["status"] == 5  # REJECTED
+        assert lab.bridge.tf_republisher.subscriptions() == 0
+
+    run(check())

@@ -4,7 +4,9 @@ lasts while one of the advertise ids that made it is not withdrawn, as rosbridge
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api.app import create_app
+from app.cli.compose import create_app
+from app.rosbridge.capabilities.advertise import Advertise
+from tests.app.rosbridge.clients import connect, op, parts, run
 from tests.waiting import within
 
 
@@ -49,3 +51,21 @@ def test_an_unadvertise_without_an_id_withdraws_them_all(client):
         assert [m["msg"] for m in answered(talker, "after")] == [
             "publish: advertise /all_ids first (op advertise with its type)"
         ]
+
+
+def test_the_lab_s_topics_and_a_wrong_type_are_refused_and_finish_leaves_the_topics():
+    async def check() -> None:
+        lab = parts()
+        session = await connect(lab)
+        lab_topic = await op(session, op="advertise", topic="/joint_states", type="sensor_msgs/JointState")
+        assert lab_topic[0]["msg"] == "advertise: topic /joint_states is published by the lab"
+        wrong = await op(session, op="advertise", topic="/rosout", type="std_msgs/String")
+        assert "topic /rosout is of type rcl_interfaces/Log" in wrong[0]["msg"]
+        await op(session, op="advertise", topic="/chatter", type="std_msgs/msg/String")  # ROS 2's spelling
+        assert lab.bridge.node_topics["/chatter"].type == "std_msgs/String"
+        assert await op(session, op="advertise", topic="/tf", type="tf2_msgs/TFMessage") == []  # shared with the lab
+        assert session.capability(Advertise).publishing == {"/chatter", "/tf"}
+        session.capability(Advertise).finish()
+        assert "/chatter" not in lab.bridge.node_topics and session.capability(Advertise).names() == []
+
+    run(check())

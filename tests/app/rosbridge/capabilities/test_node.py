@@ -4,7 +4,9 @@ service's info, errors and /rosout show; a bad or the lab's own name is refused 
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api.app import create_app
+from app.cli.compose import create_app
+from app.rosbridge.capabilities.node import MAX_NODES
+from tests.app.rosbridge.clients import connect, op, parts, run
 from tests.waiting import wait_for, within
 
 
@@ -65,3 +67,17 @@ def test_a_bad_node_name_is_refused_naming_the_field(client, name, says):
         assert refusal["op"] == "status" and says in refusal["msg"], refusal
         nodes = call(ws, "/rosapi/nodes", {})["values"]["nodes"]
         assert nodes.count("/hri_lab") == 1 and any(n.startswith("/rosbridge_client_") for n in nodes)  # unnamed
+
+
+def test_a_bad_name_or_the_labs_own_is_refused_naming_the_field():
+    async def check() -> None:
+        session = await connect(parts(replay=True))
+        bad = await op(session, op="node", name="/9lives")
+        assert bad[0]["msg"].startswith("node: field 'name' must be a ROS node name")
+        assert (await op(session, op="node", name="/hri_lab"))[0]["msg"] == "node: /hri_lab is the lab's own node"
+        for n in range(MAX_NODES):
+            await op(session, op="node", name=f"/n{n}")
+        assert f"at most {MAX_NODES} nodes" in (await op(session, op="node", name="/one_more"))[0]["msg"]
+        assert await op(session, op="node", name="/n0") == []  # named already: nothing to do
+
+    run(check())

@@ -1,11 +1,11 @@
-"""Every client's streams share the lab's outgoing rate (app/rosbridge/internal/state.py,
+"""Every client's streams share the lab's outgoing rate (app/rosbridge/bridge.py,
 MAX_OUTGOING_RATE; app/rosbridge/internal/streams.py): a stream's period is at least its share,
 in powers of two of milliseconds, and a stream that stops gives its share back."""
 
 import asyncio
 from types import SimpleNamespace
 
-from app.rosbridge.internal.state import MAX_OUTGOING_RATE, Bridge
+from app.rosbridge.bridge import MAX_OUTGOING_RATE, Bridge
 from app.rosbridge.internal.streams import Stream
 
 

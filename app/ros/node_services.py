@@ -13,7 +13,8 @@ request to the node and waits for its `service_response`.
   --exercises`): the handout's exercise services stay declared but are left to the students:
   "not provided yet" (404) until a node advertises the name. A node's successful
   start/stop_cooperative_lifting also applies its effect to the lab (the band the person
-  expects, the running flag), as the lab's own service does.
+  expects, the running flag), as the lab's own service does: the lab's `effects`
+  (app/lab/services.py NODE_EFFECTS), handed in by whoever builds the registry.
 """
 
 from __future__ import annotations
@@ -21,14 +22,14 @@ from __future__ import annotations
 import asyncio
 import itertools
 import threading
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, Protocol
 
 from pydantic import ConfigDict, ValidationError
 
-from app.lab import commands as cmd
 from app.ros.interface_models import BadDefinition, own_text, service_models
 from app.ros.messages import Bool, Empty, RosMessage, String, definition, validation_reason
 from app.ros.services import NodeFailure, NodeTimeout, NotProvided, Service, ServiceFailure, ServiceRegistry
@@ -68,17 +69,36 @@ def normalise_type(name: str) -> str:
     return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 and parts[1] in ("srv", "msg", "action") else name.strip("/")
 
 
+class NodeClient(Protocol):
+    """A node's connection, as the registries of node services and actions reach it (a rosbridge
+    session, app/rosbridge/session.py): its name, its event loop and what sends it a message."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def loop(self) -> asyncio.AbstractEventLoop | None: ...
+
+    async def send(self, message: dict) -> None: ...
+
+
 @dataclass
 class Provider:
-    session: Any  # a rosbridge session (app/rosbridge/session.py): has `name`, `loop` and `async send(dict)`
+    session: NodeClient
     type: str
 
 
 class NodeServices:
     def __init__(
-        self, base: ServiceRegistry, lab: Any, exercises: tuple[str, ...] = (), timeout: float = NODE_SERVICE_TIMEOUT
+        self,
+        base: ServiceRegistry,
+        lab: Any,
+        exercises: tuple[str, ...] = (),
+        timeout: float = NODE_SERVICE_TIMEOUT,
+        effects: Mapping[str, Callable[[Any, RosMessage], None]] | None = None,
     ) -> None:
         self.lab = lab
+        self.effects = dict(effects or {})  # service name -> what a node's answer does to the lab
         self.timeout = timeout
         self.slots = {name for name in exercises if base.get(name) is not None}
         self.declared = {s.name for s in base}
@@ -86,7 +106,7 @@ class NodeServices:
         self._declarations = {s.name: s for s in self.registry}  # restored when a node stops serving one
         self.types = service_types(base)
         self.providers: dict[str, Provider] = {}
-        self._pending: dict[str, tuple[Future, Any]] = {}
+        self._pending: dict[str, tuple[Future, NodeClient]] = {}
         self._ids = itertools.count(1)
         self._lock = threading.Lock()
 
@@ -134,7 +154,7 @@ class NodeServices:
 
         return logged
 
-    def advertise(self, name: str, type_name: str, session: Any, text: str | None = None) -> str | None:
+    def advertise(self, name: str, type_name: str, session: NodeClient, text: str | None = None) -> str | None:
         """A node provides `name`, typed by its carried .srv `text` when it sent one (else by the
         type's name); raises ServiceFailure with the reason it cannot. Returns a warning for the
         node, or None."""
@@ -159,7 +179,7 @@ class NodeServices:
         return warning
 
     def _serve_undeclared(
-        self, name: str, type_name: str, models: tuple | None, text: str | None, session: Any
+        self, name: str, type_name: str, models: tuple | None, text: str | None, session: NodeClient
     ) -> None:
         """A name the lab does not declare: typed by the node's carried text, or by its type's name."""
         if models is not None:
@@ -210,7 +230,7 @@ class NodeServices:
         with self._lock:
             return name in self.declared and name not in self.slots and name not in self.providers
 
-    def unadvertise(self, name: str, session: Any) -> bool:
+    def unadvertise(self, name: str, session: NodeClient) -> bool:
         with self._lock:
             provider = self.providers.get(name)
             if provider is None or provider.session is not session:
@@ -225,7 +245,7 @@ class NodeServices:
             _fail(future, NodeFailure(f"node {session.name} withdrew service {name} before answering"))
         return True
 
-    def drop(self, session: Any) -> None:
+    def drop(self, session: NodeClient) -> None:
         """A node disconnected: its services go with it."""
         for name in [n for n, p in list(self.providers.items()) if p.session is session]:
             self.unadvertise(name, session)
@@ -305,10 +325,12 @@ class NodeServices:
         await asyncio.to_thread(self._effect, name, request)
         return response
 
-    def answer(self, session: Any, call_id: Any, ok: bool, values: Any) -> bool:
+    def answer(self, session: NodeClient, call_id: object, ok: bool, values: Any) -> bool:
         """A node's service_response; False when no call of this node waits for it."""
+        if not isinstance(call_id, str):  # the lab's calls have string ids
+            return False
         with self._lock:
-            pending = self._pending.get(call_id) if isinstance(call_id, str) else None
+            pending = self._pending.get(call_id)
             if pending is None or pending[1] is not session:
                 return False
             del self._pending[call_id]
@@ -321,6 +343,8 @@ class NodeServices:
         that are a response still delivers them: the call succeeds with those values. Values that
         are no response make a failed call: with `result: false`, the values are its reason."""
         service = self.registry.get(name)
+        if service is None:  # the node withdrew it while answering
+            raise NodeFailure(f"service {name} is no longer provided")
         try:
             return service.response.model_validate(values if values is not None else {})
         except ValidationError as exc:
@@ -330,11 +354,10 @@ class NodeServices:
             raise NodeFailure(f"service {name}: the node's answer is not a {service.type} response ({where})") from None
 
     def _effect(self, name: str, request: RosMessage) -> None:
-        """A node's start/stop answered: the lab applies the service's meaning to the world."""
-        if name == "/start_cooperative_lifting":
-            self.lab.call(cmd.lifting_effect, True, request.force)
-        elif name == "/stop_cooperative_lifting":
-            self.lab.call(cmd.lifting_effect, False)
+        """A node's answer of a service with an effect (start/stop): the lab applies its meaning."""
+        effect = self.effects.get(name)
+        if effect is not None:
+            effect(self.lab, request)
 
 
 def _lines(text: str) -> list[str]:

@@ -32,7 +32,7 @@ from pydantic import ValidationError
 
 from app.ros.actions import Action, ActionServer, GoalFailure, GoalHandle, GoalPreempted, GoalSucceeded
 from app.ros.messages import RosMessage, validation_reason
-from app.rosbridge.internal.node_services import OpenMessage, normalise_type
+from app.ros.node_services import NodeClient, OpenMessage, normalise_type
 
 POLL_S = 0.02  # how often a goal's thread looks for a cancel while it waits for the node
 # action_msgs/GoalStatus codes an action_result may carry
@@ -43,7 +43,7 @@ SUCCEEDED, CANCELED, ABORTED = 4, 5, 6
 class Pending:
     """A goal sent to a node and not yet answered."""
 
-    session: Any
+    session: NodeClient
     action: Action
     handle: GoalHandle
     result: Future = field(default_factory=Future)  # (values, status, ok)
@@ -54,12 +54,12 @@ class NodeActions:
         self.server = server
         self.declared = set(server.actions)  # the lab's own actions
         self.types = {a.type: (a.goal, a.result, a.feedback) for a in server.actions.values()}
-        self.providers: dict[str, Any] = {}  # action name -> session
+        self.providers: dict[str, NodeClient] = {}  # action name -> its node
         self.pending: dict[str, Pending] = {}  # goal id -> the goal at its node
         self._ids = itertools.count(1)
         self._lock = threading.Lock()
 
-    def advertise(self, name: str, type_name: str, session: Any) -> None:
+    def advertise(self, name: str, type_name: str, session: NodeClient) -> None:
         """A node provides action `name`; ValueError with the reason it cannot."""
         with self._lock:
             if name in self.declared:
@@ -90,9 +90,9 @@ class NodeActions:
             )
             self.providers[name] = session
 
-    def unadvertise(self, name: str, session: Any) -> bool:
+    def unadvertise(self, name: str, session: NodeClient) -> bool:
         with self._lock:
-            provider: Any = self.providers.get(name)
+            provider = self.providers.get(name)
             if provider is not session:
                 return False
             del self.providers[name]
@@ -102,7 +102,7 @@ class NodeActions:
             _settle(pending.result, GoalFailure(f"node {session.name} withdrew action {name} before the goal ended"))
         return True
 
-    def drop(self, session: Any) -> None:
+    def drop(self, session: NodeClient) -> None:
         """A node disconnected: its actions go with it."""
         for name in [n for n, s in list(self.providers.items()) if s is session]:
             self.unadvertise(name, session)
@@ -159,27 +159,29 @@ class NodeActions:
         return execute
 
     @staticmethod
-    def _send(session: Any, message: dict) -> None:
+    def _send(session: NodeClient, message: dict) -> None:
+        if session.loop is None:  # not connected yet (a session's loop is set when it runs)
+            raise GoalFailure(f"node {session.name} is not connected")
         try:
             asyncio.run_coroutine_threadsafe(session.send(message), session.loop)
         except RuntimeError as exc:  # the node's connection is closing
             raise GoalFailure(f"node {session.name} is gone ({exc})") from None
 
-    def _pending(self, session: Any, goal_id: Any, name: str) -> Pending:
+    def _pending(self, session: NodeClient, goal_id: object, name: str) -> Pending:
         with self._lock:
             pending = self.pending.get(goal_id) if isinstance(goal_id, str) else None
         if pending is None or pending.session is not session or pending.action.name != name:
             raise ValueError(f"no goal with id {str(goal_id)[:80]} of action {name} waits for this client")
         return pending
 
-    def feedback(self, session: Any, goal_id: Any, name: str, values: Any) -> None:
+    def feedback(self, session: NodeClient, goal_id: object, name: str, values: Any) -> None:
         """A node's action_feedback; ValueError naming what is wrong."""
         pending = self._pending(session, goal_id, name)
         pending.handle.feedback(
             _model(pending.action.feedback, values, f"not a {pending.action.type} feedback", error=ValueError)
         )
 
-    def result(self, session: Any, goal_id: Any, name: str, values: Any, status: int, ok: bool) -> None:
+    def result(self, session: NodeClient, goal_id: object, name: str, values: Any, status: int, ok: bool) -> None:
         """A node's action_result; ValueError when no goal of this node waits for it."""
         pending = self._pending(session, goal_id, name)
         _settle(pending.result, (values, status, ok))

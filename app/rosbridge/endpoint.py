@@ -7,17 +7,23 @@ API and the dashboard. Access follows the API's rules: with a token set, every m
 it (the upgrade's `Authorization: Bearer <token>` or `X-HRI-Lab-Token` header, or rosauth's
 `{"op": "auth", "mac": "<token>"}`); reading is open.
 
-Layout (rosbridge_suite's): this route; session.py, one connection; ops.py, the ops by name from
-capabilities/ (one module per op family); internal/, the state every session shares; protocol.py,
-frames; rosapi.py, the rosapi services.
+This module is rosbridge's public face: what the composition root (app/cli/compose.py) builds
+(the Bridge, the state every session shares: bridge.py) and mounts (the route). Layout
+(rosbridge_suite's): this route; session.py, one connection; ops.py, the ops by name from
+capabilities/ (one module per op family, a capability object per client); ports.py, what a
+capability sees of its session and the bridge; services.py, the one table of services a client
+calls (the lab's, the nodes', rosapi's, /republish_tfs); internal/, the streams and the programs'
+frames; protocol.py, frames; rosapi.py, the rosapi services.
 """
 
 from __future__ import annotations
 
 from fastapi import APIRouter, WebSocket
 
-from app.rosbridge.internal.state import Bridge
+from app.rosbridge.bridge import Bridge
 from app.rosbridge.session import Session
+
+__all__ = ["Bridge", "router"]
 
 
 def router(bridge: Bridge) -> APIRouter:

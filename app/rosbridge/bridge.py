@@ -1,6 +1,7 @@
-"""The bridge's shared state: the lab, its registries, the services and topics nodes provide,
-the connected sessions. Every session (app/rosbridge/session.py) reads and changes it; it imports
-no session."""
+"""The bridge's shared state: the lab, its registries (handed in by the composition root,
+app/cli/compose.py), the service table, the topics nodes provide, the connected sessions. Every
+session (app/rosbridge/session.py) reads and changes it; it imports no session (app/rosbridge/ports.py
+has the shapes both see)."""
 
 from __future__ import annotations
 
@@ -12,10 +13,13 @@ from sim.messages import Topic
 
 from app.lab.topics import LATCHED, MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
-from app.rosbridge.internal.node_actions import NodeActions
+from app.ros.actions import ActionServer
+from app.ros.node_actions import NodeActions
+from app.ros.node_services import NodeServices
+from app.ros.services import ServiceRegistry
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
-from app.rosbridge.internal.node_params import NodeParameters
-from app.rosbridge.internal.node_services import NodeServices
+from app.rosbridge.ports import FramesLike, NodeTopicLike, ServiceTableLike, SessionLike, StreamLike, TFRepublisherLike
+from app.rosbridge.services import ServiceTable
 from app.rosbridge.tf_republisher import TFSubscriptionServer
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
@@ -28,8 +32,8 @@ class NodeTopic:
         self.type = type_name
         self.lab = lab  # a topic of the lab's own node (the tf2_web_republisher action's): kept while the lab runs
         self.definition = ""  # the full text its first publisher carried (hri-lab bag record reads it)
-        self.publishers: set[Any] = set()  # sessions
-        self.subscriptions: set[Any] = set()  # app.rosbridge.internal.streams.Stream
+        self.publishers: set[SessionLike] = set()
+        self.subscriptions: set[StreamLike] = set()  # the subscribers' streams (app/rosbridge/internal/streams.py)
 
 
 MAX_OUTGOING_RATE = 5000.0  # messages/s the lab publishes to all its rosbridge clients together (fair_period)
@@ -48,26 +52,36 @@ class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
     def __init__(
-        self, lab: Any, nodes: NodeServices, actions: Any, token: str | None = None, replay: bool = False
+        self,
+        lab: Any,
+        nodes: NodeServices,
+        actions: ActionServer,
+        node_actions: NodeActions,
+        token: str | None = None,
+        replay: bool = False,
     ) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
-        self.node_actions = NodeActions(actions)  # actions nodes provide, in the same ActionServer
-        lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
+        self.node_actions = node_actions  # actions nodes provide, in the same ActionServer
+        self.service_table: ServiceTableLike = ServiceTable(nodes)  # every service a client may call
         # the lab's topics, sampled from its snapshot, and the one a node's Twists drive its robot
         # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
         # lab started to replay bags (`serve --replay`): a player publishes them as a node would
         self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
-        self.frames = NodeFrames()  # the frames programs publish: /tf and /tf_static carry them with the lab's
+        self.frames: FramesLike = (
+            NodeFrames()
+        )  # the frames programs publish: /tf and /tf_static carry them with the lab's
         for name, static in TF_TOPICS.items():
             if name in self.topics:
                 self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
         self.min_period_s = dict(getattr(lab, "min_period_s", MIN_PERIOD_S))  # a topic's own longest rate
         self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
         self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
-        self.node_topics: dict[str, NodeTopic] = {}
-        self.tf_republisher = TFSubscriptionServer(self)  # its action's topics are node topics of the lab's
+        self.node_topics: dict[str, NodeTopicLike] = {}
+        self.tf_republisher: TFRepublisherLike = TFSubscriptionServer(
+            self
+        )  # its action's topics are node topics of the lab's
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
-        self.sessions: list[Any] = []
+        self.sessions: list[SessionLike] = []
         self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
         self._counter = 0
         if "/franka_state_controller/franka_states" in self.topics:
@@ -84,14 +98,15 @@ class Bridge:
         return 0.0 if share <= 0.001 else 0.001 * 2.0 ** math.ceil(math.log2(share / 0.001))
 
     @property
-    def services(self):
+    def services(self) -> ServiceRegistry:
+        """The lab's service registry: its own services and the nodes'."""
         return self.nodes.registry
 
     def next_name(self) -> str:
         self._counter += 1
         return f"/rosbridge_client_{self._counter}"
 
-    def add_topic(self, topic, min_period_s: float = 0.0) -> None:
+    def add_topic(self, topic: Topic, min_period_s: float = 0.0) -> None:
         """A topic sampled from the snapshot, added while the lab runs (e.g. /republish_tfs')."""
         self.topics[topic.name] = topic
         self.min_period_s[topic.name] = min_period_s
@@ -116,7 +131,11 @@ class Bridge:
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 
-    def leave(self, topic: str, publisher: Any = None, subscription: Any = None) -> None:
+    def node_topic(self, topic: str, type_name: str) -> NodeTopicLike:
+        """The node topic `topic`, made (of `type_name`) when nobody is on it yet."""
+        return self.node_topics.setdefault(topic, NodeTopic(type_name))
+
+    def leave(self, topic: str, publisher: SessionLike | None = None, subscription: StreamLike | None = None) -> None:
         """A publisher (a session) or a subscription (a session's Stream) is off a node topic; the
         topic goes away when nobody publishes or subscribes to it any more (a lab topic: nothing to do)."""
         entry = self.node_topics.get(topic)

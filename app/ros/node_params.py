@@ -20,9 +20,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from app.ros.node_services import NodeServices, OpenMessage
 from app.ros.params import ParameterRefused, type_name
 from app.ros.services import ServiceFailure
-from app.rosbridge.internal.node_services import NodeServices, OpenMessage
 
 # rcl_interfaces/msg/ParameterType
 NOT_SET, BOOL, INTEGER, DOUBLE, STRING = 0, 1, 2, 3, 4

@@ -1,0 +1,68 @@
+"""publish (app/rosbridge/capabilities/publish.py): a node topic to its subscribers, a log line to
+/rosout, transforms into the lab's tree, a Twist checked before it reaches the simulation."""
+
+import math
+
+import pytest
+
+from app.rosbridge.capabilities.publish import Publish, twist_values
+from app.rosbridge.protocol import BadFrame
+from tests.app.rosbridge.clients import connect, op, parts, run
+
+
+def test_a_twist_is_six_finite_numbers_missing_ones_zero():
+    assert twist_values({"linear": {"x": 0.1}, "angular": {"z": -2}}, "/cmd") == [0.1, 0, 0, 0, 0, -2.0]
+    with pytest.raises(BadFrame, match=r"field 'msg.linear.y' must be a finite number"):
+        twist_values({"linear": {"y": math.nan}}, "/cmd")
+    with pytest.raises(BadFrame, match=r"field 'msg.angular.x' must be a finite number, got true"):
+        twist_values({"angular": {"x": True}}, "/cmd")
+    with pytest.raises(BadFrame, match="geometry_msgs/Twist has no field 'speed'"):
+        twist_values({"speed": 1}, "/cmd")
+
+
+def test_a_node_topic_needs_its_advertise_and_the_labs_topics_are_the_labs():
+    async def check() -> None:
+        session = await connect(parts())
+        refused = await op(session, op="publish", topic="/chatter", msg={"data": "x"})
+        assert "advertise /chatter first" in refused[0]["msg"]
+        assert "published by the lab" in (await op(session, op="publish", topic="/joint_states", msg={}))[0]["msg"]
+        await op(session, op="advertise", topic="/chatter", type="std_msgs/String")
+        assert await op(session, op="publish", topic="/chatter", msg={"data": "x"}) == []
+
+    run(check())
+
+
+def test_a_log_line_joins_the_labs_log_under_the_nodes_name():
+    async def check() -> None:
+        lab = parts(replay=True)
+        session = await connect(lab)
+        await op(session, op="node", name="/talker")
+        assert "advertise /rosout first" in (await op(session, op="publish", topic="/rosout", msg={}))[0]["msg"]
+        await op(session, op="advertise", topic="/rosout", type="rosgraph_msgs/Log")
+        await op(session, op="publish", topic="/rosout", msg={"level": 4, "msg": "too close"})  # ROS 1's WARN
+        line = [entry for entry in lab.lab.rosout.recent() if entry.msg == "too close"][-1]
+        assert line.node == "/talker" and line.level == "WARN"
+
+    run(check())
+
+
+def test_a_refused_frame_is_told_once_and_finish_takes_the_clients_frames_away():
+    frame = {
+        "header": {"frame_id": "world"},
+        "child_frame_id": "panda_link0",  # the lab's own frame
+        "transform": {"translation": {"x": 0, "y": 0, "z": 0}, "rotation": {"x": 0, "y": 0, "z": 0, "w": 1}},
+    }
+    mine = dict(frame, child_frame_id="marker")
+
+    async def check() -> None:
+        lab = parts(replay=True)
+        session = await connect(lab)
+        await op(session, op="advertise", topic="/tf", type="tf2_msgs/TFMessage")
+        refused = await op(session, op="publish", topic="/tf", msg={"transforms": [frame, mine]})
+        assert "refused" in refused[0]["msg"] and "panda_link0" in refused[0]["msg"]
+        assert await op(session, op="publish", topic="/tf", msg={"transforms": [frame, mine]}) == []  # told once
+        assert "marker" in lab.bridge.frames.names()
+        session.capability(Publish).finish()
+        assert "marker" not in lab.bridge.frames.names()
+
+    run(check())

@@ -1,0 +1,75 @@
+"""rosapi (app/rosbridge/rosapi.py): a table of handlers, each answered from the lab's registries."""
+
+import json
+
+from sim.controllers.interface import LiftingParams
+
+from app.rosbridge import rosapi
+from app.rosbridge.capabilities.call_service import CallService
+from tests.app.rosbridge.clients import connect, op, parts, run
+
+
+def test_the_table_names_each_service_once_and_only_parameters_change_the_lab():
+    names = [s.name for s in rosapi.SERVICES]
+    assert len(names) == len(set(names)) == 22
+    assert all(name.startswith("/rosapi/") for name in names)
+    assert {s.name for s in rosapi.SERVICES if s.writes} == {"/rosapi/set_param", "/rosapi/delete_param"}
+
+
+def test_topics_services_and_types_are_the_labs():
+    async def check() -> None:
+        lab = parts()
+        session = await connect(lab)
+        caller = session.capability(CallService)
+        table = lab.bridge.service_table
+
+        async def values(name: str, **args: object) -> dict:
+            ok, answer = await table.call(caller, name, args)
+            assert ok, answer
+            return answer
+
+        topics = await values("/rosapi/topics")
+        assert dict(zip(topics["topics"], topics["types"]))["/joint_states"] == "sensor_msgs/JointState"
+        assert "/rosout" in topics["topics"]
+        assert (await values("/rosapi/topic_type", topic="joint_states"))["type"] == "sensor_msgs/JointState"
+        assert (await values("/rosapi/services"))["services"] == table.names()
+        assert (await values("/rosapi/service_type", service="/divide_ints"))["type"] == "hri_lab/DivideInts"
+        assert (await values("/rosapi/service_type", service="/rosapi/topics"))["type"] == "rosapi/Topics"
+        request = (await values("/rosapi/service_request_details", type="hri_lab/AddTwoInts"))["typedefs"][0]
+        assert request["fieldnames"] == ["a", "b"] and request["fieldtypes"] == ["int64", "int64"]
+        lab_node = await values("/rosapi/node_details", node="/hri_lab")
+        assert "/add_two_ints" in lab_node["services"] and "/joint_states" in lab_node["publishing"]
+        assert (await values("/rosapi/publishers", topic="/joint_states"))["publishers"] == ["/hri_lab"]
+        await op(session, op="node", name="/listener")
+        await op(session, op="subscribe", topic="/chatter", type="std_msgs/String")
+        assert (await values("/rosapi/subscribers", topic="/chatter"))["subscribers"] == ["/listener"]
+        assert "/listener" in (await values("/rosapi/nodes"))["nodes"]
+        assert (await values("/rosapi/node_details", node="/listener"))["subscribing"] == ["/chatter"]
+        assert "/count" in (await values("/rosapi/action_servers"))["action_servers"]
+
+    run(check())
+
+
+def test_parameters_by_rosapis_two_kinds_of_names():
+    async def check() -> None:
+        lab = parts(replay=True)
+        caller = (await connect(lab)).capability(CallService)
+        table = lab.bridge.service_table
+        alpha = await table.call(caller, "/rosapi/get_param", {"name": "/cooperative_lifting:alpha"})
+        assert alpha == (True, {"value": json.dumps(LiftingParams().alpha)})
+        assert await table.call(
+            caller, "/rosapi/set_param", {"name": "/cooperative_lifting:alpha", "value": "0.6"}
+        ) == (
+            True,
+            {},
+        )
+        assert lab.lab.params.get("cooperative_lifting", "alpha") == 0.6
+        assert await table.call(caller, "/rosapi/set_param", {"name": "/my/gain", "value": "2"}) == (True, {})
+        assert await table.call(caller, "/rosapi/get_param", {"name": "/my/gain"}) == (True, {"value": "2"})
+        assert await table.call(caller, "/rosapi/has_param", {"name": "/my/gain"}) == (True, {"exists": True})
+        ok, reason = await table.call(caller, "/rosapi/set_param", {"name": "/my/gain", "value": "not json"})
+        assert not ok and "'value' must be JSON text" in reason
+        ok, reason = await table.call(caller, "/rosapi/delete_param", {"name": "/cooperative_lifting:alpha"})
+        assert not ok and "declared by its node" in reason
+
+    run(check())

@@ -18,6 +18,7 @@ from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeServices
 from app.ros.services import ServiceRegistry
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
+from app.rosbridge.internal.shared import SharedMessages
 from app.rosbridge.ports import FramesLike, NodeTopicLike, ServiceTableLike, SessionLike, StreamLike, TFRepublisherLike
 from app.rosbridge.services import ServiceTable
 from app.rosbridge.tf_republisher import TFSubscriptionServer
@@ -77,6 +78,7 @@ class Bridge:
         self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
         self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
         self.node_topics: dict[str, NodeTopicLike] = {}
+        self.shared = SharedMessages()  # a topic's message built and encoded once for all its streams
         self.tf_republisher: TFRepublisherLike = TFSubscriptionServer(
             self
         )  # its action's topics are node topics of the lab's
@@ -114,6 +116,7 @@ class Bridge:
     def remove_topic(self, name: str) -> None:
         self.topics.pop(name, None)
         self.min_period_s.pop(name, None)
+        self.shared.forget(name)
 
     def add_lab_node_topic(self, name: str, type_name: str) -> None:
         """A topic the lab's own node publishes or subscribes as a program's node would (relayed, not
@@ -147,3 +150,4 @@ class Bridge:
             self.windows.pop(topic, None)  # the program that showed it is gone
         if not entry.publishers and not entry.subscriptions and not entry.lab:
             del self.node_topics[topic]
+            self.shared.forget(topic)

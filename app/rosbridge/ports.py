@@ -15,6 +15,7 @@ from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
+from app.rosbridge.internal.shared import SharedMessages
 from app.rosbridge.protocol import Id
 
 C = TypeVar("C")
@@ -111,6 +112,7 @@ class BridgeLike(Protocol):
     streams: int
     service_table: ServiceTableLike
     tf_republisher: TFRepublisherLike
+    shared: SharedMessages  # what every client's stream of a topic shares (internal/shared.py)
 
     @property
     def services(self) -> Iterable[Service]: ...
@@ -151,6 +153,8 @@ class SessionLike(Protocol):
     def name(self) -> str: ...
 
     async def send(self, message: dict) -> None: ...
+
+    async def send_text(self, text: str) -> None: ...
 
     async def report(self, level: str, msg: str, id_: Id = None) -> None: ...
 

@@ -80,9 +80,12 @@ class Session:
             task.cancel()
 
     async def send(self, message: dict) -> None:
+        await self.send_text(json.dumps(message))
+
+    async def send_text(self, text: str) -> None:
+        """A frame already encoded (a topic's message shared by its streams: internal/shared.py)."""
         if self.closed:
             return
-        text = json.dumps(message)
         async with self._send_lock:
             try:
                 await self.ws.send_text(text)

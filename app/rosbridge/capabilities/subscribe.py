@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import Iterable
 from contextlib import ExitStack
+from functools import partial
 from typing import Any
 
 from sim.messages import F_EXT, Topic, wrench_stamped_at
@@ -128,7 +129,8 @@ async def sample(
             need.every(period)
             if last is None or snapshot.time - last >= period - 0.0005:
                 last = snapshot.time
-                message = topic.build(snapshot)
+                shared = stream.session.bridge.shared  # built once for every client's stream of the topic
+                message = shared.built(topic.name, snapshot.time, partial(topic.build, snapshot))
                 if topic.name not in latched or message != sent:
                     stream.offer(message)
                 sent = message
@@ -155,7 +157,9 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
             for row in rows:
                 if last is None or row[0] - last >= period - 0.0005:
                     last = row[0]
-                    stream.offer(wrench_stamped_at(float(row[0]), row[1:]))
+                    time_s = float(row[0])
+                    shared = stream.session.bridge.shared  # each step's sample built once for every client
+                    stream.offer(shared.built(F_EXT, time_s, partial(wrench_stamped_at, time_s, row[1:])))
             await asyncio.sleep(max(POLL_S, period))  # no oftener than it may send: its share of the lab's rate
 
 

@@ -71,7 +71,11 @@ class Stream:
                         await asyncio.sleep(wait)
                         continue
                     self.last_sent = loop.time()
-                await self.session.send({"op": "publish", "topic": self.topic, "msg": self.queue.popleft()})
+                message = self.queue.popleft()
+                if self.bridge is not None:  # encoded once for every client's stream of the topic
+                    await self.session.send_text(self.bridge.shared.frame(self.topic, message))
+                else:
+                    await self.session.send({"op": "publish", "topic": self.topic, "msg": message})
                 await asyncio.sleep(0)  # one message, then the others' turn: HTTP waits behind no queue
 
     def stop(self) -> None:

@@ -1,0 +1,46 @@
+"""What the streams of one topic share, however many clients subscribe: a lab topic's message built
+once per sample (per topic and simulation time) and a message's publish frame encoded once (per
+message object). Twenty clients at throttle_rate 0 then cost the event loop one build and one
+encoding of each message, and twenty sends, not twenty of each (issue 33: HTTP kept responsive)."""
+
+from __future__ import annotations
+
+import json
+from collections import OrderedDict
+from collections.abc import Callable
+
+KEEP_BUILT = 64  # messages kept per topic by simulation time: streams a few samples apart still share
+KEEP_FRAMES = 8  # encoded frames kept per topic (an image's is a few MB)
+
+
+class SharedMessages:
+    def __init__(self) -> None:
+        self._built: dict[str, OrderedDict[float, dict]] = {}
+        self._frames: dict[str, OrderedDict[int, tuple[dict, str]]] = {}
+
+    def built(self, topic: str, time_s: float, make: Callable[[], dict]) -> dict:
+        """The topic's message at `time_s`: made once, the same object for every stream."""
+        kept = self._built.setdefault(topic, OrderedDict())
+        message = kept.get(time_s)
+        if message is None:
+            message = kept[time_s] = make()
+            if len(kept) > KEEP_BUILT:
+                kept.popitem(last=False)
+        return message
+
+    def frame(self, topic: str, message: dict) -> str:
+        """rosbridge's publish frame of `message` on `topic`, as text: encoded once per message."""
+        kept = self._frames.setdefault(topic, OrderedDict())
+        found = kept.get(id(message))
+        if found is not None and found[0] is message:  # the object itself (kept alive here): not a reused id
+            return found[1]
+        text = json.dumps({"op": "publish", "topic": topic, "msg": message})
+        kept[id(message)] = (message, text)
+        if len(kept) > KEEP_FRAMES:
+            kept.popitem(last=False)
+        return text
+
+    def forget(self, topic: str) -> None:
+        """Nobody subscribes to `topic` any more: its messages go."""
+        self._built.pop(topic, None)
+        self._frames.pop(topic, None)

@@ -1,0 +1,36 @@
+"""What the streams of one topic share (app/rosbridge/internal/shared.py): a message built once per
+topic and time, a frame encoded once per message object, both bounded."""
+
+import json
+
+from app.rosbridge.internal.shared import KEEP_BUILT, KEEP_FRAMES, SharedMessages
+
+
+def test_a_message_is_built_once_per_topic_and_time():
+    shared, made = SharedMessages(), []
+
+    def make(value):
+        made.append(value)
+        return {"data": value}
+
+    first = shared.built("/a", 1.0, lambda: make(1))
+    assert shared.built("/a", 1.0, lambda: make(2)) is first and made == [1]
+    assert shared.built("/b", 1.0, lambda: make(3)) == {"data": 3}  # another topic: its own
+    for n in range(KEEP_BUILT):
+        shared.built("/a", 2.0 + n, lambda: make(0))
+    assert shared.built("/a", 1.0, lambda: make(4)) == {"data": 4}  # the oldest went: made again
+
+
+def test_a_frame_is_encoded_once_per_message_object():
+    shared = SharedMessages()
+    message = {"data": "x"}
+    text = shared.frame("/a", message)
+    assert json.loads(text) == {"op": "publish", "topic": "/a", "msg": message}
+    assert shared.frame("/a", message) is text
+    equal_but_new = {"data": "x"}
+    assert shared.frame("/a", equal_but_new) is not text  # another object: encoded for itself
+    for n in range(KEEP_FRAMES):
+        shared.frame("/a", {"n": n})
+    assert len(shared._frames["/a"]) == KEEP_FRAMES
+    shared.forget("/a")
+    assert "/a" not in shared._frames

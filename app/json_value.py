@@ -1,0 +1,6 @@
+"""A JSON value's type: what json.loads returns, a rosbridge message's fields, a ROS parameter's
+value as it travels (HTTP, rosbridge, a YAML parameter file), a message built from JSON."""
+
+from typing import TypeAlias
+
+JSON: TypeAlias = dict[str, "JSON"] | list["JSON"] | str | int | float | bool | None

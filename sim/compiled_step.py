@@ -36,9 +36,10 @@ from sim.robot.cartesian_velocity import ERROR, TRANSFORM, TWIST_BASE, arm_comma
 
 
 @njit(cache=True)
-def world_sense(sensor_state, noise, scales, wrench_ee_true, wrench_ee, dt):
+def world_sense(sensor, dt):
     """1. sense: F_ext = the sensor's sample of the true wrench (noise, low-pass) into wrench_ee.
-    Its arguments but dt are World's sensor group (sensor_state, noise, scales, true, measured)."""
+    sensor = (sensor state, this step's noise, scales, wrench_ee_true, wrench_ee): World._sensor_arguments."""
+    sensor_state, noise, scales, wrench_ee_true, wrench_ee = sensor
     measure_into(wrench_ee_true, noise, scales, dt, sensor_state, wrench_ee)
 
 
@@ -149,7 +150,7 @@ def world_step_builtin(sensor, law, robot, rest):
     lifting vector, its constants). Returns (reflex kind, joint or axis, value, box steps, the
     trial rule's event)."""
     arm, twist_command, dt = rest[:3]
-    world_sense(*sensor, dt)
+    world_sense(sensor, dt)
     rotation = arm[TRANSFORM : TRANSFORM + 16].reshape((4, 4))[:3, :3].copy()
     wrench_ee = sensor[4]
     lifting_law_step(*law, wrench_ee.copy(), rotation, dt, twist_command)

@@ -312,7 +312,7 @@ class World:
 
     def _sense(self, dt: float) -> None:
         """1. sense, compiled: F_ext from the true wrench."""
-        compiled_step.world_sense(*self._sensor_arguments(), dt)
+        compiled_step.world_sense(self._sensor_arguments(), dt)
 
     def _sensor_arguments(self) -> tuple:
         """world_sense's sensor group: (state, this step's noise, scales, true F_ext, measured F_ext)."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import base64
 from typing import cast
+
 from app.interfaces.parser import BYTES, FLOATS, INTEGERS, Field
 from app.json_value import JSON
 

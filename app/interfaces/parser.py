@@ -87,9 +87,7 @@ class Field:
         return ""
 
 
-def parse_fields(
-    text: str, path: Path, package: str, first_line: int = 1
-) -> tuple[list[Field], dict[str, Constant]]:
+def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tuple[list[Field], dict[str, Constant]]:
     """The fields and constants of one message definition (a section of a .srv/.action)."""
     fields: list[Field] = []
     constants: dict[str, Constant] = {}

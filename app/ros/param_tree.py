@@ -40,6 +40,7 @@ def canonical(name: str, namespace: str = "/") -> str:
         name = namespace.rstrip("/") + "/" + name
     return "/" + name.strip("/") if name.strip("/") else "/"
 
+
 D = TypeVar("D")  # get's default
 
 

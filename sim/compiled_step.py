@@ -47,7 +47,7 @@ def world_sense(sensor, dt):
 def _physics(dt, plate_offset, arm, human, box, plate, palm, plate_out, palm_out, wrench_ee_true, box_steps):
     """5. physics for dt: plate and palm contacts, the hand's wrench, the box; the true F_ext.
     The groups as world_rest's; returns the box's steps."""
-    human_state, human_constants = human
+    human_state = human[0]  # (state, constants)
     box_position, box_rotation, box_velocity, box_omega, box_half, box_mass, box_inertia, box_inertia_inv, gravity = box
     box_pose = (box_position, box_rotation, box_velocity, box_omega, box_half)
     transform = arm[TRANSFORM : TRANSFORM + 16].reshape((4, 4))

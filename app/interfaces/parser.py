@@ -47,10 +47,10 @@ class DefinitionError(ImportError):
 
 
 class Field:
-    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class", "line")
+    __slots__ = ("array", "attr", "base", "bound", "default", "line", "msg_class", "name")
 
     def __init__(
-        self, name: str, base: str, array: int | None | bool, bound: bool, default: Constant | list[Constant] | None
+        self, name: str, base: str, array: int | bool | None, bound: bool, default: Constant | list[Constant] | None
     ) -> None:
         self.name = name  # the wire name
         self.attr = name + "_" if keyword.iskeyword(name) else name  # genpy's rule for keywords
@@ -109,7 +109,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         base, brackets, bounded, size, name, is_constant, rest = m.groups()
         if name in {f.name for f in fields} or name in constants:
             raise DefinitionError(f"{where}: field '{name}' is defined twice", name=package)
-        array: int | None | bool = None
+        array: int | bool | None = None
         for number_text in (size or "", base.partition("<=")[2]):
             if len(number_text) > 9:
                 raise DefinitionError(

@@ -9,7 +9,7 @@ from collections.abc import Callable
 from concurrent.futures import Future
 from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import Protocol, TypeVar
+from typing import Protocol, TypeVar, runtime_checkable
 
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
@@ -20,6 +20,7 @@ S_co = TypeVar("S_co", covariant=True)
 T = TypeVar("T")
 
 
+@runtime_checkable
 class LabPort(Protocol[S_co]):
     """A running lab: its simulation (commands between two steps, the latest snapshot), its ROS
     registries (the node parameters, ROS 1's parameter tree, /rosout) and where its files go."""

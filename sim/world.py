@@ -109,7 +109,15 @@ class World:
         cfg = self.config
         self.model = PandaModel()
         self.arm = CartesianVelocityInterface(self.model, np.array(cfg.start_q))
-        self._arm_constants = self.arm.constants()  # the limits (fixed for a world)
+        chain = self.arm.chain  # world_move_rest's robot: the limits and the kinematic chain (fixed for a world)
+        self._robot = (
+            self.arm.constants(),
+            chain.rotations,
+            chain.translations,
+            chain.axes,
+            chain.flange_rotation,
+            chain.flange_translation,
+        )
         self.plate_contact = PatchContact(
             PatchGeometry(cfg.plate.width, cfg.plate.height, *cfg.plate_grid), cfg.plate_contact
         )
@@ -270,25 +278,22 @@ class World:
         law = controller.law() if isinstance(controller, LiftingLawController) else None
         jogging = self.jog is not None and not params.running
         rest_compiled = self._components_plain()
-        sensor, kind = self.sensor, OK
+        kind = OK
         if self.motion is None and not jogging and rest_compiled:
             self.jog = None
             if law is not None and isinstance(controller, LiftingLawController):  # a built-in: one compiled call
                 kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
-                    sensor.state,
-                    sensor.next_noise(),
-                    sensor.scales(),
-                    self.wrench_ee,
-                    law,
-                    controller.state,
-                    self._lifting_vector(),
-                    controller.constants(),
-                    *self._move_rest_arguments(dt),
+                    self._sensor_arguments(),
+                    (law, controller.state, self._lifting_vector(), controller.constants()),
+                    self._robot,
+                    self._rest_arguments(dt),
                 )
             else:  # compiled sense, the controller in Python, the compiled robot and rest
                 self._sense(dt)
                 self.twist_command[:] = self._control(self.arm.transform_ee_to_base, dt)
-                kind, j, value, self.box._steps, event = compiled_step.world_move_rest(*self._move_rest_arguments(dt))
+                kind, j, value, self.box._steps, event = compiled_step.world_move_rest(
+                    self._robot, self._rest_arguments(dt)
+                )
         else:  # a joint motion, a jog, or patched components: the robot (and the rest) in Python
             self._sense(dt)
             self._control_and_move(dt)
@@ -307,10 +312,12 @@ class World:
 
     def _sense(self, dt: float) -> None:
         """1. sense, compiled: F_ext from the true wrench."""
+        compiled_step.world_sense(self._sensor_arguments(), dt)
+
+    def _sensor_arguments(self) -> tuple:
+        """world_sense's sensor group: (state, this step's noise, scales, true F_ext, measured F_ext)."""
         sensor = self.sensor
-        compiled_step.world_sense(
-            sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true, self.wrench_ee
-        )
+        return (sensor.state, sensor.next_noise(), sensor.scales(), self.wrench_ee_true, self.wrench_ee)
 
     def _components_plain(self) -> bool:
         """True when the human, the box and the contacts are the lab's own, unpatched (the compiled
@@ -367,56 +374,38 @@ class World:
             self._lifting = (key, lifting_vector(self.params))
         return self._lifting[1]
 
-    def _move_rest_arguments(self, dt: float) -> tuple:
-        """world_move_rest's arguments: the robot's limits and kinematic chain, then world_rest's."""
-        chain = self.arm.chain
-        return (
-            self._arm_constants,
-            chain.rotations,
-            chain.translations,
-            chain.axes,
-            chain.flange_rotation,
-            chain.flange_translation,
-            *self._rest_arguments(dt),
-        )
-
     def _rest_arguments(self, dt: float) -> tuple:
-        """world_rest's arguments: human, physics and the trial's rule after this step."""
+        """world_rest's arguments (sim/compiled_step.py lists them): human, physics and the trial's
+        rule after this step."""
         params, box, human, plate, palm = self.params, self.box, self.human, self.plate_contact, self.palm_contact
         return (
+            self.arm.state,
+            self.twist_command,
             float(dt),
             int(self.substeps),
             float(self.config.plate.offset),
-            bool(params.running),
-            float(params.f_n_min),
-            float(params.f_n_max),
-            self.arm.state,
-            human.state,
-            human.constants,
-            box.position,
-            box.rotation,
-            box.velocity,
-            box.angular_velocity,
-            box.half_size,
-            float(box.params.mass),
-            box._inertia,
-            box._inertia_inv,
-            GRAVITY,
-            box._steps,
-            plate.points_patch,
-            plate.bristles,
-            plate.constants,
-            palm.points_patch,
-            palm.bristles,
-            palm.constants,
+            (bool(params.running), float(params.f_n_min), float(params.f_n_max)),
+            (human.state, human.constants),
+            (
+                box.position,
+                box.rotation,
+                box.velocity,
+                box.angular_velocity,
+                box.half_size,
+                float(box.params.mass),
+                box._inertia,
+                box._inertia_inv,
+                GRAVITY,
+            ),
+            (plate.points_patch, plate.bristles, plate.constants),
+            (palm.points_patch, palm.bristles, palm.constants),
             self.plate_out,
             self.palm_out,
             self.wrench_ee_true,
-            self.trial.state_array,
-            self.trial.rules_vector,
+            (self.trial.state_array, self.trial.rules_vector),
             self.time + dt,
             float(params.mu),
-            self.twist_command,
+            box._steps,
         )
 
     def _control_and_move(self, dt: float) -> None:

@@ -22,7 +22,7 @@ router = APIRouter(tags=["teleop"])
 
 @router.post("/teleop/key", summary="Jog the EE with a key (w/s: +-x, a/d: +-yaw, q: stop)")
 def teleop(body: TeleopKey, lab: LabDep) -> JSONResponse:
-    speeds = (lab.params.get("keytwist", "linear_speed"), lab.params.get("keytwist", "angular_speed"))
+    speeds = (lab.params.number("keytwist", "linear_speed"), lab.params.number("keytwist", "angular_speed"))
     twist_base = key_twist(body.key, *speeds)
     try:
         lab.call(commands.start_jog, twist_base)

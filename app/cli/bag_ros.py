@@ -23,9 +23,9 @@ import signal
 import sys
 import time
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from types import FrameType
 from urllib.parse import urlsplit
 
 from websockets.exceptions import WebSocketException
@@ -102,14 +102,14 @@ class Bridge:
 def _stop_on_sigterm() -> None:
     """SIGTERM ends a recording or a playback as Ctrl+C does: the bag is finished, the summary printed."""
 
-    def interrupt(signum: int, frame: Any) -> None:
+    def interrupt(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
     signal.signal(signal.SIGTERM, interrupt)
 
 
 # --- record -------------------------------------------------------------------------------------
-def _definition_finder() -> Any:
+def _definition_finder() -> Callable[[str], str | None]:
     """The .msg files a program's imports would find: the current folder's workspace, then the
     definitions the lab ships (app/interfaces/share, its own hri_lab package's included)."""
     from app.interfaces.packages import Interfaces, full_text

@@ -4,9 +4,10 @@ rospy) or by position (rospy, genpy), and rosbridge's JSON both ways (`to_json`,
 from __future__ import annotations
 
 import base64
-from typing import Any
+from typing import cast
 
 from app.interfaces.parser import BYTES, FLOATS, INTEGERS, Field
+from app.json_value import JSON
 
 
 class Message:
@@ -19,7 +20,7 @@ class Message:
     _definition = ""
     _default_values = 0  # values its default holds (capped: parser.MAX_DEFAULT_VALUES)
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
+    def __init__(self, *args: object, **kwargs: object) -> None:
         fields = self._fields
         if len(args) > len(fields):
             raise TypeError(
@@ -50,7 +51,7 @@ class Message:
     def __slots_types__(self):  # pragma: no cover - genpy compatibility only
         return [f.type_text for f in self._fields]
 
-    def __eq__(self, other: Any) -> bool:
+    def __eq__(self, other: object) -> bool:
         return type(other) is type(self) and all(getattr(self, f.attr) == getattr(other, f.attr) for f in self._fields)
 
     def __repr__(self) -> str:
@@ -61,11 +62,11 @@ class Message:
     __str__ = __repr__
 
     # rosbridge JSON -------------------------------------------------------------------------
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, JSON]:
         return {f.name: _to_json(self._type, f, getattr(self, f.attr)) for f in self._fields}
 
     @classmethod
-    def from_json(cls, data: Any) -> Message:
+    def from_json(cls, data: JSON) -> Message:
         if not isinstance(data, dict):
             raise TypeError(f"{cls._type}: expected a JSON object, got {type(data).__name__}")
         out = cls.__new__(cls)  # each field set once: from the data, else its default
@@ -76,7 +77,7 @@ class Message:
         return out
 
 
-def _to_json(owner: str, f: Field, value: Any) -> Any:
+def _to_json(owner: str, f: Field, value: object) -> JSON:
     where = f"{owner}.{f.attr}"
     if f.array is not None:
         if f.base in BYTES and isinstance(value, (bytes, bytearray, memoryview)):
@@ -95,11 +96,13 @@ def _to_json(owner: str, f: Field, value: Any) -> Any:
     return _scalar_json(where, f, value)
 
 
-def _scalar_json(where: str, f: Field, value: Any) -> Any:
+def _scalar_json(where: str, f: Field, value: object) -> JSON:
     if f.msg_class is not None:
         if isinstance(value, Message):
             return value.to_json()
-        if f.msg_class._type in ("builtin_interfaces/Time", "builtin_interfaces/Duration") and hasattr(value, "secs"):
+        if f.msg_class._type in ("builtin_interfaces/Time", "builtin_interfaces/Duration") and (
+            hasattr(value, "secs") and hasattr(value, "nsecs")
+        ):
             return {"sec": int(value.secs), "nanosec": int(value.nsecs)}  # a rospy.Time/Duration
         if isinstance(value, dict):
             return f.msg_class.from_json(value).to_json()
@@ -127,17 +130,21 @@ def _scalar_json(where: str, f: Field, value: Any) -> Any:
     return value
 
 
-def _from_json(f: Field, value: Any) -> Any:
+def _from_json(f: Field, value: JSON) -> object:
     if f.array is not None:
         if f.base in BYTES and isinstance(value, str):
             return base64.b64decode(value)
-        if f.base in BYTES and isinstance(value, list):
-            return bytes(value)
+        if not isinstance(value, (list, tuple)):  # a tuple: in a dict a Python program gave (_scalar_json)
+            raise TypeError(f"The '{f.attr}' field must be a JSON array ({f.type_text}), got {type(value).__name__}")
+        if f.base in BYTES:
+            if not all(isinstance(v, int) for v in value):
+                raise TypeError(f"The '{f.attr}' field must be a list of byte values ({f.type_text})")
+            return bytes(cast("list[int]", value))
         return [_scalar_from_json(f, v) for v in value]
     return _scalar_from_json(f, value)
 
 
-def _scalar_from_json(f: Field, value: Any) -> Any:
+def _scalar_from_json(f: Field, value: JSON) -> object:
     if f.msg_class is not None:
         if isinstance(value, dict) and f.msg_class._type in ("builtin_interfaces/Time", "builtin_interfaces/Duration"):
             value = {

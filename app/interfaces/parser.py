@@ -39,14 +39,19 @@ MAX_DEFAULT_VALUES = 65_536  # values a message's default holds, nested messages
 _FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
 
+Constant = int | float | bool | str  # a constant's or a default's value (a default may be a list of them)
+
+
 class DefinitionError(ImportError):
     """A definition that cannot be read: names the file, the line and what was expected."""
 
 
 class Field:
-    __slots__ = ("name", "attr", "base", "array", "bound", "default", "msg_class", "line")
+    __slots__ = ("array", "attr", "base", "bound", "default", "line", "msg_class", "name")
 
-    def __init__(self, name: str, base: str, array: int | None | bool, bound: bool, default: Any) -> None:
+    def __init__(
+        self, name: str, base: str, array: int | bool | None, bound: bool, default: Constant | list[Constant] | None
+    ) -> None:
         self.name = name  # the wire name
         self.attr = name + "_" if keyword.iskeyword(name) else name  # genpy's rule for keywords
         self.base, self.array, self.bound, self.default = base, array, bound, default
@@ -60,7 +65,7 @@ class Field:
             return base
         return f"{base}[{'<=' if self.bound else ''}{self.array if self.array is not True else ''}]"
 
-    def zero(self) -> Any:
+    def zero(self) -> object:
         if self.default is not None:
             return list(self.default) if isinstance(self.default, list) else self.default
         if self.array is not None:
@@ -69,7 +74,7 @@ class Field:
             return bytes(self.array) if self.base in BYTES else [self._scalar_zero() for _ in range(self.array)]
         return self._scalar_zero()
 
-    def _scalar_zero(self) -> Any:
+    def _scalar_zero(self) -> object:
         if self.msg_class is not None:
             return self.msg_class()
         base = self.base.split("<=")[0]
@@ -82,10 +87,10 @@ class Field:
         return ""
 
 
-def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tuple[list[Field], dict[str, Any]]:
+def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tuple[list[Field], dict[str, Constant]]:
     """The fields and constants of one message definition (a section of a .srv/.action)."""
     fields: list[Field] = []
-    constants: dict[str, Any] = {}
+    constants: dict[str, Constant] = {}
     for number, raw in enumerate(text.splitlines(), first_line):
         line = raw.strip()
         if not line or line.startswith("#"):
@@ -104,7 +109,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         base, brackets, bounded, size, name, is_constant, rest = m.groups()
         if name in {f.name for f in fields} or name in constants:
             raise DefinitionError(f"{where}: field '{name}' is defined twice", name=package)
-        array: int | None | bool = None
+        array: int | bool | None = None
         for number_text in (size or "", base.partition("<=")[2]):
             if len(number_text) > 9:
                 raise DefinitionError(
@@ -133,7 +138,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
                 raise DefinitionError(f"{where}: a constant must be of a primitive type, not {base}", name=package)
             constants[name] = _literal(scalar, rest.strip(), where, package)
             continue
-        default = None
+        default: Constant | list[Constant] | None = None
         rest = rest.strip()
         if rest:
             if scalar not in PRIMITIVES:
@@ -165,7 +170,7 @@ def _qualify(base: str, package: str) -> str:
     return base
 
 
-def _literal(scalar: str, text: str, where: str, package: str) -> Any:
+def _literal(scalar: str, text: str, where: str, package: str) -> Constant:
     try:
         if scalar in INTEGERS:
             value, (low, high) = int(text, 0), INTEGERS[scalar]

@@ -17,6 +17,8 @@ from sim.controllers.interface import stop_lifting as stop_band
 from sim.person.participants import PARTICIPANTS
 from sim.world import World, WorldConfig
 
+from app.json_value import JSON
+
 
 # --- lifting and motion ---------------------------------------------------------------------
 def start_lifting(world: World, force: float, controller: str = "") -> str:
@@ -89,7 +91,7 @@ def world_config(world: World) -> WorldConfig:
     return world.config
 
 
-def scene_geometry(world: World) -> dict[str, Any]:
+def scene_geometry(world: World) -> dict[str, tuple[float, ...]]:
     """What the 3D view draws that does not move: plate (width, height, offset), box size, palm size (m)."""
     cfg = world.config
     return {
@@ -141,11 +143,11 @@ def lifting_effect(world: World, start: bool, force: float = 0.0) -> None:
 
 
 # --- parameters: apply(world, value) and read(world) ----------------------------------------
-def set_lifting(world: World, value: Any, field: str) -> None:
+def set_lifting(world: World, value: JSON, field: str) -> None:
     setattr(world.params, field, value)
 
 
-def get_lifting(world: World, field: str) -> Any:
+def get_lifting(world: World, field: str) -> JSON:
     return getattr(world.params, field)
 
 
@@ -153,11 +155,11 @@ def set_controller(world: World, value: str) -> None:
     world.set_controller(builtin(value))
 
 
-def set_person(world: World, value: Any, field: str) -> None:
+def set_person(world: World, value: Any, field: str) -> None:  # Any: a field of its own type (validated)
     world.set_participant(replace(world.human.participant, **{field: value}))
 
 
-def get_person(world: World, field: str) -> Any:
+def get_person(world: World, field: str) -> JSON:
     return getattr(world.human.participant, field)
 
 
@@ -168,10 +170,10 @@ def set_profile(world: World, value: str) -> None:
 _CONFIGURE = {"sensor": World.set_sensor, "box": World.set_box, "plate_contact": World.set_plate_contact}
 
 
-def set_config(world: World, value: Any, part: str, field: str) -> None:
+def set_config(world: World, value: JSON, part: str, field: str) -> None:
     """A field of the world's configuration: part "sensor", "box" or "plate_contact"."""
     _CONFIGURE[part](world, **{field: value})
 
 
-def get_config(world: World, part: str, field: str) -> Any:
+def get_config(world: World, part: str, field: str) -> JSON:
     return getattr(getattr(world.config, part), field)

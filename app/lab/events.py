@@ -5,16 +5,21 @@ supervisor's figures (never from inside the simulation), every PERIOD_S."""
 from __future__ import annotations
 
 import threading
-from typing import Any
+from typing import TYPE_CHECKING
 
 from app.ros.names import node_name
+
+if TYPE_CHECKING:
+    from sim.world import Snapshot
+
+    from app.lab.port import LabPort
 
 LAB_NODE = "/hri_lab"  # the lab as a ROS node (ros2 node list, rosapi, a service's node); its log lines carry node_name(LAB_NODE)
 PERIOD_S = 0.05
 
 
 class LabEvents:
-    def __init__(self, lab: Any) -> None:
+    def __init__(self, lab: LabPort[Snapshot]) -> None:
         self.lab = lab
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None

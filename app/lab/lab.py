@@ -3,7 +3,9 @@
 from collections.abc import Callable
 from concurrent.futures import Future
 from contextlib import AbstractContextManager
-from typing import Any, TypeVar
+from typing import TypeVar
+
+import numpy as np
 
 from sim.camera_render import SceneSizes
 from sim.controllers.interface import Controller
@@ -65,12 +67,12 @@ class Lab:
             (cfg.plate.width, cfg.plate.height, cfg.plate.offset), (box[0], box[1], box[2]), (palm[0], palm[1])
         )
 
-    def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
+    def call(self, fn: Callable[..., T], *args: object, timeout: float = 10.0) -> T:
         """Run fn(world, *args) in the simulation between two steps and return its result; fn is a
         function of app/lab/commands.py (sent by name)."""
         return self.runtime.call(fn, *args, timeout=timeout)
 
-    def submit(self, fn: Callable[..., T], *args: Any) -> Future:
+    def submit(self, fn: Callable[..., T], *args: object) -> Future[T]:
         """Send fn(world, *args) to the simulation without waiting (a stream of commands, e.g. a
         node's Twists); the future holds its result or its exception. fn as for `call`."""
         return self.runtime.submit(fn, *args)
@@ -79,7 +81,7 @@ class Lab:
         """The latest published state of the world."""
         return self.runtime.snapshot()
 
-    def wrench_samples(self, seen: int) -> tuple[Any, int, int]:
+    def wrench_samples(self, seen: int) -> tuple[np.ndarray, int, int]:
         """Every step's (time, F_ext) after the first `seen` samples: (rows, new count, lost);
         app/runtime/sample_ring.py."""
         return self.runtime.wrenches.since(seen)

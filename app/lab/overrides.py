@@ -11,20 +11,20 @@ controller, which --controller picks; the participant; teleop; the rate) do not 
 from __future__ import annotations
 
 import itertools
-from typing import Any
 
 import yaml
 
 from sim.procedures.experiment import SweepPoint
 from sim.procedures.trial import Setup
 
+from app.json_value import JSON
 from app.lab.params import LAB_PARAMETERS
 from app.ros.params import Parameter, ParameterRefused, ParameterServer, parse_parameter_file
 
 VALIDATOR = ParameterServer(LAB_PARAMETERS, lab=None)  # validate() only: nothing is applied
 MAX_SWEEP_POINTS = 30
 
-Override = tuple[Parameter, Any]  # (declaration, validated value)
+Override = tuple[Parameter, JSON]  # (declaration, validated value)
 
 
 def declaration(name: str) -> Parameter:
@@ -36,7 +36,7 @@ def declaration(name: str) -> Parameter:
     return found[0]
 
 
-def validate(name: str, value: Any) -> Override:
+def validate(name: str, value: JSON) -> Override:
     """The parameter server's checks (type, range, choices, read-only), and that it applies to a trial."""
     param = declaration(name)
     param, value = VALIDATOR.validate(param.node, param.name, value)
@@ -48,7 +48,7 @@ def validate(name: str, value: Any) -> Override:
     return param, value
 
 
-def _scalar(text: str) -> Any:
+def _scalar(text: str) -> JSON:
     """A value as `ros2 param set` reads it (YAML: 0.5 is a double, 1 an integer, fast a string)."""
     try:
         return yaml.safe_load(text)
@@ -101,7 +101,7 @@ def setup_of(overrides: list[Override], base: Setup | None = None) -> Setup:
     return setup
 
 
-def changed(overrides: list[Override]) -> dict[str, Any]:
+def changed(overrides: list[Override]) -> dict[str, JSON]:
     """{name: value} of every override that differs from its default (the last of a name counts)."""
     last = {param.name: (param, value) for param, value in overrides}
     return {p.name: v for p, v in last.values() if v != p.default}
@@ -114,7 +114,7 @@ def describe(overrides: list[Override]) -> str:
     return "parameters: " + (", ".join(items) if items else "the defaults")
 
 
-def parse_sweep(specs: list[str]) -> list[tuple[Parameter, list[Any]]]:
+def parse_sweep(specs: list[str]) -> list[tuple[Parameter, list[JSON]]]:
     """`["alpha=0.3,0.5,0.8"]` (one parameter) or two of them (a grid) -> validated values."""
     if not 1 <= len(specs) <= 2:
         raise ParameterRefused("a sweep varies one parameter, or two (a grid)")
@@ -136,7 +136,7 @@ def parse_sweep(specs: list[str]) -> list[tuple[Parameter, list[Any]]]:
 
 
 def sweep_points(
-    axes: list[tuple[Parameter, list[Any]]], base: list[Override], setup: Setup | None = None
+    axes: list[tuple[Parameter, list[JSON]]], base: list[Override], setup: Setup | None = None
 ) -> list[SweepPoint]:
     """Every combination of the axes' values, on top of the `base` overrides (on `setup`)."""
     return [

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import Future
 from contextlib import AbstractContextManager
-from typing import Any, TypeVar
+from typing import TypeVar
 
 from sim.mobile.urdf import burger_urdf
 from sim.mobile.world import MobileConfig, MobileSnapshot, MobileWorld
@@ -18,6 +18,7 @@ from sim.mobile.world import MobileConfig, MobileSnapshot, MobileWorld
 from app.lab.events import LAB_NODE
 from app.lab.recorder import DEFAULT_DIR
 from app.mobile import commands
+from app.mobile.services import MobileRecorder
 from app.mobile.topics import COMMAND_TOPIC, LATCHED, MIN_PERIOD_S, ROBOT_DESCRIPTION, TOPICS
 from app.ros.names import node_name
 from app.ros.param_tree import ParameterTree
@@ -46,7 +47,7 @@ class MobileLab:
         )
         self.recordings_dir = DEFAULT_DIR
         self.figures_dir = DEFAULT_DIR.parent / "figures"
-        self.recorder: Any = None  # the live recording (app/mobile/services.py), one at a time
+        self.recorder: MobileRecorder | None = None  # the live recording (app/mobile/services.py), one at a time
         self.graded = False  # a graded trial (app/cli/wall_trial.py): nothing may reset its world
 
     @property
@@ -63,11 +64,11 @@ class MobileLab:
             self.recorder.stop()
         self.runtime.stop()
 
-    def call(self, fn: Callable[..., T], *args: Any, timeout: float = 10.0) -> T:
+    def call(self, fn: Callable[..., T], *args: object, timeout: float = 10.0) -> T:
         """fn(world, *args) run in the simulation between two steps (fn: app/mobile/commands.py)."""
         return self.runtime.call(fn, *args, timeout=timeout)
 
-    def submit(self, fn: Callable[..., T], *args: Any) -> Future:
+    def submit(self, fn: Callable[..., T], *args: object) -> Future[T]:
         return self.runtime.submit(fn, *args)
 
     def snapshot(self) -> MobileSnapshot:

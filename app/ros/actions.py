@@ -194,7 +194,7 @@ class GoalHandle:
 class ActionServer:
     keep_goals = 100
 
-    def __init__(self, actions: list[Action], lab: Any) -> None:
+    def __init__(self, actions: list[Action], lab: object) -> None:  # lab: handed to execute and precondition
         self.actions = {a.name: a for a in actions}
         self.lab = lab
         self.goals: dict[str, GoalHandle] = {}

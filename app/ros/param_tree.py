@@ -16,7 +16,9 @@ from __future__ import annotations
 import copy
 import json
 import threading
-from typing import Any
+from typing import TypeVar, overload
+
+from app.json_value import JSON
 
 MAX_ENTRIES = 10_000  # leaves in the tree
 MAX_VALUE_CHARS = 100_000  # a value as JSON text
@@ -39,7 +41,10 @@ def canonical(name: str, namespace: str = "/") -> str:
     return "/" + name.strip("/") if name.strip("/") else "/"
 
 
-def _check_value(value: Any) -> None:
+D = TypeVar("D")  # get's default
+
+
+def _check_value(value: object) -> None:
     try:
         text = json.dumps(value, allow_nan=False)
     except (TypeError, ValueError):
@@ -48,7 +53,7 @@ def _check_value(value: Any) -> None:
         raise ParamError(f"a parameter value is at most {MAX_VALUE_CHARS} characters of JSON")
 
 
-def _leaves(prefix: str, value: Any) -> list[str]:
+def _leaves(prefix: str, value: JSON) -> list[str]:
     if isinstance(value, dict) and value:
         return [n for key, child in value.items() for n in _leaves(f"{prefix.rstrip('/')}/{key}", child)]
     return [prefix]
@@ -57,9 +62,9 @@ def _leaves(prefix: str, value: Any) -> list[str]:
 class ParameterTree:
     """The tree: nested dicts under "/". Thread-safe (HTTP, rosapi and the CLI call it at once)."""
 
-    def __init__(self, read_only: dict[str, tuple[Any, str]] | None = None) -> None:
+    def __init__(self, read_only: dict[str, tuple[JSON, str]] | None = None) -> None:
         """read_only: name -> (value, why it is read-only: the refusal's reason)."""
-        self._root: dict[str, Any] = {}
+        self._root: dict[str, JSON] = {}
         self._lock = threading.Lock()
         self._read_only = {canonical(name): entry for name, entry in (read_only or {}).items()}
         for value, _ in self._read_only.values():
@@ -72,22 +77,23 @@ class ParameterTree:
             if target == fixed or fixed.startswith(target.rstrip("/") + "/") or target.startswith(fixed + "/"):
                 raise ParamError(f"cannot {verb} {target}: {fixed} is read-only ({why})")
 
-    def _keep_read_only(self, root: dict) -> None:
+    def _keep_read_only(self, root: dict[str, JSON]) -> None:
         """The read-only names put back into a new root (under the lock)."""
         for name, (value, _) in self._read_only.items():
             node = root
             parts = self._parts(name)
             for part in parts[:-1]:
-                if not isinstance(node.get(part), dict):
-                    node[part] = {}
-                node = node[part]
+                child = node.get(part)
+                if not isinstance(child, dict):
+                    child = node[part] = {}
+                node = child
             node[parts[-1]] = copy.deepcopy(value)
 
     @staticmethod
     def _parts(name: str) -> list[str]:
         return [p for p in canonical(name).split("/") if p]
 
-    def set(self, name: str, value: Any) -> None:
+    def set(self, name: str, value: JSON) -> None:
         _check_value(value)
         parts = self._parts(name)
         if parts:
@@ -112,20 +118,26 @@ class ParameterTree:
             try:
                 self._fits(self._root)
             except ParamError:
-                if old is _MISSING:
+                if isinstance(old, _Missing):
                     del node[parts[-1]]
                 else:
                     node[parts[-1]] = old
                 raise
 
     @staticmethod
-    def _fits(root: dict) -> None:
+    def _fits(root: dict[str, JSON]) -> None:
         if len(_leaves("/", root)) > MAX_ENTRIES:
             raise ParamError(f"the parameter server holds at most {MAX_ENTRIES} parameters")
 
-    def get(self, name: str, default: Any = None) -> Any:
+    @overload
+    def get(self, name: str) -> JSON: ...
+
+    @overload
+    def get(self, name: str, default: D) -> JSON | D: ...
+
+    def get(self, name: str, default: object = None) -> object:
         """The value (a namespace: its subtree as a dict), or `default` when it is not set."""
-        node: Any = self._root
+        node: JSON = self._root
         with self._lock:
             for part in self._parts(name):
                 if not isinstance(node, dict) or part not in node:
@@ -146,7 +158,7 @@ class ParameterTree:
                 self._root = {}
                 self._keep_read_only(self._root)
                 return True
-            node: Any = self._root
+            node: JSON = self._root
             for part in parts[:-1]:
                 if not isinstance(node, dict) or part not in node:
                     return False

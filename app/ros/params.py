@@ -12,14 +12,16 @@ parameters are listed, read, set and described through the node's standard param
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal, Protocol
+from typing import Any, Literal, Protocol, TypeVar
 
 import yaml
 
 from sim.ranges import range_refusal
 
+from app.json_value import JSON
 from app.ros.names import node_name
 
+T = TypeVar("T")
 ParamType = Literal["double", "integer", "string", "bool"]
 MAX_FILE_BYTES = 64 * 1024  # a parameter file (a dump of all of the lab's is ~1 KB)
 MAX_FILE_DEPTH = 16  # nesting of lists and mappings (a dump has 3)
@@ -32,7 +34,7 @@ class Parameter:
     node: str
     name: str
     type: ParamType
-    default: Any
+    default: JSON
     description: str
     range: tuple[float, float] | None = None
     read_only: bool = False
@@ -57,7 +59,7 @@ class Parameter:
         return out
 
 
-def type_name(value: Any) -> str:
+def type_name(value: object) -> str:
     """The ROS 2 type name of a JSON/YAML value."""
     if isinstance(value, bool):
         return "bool"
@@ -89,18 +91,26 @@ class RemoteParameters(Protocol):
 
     def names(self, node: str) -> list[str]: ...
 
-    def get(self, node: str, names: list[str]) -> list[Any]: ...  # JSON values, None: not set
+    def get(self, node: str, names: list[str]) -> list[JSON]: ...  # None: not set
 
-    def set(self, node: str, name: str, value: Any) -> None: ...
+    def set(self, node: str, name: str, value: JSON) -> None: ...
 
     def describe(self, node: str, name: str) -> dict: ...  # Parameter.describe()'s shape
+
+
+class Simulation(Protocol):
+    """What the parameter server uses of the lab (app/lab/port.py's LabPort has it): a function
+    run on the simulation's world between two steps (a parameter's apply and read)."""
+
+    def call(self, fn: Callable[..., T], *args: object, timeout: float = 10.0) -> T: ...
 
 
 class ParameterServer:
     """The lab's declared parameters, and (through `remote`) those of nodes that declare their own:
     one registry for HTTP, the CLI, the page and rosapi."""
 
-    def __init__(self, declarations: list[Parameter], lab: Any) -> None:
+    def __init__(self, declarations: list[Parameter], lab: Simulation | None) -> None:
+        """lab: where a parameter's apply and read run; None: a validator (validate() only)."""
         self.lab = lab
         self.declarations = {(p.node, p.name): p for p in declarations}
         self.values = {(p.node, p.name): p.default for p in declarations}
@@ -110,6 +120,19 @@ class ParameterServer:
         """`node` is a node's that declares its own parameters (not one of the lab's)."""
         node = node_name(node)
         return self.remote is not None and all(n != node for n, _ in self.declarations) and node in self.remote.nodes()
+
+    def _simulation(self) -> Simulation:
+        """The lab a parameter's apply and read run on (a validator has none: it never gets there)."""
+        if self.lab is None:
+            raise RuntimeError("this parameter server only validates: it has no simulation to apply to")
+        return self.lab
+
+    def number(self, node: str, name: str) -> float:
+        """A number parameter's value (double or integer) as a float."""
+        value = self.get(node, name)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ParameterRefused(f"parameter '{name}' is not a number: {type_name(value)}")
+        return float(value)
 
     def _remote(self) -> "RemoteParameters":
         """The nodes' parameters (set whenever remote_node() said yes)."""
@@ -126,7 +149,7 @@ class ParameterServer:
                 return False
         return False
 
-    def typed(self, node: str, name: str) -> tuple[str, Any]:
+    def typed(self, node: str, name: str) -> tuple[str, JSON]:
         """(type, value) of a parameter, declared here or by its node."""
         if self.remote_node(node) and (node_name(node), name) not in self.declarations:
             value = self.get(node, name)
@@ -148,7 +171,7 @@ class ParameterServer:
             raise ParameterRefused(f"parameter '{name}' cannot be set because it was not declared", 404)
         return param
 
-    def get(self, node: str, name: str) -> Any:
+    def get(self, node: str, name: str) -> JSON:
         param = self.declarations.get((node_name(node), name))
         if param is None and self.remote_node(node):
             value = self._remote().get(node_name(node), [name])[0]
@@ -158,10 +181,10 @@ class ParameterServer:
         if param is None:
             raise ParameterRefused("Parameter not set.", 404)
         if param.read is not None:
-            return self.lab.call(param.read)
+            return self._simulation().call(param.read)
         return self.values[(param.node, param.name)]
 
-    def set(self, node: str, name: str, value: Any, force: bool = False) -> None:
+    def set(self, node: str, name: str, value: JSON, force: bool = False) -> None:
         """Set or raise ParameterRefused with rclcpp's reason (a node's: its own reason). force: skip
         read-only (start-up files)."""
         if (node_name(node), name) not in self.declarations and self.remote_node(node):
@@ -169,10 +192,10 @@ class ParameterServer:
             return
         param, value = self.validate(node, name, value, force)
         if param.apply is not None:
-            self.lab.call(param.apply, value)
+            self._simulation().call(param.apply, value)
         self.values[(param.node, param.name)] = value
 
-    def validate(self, node: str, name: str, value: Any, force: bool = False) -> tuple[Parameter, Any]:
+    def validate(self, node: str, name: str, value: JSON, force: bool = False) -> tuple[Parameter, JSON]:
         """(declaration, value as stored) or ParameterRefused with rclcpp's reason; changes nothing."""
         param = self.declaration(node, name)
         if param.read_only and not force:
@@ -184,7 +207,7 @@ class ParameterServer:
             )
         if param.type == "double":
             value = float(value)
-        if param.range is not None:
+        if param.range is not None and isinstance(value, (int, float)):  # a range: a number's (declarations)
             low, high = param.range
             kind = "floating point" if param.type == "double" else "integer"
             if refusal := range_refusal(name, value, low, high, kind):
@@ -206,7 +229,7 @@ class ParameterServer:
                         continue
         return out
 
-    def items(self) -> list[tuple[Parameter, Any]]:
+    def items(self) -> list[tuple[Parameter, JSON]]:
         """Every parameter with its value: the lab's, then each node's (a node that does not
         answer is left out)."""
         out = [(p, self.get(p.node, p.name)) for p in self.declarations.values()]
@@ -286,7 +309,7 @@ def read_parameter_file(path: str | Path) -> str:
         ) from None
 
 
-def parse_parameter_file(text: str) -> Any:
+def parse_parameter_file(text: str) -> JSON:
     """The YAML of a parameter file, within MAX_FILE_BYTES, MAX_FILE_DEPTH and MAX_FILE_NODES;
     anything else (too big, too deep, aliases that expand, invalid YAML) raises ParameterRefused.
     The limits are checked on the parser's events (no recursion) before anything is built."""

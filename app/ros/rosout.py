@@ -14,7 +14,8 @@ import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+
+from app.json_value import JSON
 
 TOPIC = "/rosout"
 TYPE = "rcl_interfaces/Log"
@@ -71,7 +72,7 @@ class LogLine:
         }
 
 
-def _stamp(stamp: Any) -> float:
+def _stamp(stamp: JSON) -> float:
     """builtin_interfaces/Time (sec, nanosec) or ROS 1's (secs, nsecs) -> s; absent: now."""
     if not isinstance(stamp, dict) or not stamp:
         return time.time()

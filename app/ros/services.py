@@ -97,8 +97,8 @@ class ServiceRegistry:
     def get(self, name: str) -> Service | None:
         return self._services.get(absolute(name))
 
-    def call(self, lab: Any, name: str, request: RosMessage) -> RosMessage:
-        """Run the service's handler (raises ServiceFailure when the call fails, KeyError when
+    def call(self, lab: object, name: str, request: RosMessage) -> RosMessage:
+        """Run the service's handler on `lab` (the lab that serves it, handed on as it is; raises ServiceFailure when the call fails, KeyError when
         there is no such service)."""
         service = self.get(name)
         if service is None:

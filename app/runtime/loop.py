@@ -26,7 +26,7 @@ import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Protocol
 
 from sim.world import Snapshot, World
 
@@ -55,7 +55,13 @@ class Published:
     stats: LoopStats
 
 
-Reply = Callable[[int, bool, Any], None]  # (call id, ok, result or exception)
+Reply = Callable[[int, bool, object], None]  # (call id, ok, result or exception)
+
+
+class SharedSeconds(Protocol):
+    """A number shared with the server's process (multiprocessing's RawValue("d")), in s."""
+
+    value: float
 
 
 class SimulationLoop:
@@ -70,7 +76,7 @@ class SimulationLoop:
         publish: Callable[[Published], None],
         reply: Reply,
         realtime: bool = True,
-        granularity: Any = None,
+        granularity: SharedSeconds | None = None,
         sample: Callable[[World], None] | None = None,
     ) -> None:
         """granularity: a shared value (.value, s) the server sets to the finest spacing of snapshots
@@ -82,7 +88,7 @@ class SimulationLoop:
         self.realtime = realtime
         self._publish = publish
         self._reply = reply
-        self._commands: queue.SimpleQueue[tuple[int, Callable[..., Any], tuple]] = queue.SimpleQueue()
+        self._commands: queue.SimpleQueue[tuple[int, Callable[..., object], tuple]] = queue.SimpleQueue()
         self._lateness: deque[float] = deque(maxlen=5000)
         self.stats = LoopStats()
         self._stop = threading.Event()
@@ -91,7 +97,7 @@ class SimulationLoop:
         self._last_command = 0.0  # perf_counter() of the last command run
         self._catching_up = False  # stepping the periods that came due during an idle sleep
 
-    def submit(self, call_id: int, fn: Callable[..., Any], args: tuple) -> None:
+    def submit(self, call_id: int, fn: Callable[..., object], args: tuple) -> None:
         """Queue fn(world, *args) for the next tick; reply(call_id, ...) answers it."""
         self._commands.put((call_id, fn, args))
         self._wake.set()
@@ -179,9 +185,9 @@ class SimulationLoop:
         elapsed = time.perf_counter() - self._started
         self.stats.rate_hz = self.stats.ticks / elapsed if elapsed > 0 else 0.0
 
-    def _run_commands(self) -> list[tuple[int, bool, Any]]:
+    def _run_commands(self) -> list[tuple[int, bool, object]]:
         """Run the queued functions; their (call id, ok, result or exception)."""
-        done: list[tuple[int, bool, Any]] = []
+        done: list[tuple[int, bool, object]] = []
         while True:
             try:
                 call_id, fn, args = self._commands.get_nowait()

@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
-from typing import Any
+from typing import TypeVar
 
 from sim.world import Snapshot, World
 
@@ -44,6 +44,7 @@ from app.runtime.sample_ring import SampleRing
 from app.runtime.shared_snapshot import SharedSnapshot
 
 _FORK = multiprocessing.get_context("fork")
+T = TypeVar("T")
 
 
 class SimulationRestarting(RuntimeError):
@@ -166,10 +167,10 @@ class SimulationProcess:
                 self._granularity.value = min(self._needed, default=math.inf)
 
     # --- talking to the world ---------------------------------------------------------------
-    def submit(self, fn: Callable[..., Any], *args: Any) -> Future:
+    def submit(self, fn: Callable[..., T], *args: object) -> Future[T]:
         """Run fn(world, *args) in the simulation between two steps; the future holds its result
         or its exception."""
-        future: Future = Future()
+        future: Future[T] = Future()
         with self._lock:
             if self._process is None:  # not started (or stopped): nobody else steps this world
                 try:
@@ -193,7 +194,7 @@ class SimulationProcess:
                 future.set_exception(SimulationRestarting("the simulation process is gone; it is being restarted"))
         return future
 
-    def call(self, fn: Callable[..., Any], *args: Any, timeout: float = 10.0) -> Any:
+    def call(self, fn: Callable[..., T], *args: object, timeout: float = 10.0) -> T:
         """fn(world, *args) run in the simulation between two steps; its result (or its exception)."""
         return self.submit(fn, *args).result(timeout=timeout)
 
@@ -285,7 +286,7 @@ def _child_main(
     sys.setswitchinterval(0.0005)  # s; the loop waits at most this long for the lock
     send_lock = threading.Lock()
 
-    def reply(call_id: int, ok: bool, value: Any) -> None:
+    def reply(call_id: int, ok: bool, value: object) -> None:
         try:
             data = pickle.dumps(value)
         except Exception as exc:  # noqa: BLE001 - the value does not pickle: say what it was

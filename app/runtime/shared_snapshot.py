@@ -18,13 +18,17 @@ import mmap
 import operator
 import struct
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Generic, TypeVar, cast
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 TEXT_SLOT = 2048  # bytes per text field (2-byte length + UTF-8)
 _NONE = 0xFFFF
 _HEADER = 8  # the sequence counter
+R = TypeVar("R", bound="DataclassInstance")  # the record's type
 
 
 @dataclasses.dataclass(frozen=True)
@@ -32,7 +36,7 @@ class _Node:
     """How to rebuild one dataclass of the record: its type and, per field, a leaf or a node."""
 
     cls: type
-    fields: tuple[tuple[str, Any], ...]  # (name, _Leaf | _Node)
+    fields: tuple[tuple[str, _Leaf | _Node], ...]  # (name, a leaf or a node)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -42,10 +46,10 @@ class _Leaf:
     shape: tuple[int, ...] = ()
 
 
-class SharedSnapshot:
+class SharedSnapshot(Generic[R]):
     """A seqlock-protected copy of a record (a dataclass tree) in memory shared across a fork."""
 
-    def __init__(self, sample: Any) -> None:
+    def __init__(self, sample: R) -> None:
         self._arrays: list[tuple[Callable, int, int]] = []  # (getter, start, stop) in floats
         self._numbers: list[tuple[Callable, int]] = []
         self._texts: list[tuple[Callable, int]] = []  # (getter, byte offset)
@@ -68,14 +72,14 @@ class SharedSnapshot:
         self._written_texts: tuple[int, list] = (-1, [])  # (the counter after this copy's last write, its texts)
         self._text_base = _HEADER + numbers_bytes
         self._seen = -1
-        self._cached: Any = None
+        self._cached: R | None = None
 
-    def _plan(self, obj: Any, prefix: str, text_fields: list) -> _Node:
+    def _plan(self, obj: DataclassInstance, prefix: str, text_fields: list) -> _Node:
         fields: list[tuple[str, _Node | _Leaf]] = []
         for f in dataclasses.fields(obj):
             value, path = getattr(obj, f.name), prefix + f.name
             getter = operator.attrgetter(path)
-            if dataclasses.is_dataclass(value):
+            if dataclasses.is_dataclass(value) and not isinstance(value, type):
                 fields.append((f.name, self._plan(value, path + ".", text_fields)))
             elif isinstance(value, np.ndarray):
                 fields.append((f.name, _Leaf("array", self._floats, value.shape)))
@@ -94,7 +98,7 @@ class SharedSnapshot:
         return _Node(type(obj), tuple(fields))
 
     # --- the writer (one process, one thread) -----------------------------------------------
-    def write(self, record: Any) -> None:
+    def write(self, record: R) -> None:
         memory = self._memory
         values = [getter(record).ravel() for getter in self._array_getters]
         values.append(np.array([getter(record) for getter in self._number_getters], dtype=np.float64))
@@ -120,12 +124,12 @@ class SharedSnapshot:
         struct.pack_into("<Q", memory, 0, seq + 2)  # even: complete
 
     # --- readers (any thread of the other process) ------------------------------------------
-    def read(self) -> Any:
+    def read(self) -> R:
         """The latest complete record (the same object again while nothing new was written)."""
         while True:
             (before,) = struct.unpack_from("<Q", self._memory, 0)
             if before == self._seen:
-                return self._cached
+                return cast(R, self._cached)  # set with _seen
             if before % 2:
                 continue  # being written (a few microseconds)
             data = self._memory[: self._size]  # a copy
@@ -133,7 +137,7 @@ class SharedSnapshot:
             if after == before:
                 break
         numbers = np.frombuffer(data, np.float64, self._floats, _HEADER).copy()
-        record = self._build(self._root, numbers, data)
+        record = cast(R, self._build(self._root, numbers, data))  # the sample's tree, so an R
         self._seen, self._cached = before, record
         return record
 
@@ -142,8 +146,8 @@ class SharedSnapshot:
         """How many records were written so far."""
         return struct.unpack_from("<Q", self._memory, 0)[0] // 2
 
-    def _build(self, node: _Node, numbers: np.ndarray, data: bytes) -> Any:
-        kwargs = {}
+    def _build(self, node: _Node, numbers: np.ndarray, data: bytes) -> object:
+        kwargs: dict[str, object] = {}
         for name, part in node.fields:
             if isinstance(part, _Node):
                 kwargs[name] = self._build(part, numbers, data)

@@ -60,6 +60,19 @@ def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
     assert interfaces.message("sensor_msgs/Image").from_json({"data": "AQI="}).data == b"\x01\x02"
 
 
+def test_an_array_field_of_json_that_is_no_array_is_a_type_error_naming_it(interfaces):
+    joint = interfaces.message("sensor_msgs/JointState")
+    with pytest.raises(TypeError, match="'position' field must be a JSON array.*got str"):
+        joint.from_json({"position": "0.1"})  # once iterated character by character
+    with pytest.raises(TypeError, match="'position' field must be a JSON array.*got dict"):
+        joint.from_json({"position": {"a": 1}})
+    image = interfaces.message("sensor_msgs/Image")
+    assert image.from_json({"data": [1, 2]}).data == b"\x01\x02"  # uint8[] as a list of numbers
+    with pytest.raises(TypeError, match="'data' field must be a list of byte values"):
+        image.from_json({"data": [1, "2"]})
+    assert joint(position=(0.5,)).to_json()["position"] == [0.5]  # a Python program's tuple
+
+
 def test_an_action_has_goal_result_feedback(interfaces):
     counting = interfaces.get("cpp_package", "action", "Counting")
     assert counting.Goal(count=3).count == 3 and counting.Feedback().current == 0 and counting.Result().reached == 0

@@ -134,3 +134,20 @@ def test_a_parameter_file_s_limits(tmp_path, monkeypatch):
     ):
         with pytest.raises(ParameterRefused, match=reason):
             read_parameter_file(path)
+
+
+def test_a_number_parameter_reads_as_a_float_and_a_string_one_is_refused():
+    lab = server()
+    lab.set("cooperative_lifting", "mu", 1)
+    assert lab.number("/cooperative_lifting", "mu") == 1.0 and isinstance(
+        lab.number("cooperative_lifting", "mu"), float
+    )
+    assert lab.number("human", "steps") == 3.0
+    with pytest.raises(ParameterRefused, match="'controller' is not a number: string"):
+        lab.number("cooperative_lifting", "controller")
+
+
+def test_a_validator_applies_nothing():
+    read = Parameter("cooperative_lifting", "alpha", "double", 0.5, "gain", read=lambda world: 0.5)
+    with pytest.raises(RuntimeError, match="only validates"):
+        ParameterServer([read], lab=None).get("cooperative_lifting", "alpha")

@@ -25,7 +25,6 @@ from app.api.access import TokenMiddleware
 from app.api.docs import add_offline_docs
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
-from app.api.security import SiteGuard
 from app.lab.actions import ACTIONS
 from app.lab.events import LAB_NODE
 from app.lab.lab import Lab
@@ -38,6 +37,7 @@ from app.rosbridge import server as rosbridge
 from app.rosbridge.internal.node_services import NodeServices
 from app.rosbridge.internal.state import Bridge
 from app.runtime.process import SimulationRestarting
+from app.security import SiteGuard
 from app.tokens import token_problem
 
 
@@ -53,7 +53,7 @@ def create_app(
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
     view_host: the address the server (API and view) is bound to; requests must name it
-    (app/api/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
+    (app/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
     exercises: the handout's exercise services are left to the students' nodes (rosbridge).
     replay: the simulation publishes no topic over rosbridge: a bag played into the lab publishes them
     (app/rosbridge/internal/state.py, docs/recording.md)."""

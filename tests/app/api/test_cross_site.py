@@ -1,4 +1,4 @@
-"""Cross-site requests are refused (app/api/security.py): Host, Origin/Referer, content types,
+"""Cross-site requests are refused (app/security.py): Host, Origin/Referer, content types,
 WebSocket upgrades (API and 3D view); the lab's own page, the CLI and curl-like clients work."""
 
 import pytest
@@ -7,8 +7,8 @@ from starlette.websockets import WebSocketDisconnect
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
-from app.api.security import origin_refusal
-from app.view.view3d import guarded_websocket_server
+from app.security import origin_refusal
+from app.view.scene import guarded_websocket_server
 from tests.http_client import http
 
 EVIL = {"origin": "http://evil.example"}

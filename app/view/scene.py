@@ -2,17 +2,20 @@
 replay.py; the mobile world's, mobile_view.py; a student's URDF, urdf_view.py): a viser server
 started behind the cross-site checks (`guarded_websocket_server`, app/security.py's), the camera's
 field of view and the docked panel's width, rotations as viser's wxyz, the lab's shapes
-(`SceneShapes`: plate, friction cone, box, palm, arrows, the box's path), the Panda (`PandaUrdf`:
-viser's ViserUrdf, as the URDF view draws a robot) and `SceneView`, the base of a view that draws
-the lab with its own thread. A view imports these, never another view.
+(`SceneShapes`: plate, friction cone, box, palm, arrows, the box's path), the Panda and `SceneView`,
+the base of a view that draws the lab with its own thread. A view imports these, never another view.
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
 import threading
 from contextlib import contextmanager
 from http import HTTPStatus
+from importlib.metadata import version
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -20,7 +23,8 @@ import viser
 import websockets.asyncio.server
 
 from sim.recording.scene import ARROW_COLOURS, PALM_COLOUR, PLATE_COLOUR
-from sim.robot.assets import panda_urdf, robot_data_share
+from sim.robot.assets import mesh_cache, panda_urdf, robot_data_share
+from sim.robot.panda import PandaModel
 
 from app.security import host_refusal, local_names, origin_refusal
 
@@ -74,6 +78,35 @@ def cone_mesh(mu: float, height: float = 0.08, segments: int = 24) -> tuple[np.n
     return vertices.astype(np.float32), faces.astype(np.int32)
 
 
+def glb_of(mesh_path: Path, scale: tuple[float, ...]) -> bytes:
+    """The mesh as GLB bytes for viser. Converting the Panda's .dae files with trimesh takes
+    seconds, so the result is cached, keyed by the file (path, size, mtime), scale and trimesh version
+    (trimesh itself, 0.7 s to import, is only imported to convert)."""
+
+    stat = mesh_path.stat()
+    key = hashlib.sha1(
+        repr((str(mesh_path.resolve()), stat.st_size, stat.st_mtime_ns, scale, version("trimesh"))).encode()
+    ).hexdigest()
+    cached = mesh_cache() / f"{mesh_path.stem}-{key[:16]}.glb"
+    try:
+        return cached.read_bytes()
+    except OSError:
+        pass
+    import trimesh
+
+    mesh = trimesh.load(str(mesh_path), force="scene")
+    mesh.apply_scale(np.asarray(scale))
+    data = mesh.export(file_type="glb")  # type: ignore[call-arg]  # a scene's export: file_obj defaults to None
+    try:  # best effort: a read-only home only costs the conversion next time
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = cached.with_suffix(f".{os.getpid()}.tmp")
+        partial.write_bytes(data)
+        partial.replace(cached)  # atomic: a concurrent start never reads half a file
+    except OSError:
+        pass
+    return data
+
+
 class SceneShapes:
     """The lab's shapes in a viser scene, as the live view and the replay draw them: the floor grid,
     the plate (a frame with its pad and friction cone), the box, the palm, the force arrows and the
@@ -107,49 +140,42 @@ class SceneShapes:
             self.cone_mu = mu
 
 
-class PandaUrdf:
-    """The Panda drawn as the URDF view draws a robot (viser's `ViserUrdf` over yourdfpy, from the
-    example-robot-data URDF the simulation's pinocchio model reads), without its gripper (NOT_SHOWN:
-    the lab's end effector is the plate), placed from the simulation's q. Light: the collision
-    meshes (few triangles, for software-rendered browsers)."""
+class RobotMeshes:
+    """The Panda's meshes under viser frames, placed from q with pinocchio's geometry model."""
 
     def __init__(self, server: viser.ViserServer, light: bool) -> None:
-        import yourdfpy
-        from viser.extras import ViserUrdf
-
-        robot = yourdfpy.URDF.load(str(panda_urdf()), build_scene_graph=False, load_meshes=False).robot
-        robot.links = [link for link in robot.links if not link.name.startswith(NOT_SHOWN)]
-        robot.joints = [joint for joint in robot.joints if not joint.child.startswith(NOT_SHOWN)]
-        self.light = light
-        self.urdf = yourdfpy.URDF(
-            robot,
-            build_scene_graph=not light,
-            load_meshes=not light,
-            build_collision_scene_graph=light,
-            load_collision_meshes=light,
-            filename_handler=_package_path,
+        self.model = PandaModel()
+        kind = pin.GeometryType.COLLISION if light else pin.GeometryType.VISUAL
+        geometry = pin.buildGeomFromUrdf(
+            self.model.model, str(panda_urdf()), kind, package_dirs=[str(robot_data_share())]
         )
-        self.drawn = ViserUrdf(
-            server, self.urdf, root_node_name="/robot", load_meshes=not light, load_collision_meshes=light
-        )
+        self.geometry = geometry
+        self.geometry_data = pin.GeometryData(geometry)
+        self.frames: list[tuple[int, viser.FrameHandle]] = []
+        for index, obj in enumerate(geometry.geometryObjects):
+            if obj.name.startswith(NOT_SHOWN) or not obj.meshPath.lower().endswith((".dae", ".stl", ".obj")):
+                continue
+            frame = server.scene.add_frame(f"/robot/{obj.name}", show_axes=False)
+            server.scene.add_glb(
+                f"/robot/{obj.name}/mesh",
+                glb_of(Path(obj.meshPath), tuple(obj.meshScale)),
+                cast_shadow=not light,
+                receive_shadow=not light,
+            )
+            self.frames.append((index, frame))
 
     def place(self, q: np.ndarray) -> None:
-        """The robot at joint positions q (rad, the arm's seven joints)."""
-        self.drawn.update_cfg(np.asarray(q, dtype=float))
-
-    def transform_link_to_base(self, link: str) -> np.ndarray:
-        """Where a link is drawn now (4x4, base frame)."""
-        return self.urdf.get_transform(link, collision_geometry=self.light)
-
-
-def _package_path(fname: str) -> str:
-    """A mesh's `package://` file in example-robot-data's share folder (pinocchio's package_dirs)."""
-    return str(robot_data_share() / fname.removeprefix("package://")) if fname.startswith("package://") else fname
+        pin.framesForwardKinematics(self.model.model, self.model.data, q)
+        pin.updateGeometryPlacements(self.model.model, self.model.data, self.geometry, self.geometry_data)
+        for index, frame in self.frames:
+            placement = self.geometry_data.oMg[index]
+            frame.position = placement.translation
+            frame.wxyz = wxyz(placement.rotation)
 
 
 class SceneView:
     """A viser server drawing the lab: z up, the camera, default lights (none in light mode) and the
-    Panda (PandaUrdf); a subclass draws the rest and has the thread's loop, `_run`, which runs from its
+    Panda's meshes; a subclass draws the rest and has the thread's loop, `_run`, which runs from its
     start() until stop()."""
 
     def __init__(
@@ -164,7 +190,7 @@ class SceneView:
         server.gui.main_panel.set_width(PANEL_WIDTH)
         if light:
             server.scene.configure_default_lights(cast_shadow=False)
-        self.robot = PandaUrdf(server, light)
+        self.robot = RobotMeshes(server, light)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=thread_name, daemon=True)
 

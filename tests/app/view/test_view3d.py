@@ -40,11 +40,8 @@ def test_force_arrow_follows_f_ext(view):
     assert end_t - start_t == pytest.approx(FORCE_SCALE * (f_world - (f_world @ normal) * normal), abs=1e-6)
     assert f_ee[2] > 5.0  # pressing: a visible normal arrow along the plate normal (base +y)
     assert (end - start)[1] > 0.05
-    # the robot is drawn at the snapshot's q: its flange where the world has the EE
-    np.testing.assert_allclose(
-        view.robot.transform_link_to_base("panda_link8"), snapshot.transform_ee_to_base, atol=1e-9
-    )
-    assert np.allclose(view.shapes.box.position, snapshot.box_position)
+    # the robot's meshes follow q (flange link placed by pinocchio)
+    assert view.robot.frames and np.allclose(view.shapes.box.position, snapshot.box_position)
 
 
 def test_colours_tell_the_state(view):
@@ -126,7 +123,7 @@ def test_take_over_stops_the_scripted_person_and_keeps_the_gizmo(view):
 
 
 def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
-    """Every robot link's origin, the box's corners and the palm project inside the canvas the docked
+    """Every robot mesh origin, the box's corners and the palm project inside the canvas the docked
     control panel leaves free in the dashboard's embedded view (872 x 414 px with a 1500 x 900
     window), through viser's pinhole camera (the view's position, look-at, vertical fov, +z up);
     the gizmo keeps a fixed on-screen size, clearly larger than a fingertip."""
@@ -148,9 +145,7 @@ def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
     half = np.array(view.lab.call(commands.scene_geometry)["box"]) / 2
     corners = [s.box_position + s.box_rotation @ (half * [i, j, k]) for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]
     lifted = [c + [0.0, 0.0, 0.2] for c in corners]  # where a lift takes it
-    links = [view.robot.transform_link_to_base(link)[:3, 3] for link in view.robot.urdf.link_map]
-    assert len(links) >= 9  # panda_link0 .. panda_link8
-    for point in links + corners + lifted + [s.palm_position]:
+    for point in [np.asarray(f.position) for _, f in view.robot.frames] + corners + lifted + [s.palm_position]:
         rel = point - np.asarray(camera.position)
         depth = rel @ forward
         x_px, y_px = focal_px * (rel @ right) / depth, focal_px * (rel @ up) / depth

@@ -37,8 +37,7 @@ def view(tmp_path_factory):
 
 
 def placements(view) -> np.ndarray:
-    """Where the drawn links are (their origins, base frame)."""
-    return np.array([view.robot.transform_link_to_base(link)[:3, 3] for link in view.robot.urdf.link_map])
+    return np.array([frame.position for _, frame in view.robot.frames])
 
 
 def test_replay_api_serves_the_recorded_topics_at_the_playback_time(view):
@@ -81,7 +80,7 @@ def test_the_slider_moves_the_robot_in_the_browser(view):
     assert view.time == pytest.approx(view.playback.duration)
     moved = placements(view)
     assert np.max(np.linalg.norm(moved - at_start, axis=1)) > 0.02  # the robot followed the box up
-    view.robot.place(frame.q)  # where the recorded q puts the links
+    view.robot.place(frame.q)  # where the recorded q puts the meshes
     np.testing.assert_allclose(moved, placements(view), atol=1e-6)
     np.testing.assert_allclose(view.shapes.box.position, frame.poses["box"][0], atol=1e-6)
 

@@ -1,8 +1,8 @@
 """The Panda placed from q in a viser scene, two ways: the lab's views (app/view/scene.py's
 `RobotMeshes`: pinocchio's geometry placements) and viser's `ViserUrdf` over yourdfpy, as the URDF
 view draws a robot (the same URDF, its gripper left out as the lab leaves it out). The CPU time of
-the placing thread per placement, which other processes on the machine do not inflate
-(docs/design.md, "The 3D views").
+the placing thread per placement, which other processes on a shared machine inflate less than
+wall time (docs/design.md, "The 3D views").
 
     .venv/bin/python -m bench.robot_drawing [--placements 1000]
 """

@@ -51,7 +51,8 @@ def scheduler_address(text: str) -> str | None:
 def command(sub: Subparsers, name: str, help: str, examples: tuple[str, ...], **kwargs) -> Parser:
     """A command's parser: its one-line help (the command list's), its examples under `--help`
     (each a whole command line, `hri-lab NAME ...`, with what it does after a `#`)."""
-    assert all(e.startswith(f"hri-lab {name}") for e in examples), examples  # a test parses each
+    if wrong := [e for e in examples if not e.startswith(f"hri-lab {name}")]:
+        raise ValueError(f"an example of `hri-lab {name}` is a whole command line of it: {wrong}")
     epilog = "examples:\n" + "\n".join(f"  {e}" for e in examples) if examples else None
     return sub.add_parser(
         name, help=help, epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter, **kwargs

@@ -44,24 +44,24 @@ def factory(name: str):
 
 def measure(job: tuple) -> tuple:
     """(controller, item, carried, reason, measures) of one watched trial."""
-    from sim.procedures import grading
+    from sim.procedures import battery
     from sim.procedures.trial import make_trial, trial_seed
 
     name, kind, index, person, attempt, seed, root_seed = job
     make = factory(name)
     if kind == "trial":
-        result, watch = grading._run(make_trial(index, person, attempt, seed, controller_factory=make), None)
+        result, watch = battery._run(make_trial(index, person, attempt, seed, controller_factory=make), None)
         label = f"trial {index + 1} {person.name}"
     else:
-        label_full, run = grading.ROBUSTNESS[index]
+        label_full, run = battery.ROBUSTNESS[index]
         result, watch = run(make(), trial_seed(root_seed, 100 + index), None)
         label = ["noise", "pull", "stop"][index]
     return name, label, result.success, result.reason, watch.measures()
 
 
 def main() -> None:
+    from sim.procedures.battery import ROBUSTNESS
     from sim.procedures.experiment import plan
-    from sim.procedures.grading import ROBUSTNESS
     from sim.procedures.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
     from sim.procedures.runner import worker_pool
 

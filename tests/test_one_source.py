@@ -190,8 +190,8 @@ BAND_QUOTES = (
     "tests/nodes/",
     "tests/ros_programs/",
     "tests/e2e/test_grading.py",
-    "sim/procedures/grading.py:start and stop set the band [force, force + 5] and running",
-    "sim/procedures/grading.py:the band's upper end is f_n_min + 5 N",
+    "sim/procedures/probe_stream.py:start and stop set the band [force, force + 5] and running",
+    "sim/procedures/probe_stream.py:the band's upper end is f_n_min + 5 N",
 )
 
 

@@ -6,7 +6,7 @@ streams) and the 3D view stay open, and the view's controls are turned off when 
 The token is compared as bytes in constant time (any header bytes are a 401, never a 500); wrong
 tokens from one client address are answered one at a time, each after a delay that doubles per
 failure (0.1 s up to 2 s), so guessing is slow. Cross-site requests are refused before this
-(app/api/security.py). The token's rules and checks are app/tokens.py's."""
+(app/security.py). The token's rules and checks are app/tokens.py's."""
 
 from __future__ import annotations
 

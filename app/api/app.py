@@ -31,13 +31,13 @@ from app.api.access import TokenMiddleware
 from app.api.docs import add_offline_docs
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
-from app.api.security import SiteGuard
 from app.lab.events import LAB_NODE
 from app.lab.lab import Lab
 from app.mobile.lab import MobileLab
 from app.ros.actions import Action, ActionServer
 from app.ros.node_services import NodeServices
 from app.runtime.process import SimulationRestarting
+from app.security import SiteGuard
 
 
 class Running(Protocol):
@@ -64,7 +64,7 @@ def create_api(
 ) -> FastAPI:
     """The HTTP API of `lab` (app.state.lab) with its service registry `nodes` and its `actions`.
     lifting: the lifting lab's routes (teleop, robot, camera), else the mobile world's page.
-    bound_host: the address the server is bound to; requests must name it (app/api/security.py).
+    bound_host: the address the server is bound to; requests must name it (app/security.py).
     token: when set, state-changing requests must carry it (app/api/access.py).
     running: what runs while the app is served (the lab first); routers: the other front ends'
     routes (rosbridge's WebSocket at /), after the API's own."""

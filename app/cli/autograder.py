@@ -31,7 +31,7 @@ from pathlib import Path
 
 from sim.controllers.plugin import DEFAULT_CLASS, PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import battery, load_check, new_report, reference_items, run_items
+from sim.procedures.battery import battery, load_check, new_report, reference_items, run_items
 from sim.procedures.report import PUBLIC_SEED, Report, seed_note
 
 from app.cli.handout import lab_files
@@ -218,10 +218,9 @@ def services_report(folder: Path, seed: int) -> Report:
     the node connected to it (a rospy/rclpy program through `hri-lab run`, else run with --port,
     as the roslibpy template is), graded over HTTP once it says "node ready" (or after
     NODE_READY_TIMEOUT s: what it does not serve then is not provided)."""
-    from sim.procedures.services_grading import EXERCISES
-
     from app.cli.grade_services import grade_services
     from app.cli.launch import running_server
+    from app.cli.services_grading import EXERCISES
 
     found = sorted(folder.rglob(SERVICES_NAME))
     if not found:

@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from app.cli import arguments
 from app.cli import client as c
 
 
@@ -139,12 +140,7 @@ def play(args) -> int:
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
-    url = argparse.ArgumentParser(add_help=False)
-    url.add_argument(
-        "--url",
-        default=c.os.environ.get("HRI_LAB_URL", c.DEFAULT_URL),
-        help=f"the hri-lab server (default $HRI_LAB_URL or {c.DEFAULT_URL})",
-    )
+    url = arguments.url_parent()
     rec = sub.add_parser("record", parents=[url], help="record the live lab to MCAP (like ros2 bag record)")
     rec.add_argument(
         "-o", "--output", metavar="FILE.mcap", help="where to save it (default hri-lab_<date>_<time>.mcap)"

@@ -10,10 +10,9 @@ import yaml
 from websockets.exceptions import WebSocketException
 from websockets.sync.client import connect
 
+from app.cli import arguments
 from app.ros.names import absolute, node_name
 from app.ros.params import ParameterRefused, read_parameter_file
-
-DEFAULT_URL = "http://127.0.0.1:8000"
 
 
 class CliError(Exception):
@@ -292,12 +291,7 @@ def action(args) -> int:
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
-    url = argparse.ArgumentParser(add_help=False)
-    url.add_argument(
-        "--url",
-        default=os.environ.get("HRI_LAB_URL", DEFAULT_URL),
-        help=f"the hri-lab server (default $HRI_LAB_URL or {DEFAULT_URL})",
-    )
+    url = arguments.url_parent()
 
     srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
     srv_sub = srv.add_subparsers(dest="action", required=True)

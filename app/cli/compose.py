@@ -46,7 +46,7 @@ def create_app(
     """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
     view_host: the address the server (API and view) is bound to; requests must name it
-    (app/api/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
+    (app/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
     exercises: the handout's exercise services are left to the students' nodes (rosbridge).
     replay: the simulation publishes no topic over rosbridge: a bag played into the lab publishes them
     (app/rosbridge/bridge.py, docs/recording.md)."""

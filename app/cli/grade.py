@@ -2,7 +2,7 @@
 Dask cluster (docs/course-scale.md).
 
 Every file is first loaded once where it will be graded (a file that cannot be loaded gets a
-report saying why), then its battery's jobs (sim/procedures/grading.py) run with every other
+report saying why), then its battery's jobs (sim/procedures/battery.py) run with every other
 file's: here, in `--jobs` processes, or one task per job on the cluster at `--scheduler` (or
 $HRI_LAB_SCHEDULER). With --out, a file's report is written as soon as its last item is in, and
 a file whose report there is for the same seed and the same file (its sha256) is skipped
@@ -30,7 +30,7 @@ from tqdm import tqdm
 
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.grading import LOST, Items, Loaded, battery, load_check, new_report, reference_items
+from sim.procedures.battery import LOST, Items, Loaded, battery, load_check, new_report, reference_items
 from sim.procedures.report import Item, Report
 from sim.procedures.runner import Job, run_jobs
 

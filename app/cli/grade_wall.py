@@ -20,6 +20,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from sim.controllers.sandbox import sandbox_unavailable
 from sim.procedures.report import Item, Report
 from sim.procedures.runner import Job, run_jobs
 from sim.procedures.wall_grading import TRIALS, lost_item, new_wall_report, trial_configs
@@ -38,6 +39,14 @@ def expand(specs: list[str]) -> list[Path]:
 def run(args: argparse.Namespace) -> int:
     from app.cli.wall_trial import run_trial  # the server's modules only when a grade runs
 
+    jailed = not args.unsandboxed
+    if jailed and not args.scheduler and (reason := sandbox_unavailable()):  # a cluster checks its own
+        print(
+            f"hri-lab grade-wall: refusing to run students' programs without a sandbox: {reason}\n"
+            "(--unsandboxed runs them in processes of their own but with your privileges)",
+            file=sys.stderr,
+        )
+        return 2
     paths = expand(args.programs)
     if not paths:
         print("hri-lab grade-wall: no .py file to grade", file=sys.stderr)
@@ -57,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
         text = data.decode("utf-8", errors="replace")
         for index, config in enumerate(configs):
             jobs.append(
-                Job(report, run_trial, (path.name, text, config, index), lost=partial(lost_item, index, config))
+                Job(report, run_trial, (path.name, text, config, index, jailed), lost=partial(lost_item, index, config))
             )
     out = Path(args.out) if args.out else None
     results: dict[int, Item] = {}

@@ -1,82 +1,49 @@
 """`hri-lab` command line: every command's arguments, and the dispatch.
 
-A command's code is its own module (`app/cli/experiment.py`, `serve.py`, `grade.py`, ...), imported
-when that command runs (`_command`): the ros2-like client commands start without loading the
-simulation (numba, pinocchio) that `experiment`, `grade` and `serve` need.
+A command is declared by one small function here (its arguments, the shared ones from
+app/cli/arguments.py, each declared once, and its examples, which `--help` prints); its code is its
+own module (`app/cli/experiment.py`, `serve.py`, `grade.py`, ...), imported when that command runs
+(`arguments.runs`): the ros2-like client commands start without loading the simulation (numba,
+pinocchio) that `experiment`, `grade` and `serve` need.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import multiprocessing
 import os
-import re
 import signal
-import sys
 
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.report import PUBLIC_SEED
 
+from app.cli import arguments as a
 from app.cli import bag
 from app.cli import client as client_cli
 from app.cli import urdf as urdf_cli
 
-SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/grading.py's battery)
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/battery.py)
 
 
-def _fraction(text: str) -> float:
-    value = float(text)
-    if not 0.0 < value <= 1.0:
-        raise argparse.ArgumentTypeError(f"a fraction in (0, 1], got {text}")
-    return value
-
-
-def _reference_option(parser: argparse.ArgumentParser) -> None:
-    """--reference: what a file built on the lab's own controllers gets (grade, autograder)."""
-    parser.add_argument(
-        "--reference",
-        choices=("zero", "flag"),
-        default="zero",
-        help="a file built on the lab's own controllers (imports, subclasses or reads sim.controllers.sp, "
-        "patch, their kernels): scored 0 (zero, the default) or graded with an item that flags it (flag)",
+def _experiment(sub: a.Subparsers) -> None:
+    exp = a.command(
+        sub,
+        "experiment",
+        "run the lab's Table 1 trials headless (faster than real time)",
+        (
+            "hri-lab experiment                              # the nine trials, one table",
+            "hri-lab experiment --compare sp,patch --seed 3  # the same trials with each controller",
+            "hri-lab experiment --sweep alpha=0.3,0.5,0.8 --participant hasty --plots figures/",
+        ),
     )
-
-
-def _command(module: str):
-    """The command `module.run(args)`, its module imported when the command runs."""
-
-    def run(args: argparse.Namespace) -> int:
-        from sim.procedures.runner import ClusterUnreachable
-
-        try:
-            return importlib.import_module(module).run(args)
-        except ClusterUnreachable as exc:  # --scheduler names no cluster: one line, exit 1
-            print(f"hri-lab {args.command}: {exc}", file=sys.stderr)
-            return 1
-
-    return run
-
-
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
-    sub = parser.add_subparsers(dest="command", required=True)
-    exp = sub.add_parser("experiment", help="run the lab's Table 1 trials headless (faster than real time)")
     exp.add_argument(
-        "--trials", type=_positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)"
+        "--trials", type=a.positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)"
     )
     exp.add_argument("--participant", choices=sorted(PARTICIPANTS), help="only this participant")
     exp.add_argument("--seed", type=int, default=0, help="random seed (same seed, same table)")
-    exp.add_argument(
-        "--jobs",
-        type=_positive_int,
-        default=os.cpu_count() or 1,
-        help="trials run in this many processes (default: one per core; same results)",
-    )
+    a.jobs(exp, "trials")
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
-    exp.add_argument(
-        "--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)"
-    )
+    a.controller(exp)
     exp.add_argument(
         "--compare", metavar="sp,patch", help="run the same participants and seeds with each controller, side by side"
     )
@@ -86,24 +53,33 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="NAME=VALUE",
         help="a parameter for every trial, e.g. --set alpha=0.5 --set k_t=0.2 (checked like `param set`)",
     )
-    exp.add_argument(
-        "--params", metavar="FILE.yaml", help="parameters for every trial, a `param dump` file (--set wins)"
-    )
+    a.params_file(exp, "for every trial", "--set wins")
     exp.add_argument(
         "--sweep",
         action="append",
         metavar="NAME=V1,V2,...",
         help="run the same trials at each value (twice: a grid of two parameters); one table",
     )
-    exp.add_argument("--quiet", action="store_true", help="no progress bar")
-    _scheduler_option(exp, "every trial (and sweep point)")
-    add_output_options(exp)
-    exp.set_defaults(func=_command("app.cli.experiment"))
+    a.quiet(exp)
+    a.scheduler(exp, "every trial (and sweep point)")
+    a.trial_outputs(exp)
+    exp.set_defaults(func=a.runs("app.cli.experiment"))
 
-    srv = sub.add_parser("serve", help="start the lab's server (HTTP API on 127.0.0.1)")
+
+def _serve(sub: a.Subparsers) -> None:
+    srv = a.command(
+        sub,
+        "serve",
+        "start the lab's server (HTTP API on 127.0.0.1)",
+        (
+            "hri-lab serve                      # the lab at http://127.0.0.1:8000, its 3D view at :8080",
+            "hri-lab serve --exercises --view light",
+            "hri-lab serve --world mobile --arena-seed 7",
+        ),
+    )
     srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
     srv.add_argument("--port", type=int, default=8000)
-    srv.add_argument("--params", metavar="FILE.yaml", help="parameters to load at start (a `param dump` file)")
+    a.params_file(srv, "to load at start")
     srv.add_argument(
         "--view",
         choices=("full", "light", "none"),
@@ -113,9 +89,7 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument(
         "--view-port", type=int, default=8080, help="port of the 3D view (viser moves to the next free one)"
     )
-    srv.add_argument(
-        "--controller", metavar="sp|patch|FILE.py[:Class]", help="the controller (default sp; a file: a student's)"
-    )
+    a.controller(srv)
     srv.add_argument(
         "--output-dir",
         default=".",
@@ -152,10 +126,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="a lab to play bags into: its simulation publishes no topic over rosbridge, so `hri-lab bag play` "
         "publishes every recorded topic (/joint_states, /image_raw ...) as the robot would",
     )
-    srv.set_defaults(func=_command("app.cli.serve"))
+    srv.set_defaults(func=a.runs("app.cli.serve"))
 
-    tpl = sub.add_parser(
-        "template", help="print a starting file: the controller (default), a services node or the lifting node"
+
+def _template(sub: a.Subparsers) -> None:
+    tpl = a.command(
+        sub,
+        "template",
+        "print a starting file: the controller (default), a services node or the lifting node",
+        (
+            "hri-lab template > cooperative_lifting.py",
+            "hri-lab template services --api rclpy > services_rclpy.py",
+            "hri-lab template node --api roslibpy > lifting_node.py",
+        ),
     )
     tpl.add_argument(
         "kind",
@@ -172,26 +155,31 @@ def build_parser() -> argparse.ArgumentParser:
         help="the node's client library (default rospy, like the handout; rospy and rclpy programs "
         "run with `hri-lab run`)",
     )
-    tpl.set_defaults(func=_template)
+    tpl.set_defaults(func=_print_template)
 
-    grd = sub.add_parser(
-        "grade", help="grade students' controller files (probes, the nine trials, robustness), sandboxed"
+
+def _grade(sub: a.Subparsers) -> None:
+    grd = a.command(
+        sub,
+        "grade",
+        "grade students' controller files (probes, the nine trials, robustness), sandboxed",
+        (
+            "hri-lab grade cooperative_lifting.py                 # one file, its report",
+            "hri-lab grade submissions/ --out reports/ --seed 4242 --format gradescope",
+            "hri-lab grade cooperative_lifting.py --only probe    # a quick check, not a grade",
+        ),
     )
     grd.add_argument(
         "controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)"
     )
-    _report_options(grd, "probe values and trials")
-    grd.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="items in parallel processes")
-    grd.add_argument(
-        "--unsandboxed",
-        action="store_true",
-        help="run the files without bubblewrap (still in processes of their own) where bwrap cannot run",
-    )
-    grd.add_argument("--quiet", action="store_true", help="no progress bar")
-    _reference_option(grd)
+    a.reports(grd, "probe values and trials")
+    a.jobs(grd, "items")
+    a.unsandboxed(grd, "files")
+    a.quiet(grd)
+    a.reference(grd)
     grd.add_argument(
         "--similarity",
-        type=_fraction,
+        type=a.fraction,
         metavar="FRACTION",
         help="with --out: flag a pair of files (or a file and the lab's controllers) when either has this share "
         "of its code in the other (similarity.csv, similarity.html; default: similarity.THRESHOLD, a half)",
@@ -208,47 +196,63 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="with --out: grade every file again (default: skip a file whose report there is for the same seed and file)",
     )
-    _scheduler_option(grd, "every item of every file")
-    add_output_options(grd)
-    grd.set_defaults(func=_command("app.cli.grade"))
+    a.scheduler(grd, "every item of every file")
+    a.trial_outputs(grd)
+    grd.set_defaults(func=a.runs("app.cli.grade"))
 
-    gsv = sub.add_parser(
+
+def _grade_services(sub: a.Subparsers) -> None:
+    gsv = a.command(
+        sub,
         "grade-services",
-        help="grade the handout's exercise services a student's node provides "
+        "grade the handout's exercise services a student's node provides "
         "(a lab started with serve --exercises), over its HTTP API",
+        (
+            "hri-lab grade-services                                  # the lab at $HRI_LAB_URL",
+            "hri-lab grade-services --url http://127.0.0.1:8001 --seed 4242 --out reports/",
+        ),
     )
-    gsv.add_argument(
-        "--url",
-        default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
-        help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN",
-    )
-    _report_options(gsv, "cases")
-    gsv.add_argument("--quiet", action="store_true", help="no progress lines")
-    gsv.set_defaults(func=_command("app.cli.grade_services"))
+    a.url(gsv)
+    a.reports(gsv, "cases")
+    a.quiet(gsv, "no progress lines")
+    gsv.set_defaults(func=a.runs("app.cli.grade_services"))
 
-    gwl = sub.add_parser(
+
+def _grade_wall(sub: a.Subparsers) -> None:
+    gwl = a.command(
+        sub,
         "grade-wall",
-        help="grade wall followers (rospy/rclpy programs: /scan in, /cmd_vel out) in the mobile world's trials",
+        "grade wall followers (rospy/rclpy programs: /scan in, /cmd_vel out) in the mobile world's trials",
+        (
+            "hri-lab grade-wall follower.py --seed 4711 --trials 5",
+            "hri-lab grade-wall submissions/ --out reports/ --format gradescope",
+        ),
     )
     gwl.add_argument("programs", nargs="+", metavar="FOLLOWER.py|DIR", help="files, or folders of .py files (a batch)")
-    _report_options(gwl, "trials (obstacle, start pose, noise)")
-    gwl.add_argument("--trials", type=_positive_int, help="trials per file (default 3)")
-    gwl.add_argument("--jobs", type=_positive_int, default=os.cpu_count() or 1, help="trials in parallel processes")
-    gwl.add_argument("--quiet", action="store_true", help="no progress bar")
-    _scheduler_option(gwl, "every trial of every file")
-    gwl.set_defaults(func=_command("app.cli.grade_wall"))
+    a.reports(gwl, "trials (obstacle, start pose, noise)")
+    gwl.add_argument("--trials", type=a.positive_int, help="trials per file (default 3)")
+    a.jobs(gwl, "trials")
+    a.unsandboxed(gwl, "programs")
+    a.quiet(gwl)
+    a.scheduler(gwl, "every trial of every file")
+    gwl.set_defaults(func=a.runs("app.cli.grade_wall"))
 
-    agr = sub.add_parser(
-        "autograder", help="write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab"
+
+def _autograder(sub: a.Subparsers) -> None:
+    agr = a.command(
+        sub,
+        "autograder",
+        "write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab",
+        (
+            "hri-lab autograder --seed 4242 -o autograder.zip",
+            "hri-lab autograder --public-seed --services       # a trial run, services graded too",
+        ),
     )
-    agr.add_argument("-o", "--output", default="autograder.zip", metavar="ZIP", help="default %(default)s")
-    agr.add_argument(
-        "--seed",
-        type=int,
-        default=os.environ.get("HRI_LAB_GRADE_SEED", str(PUBLIC_SEED)),
-        help="the course's private seed of the probe values and trials (default $HRI_LAB_GRADE_SEED; "
-        f"the public default {PUBLIC_SEED}, which every student can grade with at home, is refused "
-        "without --public-seed)",
+    a.zip_output(agr, "autograder.zip")
+    a.grade_seed(
+        agr,
+        f"the course's private seed of the probe values and trials (default ${a.GRADE_SEED_ENV}; the public "
+        f"default {PUBLIC_SEED}, which every student can grade with at home, is refused without --public-seed)",
     )
     agr.add_argument(
         "--public-seed",
@@ -265,112 +269,78 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="show the tests (their seed-drawn numbers) only after the due date; the score at once",
     )
-    _reference_option(agr)
-    agr.set_defaults(func=_command("app.cli.autograder"))
+    a.reference(agr)
+    agr.set_defaults(func=a.runs("app.cli.autograder"))
 
-    hnd = sub.add_parser(
+
+def _handout(sub: a.Subparsers) -> None:
+    hnd = a.command(
+        sub,
         "handout",
-        help="write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, "
+        "write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, "
         "the reference) and no bench/",
+        ("hri-lab handout -o hri-lab-students.zip --folder hri-lab-2026",),
     )
-    hnd.add_argument("-o", "--output", default="hri-lab-students.zip", metavar="ZIP", help="default %(default)s")
+    a.zip_output(hnd, "hri-lab-students.zip")
     hnd.add_argument("--folder", default="hri-lab", help="the folder in the zip (default %(default)s)")
-    hnd.set_defaults(func=_command("app.cli.handout"))
+    hnd.set_defaults(func=a.runs("app.cli.handout"))
 
-    run = sub.add_parser("run", help="run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run")
-    run.add_argument(
-        "--url",
-        default=os.environ.get("HRI_LAB_URL", client_cli.DEFAULT_URL),
-        help="the lab (default $HRI_LAB_URL or %(default)s); changes carry $HRI_LAB_TOKEN",
+
+def _run(sub: a.Subparsers) -> None:
+    run = a.command(
+        sub,
+        "run",
+        "run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run",
+        (
+            "hri-lab run add_two_ints_client.py 20 22",
+            "hri-lab run keys_to_twist.py w --ros-args -p linear_speed:=0.25",
+            "hri-lab run --workspace ~/catkin_ws/src calculator_server.py",
+        ),
     )
-    run.add_argument(
-        "--workspace",
-        metavar="DIR",
-        help="where the program's own interface packages are "
-        "(PKG/srv/X.srv, PKG/msg/X.msg, PKG/action/X.action; default: its folder and parents)",
-    )
+    a.url(run)
+    a.workspace(run, "the program's")
     run.add_argument("program", metavar="FILE.py")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
-    run.set_defaults(func=_command("app.rosclient.run"))
+    run.set_defaults(func=a.runs("app.rosclient.run"))
 
-    lch = sub.add_parser("launch", help="start the lab and the nodes of a roslaunch / ROS 2 XML launch file")
-    lch.add_argument("--url", help="a running lab (default: start one, like roslaunch starts roscore)")
-    lch.add_argument("--workspace", metavar="DIR", help="where the programs' own interface packages are")
+
+def _launch(sub: a.Subparsers) -> None:
+    lch = a.command(
+        sub,
+        "launch",
+        "start the lab and the nodes of a roslaunch / ROS 2 XML launch file",
+        (
+            "hri-lab launch calculator.launch.xml                # its own lab and the nodes",
+            "hri-lab launch --url http://127.0.0.1:8000 login_chain.launch user:=ada",
+        ),
+    )
+    a.url(lch, "a running lab (default: start one, like roslaunch starts roscore)", start_one=True)
+    a.workspace(lch, "the programs'")
     lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
     lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
-    lch.set_defaults(func=_command("app.rosclient.launch"))
+    lch.set_defaults(func=a.runs("app.rosclient.launch"))
 
+
+COMMANDS = (_experiment, _serve, _template, _grade, _grade_services, _grade_wall, _autograder, _handout, _run, _launch)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """`hri-lab`: this module's commands, then the ros2-like client's, bag's and urdf's."""
+    parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for add in COMMANDS:
+        add(sub)
     client_cli.add_parsers(sub)
     bag.add_parsers(sub)
     urdf_cli.add_parsers(sub)
     return parser
 
 
-def add_output_options(parser: argparse.ArgumentParser) -> None:
-    """--record DIR, --plots DIR of `experiment` and `grade` (app/cli/outputs.py)."""
-    parser.add_argument("--record", metavar="DIR", help="record every trial as MCAP in DIR (Foxglove, hri-lab play)")
-    parser.add_argument(
-        "--plots", metavar="DIR", help="write a figure of every trial and a summary figure to DIR (PNG, SVG)"
-    )
-
-
-def _scheduler_option(parser: argparse.ArgumentParser, what: str) -> None:
-    """--scheduler: a Dask cluster instead of --jobs (docs/course-scale.md)."""
-    parser.add_argument(
-        "--scheduler",
-        metavar="tcp://HOST:8786",
-        type=_scheduler_address,
-        default=os.environ.get("HRI_LAB_SCHEDULER"),
-        help=f"run {what} as a task on this Dask cluster instead of --jobs processes here "
-        "(default $HRI_LAB_SCHEDULER; the same results)",
-    )
-
-
-def _report_options(parser: argparse.ArgumentParser, drawn: str) -> None:
-    """The grading report's options (the same for controllers and services)."""
-    parser.add_argument(
-        "--out",
-        metavar="DIR",
-        help="write NAME.txt, NAME.json (and NAME.results.json with --format gradescope) per report and summary.csv",
-    )
-    parser.add_argument(
-        "--format",
-        choices=("text", "json", "gradescope"),
-        default="text",
-        help="what a single report prints (gradescope: its results.json); with --out, also written",
-    )
-    parser.add_argument("--json", metavar="OUT.json", help="also write a single report as JSON")
-    parser.add_argument(
-        "--seed",
-        type=int,
-        default=os.environ.get("HRI_LAB_GRADE_SEED", str(PUBLIC_SEED)),
-        help=f"seed of the {drawn} "
-        f"(default $HRI_LAB_GRADE_SEED or {PUBLIC_SEED}, the public one; a course's private seed gives numbers "
-        "students never saw)",
-    )
-
-
-def _template(args: argparse.Namespace) -> int:
+def _print_template(args: argparse.Namespace) -> int:
     from app.cli.templates import render
 
     print(render(args.kind, args.api), end="")
     return 0
-
-
-def _scheduler_address(text: str) -> str | None:
-    """A Dask scheduler's address: [tcp|tls://]HOST:PORT ("" = none)."""
-    if not text:
-        return None
-    if not re.fullmatch(r"((tcp|tls)://)?[A-Za-z0-9._\-\[\]:]+:\d{1,5}", text):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a Dask scheduler's address, e.g. tcp://HOST:8786")
-    return text
-
-
-def _positive_int(text: str) -> int:
-    value = int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError("must be >= 1")
-    return value
 
 
 def _stop_with_workers(signum, frame) -> None:

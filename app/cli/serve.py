@@ -1,6 +1,6 @@
 """`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file).
 
-Limits of the HTTP server (besides the body limit, app/api/security.py): a request must arrive
+Limits of the HTTP server (besides the body limit, app/security.py): a request must arrive
 whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the connection's
 opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most 64 KiB
 (h11/httptools), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within

@@ -19,7 +19,15 @@ from app.ros.node_services import NodeServices
 from app.ros.services import ServiceRegistry
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
 from app.rosbridge.internal.shared import SharedMessages
-from app.rosbridge.ports import FramesLike, NodeTopicLike, ServiceTableLike, SessionLike, StreamLike, TFRepublisherLike
+from app.rosbridge.ports import (
+    FramesLike,
+    NodeTopicLike,
+    ServiceTableLike,
+    SessionLike,
+    SharedMessagesLike,
+    StreamLike,
+    TFRepublisherLike,
+)
 from app.rosbridge.services import ServiceTable
 from app.rosbridge.tf_republisher import TFSubscriptionServer
 
@@ -78,7 +86,9 @@ class Bridge:
         self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
         self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
         self.node_topics: dict[str, NodeTopicLike] = {}
-        self.shared = SharedMessages()  # a topic's message built and encoded once for all its streams
+        self.shared: SharedMessagesLike = (
+            SharedMessages()
+        )  # a topic's message built and encoded once for all its streams
         self.tf_republisher: TFRepublisherLike = TFSubscriptionServer(
             self
         )  # its action's topics are node topics of the lab's

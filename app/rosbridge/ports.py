@@ -15,7 +15,6 @@ from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
-from app.rosbridge.internal.shared import SharedMessages
 from app.rosbridge.protocol import Id
 
 C = TypeVar("C")
@@ -51,6 +50,16 @@ class NodeTopicLike(Protocol):
     definition: str
     publishers: set[SessionLike]
     subscriptions: set[StreamLike]
+
+
+class SharedMessagesLike(Protocol):
+    """What every client's stream of a topic shares (app/rosbridge/internal/shared.py)."""
+
+    def built(self, topic: str, time_s: float, make: Callable[[], dict]) -> dict: ...
+
+    def frame(self, topic: str, message: dict) -> str: ...
+
+    def forget(self, topic: str) -> None: ...
 
 
 class TFRepublisherLike(Protocol):
@@ -112,7 +121,7 @@ class BridgeLike(Protocol):
     streams: int
     service_table: ServiceTableLike
     tf_republisher: TFRepublisherLike
-    shared: SharedMessages  # what every client's stream of a topic shares (internal/shared.py)
+    shared: SharedMessagesLike
 
     @property
     def services(self) -> Iterable[Service]: ...

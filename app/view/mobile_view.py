@@ -20,7 +20,7 @@ from sim.mobile.recording import arena_description
 from sim.mobile.world import MobileSnapshot
 
 from app.view.replay import ReplayView
-from app.view.view3d import CAMERA_FOV, PANEL_WIDTH, guarded_websocket_server
+from app.view.scene import CAMERA_FOV, PANEL_WIDTH, guarded_websocket_server
 
 WALL_COLOUR, OBSTACLE_COLOUR, BASE_COLOUR = (150, 150, 160), (230, 160, 60), (60, 60, 70)
 SCAN_COLOUR, TRAIL_COLOUR, CONTACT_COLOUR = (220, 30, 30), (40, 120, 220), (230, 40, 40)
@@ -129,7 +129,7 @@ class MobileView:
         self, lab, host: str = "127.0.0.1", port: int = 8080, light: bool = False, rate_hz: float = 20.0
     ) -> None:
         self.lab, self.light, self.rate_hz = lab, light, rate_hz
-        with guarded_websocket_server(host):  # refuses foreign Host/Origin (app/api/security.py)
+        with guarded_websocket_server(host):  # refuses foreign Host/Origin (app/security.py)
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.scene = MobileScene(self.server, arena_description(lab.world.config), light)
         self.lidar: LidarSpec = lab.world.config.lidar

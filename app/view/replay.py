@@ -26,7 +26,7 @@ from fastapi import FastAPI, HTTPException, Query, WebSocket, WebSocketDisconnec
 from sim.recording.playback import Playback
 from sim.recording.writer import IMAGE_TOPIC
 
-from app.view.view3d import SceneShapes, SceneView, guarded_websocket_server, wxyz
+from app.view.scene import SceneShapes, SceneView, guarded_websocket_server, wxyz
 
 SPEEDS = ("0.25", "0.5", "1", "2", "4")
 

@@ -25,8 +25,8 @@ from typing import Any
 from fastapi import FastAPI, HTTPException, Query, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 
-from app.api.security import SiteGuard
 from app.rosbridge.protocol import MAX_FRAME, BadFrame, field, name_field, parse, status
+from app.security import SiteGuard
 from app.view.urdf_view import JointStates
 
 PUBLISH_RATE_HZ = 10.0  # joint_state_publisher's default `rate`

@@ -22,7 +22,7 @@ import viser
 
 from sim.robot.urdf_check import UrdfModel
 
-from app.view.view3d import PANEL_WIDTH, guarded_websocket_server, wxyz
+from app.view.scene import PANEL_WIDTH, guarded_websocket_server, wxyz
 
 FRAME_AXES_LENGTH_M = 0.05
 SLIDER_STEPS = 1000  # a slider's range in this many steps

@@ -116,7 +116,8 @@ def cli() -> str:
                         out += [_table(["command", "what"], rows), ""]
             continue
         sub.prog = f"hri-lab {name}"
-        sub.formatter_class = functools.partial(argparse.HelpFormatter, width=100)  # not the terminal's
+        kind = sub.formatter_class if isinstance(sub.formatter_class, type) else argparse.HelpFormatter
+        sub.formatter_class = functools.partial(kind, width=100)  # not the terminal's; the examples kept as written
         out += [
             f"### hri-lab {name}",
             "",

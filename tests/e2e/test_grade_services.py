@@ -9,8 +9,7 @@ import sys
 
 import pytest
 
-from sim.procedures.services_grading import grade_services
-
+from app.cli.services_grading import grade_services
 from tests.e2e.serving import served_lab
 from tests.waiting import start_node, stop_node
 

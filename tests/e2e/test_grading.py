@@ -11,8 +11,9 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.participants import PARTICIPANTS
+from sim.procedures.battery import PROBE_PASS_MARK, new_report, trial_items
 from sim.procedures.experiment import plan
-from sim.procedures.grading import PROBE_PASS_MARK, PROBES, Draw, graded, new_report, probe_items, trial_items
+from sim.procedures.probe_stream import PROBES, Draw, graded, probe_items
 from sim.procedures.report import Item, summary_csv
 from sim.procedures.trial import Trial
 

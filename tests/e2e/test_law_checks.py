@@ -12,17 +12,9 @@ import pytest
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.controllers.sp import SPController
 from sim.physics.contact import MOMENT_PATCH, NORMAL_FORCE, TANGENTIAL_FORCE
-from sim.procedures.grading import (
-    PROBE_PASS_MARK,
-    ROBUSTNESS,
-    battery,
-    new_report,
-    probe_items,
-    robustness_job,
-    run_items,
-    start_transform,
-)
+from sim.procedures.battery import PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, robustness_job, run_items
 from sim.procedures.law_checks import LawWatch
+from sim.procedures.probe_stream import probe_items, start_transform
 from sim.procedures.situations import MidCarryStop
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))

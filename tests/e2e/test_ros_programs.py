@@ -8,9 +8,8 @@ import sys
 
 import pytest
 
-from sim.procedures.services_grading import grade_services
-
 from app.cli.launch import running_server
+from app.cli.services_grading import grade_services
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run

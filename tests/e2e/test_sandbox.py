@@ -382,7 +382,7 @@ def test_a_crash_or_a_killed_zygote_costs_only_its_own_item(tmp_path):
 def test_no_jail_is_left_after_a_grade():
     """A grade's workers end their jails when they exit; in this process an idle jail ends
     IDLE_SECONDS after its last item: no zygote, no bubblewrap left either way."""
-    from sim.procedures.grading import grade
+    from sim.procedures.battery import grade
 
     factory = PluginFactory(str(CONTROLLERS / "reference_sp.py"))
     before = set(_descendants())

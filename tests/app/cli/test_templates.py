@@ -9,8 +9,8 @@ from dataclasses import fields
 import pytest
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.services_grading import EXERCISES
 
+from app.cli.services_grading import EXERCISES
 from app.cli.templates import FILES, NOT_IN_NODES, render
 
 APIS = ("rospy", "rclpy", "roslibpy")

@@ -10,7 +10,7 @@ from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
 from app.lab.services import SERVICES
 from app.ros.actions import ActionServer
-from app.view.view3d import FORCE_SCALE, LabView, cone_mesh, state_of
+from app.view.view3d import FORCE_SCALE, LabView, state_of
 
 
 @pytest.fixture(scope="module")
@@ -55,13 +55,6 @@ def test_colours_tell_the_state(view):
     world.recover()
 
 
-def test_friction_cone_opening_is_mu():
-    vertices, faces = cone_mesh(0.5, height=0.1)
-    radius = np.linalg.norm(vertices[1:, :2], axis=1)
-    assert radius == pytest.approx(0.05, rel=1e-6)  # tan(half angle) = r / h = mu
-    assert np.all(vertices[1:, 2] == pytest.approx(0.1)) and faces.shape == (24, 3)
-
-
 def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
     """The gizmo's callback moves the person's hand target; the robot follows only through the SP
     controller (pressing, then friction beyond the cone margin)."""
@@ -83,31 +76,6 @@ def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
     assert world.box.position[2] - box_before > 0.06  # the box went up with the hand
     assert world.arm.transform_ee_to_base[2, 3] - ee_before > 0.05  # and the robot followed
     assert world.plate_state.normal_force > 5.0 and world.error is None
-
-
-def test_converted_meshes_are_cached(tmp_path, monkeypatch):
-    """The .dae -> GLB conversion (seconds for the full Panda) happens once; later starts read the cache."""
-    from pathlib import Path
-
-    import pinocchio as pin
-
-    from sim.robot.assets import panda_urdf, robot_data_share
-    from sim.robot.panda import PandaModel
-
-    from app.view.view3d import glb_of
-
-    monkeypatch.setenv("HRI_LAB_CACHE", str(tmp_path))
-    geometry = pin.buildGeomFromUrdf(
-        PandaModel().model, str(panda_urdf()), pin.GeometryType.VISUAL, package_dirs=[str(robot_data_share())]
-    )
-    mesh = next(o for o in geometry.geometryObjects if o.meshPath.endswith(".dae"))
-    first = glb_of(Path(mesh.meshPath), tuple(mesh.meshScale))
-    assert first[:4] == b"glTF"
-    (cached,) = tmp_path.glob("*.glb")
-    assert cached.read_bytes() == first
-    cached.write_bytes(b"glTF from the cache")
-    assert glb_of(Path(mesh.meshPath), tuple(mesh.meshScale)) == b"glTF from the cache"
-    assert glb_of(Path(mesh.meshPath), (2.0, 2.0, 2.0)) != b"glTF from the cache"  # another scale, another entry
 
 
 def test_legend_names_every_colour_and_arrow():
@@ -159,7 +127,8 @@ def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
     control panel leaves free in the dashboard's embedded view (872 x 414 px with a 1500 x 900
     window), through viser's pinhole camera (the view's position, look-at, vertical fov, +z up);
     the gizmo keeps a fixed on-screen size, clearly larger than a fingertip."""
-    from app.view.view3d import GIZMO_SIZE, PANEL_WIDTH
+    from app.view.scene import PANEL_WIDTH
+    from app.view.view3d import GIZMO_SIZE
 
     camera = view.server.initial_camera
     forward = np.asarray(camera.look_at) - np.asarray(camera.position)

@@ -96,7 +96,7 @@ def test_play_advances_and_stops_at_the_end(view):
 
 
 def test_the_replay_view_refuses_a_foreign_origin(view):
-    """Started like the live view (app/view/view3d.py guarded_websocket_server): another site's
+    """Started like the live view (app/view/scene.py guarded_websocket_server): another site's
     page cannot open its WebSocket (and drive the playback)."""
     with pytest.raises(InvalidStatus) as refused:
         connect(

@@ -6,7 +6,7 @@ import csv
 import io
 import json
 
-from sim.procedures.grading import battery_points, new_report
+from sim.procedures.battery import battery_points, new_report
 from sim.procedures.report import PUBLIC_SEED, Item, Report, summary_csv
 
 TRACE = 'Traceback (most recent call last):\n  File "ada.py", line 9, in step\n    1 / 0\nZeroDivisionError: division by zero\n'

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from sim.procedures import runner
-from sim.procedures.grading import LOST, probes_job, robustness_job
+from sim.procedures.battery import LOST, probes_job, robustness_job
 from sim.procedures.runner import Job, JobLost, run_jobs
 
 

@@ -1,5 +1,7 @@
 """Cross-site protection and the request-body limit: one ASGI middleware around every route, HTTP
-and WebSocket, present or future (services, parameters, topic and action streams, rosbridge).
+and WebSocket, present or future (services, parameters, topic and action streams, rosbridge), and
+the same checks for the 3D views' servers. Below both front ends that serve a browser (app/api and
+app/view import it; it imports neither), beside the access token's rules (app/tokens.py).
 
 A page on another site the student has open must not drive the lab, token or not:
 - Host must name this server: the address it was started on, its localhost forms (localhost,
@@ -13,7 +15,8 @@ A page on another site the student has open must not drive the lab, token or not
   (text/plain, a form) never reaches a route.
 - A body is at most MAX_BODY_BYTES (1 MiB); a larger one is a 413.
 
-`origin_refusal` is the same check for servers that are not ASGI apps (the 3D view, viser).
+`host_refusal` and `origin_refusal` are the same checks for servers that are not ASGI apps (the 3D
+views' viser servers: app/view/scene.py's `guarded_websocket_server`).
 """
 
 from __future__ import annotations

@@ -30,13 +30,22 @@ def test_the_bundle_holds_the_scripts_executable_the_config_and_the_labs_source(
     assert "seed 31" in capsys.readouterr().out
 
 
-def test_the_public_seed_is_refused_unless_asked_for(tmp_path, capsys):
-    assert build(bundle_args(tmp_path, "--seed", str(PUBLIC_SEED))) == 2
-    assert "is the public default" in capsys.readouterr().err
+def test_the_public_seed_is_refused_unless_asked_for(tmp_path, capsys, monkeypatch):
+    """Seed 0 is what every student grades with at home: a bundle with it would grade with numbers
+    the students know. Refused (exit 2, saying why) unless --public-seed; $HRI_LAB_GRADE_SEED is
+    the course's seed when --seed is not given."""
+    monkeypatch.delenv("HRI_LAB_GRADE_SEED", raising=False)
+    assert build(bundle_args(tmp_path)) == 2
+    err = capsys.readouterr().err
+    assert f"seed {PUBLIC_SEED} is the public default" in err and "--public-seed" in err
     assert not (tmp_path / "autograder.zip").exists()
-    assert build(bundle_args(tmp_path, "--seed", str(PUBLIC_SEED), "--public-seed")) == 0
+    assert build(bundle_args(tmp_path, "--public-seed")) == 0
+    assert f"seed {PUBLIC_SEED}, the public default" in capsys.readouterr().out
     with zipfile.ZipFile(tmp_path / "autograder.zip") as z:
         assert "[nodes]" not in z.read("setup.sh").decode()  # no --services: no roslibpy
+    monkeypatch.setenv("HRI_LAB_GRADE_SEED", "77")
+    assert build(bundle_args(tmp_path)) == 0
+    assert "seed 77, a private seed" in capsys.readouterr().out
 
 
 def test_the_graded_file_is_the_templates_name_or_the_only_py_file(tmp_path):

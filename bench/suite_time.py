@@ -21,9 +21,6 @@ from pathlib import Path
 import pytest
 
 KEY = "suite_time_cpu_s"
-_cpu_at_start: dict[str, float] = {}
-_files: dict[str, dict[str, float]] = {}  # file -> {"tests", "wall_s", "cpu_s", "setup_s"}
-_started = time.monotonic()
 
 
 def cpu_s() -> float:
@@ -33,43 +30,53 @@ def cpu_s() -> float:
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
-@pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_setup(item):
-    _cpu_at_start[item.nodeid] = cpu_s()
-    yield
+class SuiteTime:
+    """One run's figures (an object per run: a run inside a run keeps its own)."""
+
+    def __init__(self) -> None:
+        self.started = time.monotonic()
+        self.cpu_at_start: dict[str, float] = {}
+        self.files: dict[str, dict[str, float]] = {}  # file -> tests, wall_s, setup_s, cpu_s
+
+    @pytest.hookimpl(hookwrapper=True)
+    def pytest_runtest_setup(self, item):
+        self.cpu_at_start[item.nodeid] = cpu_s()
+        yield
+
+    @pytest.hookimpl(hookwrapper=True)
+    def pytest_runtest_makereport(self, item, call):
+        outcome = yield
+        if call.when == "teardown":  # the test's CPU, from before its setup to after its teardown
+            spent = cpu_s() - self.cpu_at_start.pop(item.nodeid, cpu_s())
+            outcome.get_result().user_properties.append((KEY, spent))
+
+    def pytest_runtest_logreport(self, report) -> None:  # on xdist's controller: every worker's reports
+        entry = self.files.setdefault(
+            report.nodeid.split("::")[0], {"tests": 0, "wall_s": 0.0, "setup_s": 0.0, "cpu_s": 0.0}
+        )
+        entry["wall_s"] += report.duration
+        if report.when == "setup":
+            entry["tests"] += 1
+            entry["setup_s"] += report.duration
+        elif report.when == "teardown":
+            entry["cpu_s"] += dict(report.user_properties).get(KEY, 0.0)
+
+    def pytest_terminal_summary(self, terminalreporter) -> None:
+        if not self.files:
+            return
+        rows = sorted(self.files.items(), key=lambda kv: -kv[1]["wall_s"])
+        write = terminalreporter.write_line
+        wall, cpu = sum(e["wall_s"] for _, e in rows), sum(e["cpu_s"] for _, e in rows)
+        write("")
+        write(f"suite time by file: {len(rows)} files, {wall:.0f} s of test wall time, {cpu:.0f} s of CPU")
+        write(f"{'wall s':>7} {'setup s':>7} {'CPU s':>7} {'tests':>5}  file")
+        for path, e in rows:
+            write(f"{e['wall_s']:7.1f} {e['setup_s']:7.1f} {e['cpu_s']:7.1f} {int(e['tests']):5d}  {path}")
+        load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+        write(f"the run: {time.monotonic() - self.started:.0f} s; load average at its end {load}")
+        if out := os.environ.get("HRI_LAB_SUITE_TIME"):
+            Path(out).write_text(json.dumps(dict(rows), indent=1))
 
 
-@pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_makereport(item, call):
-    outcome = yield
-    if call.when == "teardown":  # the test's CPU, from before its setup to after its teardown
-        outcome.get_result().user_properties.append((KEY, cpu_s() - _cpu_at_start.pop(item.nodeid, cpu_s())))
-
-
-def pytest_runtest_logreport(report):
-    path = report.nodeid.split("::")[0]
-    entry = _files.setdefault(path, {"tests": 0, "wall_s": 0.0, "cpu_s": 0.0, "setup_s": 0.0})
-    entry["wall_s"] += report.duration
-    if report.when == "setup":
-        entry["tests"] += 1
-        entry["setup_s"] += report.duration
-    if report.when == "teardown":
-        entry["cpu_s"] += dict(report.user_properties).get(KEY, 0.0)
-
-
-def pytest_terminal_summary(terminalreporter):
-    if not _files:
-        return
-    rows = sorted(_files.items(), key=lambda kv: -kv[1]["wall_s"])
-    write = terminalreporter.write_line
-    wall, cpu = sum(e["wall_s"] for _, e in rows), sum(e["cpu_s"] for _, e in rows)
-    write("")
-    write(f"suite time by file: {len(rows)} files, {wall:.0f} s of test wall time, {cpu:.0f} s of CPU")
-    write(f"{'wall s':>7} {'setup s':>7} {'CPU s':>7} {'tests':>5}  file")
-    for path, e in rows:
-        write(f"{e['wall_s']:7.1f} {e['setup_s']:7.1f} {e['cpu_s']:7.1f} {int(e['tests']):5d}  {path}")
-    write(
-        f"the run: {time.monotonic() - _started:.0f} s; load average now {' '.join(f'{x:.2f}' for x in os.getloadavg())}"
-    )
-    if out := os.environ.get("HRI_LAB_SUITE_TIME"):
-        Path(out).write_text(json.dumps(dict(rows), indent=1))
+def pytest_configure(config) -> None:
+    config.pluginmanager.register(SuiteTime(), "suite_time_figures")

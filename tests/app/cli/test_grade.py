@@ -58,7 +58,7 @@ def test_a_report_in_out_is_kept_only_for_the_same_file_seed_and_parts(tmp_path)
 
 
 def grade(*argv: str) -> int:
-    return run(build_parser().parse_args(["grade", "--unsandboxed", "--quiet", *argv]))
+    return run(build_parser().parse_args(["grade", "--unsandboxed", "--quiet", "--jobs", "1", *argv]))
 
 
 def test_no_file_to_grade_is_status_2(tmp_path, capsys):

@@ -54,27 +54,27 @@ def _tree_outputs() -> set[Path]:
 TESTS = Path(__file__).resolve().parent
 
 # `make test` runs three workers and hands out whole files in collection order (--dist loadfile
-# --no-loadscope-reorder): the longest files go first (as measured: `pytest --durations=0`), so that
+# --no-loadscope-reorder): the longest files go first (as measured: `-p bench.suite_time`, tests/README.md), so that
 # the run never ends with one worker still on a long file while the others have nothing left
 # (longest processing time first). Paths from tests/.
 LONG_FILES_FIRST = (
     "e2e/test_gradescope.py",
-    "e2e/browser/test_page.py",
     "e2e/test_docs_student_pages.py",
+    "e2e/browser/test_page.py",
     "e2e/test_docs_instructor_pages.py",
     "e2e/test_ros_programs.py",
-    "e2e/test_rclpy_programs.py",
-    "e2e/test_tf_programs.py",
+    "e2e/test_bags.py",
     "e2e/test_autograder.py",
     "e2e/test_grading.py",
+    "e2e/test_course_scale.py",
+    "e2e/test_camera.py",
+    "e2e/test_cli_server.py",
+    "e2e/test_rclpy_programs.py",
     "e2e/test_grade_wall.py",
+    "e2e/test_lifting_node.py",
     "e2e/test_attack_grading.py",
     "e2e/test_ros_lifting_node.py",
-    "e2e/test_lifting_node.py",
-    "e2e/test_camera.py",
-    "e2e/test_bags.py",
-    "e2e/test_course_scale.py",
-    "e2e/test_cli_server.py",
+    "e2e/test_tf_programs.py",
     "e2e/test_mobile_world.py",
     "e2e/test_law_checks.py",
     "e2e/test_sandbox.py",

@@ -119,19 +119,15 @@ def test_a_rospy_node(autograder):
     node = subprocess.run(
         [sys.executable, "-m", "app.cli", "template", "services"], capture_output=True, text=True, check=True
     ).stdout
-    results = submit(
-        autograder,
-        {
-            "services_node.py": node,
-            "cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text(),
-        },
-    )
+    # the controller part fails at its import (graded whole by test_a_controller_file: one battery per file)
+    results = submit(autograder, {"services_node.py": node, "cooperative_lifting.py": "import not_a_module_here\n"})
     services = by_section(results)["services"]
     assert len(services) == 10
     assert [t["name"] for t in services if t["score"] > 0] == [
         "services: /add_two_ints: sum of two int64 (exact near 2^63)"
     ]
-    assert results["score"] == 130.0 + 1.0
+    assert [(t["score"], t["max_score"]) for t in by_section(results)["controller"]] == [(0.0, 130.0)]
+    assert results["score"] == 1.0 and "not_a_module_here" in results["output"]
 
 
 def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path):

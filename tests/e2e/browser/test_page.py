@@ -20,6 +20,7 @@ from bench.page_responsiveness import (
     round_trips,
 )
 from tests.http_client import http
+from tests.waiting import wait_for
 
 SCREENSHOTS = Path(__file__).resolve().parents[3] / "build" / "screenshots"
 
@@ -269,7 +270,9 @@ def the_3d_view_on_demand(server, page):
         "click"
     )  # the status above it changes height at 30 Hz
     wait_text(page, "#st-lifting", "ON, band [10, 15] N")
-    time.sleep(2)  # the robot presses the box
+    wait_for(  # the robot presses the box (what the screenshot shows), inside the band
+        lambda: http.get(f"{server}/topics/contact_state").json()["normal_force"] >= 10.0, timeout=120.0
+    )
     # viser's "software WebGL" notice (only there) closed, if still shown: the screenshot shows the scene
     view.locator("body").evaluate(
         "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())"

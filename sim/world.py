@@ -109,7 +109,7 @@ class World:
         cfg = self.config
         self.model = PandaModel()
         self.arm = CartesianVelocityInterface(self.model, np.array(cfg.start_q))
-        chain = self.arm.chain  # world_move_rest's robot: the limits and the kinematic chain (fixed for a world)
+        chain = self.arm.chain  # world_step's robot: the limits and the kinematic chain (fixed for a world)
         self._robot = (
             self.arm.constants(),
             chain.rotations,
@@ -133,6 +133,10 @@ class World:
         self.plate_out = np.zeros(20)  # what the plate's contact did in the last step (contact._patch_kernel's layout)
         self.palm_out = np.zeros(20)  # the same for the palm
         self._lifting: tuple = ((), np.zeros(0))  # (the params' values, their lifting_vector)
+        # world_step's sensor noise and built-in law when it does not sense and control: unread
+        # placeholders of the types a step that does passes (one compiled specialization)
+        self._no_noise = np.zeros(6)
+        self._no_law = (-1, np.zeros(1), np.zeros(1), np.zeros(1))
         self.reset()
 
     # --- set-up -----------------------------------------------------------------------------
@@ -282,23 +286,23 @@ class World:
         if self.motion is None and not jogging and rest_compiled:
             self.jog = None
             if law is not None and isinstance(controller, LiftingLawController):  # a built-in: one compiled call
-                kind, j, value, self.box._steps, event = compiled_step.world_step_builtin(
-                    self._sensor_arguments(),
-                    (law, controller.state, self._lifting_vector(), controller.constants()),
-                    self._robot,
-                    self._rest_arguments(dt),
+                law_arguments = (law, controller.state, self._lifting_vector(), controller.constants())
+                kind, j, value, self.box._steps, event = compiled_step.world_step(
+                    *self._step_arguments(compiled_step.SENSE_CONTROL, dt, self.sensor.next_noise(), law_arguments)
                 )
             else:  # compiled sense, the controller in Python, the compiled robot and rest
                 self._sense(dt)
                 self.twist_command[:] = self._control(self.arm.transform_ee_to_base, dt)
-                kind, j, value, self.box._steps, event = compiled_step.world_move_rest(
-                    self._robot, self._rest_arguments(dt)
+                kind, j, value, self.box._steps, event = compiled_step.world_step(
+                    *self._step_arguments(compiled_step.ROBOT, dt)
                 )
         else:  # a joint motion, a jog, or patched components: the robot (and the rest) in Python
             self._sense(dt)
             self._control_and_move(dt)
             if rest_compiled:
-                self.box._steps, event = compiled_step.world_rest(*self._rest_arguments(dt))
+                _, _, _, self.box._steps, event = compiled_step.world_step(
+                    *self._step_arguments(compiled_step.REST, dt)
+                )
             else:
                 self._rest_in_python(dt)
                 event = None
@@ -312,12 +316,10 @@ class World:
 
     def _sense(self, dt: float) -> None:
         """1. sense, compiled: F_ext from the true wrench."""
-        compiled_step.world_sense(self._sensor_arguments(), dt)
-
-    def _sensor_arguments(self) -> tuple:
-        """world_sense's sensor group: (state, this step's noise, scales, true F_ext, measured F_ext)."""
         sensor = self.sensor
-        return (sensor.state, sensor.next_noise(), sensor.scales(), self.wrench_ee_true, self.wrench_ee)
+        compiled_step.world_sense(
+            sensor.state, sensor.next_noise(), sensor.scales(), dt, self.wrench_ee_true, self.wrench_ee
+        )
 
     def _components_plain(self) -> bool:
         """True when the human, the box and the contacts are the lab's own, unpatched (the compiled
@@ -374,38 +376,53 @@ class World:
             self._lifting = (key, lifting_vector(self.params))
         return self._lifting[1]
 
-    def _rest_arguments(self, dt: float) -> tuple:
-        """world_rest's arguments (sim/compiled_step.py lists them): human, physics and the trial's
-        rule after this step."""
+    def _step_arguments(self, mode: int, dt: float, noise: np.ndarray | None = None, law: tuple | None = None) -> tuple:
+        """world_step's arguments in its signature's order (sim/compiled_step.py lists them): `mode`,
+        the sensor with this step's `noise`, the built-in `law` (both read in SENSE_CONTROL only:
+        placeholders of the same types otherwise), the robot, then the rest after this step."""
         params, box, human, plate, palm = self.params, self.box, self.human, self.plate_contact, self.palm_contact
+        sensor, trial = self.sensor, self.trial
         return (
+            mode,
+            sensor.state,
+            self._no_noise if noise is None else noise,
+            sensor.scales(),
+            self.wrench_ee,
+            *(self._no_law if law is None else law),
+            *self._robot,
             self.arm.state,
             self.twist_command,
             float(dt),
             int(self.substeps),
             float(self.config.plate.offset),
-            (bool(params.running), float(params.f_n_min), float(params.f_n_max)),
-            (human.state, human.constants),
-            (
-                box.position,
-                box.rotation,
-                box.velocity,
-                box.angular_velocity,
-                box.half_size,
-                float(box.params.mass),
-                box._inertia,
-                box._inertia_inv,
-                GRAVITY,
-            ),
-            (plate.points_patch, plate.bristles, plate.constants),
-            (palm.points_patch, palm.bristles, palm.constants),
+            bool(params.running),
+            float(params.f_n_min),
+            float(params.f_n_max),
+            human.state,
+            human.constants,
+            box.position,
+            box.rotation,
+            box.velocity,
+            box.angular_velocity,
+            box.half_size,
+            float(box.params.mass),
+            box._inertia,
+            box._inertia_inv,
+            GRAVITY,
+            box._steps,
+            plate.points_patch,
+            plate.bristles,
+            plate.constants,
+            palm.points_patch,
+            palm.bristles,
+            palm.constants,
             self.plate_out,
             self.palm_out,
             self.wrench_ee_true,
-            (self.trial.state_array, self.trial.rules_vector),
+            trial.state_array,
+            trial.rules_vector,
             self.time + dt,
             float(params.mu),
-            box._steps,
         )
 
     def _control_and_move(self, dt: float) -> None:

@@ -62,9 +62,9 @@ def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
 
 def test_an_array_field_of_json_that_is_no_array_is_a_type_error_naming_it(interfaces):
     joint = interfaces.message("sensor_msgs/JointState")
-    with pytest.raises(TypeError, match="'position' field must be a JSON array.*got str"):
+    with pytest.raises(TypeError, match=r"'position' field must be a JSON array.*got str"):
         joint.from_json({"position": "0.1"})  # once iterated character by character
-    with pytest.raises(TypeError, match="'position' field must be a JSON array.*got dict"):
+    with pytest.raises(TypeError, match=r"'position' field must be a JSON array.*got dict"):
         joint.from_json({"position": {"a": 1}})
     image = interfaces.message("sensor_msgs/Image")
     assert image.from_json({"data": [1, 2]}).data == b"\x01\x02"  # uint8[] as a list of numbers

@@ -318,7 +318,7 @@ def _launch(sub: a.Subparsers) -> None:
     a.workspace(lch, "the programs'")
     lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
     lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
-    lch.set_defaults(func=a.runs("app.rosclient.launch"))
+    lch.set_defaults(func=a.runs("app.cli.launch_nodes"))
 
 
 COMMANDS = (_experiment, _serve, _template, _grade, _grade_services, _grade_wall, _autograder, _handout, _run, _launch)

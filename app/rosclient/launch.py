@@ -27,9 +27,10 @@ import tempfile
 import threading
 import time
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from app.rosclient import packages
 from app.rosclient.run import command, program_env
@@ -358,7 +359,17 @@ class Running:
                     sys.stdout.flush()
 
 
-def run(args: argparse.Namespace) -> int:
+class LabServer(Protocol):
+    """A lab started for the launch file (app/cli/launch_nodes.py hands one in): its URL, its stop."""
+
+    url: str
+
+    def stop(self) -> None: ...
+
+
+def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = None) -> int:
+    """`hri-lab launch`: the launch file's nodes against the lab at args.url, or against one that
+    `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
     path = Path(args.file)
     launch_args = {}
     for item in args.args:
@@ -377,13 +388,14 @@ def run(args: argparse.Namespace) -> int:
     stopping = threading.Event()
     signal.signal(signal.SIGINT, lambda *_: stopping.set())
     signal.signal(signal.SIGTERM, lambda *_: stopping.set())
-    server = None
+    server: LabServer | None = None
     url = args.url
     if url is None:
-        from app.cli.launch import ServerProcess
-
+        if start_lab is None:
+            print("error: no lab: give its address with --url", file=sys.stderr)
+            return 2
         print("starting the lab (hri-lab serve) ...", flush=True)
-        server = ServerProcess("--view", "none", own_session=True)  # stopped after the nodes, not by Ctrl+C
+        server = start_lab()
         url = server.url
         print(f"the lab: {url}", flush=True)
     logs = Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))

@@ -70,7 +70,7 @@ def _definition(items: int) -> str:
 
 
 def two_byte_call() -> None:
-    with running_server("--view", "none") as server, httpx.Client(timeout=60.0) as http:
+    with running_server("--view", "none") as server, httpx.Client(timeout=60.0) as http:  # noqa: SIM117 - nested on purpose: the inner block's failure is the outer one's subject
         with connect(f"ws://127.0.0.1:{server.port}/", max_size=None) as ws:
             ws.send(
                 json.dumps(

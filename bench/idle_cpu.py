@@ -56,24 +56,23 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--seconds", type=float, default=10.0)
     args = parser.parse_args()
-    with running_server("--view", "none") as server:
-        with httpx.Client(base_url=server.url, timeout=10.0) as http:
-            time.sleep(2.0)  # start-up work done (first requests, kernels warm)
-            idle = share_of_a_core(server.proc.pid, args.seconds)
-            health = http.get("/health").json()
-            print(
-                f"idle server: {idle * 100:.1f} % of a core ({args.seconds:g} s; loop rate "
-                f"{health['rate_hz']:.0f} Hz, {health['batched_ticks']} of {health['ticks']} ticks stepped in idle batches)"
-            )
-            http.post("/services/start_cooperative_lifting", json={"force": 10.0})
-            time.sleep(1.0)
-            busy = share_of_a_core(server.proc.pid, args.seconds)
-            health = http.get("/health").json()
-            http.post("/services/stop_cooperative_lifting", json={})
-            print(
-                f"lifting running: {busy * 100:.1f} % of a core; loop lateness p50 {health['lateness_p50_ms']:.3f} ms, "
-                f"p99 {health['lateness_p99_ms']:.3f} ms"
-            )
+    with running_server("--view", "none") as server, httpx.Client(base_url=server.url, timeout=10.0) as http:
+        time.sleep(2.0)  # start-up work done (first requests, kernels warm)
+        idle = share_of_a_core(server.proc.pid, args.seconds)
+        health = http.get("/health").json()
+        print(
+            f"idle server: {idle * 100:.1f} % of a core ({args.seconds:g} s; loop rate "
+            f"{health['rate_hz']:.0f} Hz, {health['batched_ticks']} of {health['ticks']} ticks stepped in idle batches)"
+        )
+        http.post("/services/start_cooperative_lifting", json={"force": 10.0})
+        time.sleep(1.0)
+        busy = share_of_a_core(server.proc.pid, args.seconds)
+        health = http.get("/health").json()
+        http.post("/services/stop_cooperative_lifting", json={})
+        print(
+            f"lifting running: {busy * 100:.1f} % of a core; loop lateness p50 {health['lateness_p50_ms']:.3f} ms, "
+            f"p99 {health['lateness_p99_ms']:.3f} ms"
+        )
     print(f"load average: {os.getloadavg()[0]:.2f}")
 
 

@@ -53,7 +53,7 @@ def measure(job: tuple) -> tuple:
         result, watch = battery._run(make_trial(index, person, attempt, seed, controller_factory=make), None)
         label = f"trial {index + 1} {person.name}"
     else:
-        label_full, run = battery.ROBUSTNESS[index]
+        _label_full, run = battery.ROBUSTNESS[index]
         result, watch = run(make(), trial_seed(root_seed, 100 + index), None)
         label = ["noise", "pull", "stop"][index]
     return name, label, result.success, result.reason, watch.measures()

@@ -47,7 +47,7 @@ def _words():
 
 
 def _futex():
-    request, answer, memory = _words()
+    request, answer, _memory = _words()
 
     def wait(word, old):
         while word.value == old:
@@ -70,7 +70,7 @@ def _futex():
 
 
 def _yield():
-    request, answer, memory = _words()
+    request, answer, _memory = _words()
 
     def parent():
         request.value += 1

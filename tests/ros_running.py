@@ -66,7 +66,7 @@ class Program:
                     return line
             seen = len(self.lines)
             try:
-                if self._new.get(timeout=0.1) is None and not any(text in x for x in self.lines[seen:]):
+                if self._new.get(timeout=0.1) is None and not any(text in x for x in self.lines[seen:]):  # noqa: SIM102 - two conditions kept apart, each with its own comment
                     if self.proc.poll() is not None and seen == len(self.lines):
                         break
             except queue.Empty:

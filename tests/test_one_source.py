@@ -80,7 +80,8 @@ def tree_files(suffixes: tuple[str, ...]) -> list[Path]:
 def test_method_md_numbers_the_sp_steps_once():
     steps = sp_steps(METHOD.read_text())
     assert list(steps) == ["0", "1", "2", "3", "4", "5a", "5b", "6"], steps
-    assert steps["6"] == "rate limit" and steps["0"] == "low-pass"
+    assert steps["6"] == "rate limit"
+    assert steps["0"] == "low-pass"
     assert patch_steps(PATCH.read_text()) == {str(n) for n in range(1, 9)}
 
 
@@ -222,7 +223,8 @@ def test_the_band_check_finds_a_copy():
 def test_the_readme_and_the_home_page_share_one_intro():
     readme, index = (ROOT / "README.md").read_text(), (ROOT / "docs" / "index.md").read_text()
     intro = readme.split("[start:intro] -->", 1)[1].split("<!-- --8<-- [end:intro]", 1)[0]
-    assert "hri-lab is a simulated" in intro and '--8<-- "README.md:intro"' in index
+    assert "hri-lab is a simulated" in intro
+    assert '--8<-- "README.md:intro"' in index
     assert '--8<-- "README.md:paper"' in index
     copied = [line for line in readme.splitlines() if len(line) > 40 and line in index]
     assert copied == []
@@ -231,4 +233,5 @@ def test_the_readme_and_the_home_page_share_one_intro():
 def test_the_readme_links_to_the_figures_instead_of_copying_them():
     readme = (ROOT / "README.md").read_text()
     measured = readme.split("## Measured", 1)[1].split("\n## ", 1)[0]
-    assert "(docs/performance.md)" in measured and re.findall(r"[0-9]", measured) == []
+    assert "(docs/performance.md)" in measured
+    assert re.findall(r"[0-9]", measured) == []

@@ -223,7 +223,7 @@ class Interfaces:
         values = 0  # what the message's default holds (Field.zero builds it): capped, nesting counted
         for f in fields:
             one = f.msg_class._default_values if f.msg_class is not None else 1
-            if f.array is None:
+            if f.array is None:  # noqa: SIM108 - three cases read better as branches
                 count = one
             else:  # a variable-length or bounded array's default is empty
                 count = 0 if f.array is True or f.bound else f.array * one

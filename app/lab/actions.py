@@ -135,7 +135,7 @@ class ExperimentResult(RosMessage):
     trials: Int32
     successes: Int32
     table: String
-    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first
+    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first  # noqa: RUF012 - a pydantic field's or a test double's default, copied or shared on purpose
 
 
 def _figures_of(lab, handle: GoalHandle):
@@ -246,7 +246,7 @@ class CompareResult(RosMessage):
     successes: Int32Array  # per controller
     trials: Int32Array  # per controller
     table: String
-    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first
+    figures: StringArray = []  # URLs (GET /figures/RUN/NAME.png), the summary first  # noqa: RUF012 - a pydantic field's or a test double's default, copied or shared on purpose
 
 
 class CompareFeedback(RosMessage):

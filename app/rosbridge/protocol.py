@@ -68,7 +68,7 @@ def field(
     kinds = kind if isinstance(kind, tuple) else (kind,)
     if value is None and allow_none:
         return None
-    if isinstance(value, bool) and bool not in kinds or not isinstance(value, kinds):
+    if (isinstance(value, bool) and bool not in kinds) or not isinstance(value, kinds):
         names = " or ".join(
             {
                 str: "a string",

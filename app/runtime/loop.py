@@ -121,7 +121,7 @@ class SimulationLoop:
         self._started = time.perf_counter()
         try:
             self._tick_forever()
-        except BaseException as exc:  # noqa: BLE001 - recorded for the supervisor, which restarts us
+        except BaseException as exc:
             self.stats.fatal = f"{type(exc).__name__}: {exc}"
             self._publish(Published(self.world.snapshot(), self.stats))
             raise

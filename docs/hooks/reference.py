@@ -230,13 +230,13 @@ def mobile_figures() -> str:
         ["accelerations (the lab's choice)", f"{b.max_linear_acceleration} m/s², {b.max_angular_acceleration} rad/s²"],
         ["footprint (contact) radius", f"{b.footprint_radius} m"],
         ["command watchdog", f"{b.command_timeout} s without a /cmd_vel: the base stops"],
-        ["wheel radius error (a seeded world's odometry drift)", f"σ = {WHEEL_RADIUS_ERROR_SIGMA:.1%} per wheel"],
+        ["wheel radius error (a seeded world's odometry drift)", f"σ = {WHEEL_RADIUS_ERROR_SIGMA:.1%} per wheel"],  # noqa: RUF001 - the standard deviation, as the datasheets write it
         ["control period", f"{MobileConfig().dt * 1e3:g} ms ({1 / MobileConfig().dt:g} Hz)"],
         ["scan", f"{lidar.rays} rays, {360 / lidar.rays:g}° apart from straight ahead, counter-clockwise"],
         ["scan range", f"{lidar.range_min}-{lidar.range_max} m (else +inf), {lidar.rate_hz:g} Hz"],
         [
-            "scan noise (LDS-01 accuracy as 2σ)",
-            f"σ = {lidar.near_sigma * 1e3:g} mm below {lidar.near_limit} m, {lidar.far_sigma_ratio:.1%} of the range beyond",
+            "scan noise (LDS-01 accuracy as 2σ)",  # noqa: RUF001 - the standard deviation, as the datasheets write it
+            f"σ = {lidar.near_sigma * 1e3:g} mm below {lidar.near_limit} m, {lidar.far_sigma_ratio:.1%} of the range beyond",  # noqa: RUF001 - the standard deviation, as the datasheets write it
         ],
         ["base_scan in base_footprint", f"({lidar.offset_xy[0]}, {lidar.offset_xy[1]}, {lidar.height}) m"],
     ]

@@ -30,7 +30,7 @@ class MobilePlayback:
         self.start = self.info.start
         self.topics: dict[str, tuple[str, list[int], list[bytes]]] = {}  # name -> (type, log times, raw JSON)
         for m in reader.messages(self.path, decode=False):
-            kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
+            _kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
             times.append(m.log_time)
             raw.append(cast(bytes, m.data))
         if POSE not in self.topics or ODOM not in self.topics:

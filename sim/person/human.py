@@ -449,7 +449,7 @@ def tilted_level(s, k):
     carry direction along the carry (minimum-jerk over the path's duration)."""
     level = s[BOX_LEVEL : BOX_LEVEL + 9].reshape((3, 3)).copy()
     phase, tilt = s[PHASE], s[TILT]
-    if tilt == 0.0 or not (phase == CARRYING or phase == HOLDING or phase == DONE):
+    if tilt == 0.0 or phase not in (CARRYING, HOLDING, DONE):
         return level
     progress = 1.0 if phase != CARRYING else minimum_jerk(s[PHASE_TIME] / (s[PATH_DURATION] - s[HOLD]))
     return exp3(k[CARRY_AXIS : CARRY_AXIS + 3] * (tilt * progress)) @ level

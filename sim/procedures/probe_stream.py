@@ -234,7 +234,7 @@ def _probe_follow(stream: ProbeStream, draw: Draw) -> str:
 
 
 def _probe_raise_grip(stream: ProbeStream, draw: Draw) -> str:
-    twist, _, rotation, f_n, params, size = _tangential(stream, draw, 1.3, 2.0, True)
+    twist, _, rotation, f_n, params, _size = _tangential(stream, draw, 1.3, 2.0, True)
     v_n, _ = _split(twist, rotation)
     if v_n < 2e-3:
         return f"beyond the cone at f_n = {f_n:.2f} N (band up to {params.f_n_max:.2f} N): v_n = {v_n:.4f} m/s; expected to press toward f_n_max"

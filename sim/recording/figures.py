@@ -15,8 +15,8 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # no display: files only
-from matplotlib.figure import Figure  # noqa: E402 - after choosing the backend
-from matplotlib.ticker import MaxNLocator  # noqa: E402 - after choosing the backend
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 PANELS = ("f_n", "friction_ratio", "slip", "box_height", "robot_speed")
 FORMATS = ("png", "svg")

@@ -90,7 +90,7 @@ class Playback:
             elif m.topic == "/scene":
                 scenes[m.log_time] = json.loads(raw_data)
             else:
-                kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
+                _kind, times, raw = self.topics.setdefault(m.topic, (m.schema, [], []))
                 times.append(m.log_time)
                 raw.append(raw_data)
                 if m.topic == "/joint_states":

@@ -104,7 +104,7 @@ class Recording:
         self.stopped: str | None = None  # why the recording stopped early (cap), None while running / closed normally
         self.closed = False
         self.messages = 0
-        self._file = open(self.path, "wb")
+        self._file = open(self.path, "wb")  # noqa: SIM115 - the file stays open beyond this block (closed by its owner, or held on purpose)
         self._writer = Writer(self._file, chunk_size=256 * 1024, compression=CompressionType.ZSTD)
         self._writer.start(profile="", library="hri-lab")
         self._channels: dict[str, int] = {}

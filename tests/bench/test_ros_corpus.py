@@ -59,7 +59,10 @@ def test_a_manifest_entry_reads_into_its_program():
         exit="0",
         timeout="12.5",
     )
-    assert p.partners == ("listener.py",) and p.args == ("2", "3") and p.exit == 0 and p.timeout == 12.5
+    assert p.partners == ("listener.py",)
+    assert p.args == ("2", "3")
+    assert p.exit == 0
+    assert p.timeout == 12.5
     assert [(e.where, e.pattern.pattern) for e in p.expect] == [
         ("partner", r"I heard: \[Hello"),
         ("program", "Publishing"),
@@ -130,21 +133,24 @@ def test_a_program_passes_once_every_line_and_check_is_seen_and_waits_until_then
     assert judge(p, seen, timed_out=False) is None
     seen.partners = [["[INFO] [listener]: I heard: [Hello World: 0]"]]
     verdict = judge(p, seen, timed_out=False)
-    assert verdict is not None and verdict.passed
+    assert verdict is not None
+    assert verdict.passed
 
 
 def test_a_line_never_seen_fails_at_the_bound_naming_it_and_what_the_program_said():
     p = one(partners='["listener.py"]', expect='[{ in = "partner", line = "I heard" }]', timeout="30")
     seen = Observed(program=["[ERROR] [talker]: cannot publish"], partners=[[]], partner_exits=[None])
     verdict = judge(p, seen, timed_out=True)
-    assert verdict is not None and not verdict.passed
+    assert verdict is not None
+    assert not verdict.passed
     assert verdict.reason == "waited 30 s for a line /I heard/ from the partner: [ERROR] [talker]: cannot publish"
 
 
 def test_a_program_that_crashes_fails_at_once_with_its_exception_line():
     p = one(expect='[{ line = "Publishing" }]')
     verdict = judge(p, Observed(program=TRACEBACK, program_exit=1), timed_out=False)
-    assert verdict is not None and not verdict.passed
+    assert verdict is not None
+    assert not verdict.passed
     assert verdict.reason == f"ended (status 1) before a line /Publishing/ from the program: {TRACEBACK[-1]}"
 
 
@@ -156,19 +162,19 @@ def test_a_program_expected_to_end_passes_on_its_status_and_fails_on_another():
     assert judge(p, running, timed_out=False) is None  # seen, not ended yet
     assert judge(p, running, timed_out=True).reason == "did not end within 40 s"  # type: ignore[union-attr]
     crashed = judge(p, Observed(program=TRACEBACK, program_exit=1), timed_out=False)
-    assert crashed is not None and crashed.reason == f"exited with status 1: {TRACEBACK[-1]}"
+    assert crashed is not None
+    assert crashed.reason == f"exited with status 1: {TRACEBACK[-1]}"
     quiet = judge(p, Observed(program=["Goal failed to cancel"], program_exit=0), timed_out=False)
-    assert (
-        quiet is not None
-        and quiet.reason == "ended (status 0) before a line /Result of add_two_ints: 5/ from the program"
-    )
+    assert quiet is not None
+    assert quiet.reason == "ended (status 0) before a line /Result of add_two_ints: 5/ from the program"
 
 
 def test_a_partner_that_crashes_fails_the_program_naming_the_partner():
     p = one(partners='["listener.py"]', expect='[{ in = "partner", line = "I heard" }]')
     seen = Observed(program=["Publishing"], partners=[TRACEBACK], partner_exits=[1])
     verdict = judge(p, seen, timed_out=False, partner_names=["listener.py"])
-    assert verdict is not None and verdict.reason == f"partner listener.py exited with status 1: {TRACEBACK[-1]}"
+    assert verdict is not None
+    assert verdict.reason == f"partner listener.py exited with status 1: {TRACEBACK[-1]}"
 
 
 def test_checks_pass_in_order_and_a_failing_one_is_reported_with_its_last_output():
@@ -207,7 +213,8 @@ def test_the_report_is_a_markdown_table_failures_first_with_the_command_and_the_
     )
     lines = text.splitlines()
     assert lines[0] == "# Public ROS programs, unchanged: the results"
-    assert "`python -m bench.ros_corpus /c`" in lines[5] and "load average 12.5 11.0 9.2" in lines[6]
+    assert "`python -m bench.ros_corpus /c`" in lines[5]
+    assert "load average 12.5 11.0 9.2" in lines[6]
     assert "- pass rate: 1 of 2 (50 %)" in lines
     rows = [line for line in lines if line.startswith("| ros2/demos")]
     assert rows == [

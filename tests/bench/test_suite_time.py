@@ -36,9 +36,12 @@ def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypa
     lines = result.outlines
     header = lines.index(next(line for line in lines if line.startswith("suite time by file: 2 files")))
     assert lines[header + 1].split() == ["wall", "s", "setup", "s", "CPU", "s", "tests", "file"]
-    assert lines[header + 2].endswith("test_slow.py") and lines[header + 3].endswith("test_quick.py")
+    assert lines[header + 2].endswith("test_slow.py")
+    assert lines[header + 3].endswith("test_quick.py")
     times = json.loads(out.read_text())
     slow = times["test_slow.py"]
-    assert slow["tests"] == 2 and slow["setup_s"] >= 0.3 and slow["wall_s"] >= slow["setup_s"] + 0.4
+    assert slow["tests"] == 2
+    assert slow["setup_s"] >= 0.3
+    assert slow["wall_s"] >= slow["setup_s"] + 0.4
     assert slow["cpu_s"] >= 0.4  # the loop's CPU
     assert times["test_quick.py"]["tests"] == 1

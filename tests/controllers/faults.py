@@ -143,7 +143,7 @@ class OpensFiles(SPController):
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
         kept = self.__dict__.setdefault("kept", [])
         for _ in range(100):
-            kept.append(open(os.devnull))
+            kept.append(open(os.devnull))  # noqa: SIM115 - the file stays open beyond this block (closed by its owner, or held on purpose)
             kept.extend(os.pipe())
             kept.extend(socket.socketpair())
             kept.append(os.memfd_create("x"))

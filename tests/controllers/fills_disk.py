@@ -16,7 +16,7 @@ def _fill(path: str, files: int = 100, mib: int = 15) -> int:
     written = 0
     for index in range(files):
         try:
-            handle = open(os.path.join(path, f"filler-{index}"), "wb", buffering=0)
+            handle = open(os.path.join(path, f"filler-{index}"), "wb", buffering=0)  # noqa: SIM115 - the file stays open beyond this block (closed by its owner, or held on purpose)
         except OSError:  # read-only, or not there
             break
         with handle:

@@ -60,10 +60,12 @@ def gradescope(
 
 def valid(results: dict) -> None:
     """Gradescope's results.json: a score, tests with name, score, max_score, output, visibility."""
-    assert isinstance(results["score"], float) and isinstance(results["output"], str)
+    assert isinstance(results["score"], float)
+    assert isinstance(results["output"], str)
     for test in results["tests"]:
         assert set(test) == {"name", "score", "max_score", "output", "visibility"}
-        assert isinstance(test["name"], str) and test["visibility"] in VISIBILITY
+        assert isinstance(test["name"], str)
+        assert test["visibility"] in VISIBILITY
         assert 0 <= test["score"] <= test["max_score"]
     assert results["score"] == sum(t["score"] for t in results["tests"])
 
@@ -75,8 +77,10 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
         setup = z.read("setup.sh").decode()
         assert z.getinfo("run_autograder").external_attr >> 16 & 0o111
     assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/sim/procedures/battery.py"} <= names
-    assert config["seed"] == 5 and config["hide_until_due"] is True
-    assert "bubblewrap" in setup and 'pip" install --quiet --editable' in setup
+    assert config["seed"] == 5
+    assert config["hide_until_due"] is True
+    assert "bubblewrap" in setup
+    assert 'pip" install --quiet --editable' in setup
     snippets = re.findall(r'python"? -c "([^"]+)"', setup)
     assert snippets == ["from sim.warm_up import warm_up; warm_up()"]
     for snippet in snippets:  # what setup.sh runs in the lab's Python
@@ -87,10 +91,14 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
 def test_a_passing_submission(tmp_path, bundle):
     results = gradescope(tmp_path, bundle, (CONTROLLERS / "reference_sp.py").read_text())
     valid(results)
-    assert results["score"] == 130.0 and len(results["tests"]) == 13 + 9 + 2 + 1
+    assert results["score"] == 130.0
+    assert len(results["tests"]) == 13 + 9 + 2 + 1
     flag = results["tests"][0]
-    assert flag["max_score"] == 0 and "FLAGGED" in flag["output"] and "imports sim.controllers.sp" in flag["output"]
-    assert "PASS" in results["output"] and "bubblewrap cannot run" not in results["output"]
+    assert flag["max_score"] == 0
+    assert "FLAGGED" in flag["output"]
+    assert "imports sim.controllers.sp" in flag["output"]
+    assert "PASS" in results["output"]
+    assert "bubblewrap cannot run" not in results["output"]
     assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}  # --hide-until-due
 
 
@@ -112,9 +120,11 @@ def test_a_failing_submission_where_bubblewrap_cannot_run(tmp_path, bundle):
     results = gradescope(tmp_path, bundle, "class CooperativeLifting(:\n", {"PATH": "/nonexistent"})
     valid(results)
     # not graded: one test, 0 of the full 130 points (a gradebook reads 0/130, not 0/0)
-    assert results["score"] == 0.0 and [(t["score"], t["max_score"]) for t in results["tests"]] == [(0.0, 130.0)]
+    assert results["score"] == 0.0
+    assert [(t["score"], t["max_score"]) for t in results["tests"]] == [(0.0, 130.0)]
     assert "bubblewrap cannot run in this container" in results["output"]
-    assert "SyntaxError" in results["output"] and "seed 5, a private seed" in results["output"]
+    assert "SyntaxError" in results["output"]
+    assert "seed 5, a private seed" in results["output"]
 
 
 def test_the_services_exercises_with_services_even_when_the_node_says_ready_early(tmp_path):
@@ -136,4 +146,5 @@ def test_the_services_exercises_with_services_even_when_the_node_says_ready_earl
     services = [t for t in results["tests"] if t["name"].startswith("services")]
     assert len(services) == 10 and all(t["score"] == t["max_score"] > 0 for t in services), services
     valid(results)
-    assert results["score"] == 15.0 and "SyntaxError" in results["output"]  # the controller file: not loaded
+    assert results["score"] == 15.0
+    assert "SyntaxError" in results["output"]

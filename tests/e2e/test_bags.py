@@ -69,7 +69,8 @@ def test_a_programs_topic_is_recorded_and_played_back_looped_at_2x(lab, tmp_path
     assert "Topic: /student_info | Type: student_pkg/msg/StudentInfo" in info.stdout, info.stdout
     bag = bags.open_bag(tmp_path / "info")
     ages = [m.data["age"] for m in bag.messages()]
-    assert len(ages) >= 3 and ages == sorted(ages)
+    assert len(ages) >= 3
+    assert ages == sorted(ages)
     assert bag.definitions["student_pkg/msg/StudentInfo"] == "string name\nint32 age\nfloat64[] marks\n"
 
     listener = run(lab.url, "student_info_listener_rclpy.py")
@@ -106,7 +107,8 @@ def test_the_lab_s_own_topics_are_not_played_over_a_live_lab(lab, tmp_path):
     played = hri_lab("bag", "play", "--url", lab.url, str(tmp_path / "joints"))
     assert played.returncode == 1
     assert "/joint_states is published by the lab's simulation: not played" in played.stderr
-    assert "hri-lab serve --replay" in played.stderr and "nothing to play" in played.stderr
+    assert "hri-lab serve --replay" in played.stderr
+    assert "nothing to play" in played.stderr
 
 
 def test_a_ros1_bag_made_with_rosbags_plays_into_the_lab(lab, ros, tmp_path):
@@ -221,4 +223,5 @@ def test_json_of_the_bag_info_names_the_storage(tmp_path):
     writer.write("/chatter", 5, {"data": "x"})
     writer.close()
     info = json.loads(hri_lab("bag", "info", "--json", str(tmp_path / "b")).stdout)
-    assert info["storage"] == "mcap" and info["messages"] == 1
+    assert info["storage"] == "mcap"
+    assert info["messages"] == 1

@@ -5,6 +5,7 @@ answers within 5 px of the lab's own, with the box at rest and while the person 
 cv2.imshow window reaches the dashboard's API."""
 
 import base64
+import itertools
 import time
 
 import cv2
@@ -41,7 +42,7 @@ def distance_to_path(point: np.ndarray, path: list[np.ndarray]) -> float:
     """px from a point to the polyline through the path's pixels (one pixel: to that pixel)."""
     point = point.astype(float)
     best = float(np.linalg.norm(point - path[0]))
-    for a, b in zip(path[:-1], path[1:]):
+    for a, b in itertools.pairwise(path):
         a, b = a.astype(float), b.astype(float)
         span = b - a
         share = np.clip((point - a) @ span / max(span @ span, 1e-9), 0.0, 1.0)
@@ -51,7 +52,8 @@ def distance_to_path(point: np.ndarray, path: list[np.ndarray]) -> float:
 
 def test_the_image_over_http_is_the_cameras_png_and_the_info_its_intrinsics(lab):
     response = http.get(f"{lab.url}/camera/image.png", timeout=60)
-    assert response.status_code == 200 and response.headers["content-type"] == "image/png"
+    assert response.status_code == 200
+    assert response.headers["content-type"] == "image/png"
     image = cv2.imdecode(np.frombuffer(response.content, np.uint8), cv2.IMREAD_COLOR)
     assert image.shape == (480, 640, 3)
     message = http.get(f"{lab.url}/topics/image_raw", timeout=60).json()
@@ -60,9 +62,11 @@ def test_the_image_over_http_is_the_cameras_png_and_the_info_its_intrinsics(lab)
     assert len(base64.b64decode(message["data"])) == 480 * 1920
     info = http.get(f"{lab.url}/topics/camera_info", timeout=30).json()
     assert info["k"] == [500.0, 0.0, 320.0, 0.0, 500.0, 240.0, 0.0, 0.0, 1.0]
-    assert info["p"][:3] == [500.0, 0.0, 320.0] and info["d"] == [0.0] * 5
+    assert info["p"][:3] == [500.0, 0.0, 320.0]
+    assert info["d"] == [0.0] * 5
     refused = http.get(f"{lab.url}/camera/image.gif", timeout=30)
-    assert refused.status_code == 422 and "kind" in refused.text
+    assert refused.status_code == 422
+    assert "kind" in refused.text
 
 
 def test_image_raw_streams_over_the_http_websocket(lab):
@@ -73,7 +77,8 @@ def test_image_raw_streams_over_the_http_websocket(lab):
     with connect(f"ws://127.0.0.1:{lab.port}/topics/image_raw/stream?rate=5", max_size=None, open_timeout=30) as ws:
         first, second = json.loads(ws.recv(timeout=60)), json.loads(ws.recv(timeout=60))
     stamps = [m["header"]["stamp"]["sec"] + m["header"]["stamp"]["nanosec"] * 1e-9 for m in (first, second)]
-    assert first["encoding"] == "bgr8" and len(base64.b64decode(second["data"])) == 480 * 640 * 3
+    assert first["encoding"] == "bgr8"
+    assert len(base64.b64decode(second["data"])) == 480 * 640 * 3
     assert stamps[1] - stamps[0] >= 0.2 - 0.0005  # at most 5 a second of simulated time
 
 
@@ -131,7 +136,8 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
                 checked += 1
         assert checked >= 10, "the box was not carried across the image"
         windows = wait_for(lambda: http.get(f"{lab.url}/camera/windows", timeout=30).json())
-        assert windows[0]["name"] == "detection" and windows[0]["topic"] == "/image_windows/detection"
+        assert windows[0]["name"] == "detection"
+        assert windows[0]["topic"] == "/image_windows/detection"
         shown = http.get(f"{lab.url}/camera/windows/detection.jpg", timeout=30)
         assert shown.headers["content-type"] == "image/jpeg"
         assert cv2.imdecode(np.frombuffer(shown.content, np.uint8), cv2.IMREAD_COLOR).shape == (480, 640, 3)

@@ -28,24 +28,30 @@ def test_cli_experiment_json():
     trial = data["trials"][0]
     assert set(trial) >= {"success", "duration", "f_n_min", "f_n_max", "max_friction_ratio", "slip", "reason"}
     table = experiment(*SHORT, "--quiet")
-    assert "participant" in table and "hasty" in table and "success: " in table
+    assert "participant" in table
+    assert "hasty" in table
+    assert "success: " in table
     bad = subprocess.run(
         [sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True
     )
-    assert bad.returncode == 2 and "--trials" in bad.stderr
+    assert bad.returncode == 2
+    assert "--trials" in bad.stderr
 
 
 def test_cli_compare_runs_the_same_participants_and_seeds_with_each_controller():
     data = json.loads(experiment("--compare", "sp,patch", *SHORT, "--json", "--jobs", "2"))
     title_asked = f"seed 3; parameters: alpha = 0.8 (default {LiftingParams().alpha:g})"
-    assert data["set"] == {"alpha": 0.8} and data["seed"] == 3
+    assert data["set"] == {"alpha": 0.8}
+    assert data["seed"] == 3
     data = data["results"]
-    assert list(data) == ["sp", "patch"] and list(data["sp"]) == list(data["patch"]) == ["hasty"]
+    assert list(data) == ["sp", "patch"]
+    assert list(data["sp"]) == list(data["patch"]) == ["hasty"]
     (sp,), (patch,) = data["sp"]["hasty"], data["patch"]["hasty"]
     assert sp["seed"] == patch["seed"] == plan(1, "hasty", 3)[0][3]
     # the table the CLI prints without --json, from these results
     results = {name: {"hasty": [TrialResult(**r) for r in data[name]["hasty"]]} for name in data}
     title, header, _, _, row, _, total = format_comparison(results, title_asked).splitlines()
     assert title == title_asked
-    assert header.split() == ["participant", "sp", "|", "patch"] and row.startswith("hasty")
+    assert header.split() == ["participant", "sp", "|", "patch"]
+    assert row.startswith("hasty")
     assert total.split("|")[0].split()[-2] == f"{int(sp['success'])}/1"

@@ -39,7 +39,7 @@ def cli(*argv: str) -> int:
 
 
 @pytest.mark.parametrize(
-    "kind, what",
+    ("kind", "what"),
     [
         ("random", "a binary file of another format"),
         ("text", "a text file"),
@@ -52,7 +52,8 @@ def test_a_file_that_is_not_mcap_is_named_and_the_exit_is_non_zero(files, kind, 
     code = cli(*command, str(files[kind]))
     out, err = capsys.readouterr()
     assert code == 1
-    assert "not an MCAP recording" in err and what in err
+    assert "not an MCAP recording" in err
+    assert what in err
     assert "Messages:" not in out  # no summary of 0 messages, no 1970 start
     if kind != "folder":
         assert "hri-lab record" in err  # what to do
@@ -95,7 +96,7 @@ def test_param_load_names_a_file_that_is_not_a_parameter_file(files, tmp_path, c
 
 
 @pytest.mark.parametrize(
-    "content, reason",
+    ("content", "reason"),
     [
         (RANDOM, "not a parameter file (binary, not UTF-8 text"),
         (TEXT.encode(), "maps node names to {ros__parameters: {...}}, as `hri-lab param dump` writes it"),
@@ -107,7 +108,8 @@ def test_experiment_params_names_a_file_that_is_not_a_parameter_file(tmp_path, c
     path.write_bytes(content)
     assert cli("experiment", "--params", str(path), "--trials", "1", "--quiet") == 2
     err = capsys.readouterr().err
-    assert f"{path}: " in err and reason in err
+    assert f"{path}: " in err
+    assert reason in err
 
 
 def test_serve_params_names_a_binary_file_and_does_not_start(files, capsys):
@@ -117,7 +119,7 @@ def test_serve_params_names_a_binary_file_and_does_not_start(files, capsys):
 
 
 @pytest.mark.parametrize(
-    "kind, reason",
+    ("kind", "reason"),
     [("random", "is not a Python file (binary, not source text)"), ("folder", "is a folder, not a controller file")],
 )
 def test_a_controller_that_is_not_a_python_file_is_named(files, kind, reason, capsys):
@@ -131,4 +133,5 @@ def test_grade_reports_a_binary_file_as_not_graded(files, tmp_path, capsys):
     code = cli("grade", str(files["random"]), "--quiet", "--jobs", "1", "--out", str(tmp_path / "reports"))
     out = capsys.readouterr().out
     assert code == 1
-    assert "NOT GRADED" in out and "is not a Python file (binary, not source text)" in out
+    assert "NOT GRADED" in out
+    assert "is not a Python file (binary, not source text)" in out

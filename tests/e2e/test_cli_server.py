@@ -29,7 +29,8 @@ def cli(url, *args):
 
 def test_serve_prints_the_urls_and_binds_loopback(server):
     url, banner = server
-    assert f"{url}/docs" in banner and f"{url}/services" in banner
+    assert f"{url}/docs" in banner
+    assert f"{url}/services" in banner
     assert url.startswith("http://127.0.0.1:")
     assert http.get(f"{url}/health").json()["loop_alive"] is True
 
@@ -48,7 +49,8 @@ def test_service_cli(server):
     assert call.returncode == 0
     assert "response:\nhri_lab.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
     bad = cli(url, "service", "call", "/add_two_ints", "{a: 1, b: x}")
-    assert bad.returncode == 1 and "b: Input should be a valid integer" in bad.stderr
+    assert bad.returncode == 1
+    assert "b: Input should be a valid integer" in bad.stderr
     assert (
         cli(url, "service", "show", "/start_cooperative_lifting").stdout
         == "float64 force\nstring controller  # '' keeps the current one; sp or patch\n---\nstring message\n"
@@ -66,7 +68,8 @@ def test_param_cli(server, tmp_path):
     )
     assert cli(url, "param", "set", "/cooperative_lifting", "mu", "0.6").stdout.strip() == "Set parameter successful"
     described = cli(url, "param", "describe", "/sim", "rate_hz").stdout
-    assert "Type: integer" in described and "Read only: true" in described
+    assert "Type: integer" in described
+    assert "Read only: true" in described
     dump = cli(url, "param", "dump", "/cooperative_lifting").stdout
     assert "mu: 0.6" in dump
     path = tmp_path / "p.yaml"
@@ -87,16 +90,19 @@ def test_param_get_of_a_ros1_name_is_rosparam_get(server):
     out = cli(url, "param", "get", "/robot_description")
     assert out.returncode == 0 and out.stdout == panda_urdf().read_text(encoding="utf-8"), out.stderr
     missing = cli(url, "param", "get", "/no_such_param")
-    assert missing.returncode == 1 and missing.stderr.strip() == "ERROR: Parameter [/no_such_param] is not set"
+    assert missing.returncode == 1
+    assert missing.stderr.strip() == "ERROR: Parameter [/no_such_param] is not set"
 
 
 def test_topic_cli(server):
     url, _ = server
     assert "/franka_state_controller/F_ext [geometry_msgs/WrenchStamped]" in cli(url, "topic", "list", "-t").stdout
     echo = cli(url, "topic", "echo", "/lifting_state", "--once").stdout
-    assert "started: false" in echo and echo.rstrip().endswith("---")
+    assert "started: false" in echo
+    assert echo.rstrip().endswith("---")
     stream = cli(url, "topic", "echo", "/joint_states", "--rate", "20", "--count", "3").stdout
-    assert stream.count("---") == 3 and "panda_joint7" in stream
+    assert stream.count("---") == 3
+    assert "panda_joint7" in stream
 
 
 def test_the_client_commands_do_not_load_the_simulation():
@@ -113,7 +119,8 @@ def test_the_client_commands_do_not_load_the_simulation():
 
 def test_cli_without_server_is_a_clear_error():
     out = cli("http://127.0.0.1:1", "service", "list")
-    assert out.returncode == 1 and "cannot reach the hri-lab server" in out.stderr
+    assert out.returncode == 1
+    assert "cannot reach the hri-lab server" in out.stderr
 
 
 def test_bad_params_file_refuses_to_start(tmp_path):
@@ -125,7 +132,8 @@ def test_bad_params_file_refuses_to_start(tmp_path):
         text=True,
         timeout=60,
     )
-    assert out.returncode == 2 and "Wrong parameter type, parameter {mu}" in out.stderr
+    assert out.returncode == 2
+    assert "Wrong parameter type, parameter {mu}" in out.stderr
 
 
 def test_a_client_that_never_reads_does_not_stall_the_loop(server):
@@ -162,11 +170,13 @@ def test_action_cli(server):
     out = cli(url, "action", "send_goal", "/count", "{count: 2}", "--feedback")
     assert out.returncode == 0, out.stderr
     assert "Goal accepted with ID:" in out.stdout
-    assert out.stdout.count("Feedback:") == 2 and "current_number: 2" in out.stdout
+    assert out.stdout.count("Feedback:") == 2
+    assert "current_number: 2" in out.stdout
     assert "Result:\n    final_count: 2" in out.stdout
     assert out.stdout.rstrip().endswith("Goal finished with status: SUCCEEDED")
     bad = cli(url, "action", "send_goal", "/count", "{count: -3}")
-    assert bad.returncode == 1 and "count" in bad.stderr
+    assert bad.returncode == 1
+    assert "count" in bad.stderr
 
 
 def test_ctrl_c_stops_the_lab_without_a_traceback():

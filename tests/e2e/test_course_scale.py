@@ -32,11 +32,13 @@ def scheduler():
     from distributed import LocalCluster
 
     # a task may kill one worker and be run again; one that kills two is lost (KilledWorker)
-    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
-        with LocalCluster(
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": 1}),
+        LocalCluster(
             n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, scheduler_port=0
-        ) as cluster:
-            yield cluster.scheduler_address
+        ) as cluster,
+    ):
+        yield cluster.scheduler_address
 
 
 def cli(*args: str, check_status: int | None = None) -> subprocess.CompletedProcess:
@@ -74,7 +76,8 @@ def test_a_cluster_grades_a_folder_as_the_local_run_does(tmp_path, scheduler):
     }
     assert files_of(tmp_path / "cluster") == reports  # byte for byte
     good = json.loads(reports["good.json"])
-    assert good["points"] == good["max_points"] == 65.0 and good["seed"] == 7
+    assert good["points"] == good["max_points"] == 65.0
+    assert good["seed"] == 7
     assert "ZeroDivisionError: a bug in step" in reports["raising.txt"].decode()
     assert "SyntaxError" in json.loads(reports["syntax.json"])["error"]
 
@@ -91,7 +94,8 @@ def test_the_environment_names_the_cluster_and_trials_run_there_as_here(schedule
         env=env,
     )
     assert remote.returncode == 0 and remote.stdout == local.stdout, remote.stderr
-    assert "calm" in local.stdout and "0.4" in local.stdout
+    assert "calm" in local.stdout
+    assert "0.4" in local.stdout
 
 
 def die(code: int) -> str:
@@ -117,13 +121,13 @@ def test_a_batch_resumes_and_regrades_only_what_changed(tmp_path):
     before = files_of(out)
     stamps = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
     report = json.loads(before["first.json"])
-    assert report["seed"] == 0 and len(report["sha256"]) == 64
+    assert report["seed"] == 0
+    assert len(report["sha256"]) == 64
 
     again = cli(*grade, check_status=1)
     assert "skipped 3 up to date" in again.stderr
-    assert files_of(out) == before and all(
-        (out / n).stat().st_mtime_ns == t for n, t in stamps.items() if n != "summary.csv"
-    )
+    assert files_of(out) == before
+    assert all((out / n).stat().st_mtime_ns == t for n, t in stamps.items() if n != "summary.csv")
 
     (folder / "second.py").write_text(RAISING.format(why="second bug, fixed badly"))
     changed = cli(*grade, check_status=1)
@@ -143,7 +147,6 @@ def test_a_batch_resumes_and_regrades_only_what_changed(tmp_path):
 
 def test_a_scheduler_address_that_is_none_is_refused_with_its_reason():
     run = cli("grade", str(CONTROLLERS / "reference_sp.py"), "--scheduler", "not an address")
-    assert (
-        run.returncode == 2 and "argument --scheduler: 'not an address' is not a Dask scheduler's address" in run.stderr
-    )
+    assert run.returncode == 2
+    assert "argument --scheduler: 'not an address' is not a Dask scheduler's address" in run.stderr
     assert "Traceback" not in run.stderr

@@ -16,7 +16,8 @@ def test_the_instructors_page(tmp_path):
     folder = run.folder
     report = json.loads((folder / "reports" / "cooperative_lifting.json").read_text())
     assert (report["points"], report["max_points"], report["seed"], report["public_seed"]) == (15.0, 130.0, 2024, False)
-    assert (folder / "reports" / "ada.json").exists() and (folder / "reports" / "results.json").exists()  # one file
+    assert (folder / "reports" / "ada.json").exists()
+    assert (folder / "reports" / "results.json").exists()
     services = json.loads((folder / "services" / "services.json").read_text())
     assert (services["points"], services["max_points"]) == (1.0, 15.0)
     # the students' zip: no tests/, and the lab in it runs on its own (here: its template command)

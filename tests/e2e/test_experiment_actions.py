@@ -22,12 +22,14 @@ def test_run_experiment_action_leaves_the_live_robot_alone(client, lab):
     goal_id = client.post("/actions/run_experiment/goals", json=goal).json()["goal_id"]
     view = wait_terminal(client, "run_experiment", goal_id, timeout=120)
     assert view["status"] == "succeeded", view
-    assert view["result"]["trials"] == 1 and "hasty" in view["result"]["table"]
+    assert view["result"]["trials"] == 1
+    assert "hasty" in view["result"]["table"]
     defaults = LiftingParams()
     assert view["result"]["table"].splitlines()[0] == (
         f"parameters: alpha = 0.9 (default {defaults.alpha:g}), k_t = 0.2 (default {defaults.k_t:g})"
     )
-    assert view["feedback"][0]["trial"] == 1 and view["feedback"][0]["of"] == 1
+    assert view["feedback"][0]["trial"] == 1
+    assert view["feedback"][0]["of"] == 1
     assert lab.snapshot().q == pytest.approx(q_before, abs=1e-6)
     assert lab.snapshot().time > sim_before + 0.5  # and the live loop kept running meanwhile
 
@@ -40,7 +42,8 @@ def test_compare_controllers_action_runs_the_same_trials_with_each_controller(cl
     view = wait_terminal(client, "compare_controllers", goal_id, timeout=180)
     assert view["status"] == "succeeded", view
     result = view["result"]
-    assert result["controllers"] == ["sp", "patch"] and result["trials"] == [1, 1]
+    assert result["controllers"] == ["sp", "patch"]
+    assert result["trials"] == [1, 1]
     assert [(f["controller"], f["participant"], f["trial"], f["of"]) for f in view["feedback"]] == [
         ("sp", "hasty", 1, 2),
         ("patch", "hasty", 2, 2),
@@ -63,5 +66,7 @@ def test_experiment_action_returns_figure_urls(client, lab, tmp_path):
     assert figures == [f"/figures/{run}/summary.png", f"/figures/{run}/trial01_hasty_1.png"]
     for url in figures:
         png = client.get(url)
-        assert png.status_code == 200 and png.headers["content-type"] == "image/png" and png.content[:4] == b"\x89PNG"
+        assert png.status_code == 200
+        assert png.headers["content-type"] == "image/png"
+        assert png.content[:4] == b"\x89PNG"
     assert client.get(f"/figures/{run}/trial01_hasty_1.svg").headers["content-type"].startswith("image/svg+xml")

@@ -38,16 +38,20 @@ def test_overrides_reach_the_trial_world_controller_and_person():
     index, person, attempt, seed = plan(1, "average", 0)[0]
     trial = make_trial(index, person, attempt, seed, setup=overrides.setup_of(found))
     world = trial.world
-    assert world.params.k_t == 0.3 and world.params.alpha == 0.5
-    assert world.config.box.mass == 2.0 and world.box.params.mass == 2.0
-    assert world.config.plate_contact.normal_stiffness == 3.0e4 and world.config.plate_contact.mu == 0.6
+    assert world.params.k_t == 0.3
+    assert world.params.alpha == 0.5
+    assert world.config.box.mass == 2.0
+    assert world.box.params.mass == 2.0
+    assert world.config.plate_contact.normal_stiffness == 3.0e4
+    assert world.config.plate_contact.mu == 0.6
     assert world.config.sensor.force_noise_std == 0.0
     assert 19.0 <= world.human.participant.squeeze_force <= 21.0  # a try varies the squeeze by +-1 N
-    assert world.human.participant.name == "average" and world.human.participant.peak_speed != 0.08
+    assert world.human.participant.name == "average"
+    assert world.human.participant.peak_speed != 0.08
 
 
 @pytest.mark.parametrize(
-    "assignment, node",
+    ("assignment", "node"),
     [
         ("alpha=1.5", "cooperative_lifting"),
         ("alpha=fast", "cooperative_lifting"),
@@ -62,7 +66,8 @@ def test_a_bad_override_gets_the_parameter_servers_message(assignment, node):
         ParameterServer(LAB_PARAMETERS, lab=None).set(node, name, overrides._scalar(value))
     with pytest.raises(ParameterRefused) as override:
         overrides.parse_set([assignment])
-    assert str(override.value) == str(server.value) and name in str(override.value)
+    assert str(override.value) == str(server.value)
+    assert name in str(override.value)
 
 
 def test_parameters_that_do_not_apply_to_a_trial():
@@ -136,13 +141,17 @@ def test_cli_sweep_reproduces_the_hasty_finding():
         "k_t=0.1",
     ]
     data = json.loads(subprocess.run(cmd + ["--json"], capture_output=True, text=True, check=True, timeout=300).stdout)
-    assert data["parameters"] == ["alpha"] and data["set"] == {}
+    assert data["parameters"] == ["alpha"]
+    assert data["set"] == {}
     (low, high) = data["points"]
-    assert low["values"] == {"alpha": 0.5} and low["participants"]["hasty"]["successes"] == 1
-    assert high["values"] == {"alpha": 0.8} and high["participants"]["hasty"]["successes"] == 0
+    assert low["values"] == {"alpha": 0.5}
+    assert low["participants"]["hasty"]["successes"] == 1
+    assert high["values"] == {"alpha": 0.8}
+    assert high["participants"]["hasty"]["successes"] == 0
     assert high["trials"][0]["seed"] == low["trials"][0]["seed"] == plan(1, "hasty", 3)[0][3]
     bad = subprocess.run(cmd[:5] + ["alpha=0.5,7"], capture_output=True, text=True, timeout=60)
-    assert bad.returncode == 2 and "Parameter {alpha} doesn't comply with floating point range." in bad.stderr
+    assert bad.returncode == 2
+    assert "Parameter {alpha} doesn't comply with floating point range." in bad.stderr
 
 
 def test_cli_table_header_states_the_changed_parameters(tmp_path):

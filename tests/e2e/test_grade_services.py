@@ -38,7 +38,8 @@ def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path)
         stop_node(node)
     assert result.returncode == 0, result.stdout + result.stderr
     gradescope = json.loads(result.stdout)
-    assert gradescope["score"] == 15 and len(gradescope["tests"]) == 10
+    assert gradescope["score"] == 15
+    assert len(gradescope["tests"]) == 10
     assert all(t["score"] == t["max_score"] > 0 for t in gradescope["tests"])
     assert {p.name for p in tmp_path.iterdir()} == {"services.txt", "services.json", "results.json", "summary.csv"}
     assert "PASS" in (tmp_path / "services.txt").read_text()
@@ -63,7 +64,8 @@ def test_the_untouched_template_fails_and_the_seed_draws_the_cases(lab):
         first, again, other = (grade_services(lab.url, seed) for seed in (5, 5, 6))
     finally:
         stop_node(node)
-    assert first.passed is False and first.points == 1  # only the done example, add_two_ints
+    assert first.passed is False
+    assert first.points == 1
     assert first.json() == again.json()  # the same seed, the same report
     details = [{i.name: i.detail for i in r.items}[TORQUES] for r in (first, other)]
     assert details[0] != details[1]  # another seed, other wrenches
@@ -72,7 +74,8 @@ def test_the_untouched_template_fails_and_the_seed_draws_the_cases(lab):
 def test_no_node_every_exercise_is_not_provided(lab):
     result = grade(lab)
     assert result.returncode == 1
-    assert result.stdout.count("not provided yet") == 10 and "score: 0/15" in result.stdout
+    assert result.stdout.count("not provided yet") == 10
+    assert "score: 0/15" in result.stdout
 
 
 def test_a_lab_that_cannot_be_reached_is_said_so():
@@ -82,7 +85,8 @@ def test_a_lab_that_cannot_be_reached_is_said_so():
         text=True,
         timeout=60,
     )
-    assert result.returncode == 2 and "cannot reach the lab at http://127.0.0.1:9" in result.stderr
+    assert result.returncode == 2
+    assert "cannot reach the lab at http://127.0.0.1:9" in result.stderr
 
 
 STOP = "/stop_cooperative_lifting: f_n_min = 0, stopped (Exercises 11-14)"

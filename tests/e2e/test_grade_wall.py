@@ -37,7 +37,8 @@ def test_the_reference_passes_and_the_wrong_followers_fail_with_their_reasons(tm
         assert report["passed"] == name.startswith("wall_follower"), item
         assert "cylinder" in item["name"] or "box" in item["name"]
         gradescope = json.loads((out / f"{name}.results.json").read_text())
-        assert gradescope["score"] == report["points"] and gradescope["tests"][0]["output"].endswith(item["detail"])
+        assert gradescope["score"] == report["points"]
+        assert gradescope["tests"][0]["output"].endswith(item["detail"])
     straight = json.loads((out / "drive_straight_rclpy.json").read_text())["items"][0]["detail"]
     assert "touched the obstacle" in straight
     spin = json.loads((out / "spin_in_place_rospy.json").read_text())["items"][0]["detail"]

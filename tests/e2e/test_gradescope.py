@@ -110,7 +110,8 @@ def test_a_roslibpy_node(autograder):
     assert len(sections["services"]) == 10
     assert all(t["score"] == t["max_score"] > 0 for t in sections["services"]), sections["services"]
     assert [(t["score"], t["max_score"]) for t in sections["controller"]] == [(0.0, 130.0)]  # cannot be loaded
-    assert results["score"] == 15.0 and "SyntaxError" in results["output"]
+    assert results["score"] == 15.0
+    assert "SyntaxError" in results["output"]
 
 
 def test_a_rospy_node(autograder):
@@ -127,7 +128,8 @@ def test_a_rospy_node(autograder):
         "services: /add_two_ints: sum of two int64 (exact near 2^63)"
     ]
     assert [(t["score"], t["max_score"]) for t in by_section(results)["controller"]] == [(0.0, 130.0)]
-    assert results["score"] == 1.0 and "not_a_module_here" in results["output"]
+    assert results["score"] == 1.0
+    assert "not_a_module_here" in results["output"]
 
 
 def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path):
@@ -158,7 +160,8 @@ def test_setup_stops_where_there_is_no_python_it_can_use(tmp_path):
         env={"PATH": str(stubs), "HRI_LAB_GRADESCOPE_ROOT": str(tmp_path / "root")},
     )
     assert done.returncode == 1
-    assert "needs Python >= 3.11" in done.stderr and "Python 3.10.12" in done.stderr
+    assert "needs Python >= 3.11" in done.stderr
+    assert "Python 3.10.12" in done.stderr
     assert "Ubuntu 24.04 base image" in done.stderr
     assert "install -y -qq python3.11 python3.11-venv" in (stubs / "apt.log").read_text()  # 22.04's package, tried
     assert not (tmp_path / "root").exists()

@@ -20,8 +20,8 @@ from sim.procedures.trial import Trial
 from tests.http_client import http
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
-import mutants  # noqa: E402
-import template_filled  # noqa: E402
+import mutants
+import template_filled
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 REFERENCE = str(CONTROLLERS / "reference_sp.py")
@@ -68,7 +68,9 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert run.returncode == 0, run.stdout + run.stderr
     report = json.loads((out / "reference_sp.json").read_text())
     flag = report["items"].pop(0)  # first: what an instructor reads first
-    assert flag["max_points"] == 0 and "FLAGGED" in flag["detail"] and "imports sim.controllers.sp" in flag["detail"]
+    assert flag["max_points"] == 0
+    assert "FLAGGED" in flag["detail"]
+    assert "imports sim.controllers.sp" in flag["detail"]
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
     # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)
     assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
@@ -76,17 +78,19 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert report["passed"] is True
     # the hasty trials count (at the default margin the reference SP carries them) and are carried
     hasty = [i for i in report["items"] if "hasty" in i["name"]]
-    assert len(hasty) == 3 and all(i["max_points"] == i["points"] == 5.0 and i["mark"] == "ok" for i in hasty)
+    assert len(hasty) == 3
+    assert all(i["max_points"] == i["points"] == 5.0 and i["mark"] == "ok" for i in hasty)
     assert (out / "reference_sp.txt").read_text().count("not counted") == 1  # the flag alone
     results = json.loads(run.stdout)
     assert results == json.loads((out / "results.json").read_text())
-    assert results["score"] == 130.0 and len(results["tests"]) == len(report["items"]) + 1 == 13 + 9 + 2 + 1
+    assert results["score"] == 130.0
+    assert len(results["tests"]) == len(report["items"]) + 1 == 13 + 9 + 2 + 1
     assert set(results["tests"][0]) == {"name", "score", "max_score", "output"}
     assert (out / "summary.csv").read_text().splitlines()[1].startswith(f"{REFERENCE},130,130,100.0,yes")
 
 
 @pytest.mark.parametrize(
-    "cls, lost",
+    ("cls", "lost"),
     [
         (mutants.EEFrame, {"below the band: press along +n", "below the band at another pose: +n in the base frame"}),
         (
@@ -105,7 +109,8 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
 def test_each_mutant_loses_the_probes_of_its_mistake(cls, lost):
     lost_now = failed(cls)
     if cls is mutants.EEFrame:  # every probe that moves is in the wrong frame: it falls below the mark
-        assert lost <= set(lost_now) and "(base frame)" in lost_now["below the band: press along +n"]
+        assert lost <= set(lost_now)
+        assert "(base frame)" in lost_now["below the band: press along +n"]
         assert len(lost_now) > len(PROBES) * (1 - PROBE_PASS_MARK / 100)
     elif cls is mutants.BandTooWide:
         assert lost <= set(lost_now) <= lost | {"above the band: release along -n"}
@@ -159,9 +164,11 @@ def test_the_flipped_tangential_sign_loses_the_box():
     at 1 s), slides the plate off the box (no contact at 2 s) and never gets a grip (both measured
     with this seed)."""
     result = Trial(PARTICIPANTS["average"], 3, mutants.TangentialFlipped(), params=LiftingParams(alpha=0.8)).run()
-    assert not result.success and result.reason.startswith("dropped")
+    assert not result.success
+    assert result.reason.startswith("dropped")
     result = Trial(PARTICIPANTS["average"], 3, mutants.TangentialFlipped()).run()
-    assert not result.success and result.reason.startswith("no grip")
+    assert not result.success
+    assert result.reason.startswith("no grip")
 
 
 def test_probe_values_come_from_the_seed():
@@ -214,7 +221,8 @@ def test_a_file_without_start_and_stop_scores_no_more_than_the_templates_todo_on
         NO_HANDLERS
         + "\n    def start(self, params, force):\n        return 'TODO'\n\n    def stop(self, params):\n        return 'TODO'\n"
     )
-    assert set(lost) == set(failed(PluginFactory(str(todo)))) and len(lost) > 1
+    assert set(lost) == set(failed(PluginFactory(str(todo))))
+    assert len(lost) > 1
     (index, person, attempt, seed), *_ = plan(1, seed=0)
     (trial,) = trial_items(index, person, attempt, seed, graded(PluginFactory(str(path))))
     assert trial.points == 0 and trial.detail.startswith("no grip"), trial.detail
@@ -222,7 +230,8 @@ def test_a_file_without_start_and_stop_scores_no_more_than_the_templates_todo_on
     try:
         params = LiftingParams()
         live.start(params, 10.0)
-        assert params.running and params.f_n_min == 10.0
+        assert params.running
+        assert params.f_n_min == 10.0
     finally:
         live.close()
 
@@ -252,9 +261,12 @@ def test_a_crash_shows_the_students_frames_once_with_the_items_it_cost(tmp_path)
     text = report.text()
     assert text.count("Traceback (most recent call last)") == 1, text
     trace = text[text.index("Traceback") :]
-    assert f'File "{path}", line 14, in step' in trace and f'File "{path}", line 6, in helper' in trace
+    assert f'File "{path}", line 14, in step' in trace
+    assert f'File "{path}", line 6, in helper' in trace
     assert "ZeroDivisionError: integer division or modulo by zero" in trace
-    assert "sandbox" not in trace and "child.py" not in trace and "sim/" not in trace  # no grader frame
+    assert "sandbox" not in trace
+    assert "child.py" not in trace
+    assert "sim/" not in trace
     cost = [line for line in text.splitlines() if line.startswith("A fault cost")]
     assert len(cost) == 1 and "12 item(s)" in cost[0], cost  # every probe that steps it (start/stop do not)
 
@@ -264,7 +276,7 @@ def test_plugin_loading_errors(tmp_path):
         PluginFactory(str(tmp_path / "missing.py"))()
     bad = tmp_path / "bad.py"
     bad.write_text("import does_not_exist\n")
-    with pytest.raises(PluginError, match="importing .* failed: ModuleNotFoundError"):
+    with pytest.raises(PluginError, match=r"importing .* failed: ModuleNotFoundError"):
         PluginFactory(str(bad))()
     with pytest.raises(PluginError, match="has no class Nope"):
         PluginFactory(f"{REFERENCE}:Nope")()
@@ -300,7 +312,8 @@ def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
         while not (error := http.get(f"{url}/topics/lifting_state").json()["error"]) and time.monotonic() < deadline:
             time.sleep(0.1)
         assert "controller error: Raising.step raised ZeroDivisionError: oops, a bug in step" in error
-        assert "Traceback" in error and "broken.py" in error
+        assert "Traceback" in error
+        assert "broken.py" in error
         command = http.get(f"{url}/topics/cartesian_velocity_controller/command").json()
         assert all(v == 0.0 for v in command["linear"].values())
         assert http.get(f"{url}/health").json()["loop_alive"] is True
@@ -314,7 +327,8 @@ def test_the_template_filled_in_as_its_hints_say_passes():
     assert failed(template_filled.CooperativeLifting) == {}
     filled = Trial(PARTICIPANTS["average"], 4, template_filled.CooperativeLifting()).run()
     reference = Trial(PARTICIPANTS["average"], 4).run()
-    assert filled.success and reference.success
+    assert filled.success
+    assert reference.success
     assert filled.steps == reference.steps
     assert (filled.duration, filled.f_n_min, filled.f_n_max, filled.slip) == pytest.approx(
         (reference.duration, reference.f_n_min, reference.f_n_max, reference.slip), rel=1e-6

@@ -75,7 +75,8 @@ def test_a_dead_loop_thread_is_reported_and_restarted(client, lab):
     lab.call(_kill_the_loop_thread)
     wait_for(lambda: lab.runtime.health().restarts >= 1)
     health = client.get("/health").json()
-    assert health["loop_restarts"] >= 1 and "SystemExit: killed by a test" in health["last_loop_death"]
+    assert health["loop_restarts"] >= 1
+    assert "SystemExit: killed by a test" in health["last_loop_death"]
     t0 = client.get("/health").json()["sim_time"]
     wait_for(lambda: client.get("/health").json()["sim_time"] > t0 + 0.1)  # stepping again
     assert client.get("/health").json()["loop_alive"] is True
@@ -88,7 +89,8 @@ def test_a_killed_simulation_process_is_reported_and_restarted(client, lab):
     os.kill(pid, signal.SIGKILL)
     wait_for(lambda: lab.runtime.pid not in (None, pid) and lab.runtime.health().alive)
     health = client.get("/health").json()
-    assert health["last_loop_death"] == "simulation process killed by SIGKILL" and health["loop_restarts"] >= 1
+    assert health["last_loop_death"] == "simulation process killed by SIGKILL"
+    assert health["loop_restarts"] >= 1
     assert health["loop_alive"] is True
     t0 = health["sim_time"]
     wait_for(lambda: client.get("/health").json()["sim_time"] > t0 + 0.1)  # the new process steps
@@ -98,8 +100,12 @@ def test_a_killed_simulation_process_is_reported_and_restarted(client, lab):
 
 
 def test_loopback_detection():
-    assert is_loopback("127.0.0.1") and is_loopback("127.3.4.5") and is_loopback("::1") and is_loopback("localhost")
-    assert not is_loopback("0.0.0.0") and not is_loopback("10.1.2.3")
+    assert is_loopback("127.0.0.1")
+    assert is_loopback("127.3.4.5")
+    assert is_loopback("::1")
+    assert is_loopback("localhost")
+    assert not is_loopback("0.0.0.0")
+    assert not is_loopback("10.1.2.3")
 
 
 def test_binding_another_address_needs_a_token():
@@ -110,7 +116,8 @@ def test_binding_another_address_needs_a_token():
         timeout=60,
         env={k: v for k, v in __import__("os").environ.items() if k != "HRI_LAB_TOKEN"},
     )
-    assert run.returncode == 2 and "needs a token" in run.stderr
+    assert run.returncode == 2
+    assert "needs a token" in run.stderr
 
 
 @pytest.fixture(scope="module")
@@ -122,7 +129,8 @@ def guarded_server():
 def test_a_change_without_the_token_is_refused(guarded_server):
     url = guarded_server
     refused = http.post(f"{url}/services/start_cooperative_lifting", json={"force": 10})
-    assert refused.status_code == 401 and "token" in refused.json()["detail"]
+    assert refused.status_code == 401
+    assert "token" in refused.json()["detail"]
     assert http.put(f"{url}/params/keytwist/linear_speed", json={"value": 0.2}).status_code == 401
     wrong = http.post(f"{url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"Authorization": "Bearer nope"})
     assert wrong.status_code == 401

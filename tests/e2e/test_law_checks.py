@@ -18,9 +18,9 @@ from sim.procedures.probe_stream import probe_items, start_transform
 from sim.procedures.situations import MidCarryStop
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
-import followers  # noqa: E402 - tests/controllers/ is put on sys.path just above
-import mutants  # noqa: E402 - the same
-import probe_detectors  # noqa: E402 - the same
+import followers
+import mutants
+import probe_detectors
 
 STOP = len(ROBUSTNESS) - 1  # the pull, then the mid-carry stop
 CONE = {"beyond the cone: raise the grip toward f_n_max", "inside the cone margin: no tangential motion"}
@@ -81,7 +81,8 @@ def test_inside_the_margin_a_moving_plate_is_named_with_the_time_and_the_distanc
         "the friction was 0.33 of mu f_n, inside your margin alpha = 0.5, yet the plate moved 5.0 mm along it"
         in found[0].message
     )
-    assert found[0].message.startswith(f"at {found[0].time:.1f} s") and found[0].time == pytest.approx(0.2, abs=0.01)
+    assert found[0].message.startswith(f"at {found[0].time:.1f} s")
+    assert found[0].time == pytest.approx(0.2, abs=0.01)
     # 3 mm/s is 1.5 mm in 0.5 s: within the threshold
     assert stream(1000, f_t=(0, 0, 2.0), v=(0, 0.0, -0.003)).findings() == []
 
@@ -107,14 +108,15 @@ def test_the_mid_carry_stop_is_drawn_from_the_seed():
         stop = MidCarryStop(np.random.default_rng([seed, 23]))
         stop(trial)
         stops.append(stop.stop_at)
-    assert stops[0] != stops[1] and all(2.0 + 0.3 * 4.0 <= s <= 2.0 + 0.7 * 4.0 for s in stops)
+    assert stops[0] != stops[1]
+    assert all(2.0 + 0.3 * 4.0 <= s <= 2.0 + 0.7 * 4.0 for s in stops)
 
 
 # --- the probes: one stream, as a trial reaches a controller --------------------------------------
 class Recording(SPController):
     """SP that keeps every input it is given and every twist it commands."""
 
-    log: list = []
+    log: list = []  # noqa: RUF012 - a pydantic field's or a test double's default, copied or shared on purpose
 
     def step(self, wrench_ee, transform_ee_to_base, params, dt):
         twist = super().step(wrench_ee, transform_ee_to_base, params, dt)
@@ -151,7 +153,7 @@ def test_the_probe_stream_has_nothing_constant_still_or_fixed_to_key_on():
 
 
 @pytest.mark.parametrize(
-    "cls, lost",
+    ("cls", "lost"),
     [
         (followers.AdmittanceBand, FOLLOWER_PROBES),
         (followers.NoCone, {STILL} | CONE),
@@ -201,10 +203,8 @@ def test_in_the_stop_situation_sp_keeps_the_law_and_followers_creep(stop_items):
         assert "inside your margin alpha = 0.5, yet the plate moved" in item.detail
     assert "a moment at the plate: comply" in stop_items["admittance_band"].detail
     # the mutant that holds the moments: the turn of the box shows it
-    assert (
-        stop_items["moments_held"].points == 0
-        and "a moment at the plate: comply was missing" in stop_items["moments_held"].detail
-    )
+    assert stop_items["moments_held"].points == 0
+    assert "a moment at the plate: comply was missing" in stop_items["moments_held"].detail
 
 
 @pytest.fixture(scope="module")
@@ -225,4 +225,6 @@ def test_a_file_that_knows_when_it_is_probed_still_fails(oracle_report):
     assert oracle_report.score_of("probe") == 100.0
     lost = [i for i in oracle_report.items if i.section != "probe"]
     assert lost and all(i.points == 0 and "not SP" in i.detail for i in lost), [(i.name, i.detail) for i in lost]
-    assert oracle_report.points == 65.0 and oracle_report.max_points == 130.0 and not oracle_report.passed
+    assert oracle_report.points == 65.0
+    assert oracle_report.max_points == 130.0
+    assert not oracle_report.passed

@@ -28,7 +28,8 @@ YAML = {"content-type": "application/yaml"}
 def test_a_body_beyond_the_limit_is_a_413(client):
     big = b"[" + b"1," * (MAX_BODY_BYTES // 2) + b"1]"
     r = client.post("/services/echo", content=big, headers={"content-type": "application/json"})
-    assert r.status_code == 413 and str(MAX_BODY_BYTES) in r.json()["detail"]
+    assert r.status_code == 413
+    assert str(MAX_BODY_BYTES) in r.json()["detail"]
 
     def chunks():  # no Content-Length: counted while it arrives
         for _ in range(MAX_BODY_BYTES // 1000 + 2):
@@ -54,20 +55,25 @@ def test_refusals_echo_little_and_never_fail_on_what_they_echo(client):
     r = client.put(
         "/params/human/profile", content=b'{"value": "\\ud800"}', headers={"content-type": "application/json"}
     )
-    assert r.status_code in (422, 200) and r.status_code < 500
+    assert r.status_code in (422, 200)
+    assert r.status_code < 500
     # a huge input is echoed cut short
     r = client.post("/services/add_two_ints", json={"a": "x" * 500_000, "b": list(range(10_000))})
-    assert r.status_code == 422 and len(r.content) < 5_000 and "500000 characters" in r.text
+    assert r.status_code == 422
+    assert len(r.content) < 5_000
+    assert "500000 characters" in r.text
 
 
 def test_parameter_files_are_parsed_within_limits(client):
     before = client.get("/params/keytwist/linear_speed").json()["value"]
     deep = "a: " + "[" * 5000 + "]" * 5000
     r = client.post("/params/load", content=deep, headers=YAML)
-    assert r.status_code == 422 and "nests at most" in r.json()["reason"]
+    assert r.status_code == 422
+    assert "nests at most" in r.json()["reason"]
     big = "# " + "x" * 100_000 + "\n"
     r = client.post("/params/load", content=big, headers=YAML)
-    assert r.status_code == 422 and "at most 65536 bytes" in r.json()["reason"]
+    assert r.status_code == 422
+    assert "at most 65536 bytes" in r.json()["reason"]
     bomb = "a: &a [1, 1]\nb: &b [*a, *a]\nc: [*b, *b]\n"
     assert client.post("/params/load", content=bomb, headers=YAML).status_code == 422
     for broken in ("{not: [yaml", "keytwist: {ros__parameters: {linear_speed: 2001-02-30}}", "\t- :"):
@@ -77,7 +83,7 @@ def test_parameter_files_are_parsed_within_limits(client):
 
 def test_stream_rates_are_bounded(client):
     for rate in ("1e-9", "0.05", "0", "1001", "nan", "inf"):
-        with pytest.raises(WebSocketDisconnect):
+        with pytest.raises(WebSocketDisconnect):  # noqa: SIM117 - nested on purpose: the inner block's failure is the outer one's subject
             with client.websocket_connect(f"/topics/joint_states/stream?rate={rate}") as ws:
                 ws.receive_json()
     with client.websocket_connect("/topics/joint_states/stream?rate=0.1") as ws:
@@ -109,7 +115,8 @@ def test_wrong_tokens_are_slowed_down():
     now = [0.0]
     throttle = Throttle(clock=lambda: now[0])
     delays = [throttle.fail("10.0.0.1") for _ in range(8)]
-    assert delays[:5] == [0.1, 0.2, 0.4, 0.8, 1.6] and delays[-1] == 2.0
+    assert delays[:5] == [0.1, 0.2, 0.4, 0.8, 1.6]
+    assert delays[-1] == 2.0
     assert throttle.fail("10.0.0.2") == 0.1  # per client
     throttle.succeed("10.0.0.1")
     assert throttle.fail("10.0.0.1") == 0.1

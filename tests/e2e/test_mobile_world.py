@@ -3,6 +3,7 @@ them (/scan, /odom, /tf, /joint_states, /robot_description), the watchdog, and t
 keys-to-twist node driving it with `hri-lab param set` changing its speed; its frames through
 /republish_tfs (tf2_web_republisher, as a TFClient reads them); `hri-lab record`, `bag info` and `play` of it."""
 
+import itertools
 import math
 import subprocess
 import sys
@@ -31,13 +32,19 @@ def stamp(message: dict) -> float:
 
 def test_the_topics_are_turtlebot3s(lab):
     topics = {t["name"]: t["type"] for t in http.get(f"{lab.url}/topics").json()}
-    assert topics["/scan"] == "sensor_msgs/LaserScan" and topics["/odom"] == "nav_msgs/Odometry"
-    assert topics["/cmd_vel"] == "geometry_msgs/Twist" and topics["/joint_states"] == "sensor_msgs/JointState"
+    assert topics["/scan"] == "sensor_msgs/LaserScan"
+    assert topics["/odom"] == "nav_msgs/Odometry"
+    assert topics["/cmd_vel"] == "geometry_msgs/Twist"
+    assert topics["/joint_states"] == "sensor_msgs/JointState"
     scan = latest(lab, "scan")
-    assert len(scan["ranges"]) == 360 and scan["range_min"] == 0.12 and scan["range_max"] == 3.5
-    assert scan["header"]["frame_id"] == "base_scan" and scan["scan_time"] == 0.2
+    assert len(scan["ranges"]) == 360
+    assert scan["range_min"] == 0.12
+    assert scan["range_max"] == 3.5
+    assert scan["header"]["frame_id"] == "base_scan"
+    assert scan["scan_time"] == 0.2
     static = {(t["header"]["frame_id"], t["child_frame_id"]) for t in latest(lab, "tf_static")["transforms"]}
-    assert ("base_footprint", "base_link") in static and ("base_link", "base_scan") in static
+    assert ("base_footprint", "base_link") in static
+    assert ("base_link", "base_scan") in static
     (moving,) = latest(lab, "tf")["transforms"]
     assert (moving["header"]["frame_id"], moving["child_frame_id"]) == ("odom", "base_footprint")
     assert latest(lab, "joint_states")["name"] == ["wheel_left_joint", "wheel_right_joint"]
@@ -74,7 +81,8 @@ def test_cmd_vel_drives_the_base_and_the_watchdog_stops_it(lab, ros):
     wait_for(lambda: latest(lab, "odom")["twist"]["twist"]["angular"]["z"] == 0.0, 60)
     assert latest(lab, "cmd_vel")["angular"]["z"] == 0.0
     stamps = [stamp(s) for s in scans]
-    assert len(stamps) >= 2 and all(b - a >= 0.2 - 1e-6 for a, b in zip(stamps, stamps[1:]))
+    assert len(stamps) >= 2
+    assert all(b - a >= 0.2 - 1e-6 for a, b in itertools.pairwise(stamps))
     assert all(round((t - stamps[0]) / 0.2, 6).is_integer() for t in stamps)  # taken at 5 Hz of simulated time
     assert all(len(s["ranges"]) == 360 for s in scans)
 
@@ -149,7 +157,8 @@ def test_the_world_publishes_its_clock(lab, ros):
     finally:
         clock.unsubscribe()
     seconds = [t["clock"]["sec"] + t["clock"]["nanosec"] * 1e-9 for t in ticks]
-    assert seconds == sorted(seconds) and seconds[-1] > seconds[0]
+    assert seconds == sorted(seconds)
+    assert seconds[-1] > seconds[0]
 
 
 def test_record_then_play_the_mobile_world(lab, tmp_path):
@@ -164,7 +173,9 @@ def test_record_then_play_the_mobile_world(lab, tmp_path):
     info = subprocess.run(
         [sys.executable, "-m", "app.cli", "bag", "info", str(out)], capture_output=True, text=True, timeout=60
     ).stdout
-    assert "Topic: /scan" in info and "foxglove.LaserScan" in info and "foxglove.SceneUpdate" in info
+    assert "Topic: /scan" in info
+    assert "foxglove.LaserScan" in info
+    assert "foxglove.SceneUpdate" in info
     port = free_port()
     play = Program(None, "play", str(out), "--port", str(port), "--view", "light")
     try:
@@ -177,8 +188,10 @@ def test_record_then_play_the_mobile_world(lab, tmp_path):
                 return None
 
         topics = {t["name"]: t["type"] for t in wait_for(listed, 60)}
-        assert topics["/scan"] == "foxglove.LaserScan" and topics["/odom"] == "nav_msgs/Odometry"
+        assert topics["/scan"] == "foxglove.LaserScan"
+        assert topics["/odom"] == "nav_msgs/Odometry"
         scan = http.get(f"http://127.0.0.1:{port}/topics/scan").json()
-        assert scan["frame_id"] == "base_scan" and len(scan["ranges"]) == 360
+        assert scan["frame_id"] == "base_scan"
+        assert len(scan["ranges"]) == 360
     finally:
         play.interrupt()

@@ -51,7 +51,8 @@ def _cancel_run(lab, accept: bool) -> Program:
         assert client.wait(timeout=120) == 0, client.output + "\n--- server:\n" + server.output
     finally:
         server.interrupt()
-    assert "Goal accepted :)" in client.output and "Received feedback: [0, 1, 1" in client.output
+    assert "Goal accepted :)" in client.output
+    assert "Received feedback: [0, 1, 1" in client.output
     return client
 
 
@@ -93,7 +94,8 @@ def test_a_coroutine_on_the_executor_awaits_call_async(lab):
         assert client.wait() == 0, client.output
     finally:
         server.interrupt()
-    assert "for 2 + 3 = 5" in client.output and "for 5 + 3 = 8" in client.output
+    assert "for 2 + 3 = 5" in client.output
+    assert "for 5 + 3 = 8" in client.output
     assert "task done: True, result 8" in client.output
 
 
@@ -253,6 +255,8 @@ def test_service_introspection_publishes_each_step_of_a_call(lab, ros):
     finally:
         topic.unsubscribe()
         program.interrupt()
-    assert steps[0]["request"] == [{"a": 2, "b": 3}] and steps[3]["response"] == [{"sum": 5}]  # the client: CONTENTS
-    assert steps[1]["request"] == [] and steps[2]["response"] == []  # the service: METADATA only
+    assert steps[0]["request"] == [{"a": 2, "b": 3}]
+    assert steps[3]["response"] == [{"sum": 5}]
+    assert steps[1]["request"] == []
+    assert steps[2]["response"] == []
     assert len(b64decode(steps[0]["info"]["client_gid"])) == 16  # char[16], base64 as rosbridge sends it

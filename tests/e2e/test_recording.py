@@ -97,7 +97,8 @@ def test_bag_info_prints_what_ros2_bag_info_does(recorded):
     assert "Storage id:        mcap\n" in text
     assert f"Duration:          {(n - 1) * 0.01:.3f}s" in text  # first to last sample of the topics
     assert f"Topic: /franka_state_controller/F_ext         | Type: geometry_msgs/WrenchStamped | Count: {n} |" in text
-    assert "Topic: /scene " in text and "Type: foxglove.SceneUpdate " in text
+    assert "Topic: /scene " in text
+    assert "Type: foxglove.SceneUpdate " in text
 
 
 def test_trial_figure_has_the_panels_and_markers(recorded):
@@ -114,7 +115,8 @@ def test_trial_figure_has_the_panels_and_markers(recorded):
     assert lines["friction_ratio"]["cone margin alpha = 0.8"].get_ydata()[0] == 0.8
     assert lines["slip"]["drop at 20 mm"].get_ydata()[0] == 20.0
     band = axes["f_n"].collections[0].get_paths()[0].vertices[:, 1]
-    assert band.min() == pytest.approx(10.0) and band.max() == pytest.approx(15.0)  # the band [10, 15] N
+    assert band.min() == pytest.approx(10.0)
+    assert band.max() == pytest.approx(15.0)
     # markers: the person let go (after the robot's grip), and the drop at the end of the trial
     assert 0.0 < trace.let_go < result.duration
     for gid in PANELS:
@@ -149,10 +151,12 @@ def test_size_cap_stops_a_runaway_recording_and_the_file_is_finished(tmp_path):
     world = World()
     recording = Recording(tmp_path / "cap.mcap", world.config, max_bytes=1, flush_period=0.02)
     kept = [recording.add(world.snapshot()) for _ in range(40) if not world.step()]
-    assert kept[0] and not kept[-1]
+    assert kept[0]
+    assert not kept[-1]
     assert "recording stopped: the file reached" in recording.stopped
     bag = reader.info(tmp_path / "cap.mcap")
-    assert bag.complete and 0 < bag.messages
+    assert bag.complete
+    assert bag.messages > 0
 
 
 def test_a_recording_cut_short_is_readable(tmp_path):

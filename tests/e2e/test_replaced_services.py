@@ -25,7 +25,8 @@ def test_a_rospy_program_replacing_add_two_ints_is_warned_in_its_log_and_on_roso
     program = Program(lab.url, "run", str(PROGRAMS / "add_two_ints_server_rospy.py"))
     try:
         line = program.wait_for_line(WARNING)
-        assert line.startswith("[WARNING] lab: advertise_service:") and "hri-lab serve --exercises" in line
+        assert line.startswith("[WARNING] lab: advertise_service:")
+        assert "hri-lab serve --exercises" in line
         program.wait_for_line("Ready to add two ints")
         wait_for(lambda: http.get(f"{lab.url}/services/add_two_ints").json()["node"] != LAB_NODE, timeout=30)
         warned = [e for e in log_lines(lab) if WARNING in e["msg"]]
@@ -45,7 +46,8 @@ def test_a_roslibpy_node_is_warned_too_and_a_name_of_its_own_is_not(lab, ros):
         wait_for(lambda: http.get(f"{lab.url}/services/echo").json()["node"] != LAB_NODE, timeout=30)
         assert http.post(f"{lab.url}/services/echo", json={"in": "up"}).json() == {"out": "UP"}
         warned = [e["msg"] for e in log_lines(lab) if "is one of the lab's own services" in e["msg"]]
-        assert len(warned) == before + 1 and warned[-1].startswith("/echo is one of the lab's own services")
+        assert len(warned) == before + 1
+        assert warned[-1].startswith("/echo is one of the lab's own services")
     finally:
         echo.unadvertise()
         own.unadvertise()

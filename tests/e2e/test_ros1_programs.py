@@ -48,7 +48,8 @@ def test_a_header_publisher_with_none_and_a_listener_reading_seq(lab):
         first = int(listener.wait_for_line("I heard seq ").split()[3].rstrip(":"))
         wait_for(lambda: sum("I heard seq" in line for line in listener.lines) >= 3, timeout=60)
         seqs = [int(line.split()[3].rstrip(":")) for line in listener.lines if "I heard seq" in line]
-        assert first >= 1 and seqs == list(range(first, first + len(seqs)))  # rospy's count, one per message
+        assert first >= 1
+        assert seqs == list(range(first, first + len(seqs)))
     finally:
         if talker is not None:
             talker.interrupt()
@@ -85,7 +86,8 @@ def test_a_simple_action_server_is_reached_over_its_topics_and_by_a_rospy_client
         result = goal.wait(60)
         assert result == {"sequence": [0, 1, 1, 2, 3, 5]}
         wait_for(lambda: goal.status["status"] == ros1_actionlib.GoalStatus.SUCCEEDED)
-        assert feedback and feedback[-1] == {"sequence": [0, 1, 1, 2, 3, 5]}
+        assert feedback
+        assert feedback[-1] == {"sequence": [0, 1, 1, 2, 3, 5]}
         # a cancel over the topic preempts a long goal
         long_goal = ros1_actionlib.Goal(client, roslibpy.Message({"order": 400}))
         started = threading.Event()

@@ -158,7 +158,8 @@ def test_the_lifting_servers_answer_the_lab_and_apply_the_band(lab):
         assert answer == {"message": "Cooperative lifting starts with 11.5 N"}
         server.wait_for_line("band 11.5 .. 16.5 N")
         state = http.get(f"{lab.url}/topics/lifting_state").json()
-        assert state["started"] and state["f_n_min"] == 11.5
+        assert state["started"]
+        assert state["f_n_min"] == 11.5
         stopped = call(lab, "stop_cooperative_lifting", {}).json()  # the handler returned a bare string
         assert stopped == {"message": "Cooperative lifting stopped, f_n_min reset to 0 N"}
     finally:
@@ -217,7 +218,8 @@ def test_rclpy_parameters_are_served_with_rclcpp_refusals(lab):
         listed = call(lab, "keytwist_param/list_parameters", {"prefixes": [], "depth": 0}).json()
         assert listed["result"]["names"] == ["angular_speed", "linear_speed"]
         values = call(lab, "keytwist_param/get_parameters", {"names": ["linear_speed"]}).json()["values"]
-        assert values[0]["type"] == 3 and values[0]["double_value"] == 1.5
+        assert values[0]["type"] == 3
+        assert values[0]["double_value"] == 1.5
         described = call(lab, "keytwist_param/describe_parameters", {"names": ["angular_speed"]}).json()
         assert described["descriptors"][0]["floating_point_range"][0]["to_value"] == 2.0
     finally:
@@ -269,7 +271,8 @@ def test_launch_starts_the_lab_and_three_nodes_ctrl_c_stops_all():
     finally:
         code = launch.interrupt(timeout=60)
     assert code == 0, launch.output
-    assert "calculator stopped by Ctrl+C" in launch.output and "process has died" not in launch.output
+    assert "calculator stopped by Ctrl+C" in launch.output
+    assert "process has died" not in launch.output
 
 
 def test_launch_reports_a_crashing_node_by_name_with_its_exit_status(lab):
@@ -375,7 +378,7 @@ def test_actionlib_and_rclpy_action_clients_of_the_lab_action(lab):
     assert "Result: final_count 2, status 4" in counting.output  # action_msgs/GoalStatus SUCCEEDED
 
 
-@pytest.mark.parametrize("api, delay", [("actionlib", "_delay:=0.3"), ("rclpy", "--ros-args -p delay:=0.3")])
+@pytest.mark.parametrize(("api", "delay"), [("actionlib", "_delay:=0.3"), ("rclpy", "--ros-args -p delay:=0.3")])
 def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, api, delay):
     server = run(lab.url, f"counting_server_{api}.py", *delay.split())
     try:
@@ -384,7 +387,8 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, 
         client = run(lab.url, "counting_client_actionlib.py")
         assert client.wait(timeout=120) == 0, client.output
         line = client.wait_for_line("state ")
-        assert line.startswith("state 2 reached ") and int(line.split()[-1]) >= 2  # PREEMPTED, with its result
+        assert line.startswith("state 2 reached ")
+        assert int(line.split()[-1]) >= 2
         server.wait_for_line("counting preempted at")
         goal = http.post(f"{lab.url}/actions/counting/goals", json={"count": 2}, timeout=30)
         assert goal.status_code in (200, 201, 202), goal.text  # an HTTP goal, served by the program
@@ -395,7 +399,8 @@ def test_a_programs_action_is_served_to_the_lab_and_to_a_preempting_client(lab, 
             ),
             timeout=60,
         )
-        assert done["result"] == {"reached": 2} and len(done["feedback"]) == 2
+        assert done["result"] == {"reached": 2}
+        assert len(done["feedback"]) == 2
     finally:
         server.interrupt()
 
@@ -422,8 +427,10 @@ def test_rospy_reads_and_writes_the_parameter_server(lab):
     lines = program.output
     assert "gains: {'k_n': 0.005, 'k_t': [0.1, 0.2]}" in lines
     assert "private rate: 5 5" in lines  # ~rate is /param_talker/rate
-    assert "has greeting: True" in lines and "has greeting after delete: False" in lines
-    assert "default: none" in lines and "KeyError: 'greeting'" in lines
+    assert "has greeting: True" in lines
+    assert "has greeting after delete: False" in lines
+    assert "default: none" in lines
+    assert "KeyError: 'greeting'" in lines
     assert "declared by the lab: 5.0" in lines  # the lab's declared ROS 2 parameter, by its ROS 1 name
 
 
@@ -449,7 +456,8 @@ def test_hri_lab_param_set_reaches_the_running_program(lab):
         assert changed.returncode == 0, changed.stdout + changed.stderr
         node.wait_for_line("key w: linear.x=3.5 ")  # the published twist follows
         refused = cli("param", "set", "/keytwist_param", "linear_speed", "9.0")
-        assert refused.returncode != 0 and "linear_speed above 5 m/s is unsafe" in refused.stdout + refused.stderr
+        assert refused.returncode != 0
+        assert "linear_speed above 5 m/s is unsafe" in refused.stdout + refused.stderr
         assert "3.5" in cli("param", "get", "/keytwist_param", "linear_speed").stdout
     finally:
         node.interrupt()

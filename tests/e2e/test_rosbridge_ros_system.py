@@ -167,7 +167,9 @@ def test_topic_echo_rosout_cli(lab):
         wait_for(printed, 60)
         out = echo.stdout.read()
         assert echo.returncode == 0, echo.stderr.read()
-        assert "name: service" in out and "level: 10" in out and "/add_two_ints answered" in out
+        assert "name: service" in out
+        assert "level: 10" in out
+        assert "/add_two_ints answered" in out
     finally:
         if echo.poll() is None:
             echo.kill()
@@ -213,7 +215,8 @@ def test_tf_and_tf_static_topics(ros, lab):
     message = static.wait(lambda m: True)
     edges = {(t["header"]["frame_id"], t["child_frame_id"]): t["transform"] for t in message["transforms"]}
     assert edges[("panda_link8", "plate")]["translation"] == {"x": 0.0, "y": 0.0, "z": 0.02}  # plate_offset
-    assert ("world", "panda_link0") in edges and ("panda_hand", "panda_leftfinger") in edges
+    assert ("world", "panda_link0") in edges
+    assert ("panda_hand", "panda_leftfinger") in edges
     tf_message = moving.wait(lambda m: True)
     children = {t["child_frame_id"]: t["header"]["frame_id"] for t in tf_message["transforms"]}
     assert children == {
@@ -262,7 +265,8 @@ def test_service_response_result_false_still_delivers_values(ros, lab):
         answer = http.post(f"{lab.url}/services/false_sum", json={"a": 1, "b": 1}, timeout=30)
         assert (answer.status_code, answer.json()) == (200, {"sum": 2})
         refused = http.post(f"{lab.url}/services/false_refuse", json={"a": 1, "b": 1}, timeout=30)
-        assert refused.status_code == 400 and "no such thing" in refused.json()["detail"]
+        assert refused.status_code == 400
+        assert "no such thing" in refused.json()["detail"]
     finally:
         server.unadvertise()
         refusing.unadvertise()
@@ -364,11 +368,10 @@ def test_client_action_listed_and_served_over_http(lab, ros, counting):
     sent = http.post(f"{lab.url}/actions/counting/goals", json={"target": 3}, timeout=30)
     assert sent.status_code == 202, sent.text
     view = wait_goal(lab, "/counting", sent.json()["goal_id"], "succeeded")
-    assert view["result"] == {"final": 3} and view["feedback"] == [{"current": 1}, {"current": 2}, {"current": 3}]
-    assert (
-        counting.goals[-1]["args"] == {"target": 3}
-        and counting.goals[-1]["action_type"] == "counting_pkg/action/Counting"
-    )
+    assert view["result"] == {"final": 3}
+    assert view["feedback"] == [{"current": 1}, {"current": 2}, {"current": 3}]
+    assert counting.goals[-1]["args"] == {"target": 3}
+    assert counting.goals[-1]["action_type"] == "counting_pkg/action/Counting"
 
 
 def test_client_action_preempted_over_http_and_goals_run_side_by_side(lab, counting):
@@ -407,12 +410,15 @@ def test_client_action_goal_from_cli_and_from_another_client(lab, ros, counting)
         timeout=120,
     )
     assert out.returncode == 0, out.stdout + out.stderr
-    assert "current: 2" in out.stdout and "final: 2" in out.stdout and "SUCCEEDED" in out.stdout
+    assert "current: 2" in out.stdout
+    assert "final: 2" in out.stdout
+    assert "SUCCEEDED" in out.stdout
     client = roslibpy.ActionClient(ros, "/counting", "counting_pkg/action/Counting")
     results, feedbacks = [], []
     goal_id = client.send_goal(roslibpy.Goal({"target": 2}), results.append, feedbacks.append, results.append)
     client.wait_goal(goal_id, 60)
-    assert results[0]["values"] == {"final": 2} and results[0]["status"].value == 4  # action_msgs: SUCCEEDED
+    assert results[0]["values"] == {"final": 2}
+    assert results[0]["status"].value == 4
     assert [f["current"] for f in feedbacks] == [1, 2]
 
 
@@ -559,7 +565,8 @@ def test_node_parameters_in_the_labs_registry(lab, ros):
         assert node.values["linear_speed"] == 3.5  # the running node has it
         assert "3.5" in cli(lab, "param", "get", "/keytwist_param", "linear_speed").stdout
         refused = cli(lab, "param", "set", "/keytwist_param", "linear_speed", "4.5")
-        assert refused.returncode != 0 and "Setting parameter failed: linear_speed must be <= 4.0" in refused.stdout
+        assert refused.returncode != 0
+        assert "Setting parameter failed: linear_speed must be <= 4.0" in refused.stdout
         assert (
             cli(lab, "param", "set", "/keytwist_param", "angular_speed", "2").returncode == 0
         )  # an integer, sent as double
@@ -572,7 +579,7 @@ def test_node_parameters_in_the_labs_registry(lab, ros):
         assert ros.get_param("/keytwist_param:linear_speed") == 3.5
         ros.set_param("/keytwist_param:linear_speed", 1.5)
         assert node.values["linear_speed"] == 1.5
-        with pytest.raises(roslibpy.core.ServiceException, match="linear_speed must be <= 4.0"):
+        with pytest.raises(roslibpy.core.ServiceException, match=r"linear_speed must be <= 4.0"):
             ros.set_param("/keytwist_param:linear_speed", 9.0)
     finally:
         node.close()

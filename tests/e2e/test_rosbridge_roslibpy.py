@@ -32,17 +32,20 @@ def test_rosapi_and_parameters(ros, lab):
     assert ros.get_topic_type("/joint_states") == "sensor_msgs/JointState"
     # an exercise left to the nodes is not a service until a node provides it (a client's
     # wait_for_service waits for it, as in ROS); its type is the lab's all the same
-    assert "/reset_simulation" in ros.get_services() and "/divide_ints" not in ros.get_services()
+    assert "/reset_simulation" in ros.get_services()
+    assert "/divide_ints" not in ros.get_services()
     assert ros.get_service_type("/divide_ints") == "hri_lab/DivideInts"
     details = ros.get_service_request_details("hri_lab/DivideInts")["typedefs"][0]
     assert (details["fieldnames"], details["fieldtypes"]) == (["a", "b"], ["int64", "int64"])
     wrench = ros.get_message_details("geometry_msgs/WrenchStamped")["typedefs"]
-    assert wrench[0]["fieldnames"] == ["header", "wrench"] and any(d["type"] == "geometry_msgs/Vector3" for d in wrench)
+    assert wrench[0]["fieldnames"] == ["header", "wrench"]
+    assert any(d["type"] == "geometry_msgs/Vector3" for d in wrench)
     assert "/hri_lab" in ros.get_nodes()
     assert "/cooperative_lifting:mu" in ros.get_params()
     assert ros.get_param("/cooperative_lifting:mu") == 0.5
     panda = roslibpy.Param(ros, "/robot_description").get(timeout=30)  # the Panda's URDF, as ROS holds it
-    assert panda.startswith("<?xml") and '<robot name="panda"' in panda
+    assert panda.startswith("<?xml")
+    assert '<robot name="panda"' in panda
     ros.set_param("/cooperative_lifting:mu", 0.6)
     assert http.get(f"{lab.url}/params/cooperative_lifting/mu").json()["value"] == 0.6  # the same parameter server
     with pytest.raises(roslibpy.core.ServiceException, match=r"Wrong parameter type, parameter \{mu\}"):
@@ -66,7 +69,8 @@ def test_lab_services_and_exercises_left_to_nodes(ros, lab):
             roslibpy.ServiceRequest({"a": 1, "b": 2}), timeout=10
         )
     response = http.post(f"{lab.url}/services/divide_ints", json={"a": 1, "b": 2})
-    assert response.status_code == 404 and "not provided yet" in response.json()["detail"]
+    assert response.status_code == 404
+    assert "not provided yet" in response.json()["detail"]
     assert http.get(f"{lab.url}/services/divide_ints").json()["srv"].startswith("int64 a\nint64 b\n---")
 
 
@@ -116,7 +120,8 @@ def test_a_node_that_does_not_answer_gives_504_and_disconnecting_takes_its_servi
         node.send('{"op": "call_service", "service": "/rosapi/get_time", "id": "after-advertise"}')
         assert json.loads(node.recv(timeout=30))["id"] == "after-advertise"
         response = http.post(f"{lab.url}/services/echo", json={"in": "hello"}, timeout=10)
-        assert response.status_code == 504 and "/echo" in response.json()["detail"]
+        assert response.status_code == 504
+        assert "/echo" in response.json()["detail"]
         assert '"op": "call_service"' in node.recv(timeout=1)  # the request did reach the node
     wait_for(lambda: "not provided yet" in http.post(f"{lab.url}/services/echo", json={"in": "x"}).json()["detail"])
 
@@ -189,7 +194,8 @@ def test_action_goal_with_feedback_and_cancel(ros):
     goal = count.send_goal(roslibpy.Goal({"count": 2}), results.append, feedback.append, results.append)
     count.wait_goal(goal, 15)
     assert [f["current_number"] for f in feedback] == [1, 2]
-    assert results[0]["status"] == roslibpy.core.GoalStatus.SUCCEEDED and results[0]["values"] == {"final_count": 2}
+    assert results[0]["status"] == roslibpy.core.GoalStatus.SUCCEEDED
+    assert results[0]["values"] == {"final_count": 2}
 
     feedback, results = [], []
     first = threading.Event()
@@ -199,7 +205,8 @@ def test_action_goal_with_feedback_and_cancel(ros):
     assert first.wait(15)
     count.cancel_goal(goal)
     count.wait_goal(goal, 15)
-    assert results[0]["status"] == roslibpy.core.GoalStatus.CANCELED and results[0]["values"]["final_count"] < 30
+    assert results[0]["status"] == roslibpy.core.GoalStatus.CANCELED
+    assert results[0]["values"]["final_count"] < 30
 
 
 def test_the_printed_templates_run_as_printed(lab, tmp_path):

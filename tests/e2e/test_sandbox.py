@@ -29,7 +29,7 @@ def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 30
     params = LiftingParams()
     controller.start(params, 10.0)
     try:
-        with pytest.raises(ControllerFault) as fault:
+        with pytest.raises(ControllerFault) as fault:  # noqa: PT012 - the block sets up and triggers the refusal together
             for _ in range(steps):
                 controller.step(np.array([0, 0, 4.0, 0, 0, 0]), np.eye(4), params, 1e-3)
     finally:
@@ -38,7 +38,7 @@ def fault_of(name: str, budget: SandboxBudget = SandboxBudget(), steps: int = 30
 
 
 @pytest.mark.parametrize(
-    "name, budget, reason",
+    ("name", "budget", "reason"),
     [
         ("SleepsForever", SandboxBudget(step_timeout=1.0), "did not answer within 1 s (wall clock)"),
         ("Sleeps50ms", SandboxBudget(), "step sleeps or blocks"),
@@ -102,7 +102,7 @@ def test_a_start_handler_is_held_to_the_parameters_ranges():
 
 
 @pytest.mark.parametrize(
-    "name, reach",
+    ("name", "reach"),
     [
         ("reference_sp.py", "it imports sim.controllers.sp"),  # the issue's three lines: 130/130 PASS before
         ("copies_reference.py", "/sim/controllers/sp.py (sim.controllers.sp)"),  # its text read and run
@@ -115,14 +115,15 @@ def test_the_sandbox_sees_a_file_reach_for_the_labs_own_controllers(name, reach)
         assert controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3).shape == (6,)
     finally:
         controller.close()
-    assert reach in controller.reference and (controller.reference == "") == (reach == "")
+    assert reach in controller.reference
+    assert (controller.reference == "") == (reach == "")
     if reach:
         assert "is the lab's reference controller, not a submission" in controller.reference
 
 
 def test_reaching_for_the_labs_controllers_after_loading_is_refused():
     refused = r"the lab's reference controllers are not a submission: your code (imports|reads) .*sim.controllers.sp"
-    with pytest.raises(ControllerFault, match=refused):
+    with pytest.raises(ControllerFault, match=refused):  # noqa: PT012 - the block sets up and triggers the refusal together
         controller = PluginFactory(str(CONTROLLERS / "imports_reference_late.py"))()
         try:
             controller.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
@@ -137,7 +138,8 @@ def test_exit_at_import_is_a_load_error():
 
 def test_no_files_no_network_outside_the_sandbox():
     reason = fault_of("ReadsSecrets")
-    assert "/etc/passwd: FileNotFoundError" in reason and "root:" not in reason
+    assert "/etc/passwd: FileNotFoundError" in reason
+    assert "root:" not in reason
     assert f"{FAULTS}: FileNotFoundError" in reason  # not even its own file: it arrives as text
     assert "connect: OSError" in reason  # no network (a socket it listens on is in its own namespace)
 
@@ -152,7 +154,8 @@ def test_patching_the_grader_in_the_child_changes_nothing_here():
     assert twist.tolist() == [0.0] * 6
     assert report_module.Report.__dict__["passed"] is passed
     empty = report_module.Report("x", "controller", 0)
-    assert empty.passed is False and empty.score == 0.0  # the patch would say True, 100
+    assert empty.passed is False
+    assert empty.score == 0.0
 
 
 def test_the_child_never_runs_at_the_loops_realtime_priority():
@@ -173,7 +176,8 @@ def test_the_child_never_runs_at_the_loops_realtime_priority():
     thread.join()
     if seen.get("skip"):
         pytest.skip("this machine does not allow SCHED_FIFO (no CAP_SYS_NICE): nothing to reset")
-    assert seen["policies"] and all(p == os.SCHED_OTHER for p in seen["policies"])
+    assert seen["policies"]
+    assert all(p == os.SCHED_OTHER for p in seen["policies"])
 
 
 def child_cpus(controller) -> set[int]:
@@ -269,7 +273,8 @@ def test_a_trial_is_judged_by_the_world_not_by_the_person_phase():
     from faults import ReachesTheWorld
 
     result = Trial(PARTICIPANTS["calm"], 1, ReachesTheWorld()).run()
-    assert not result.success and result.reason.startswith("not carried")
+    assert not result.success
+    assert result.reason.startswith("not carried")
 
 
 def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
@@ -281,7 +286,8 @@ def test_grade_refuses_without_bubblewrap_unless_told(tmp_path):
         env=env,
         timeout=120,
     )
-    assert run.returncode == 2 and "refusing to run students' code without a sandbox" in run.stderr
+    assert run.returncode == 2
+    assert "refusing to run students' code without a sandbox" in run.stderr
     assert run.stdout == ""
 
 
@@ -410,7 +416,7 @@ def test_a_runaway_item_is_stopped_by_its_own_cpu_limit_and_the_next_starts_afre
     budget = SandboxBudget(cpu_seconds=1, step_timeout=120.0)  # the CPU limit, not the wall clock, must end it
     runaway = PluginFactory(str(spins), budget)()
     jail = runaway._jail
-    with pytest.raises(ControllerFault, match="SIGXCPU|SIGKILL"):
+    with pytest.raises(ControllerFault, match=r"SIGXCPU|SIGKILL"):
         runaway.step(np.zeros(6), np.eye(4), LiftingParams(), 1e-3)
     runaway.close()
     after = PluginFactory(str(CONTROLLERS / "reference_sp.py"), budget)()

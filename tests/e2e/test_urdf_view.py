@@ -171,7 +171,8 @@ def test_a_broken_file_is_the_checks_error_and_exit_1():
     broken = Path(__file__).resolve().parents[1] / "data/urdf/bad_parent.urdf"
     view = cli("view", str(broken), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     out, err = view.communicate(timeout=120)
-    assert view.returncode == 1 and out == ""
+    assert view.returncode == 1
+    assert out == ""
     assert err.strip() == (
         f"error: {broken}:36: joint 'tilt_joint': its parent link 'pan_lnk' does not exist: "
         "expected one of base_link, pan_link, tilt_link"

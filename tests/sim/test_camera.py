@@ -60,13 +60,16 @@ def test_the_camera_process_renders_only_while_wanted(world):
     process = CameraProcess(world.snapshot, lambda: sizes_of(world.config))
     process.start()
     try:
-        assert process.number == 0 and not process.wanted
+        assert process.number == 0
+        assert not process.wanted
         with process.wants(0.05):
             assert process.wanted
             wait_for(lambda: process.number >= 2 or process.error, timeout=120)
             assert not process.error
         frame = process.latest()
-        assert frame is not None and frame.image.shape == (480, 640, 3) and frame.time == world.snapshot().time
+        assert frame is not None
+        assert frame.image.shape == (480, 640, 3)
+        assert frame.time == world.snapshot().time
         assert blob_centre(frame.image) is not None
         assert not process.wanted  # released: at most the frame being rendered then still comes
         released = process.number
@@ -85,9 +88,11 @@ def test_the_projection_of_a_point_is_k_times_the_optical_frames_coordinates():
     rotation = camera.rotation_optical_to_base()
     depth = np.linalg.norm(camera.CAMERA_TARGET - camera.CAMERA_POSITION)
     u, v = camera.project_exact(camera.CAMERA_TARGET + 0.1 * rotation[:, 0])
-    assert u == pytest.approx(320 + 500 * 0.1 / depth) and v == pytest.approx(240)
+    assert u == pytest.approx(320 + 500 * 0.1 / depth)
+    assert v == pytest.approx(240)
     info = camera_info_at(1.5)
-    assert info["k"] == k.flatten().tolist() and info["header"]["frame_id"] == "camera_optical"
+    assert info["k"] == k.flatten().tolist()
+    assert info["header"]["frame_id"] == "camera_optical"
     with pytest.raises(ValueError, match="behind"):
         camera.project(camera.CAMERA_POSITION - rotation[:, 2])
 
@@ -101,7 +106,8 @@ def test_opengls_projection_puts_a_point_on_the_pixel_k_gives():
     ndc = clip[:3] / clip[3]
     column = (ndc[0] + 1) / 2 * 640 - 0.5
     row = (1 - ndc[1]) / 2 * 480 - 0.5
-    assert column == pytest.approx(320 + 500 * 0.13 / 1.3) and row == pytest.approx(240 + 500 * -0.07 / 1.3)
+    assert column == pytest.approx(320 + 500 * 0.13 / 1.3)
+    assert row == pytest.approx(240 + 500 * -0.07 / 1.3)
 
 
 def poses(world):
@@ -125,9 +131,11 @@ def test_the_rendered_box_is_where_the_projection_says_at_several_poses(world, r
     for name, s in poses(world):
         if name == "carried":
             assert np.linalg.norm(s.box_position - start) > 0.05  # the box did move
-            assert s.plate.normal_force > 0 and s.palm.normal_force > 0  # held between plate and palm
+            assert s.plate.normal_force > 0
+            assert s.palm.normal_force > 0
         bgr = renderer.render(s)
-        assert bgr.shape == (480, 640, 3) and bgr.dtype == np.uint8
+        assert bgr.shape == (480, 640, 3)
+        assert bgr.dtype == np.uint8
         found = blob_centre(bgr)
         expected = camera.box_in_image(s.box_position, s.box_rotation, world.config.box.size)
         assert found is not None, name
@@ -141,7 +149,9 @@ def test_only_the_box_passes_the_threshold(world, renderer):
     gone = dataclasses.replace(s, box_position=np.array([0.0, 0.0, -5.0]))
     assert blob_centre(renderer.render(gone)) is None
     message = image(0.25, renderer.render(s))
-    assert message["encoding"] == "bgr8" and message["step"] == 1920 and message["header"]["stamp"]["nanosec"] == 25e7
+    assert message["encoding"] == "bgr8"
+    assert message["step"] == 1920
+    assert message["header"]["stamp"]["nanosec"] == 25e7
 
 
 def test_a_shared_frame_is_read_whole_with_its_stamp():
@@ -150,5 +160,7 @@ def test_a_shared_frame_is_read_whole_with_its_stamp():
     picture = np.arange(24, dtype=np.uint8).reshape(2, 4, 3)
     frames.write(picture, 1.25, 100.0, 0.01)
     frame = frames.read()
-    assert frame is not None and frame.number == 1 and frame.time == 1.25
+    assert frame is not None
+    assert frame.number == 1
+    assert frame.time == 1.25
     assert np.array_equal(frame.image, picture)

@@ -40,12 +40,15 @@ def state(world: World) -> np.ndarray:
 
 def test_the_three_compositions_step_alike():
     compiled, split, python_rest = trial_world(), trial_world(SPInPython()), trial_world(patch_human=True)
-    assert compiled.controller.law() is not None and split.controller.law() is None
-    assert compiled._components_plain() and not python_rest._components_plain()
+    assert compiled.controller.law() is not None
+    assert split.controller.law() is None
+    assert compiled._components_plain()
+    assert not python_rest._components_plain()
     for _ in range(6000):  # the approach, the grip, the release and the start of the carry
         for world in (compiled, split, python_rest):
             world.step()
-    assert compiled.human.phase in ("settling", "carrying") and compiled.trial.state == "running"
+    assert compiled.human.phase in ("settling", "carrying")
+    assert compiled.trial.state == "running"
     np.testing.assert_allclose(state(split), state(compiled), rtol=0, atol=1e-6)
     np.testing.assert_allclose(state(python_rest), state(compiled), rtol=0, atol=1e-6)
     assert split.human.phase == python_rest.human.phase == compiled.human.phase

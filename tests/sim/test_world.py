@@ -108,7 +108,7 @@ def test_palm_follows_a_target_set_directly():
         human.step(1e-3, 0.0, 0.0, 0.0, None, np.eye(3))
     assert human.phase == "manual"
     assert human.position == pytest.approx(target, abs=2e-3)
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError):  # noqa: PT011 - any ValueError is the refusal under test
         human.set_target([0.0, float("nan"), 0.0])
 
 
@@ -122,7 +122,8 @@ def test_controller_exception_is_an_error_state_not_a_crash():
 
     world = World(controller=Broken())
     world.run(0.01)
-    assert world.error is not None and "boom" in world.error
+    assert world.error is not None
+    assert "boom" in world.error
     assert world.arm.qdot == pytest.approx(np.zeros(7))
     world.run(0.01)  # the loop goes on
     assert world.time == pytest.approx(0.02)
@@ -151,7 +152,8 @@ def test_calm_trial_succeeds_with_lifting_at_10_newton():
     box = trial.world.box.position
     assert box[0] == pytest.approx(0.30, abs=0.02)
     assert result.slip < 0.02
-    assert 9.0 < result.f_n_min and result.f_n_max < 25.0
+    assert result.f_n_min > 9.0
+    assert result.f_n_max < 25.0
 
 
 def test_same_trial_fails_when_the_controller_is_stopped():
@@ -172,7 +174,8 @@ def test_robot_never_started_means_no_grip():
     trial = Trial(PARTICIPANTS["calm"], seed=1, rules=rules)
     trial.world.stop_lifting()
     result = trial.run()
-    assert not result.success and result.reason.startswith("no grip")
+    assert not result.success
+    assert result.reason.startswith("no grip")
 
 
 SHORT = Setup(
@@ -213,7 +216,9 @@ def _sim_ends():
 
 
 @pytest.mark.parametrize(
-    "case, overrides", _sim_ends(), ids=lambda c: "-".join(f"{v:g}" for v in c.values()) if isinstance(c, dict) else ""
+    ("case", "overrides"),
+    _sim_ends(),
+    ids=lambda c: "-".join(f"{v:g}" for v in c.values()) if isinstance(c, dict) else "",
 )
 def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
     """Grip and release at the ends of the ranges: the box stays where the hands hold it (an
@@ -229,7 +234,8 @@ def test_every_accepted_sim_parameter_value_is_stable(case, overrides):
     for _ in range(1000):  # the robot presses the box into the band, the person lets go
         if not trial.step():
             break
-        assert np.all(np.isfinite(box.position)) and np.linalg.norm(box.velocity) < 0.5
+        assert np.all(np.isfinite(box.position))
+        assert np.linalg.norm(box.velocity) < 0.5
     assert np.linalg.norm(box.position - start) < 0.1
 
 
@@ -240,7 +246,8 @@ def test_reset_gives_a_sane_world_at_every_box_mass():
         world.reset()
         start = world.box.position.copy()
         world.run(0.3)
-        assert np.all(np.isfinite(world.box.position)) and np.linalg.norm(world.box.position - start) < 0.02
+        assert np.all(np.isfinite(world.box.position))
+        assert np.linalg.norm(world.box.position - start) < 0.02
 
 
 def test_the_live_world_judges_its_scripted_participant_like_the_experiment():
@@ -251,12 +258,14 @@ def test_the_live_world_judges_its_scripted_participant_like_the_experiment():
     assert world.snapshot().trial.state == "none"
     world.start_lifting(10.0)
     world.step()
-    assert world.snapshot().trial.state == "running" and world.snapshot().trial.participant == "hasty"
+    assert world.snapshot().trial.state == "running"
+    assert world.snapshot().trial.participant == "hasty"
     while world.trial.state == "running":
         world.step()
     live = world.snapshot().trial
     headless = Trial(PARTICIPANTS["hasty"], seed=11).run()
-    assert live.state == "succeeded" and live.reason == ""
+    assert live.state == "succeeded"
+    assert live.reason == ""
     assert (live.duration, live.slip, live.f_n_min, live.f_n_max, live.max_friction_ratio) == pytest.approx(
         (headless.duration, headless.slip, headless.f_n_min, headless.f_n_max, headless.max_friction_ratio), abs=1e-9
     )
@@ -283,4 +292,5 @@ def test_a_live_trial_taken_over_by_the_gizmo_is_abandoned_and_stopping_drops_th
     world.stop_lifting()  # the robot no longer follows: the person lifts, the box is dropped
     while world.trial.state == "running":
         world.step()
-    assert world.trial.state == "failed" and world.trial.reason.startswith("dropped")
+    assert world.trial.state == "failed"
+    assert world.trial.reason.startswith("dropped")

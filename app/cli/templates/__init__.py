@@ -43,7 +43,8 @@ def render(kind: str, api: str = "rospy") -> str:
     """The text `hri-lab template KIND --api API` prints."""
     if kind == "controller":
         spec = importlib.util.find_spec("sim.controllers.template")
-        assert spec is not None and spec.origin is not None  # a module of this package
+        assert spec is not None
+        assert spec.origin is not None
         return Path(spec.origin).read_text(encoding="utf-8")
     text = (Path(__file__).parent / FILES[kind, api]).read_text(encoding="utf-8")
     out = []

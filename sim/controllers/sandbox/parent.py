@@ -96,7 +96,7 @@ class SandboxedController:
         request[22:-1] = wire.param_values(params)
         request[-1] = dt
         started = time.perf_counter()
-        kind, size = self._call(b"S", None, "step")
+        _kind, size = self._call(b"S", None, "step")
         self._account(time.perf_counter() - started, dt)
         if size != wire.TWIST_BYTES:
             self._fault(f"{self.name}.step returned {size // 8} numbers, expected 6 = [vx, vy, vz, wx, wy, wz]")
@@ -186,7 +186,7 @@ class SandboxedController:
             )
         self.pid, self._jail = None, None  # a child of another process (fork) is not ours to talk to
         self._spawn()
-        kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
+        _kind, size = self._call(b"L", self._load_request, "load", self.budget.load_timeout)
         reply = self._slot.answer_payload(min(size, wire.MAX_TEXT))
         self.has_start, self.has_stop = bool(reply[:1] == b"\1"), bool(reply[1:2] == b"\1")
         if reach := wire.text(reply[2:]):
@@ -303,7 +303,7 @@ class SandboxedController:
                 return kind, size
 
     def _service(self, op: bytes, values: list[float], params: LiftingParams, what: str) -> str:
-        kind, size = self._call(op, np.asarray(values, float).tobytes(), what)
+        _kind, size = self._call(op, np.asarray(values, float).tobytes(), what)
         reply = self._slot.answer_payload(size)
         count = len(wire.PARAM_FIELDS) * 8
         new = np.frombuffer(reply[:count], dtype=np.float64) if len(reply) >= count else np.array([np.nan])

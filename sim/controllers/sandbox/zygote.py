@@ -198,8 +198,8 @@ def main(argv: list[str]) -> int:
     os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
     import numpy  # noqa: F401 - what every item's child would import: once, here
 
-    import sim.controllers.interface  # noqa: F401
-    import sim.controllers.sandbox.child  # noqa: F401
+    import sim.controllers.interface
+    import sim.controllers.sandbox.child
 
     try:
         import sim.controllers.sp  # noqa: F401 - what a file built on the lab's SP imports

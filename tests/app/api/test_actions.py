@@ -40,7 +40,8 @@ def test_cancel_mid_way_ends_preempted_and_a_busy_server_rejects(client):
     assert first["feedback"][0] == {"current_number": 1}
     # a second goal while one is active is rejected (documented: one goal at a time)
     second = client.post("/actions/count/goals", json={"count": 1})
-    assert second.status_code == 409 and second.json()["status"] == "rejected"
+    assert second.status_code == 409
+    assert second.json()["status"] == "rejected"
     assert goal_id in second.json()["message"]
     canceled = client.post(f"/actions/count/goals/{goal_id}/cancel").json()
     assert canceled["status"] in ("preempting", "preempted")
@@ -121,7 +122,8 @@ def test_teleop_refusals(client):
     assert client.post("/teleop/key", json={"key": "x"}).status_code == 422
     client.post("/services/start_cooperative_lifting", json={"force": 10.0})
     refused = client.post("/teleop/key", json={"key": "w"})
-    assert refused.status_code == 409 and "lifting" in refused.json()["reason"]
+    assert refused.status_code == 409
+    assert "lifting" in refused.json()["reason"]
     client.post("/services/stop_cooperative_lifting")
 
 
@@ -138,9 +140,8 @@ def test_move_to_start_is_refused_up_front_while_lifting_or_in_error(client, lab
 
     lab.call(_too_fast)
     response = client.post("/actions/move_to_start/goals")
-    assert response.status_code == 409 and response.json()["message"].startswith(
-        "the robot is in error (cartesian velocity limit"
-    )
+    assert response.status_code == 409
+    assert response.json()["message"].startswith("the robot is in error (cartesian velocity limit")
     assert "call /error_recovery first" in response.json()["message"]
     client.post("/services/error_recovery")
 
@@ -172,7 +173,8 @@ def test_compare_controllers_refusals(client):
         ({"participants": "calm,sleepy"}, "participants"),
     ):
         refused = client.post("/actions/compare_controllers/goals", json=goal)
-        assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == field
+        assert refused.status_code == 422
+        assert refused.json()["detail"][0]["loc"][-1] == field
 
 
 def test_experiment_goals_refuse_a_bad_set_with_the_parameter_servers_message(client):
@@ -184,9 +186,11 @@ def test_experiment_goals_refuse_a_bad_set_with_the_parameter_servers_message(cl
         ):
             refused = client.post(f"/actions/{action}/goals", json={"set": text})
             assert refused.status_code == 409, refused.text
-            assert refused.json()["status"] == "rejected" and message in refused.json()["message"]
+            assert refused.json()["status"] == "rejected"
+            assert message in refused.json()["message"]
         malformed = client.post(f"/actions/{action}/goals", json={"set": "alpha 0.5"})  # not NAME=VALUE: the schema's
-        assert malformed.status_code == 422 and malformed.json()["detail"][0]["loc"][-1] == "set"
+        assert malformed.status_code == 422
+        assert malformed.json()["detail"][0]["loc"][-1] == "set"
     assert "string set" in client.get("/actions/run_experiment").json()["definition"]
 
 
@@ -196,5 +200,6 @@ def test_robot_model(client):
     joints = {j["name"]: j for j in robot["joints"]}
     assert joints["panda_joint4"]["upper"] == pytest.approx(-0.0698)
     assert joints["panda_joint1"]["velocity"] == pytest.approx(2.175)
-    assert joints["panda_joint1"]["parent"] == "panda_link0" and joints["panda_joint1"]["child"] == "panda_link1"
+    assert joints["panda_joint1"]["parent"] == "panda_link0"
+    assert joints["panda_joint1"]["child"] == "panda_link1"
     assert "panda_link8" in robot["links"]

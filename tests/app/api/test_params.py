@@ -34,7 +34,7 @@ def test_list_get_describe(client):
 
 
 @pytest.mark.parametrize(
-    "node, name, value, status, reason",
+    ("node", "name", "value", "status", "reason"),
     [
         (
             "cooperative_lifting",

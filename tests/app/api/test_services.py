@@ -73,7 +73,8 @@ def test_start_moves_the_robot_to_the_box_and_stop_zeroes_the_command(client, la
     command = client.get("/topics/cartesian_velocity_controller/command").json()
     assert command["linear"]["y"] >= 0.0  # pressing along the plate normal (base +y)
     response = client.post("/services/stop_cooperative_lifting")
-    assert "stopped" in response.json()["message"] and "0" in response.json()["message"]
+    assert "stopped" in response.json()["message"]
+    assert "0" in response.json()["message"]
 
     def command_is_zero():
         c = client.get("/topics/cartesian_velocity_controller/command").json()
@@ -116,7 +117,8 @@ def test_compute_torques(client, lab):
     refused(client.post("/services/compute_torques", json={"force": "123456"}), "force")
     # huge but finite inputs whose result overflows: a failure response, not a 500 (found by fuzzing)
     overflow = client.post("/services/compute_wrench", json={"torques": [1.7e308] * 7})
-    assert overflow.status_code == 400 and "overflows" in overflow.json()["detail"]
+    assert overflow.status_code == 400
+    assert "overflows" in overflow.json()["detail"]
 
 
 def test_compute_wrench_round_trip(client, lab):
@@ -161,9 +163,11 @@ def test_integer_services(client):
     refused(client.post("/services/add_two_ints", json={"a": "1", "b": 0}), "a")
     refused(client.post("/services/add_two_ints", json={"a": 1}), "b")
     overflow = client.post("/services/multiply_three", json={"a": 2**62, "b": 2, "c": 2})
-    assert overflow.status_code == 400 and "int64" in overflow.json()["detail"]
+    assert overflow.status_code == 400
+    assert "int64" in overflow.json()["detail"]
     overflow = client.post("/services/add_two_ints", json={"a": 2**63 - 1, "b": 1})
-    assert overflow.status_code == 400 and "int64" in overflow.json()["detail"]
+    assert overflow.status_code == 400
+    assert "int64" in overflow.json()["detail"]
 
 
 def test_echo_login_and_camera(client):
@@ -171,10 +175,12 @@ def test_echo_login_and_camera(client):
     refused(client.post("/services/echo", json={}), "in")
     refused(client.post("/services/echo", json={"in": "x", "extra": 1}), "extra")
     ok = client.post("/services/login", json={"username": "ada", "magic_number": 42}).json()
-    assert ok["success"] is True and "ada" in ok["message"]
+    assert ok["success"] is True
+    assert "ada" in ok["message"]
     assert client.post("/services/login", json={"username": "ada", "magic_number": 7}).json()["success"] is False
     pixel = client.post("/services/get_target_position", json={"get": True}).json()
-    assert 0 <= pixel["x"] < 640 and 0 <= pixel["y"] < 480
+    assert 0 <= pixel["x"] < 640
+    assert 0 <= pixel["y"] < 480
     assert client.post("/services/get_target_position", json={"get": False}).json() == {"x": 0, "y": 0}
     assert any(line["node"] == "get_target_position" for line in client.get("/log").json())
     refused(client.post("/services/get_target_position", json={"get": "yes"}), "get")
@@ -187,7 +193,8 @@ def test_camera_projection_follows_the_box():
 
     assert project(CAMERA_TARGET) == (320, 240)
     x, y = project(CAMERA_TARGET + [0.0, 0.0, 0.1])
-    assert x == 320 and y < 240
+    assert x == 320
+    assert y < 240
 
 
 def _too_fast(world) -> None:
@@ -198,12 +205,14 @@ def test_error_recovery_and_reset(client, lab):
     lab.call(_too_fast)
     assert "cartesian velocity limit" in client.get("/topics/lifting_state").json()["error"]
     body = client.post("/services/error_recovery").json()
-    assert body["success"] is True and "cartesian velocity limit" in body["message"]
+    assert body["success"] is True
+    assert "cartesian velocity limit" in body["message"]
     assert client.get("/topics/lifting_state").json()["error"] == ""
     assert client.post("/services/error_recovery").json()["message"] == "No error to recover from."
     client.post("/services/start_cooperative_lifting", json={"force": 10.0})
     body = client.post("/services/reset_simulation").json()
-    assert body["success"] is True and "lifting stopped" in body["message"]
+    assert body["success"] is True
+    assert "lifting stopped" in body["message"]
     state = client.get("/topics/lifting_state").json()
     assert (state["human_phase"], state["started"], state["f_n_min"]) == ("grasping", False, 0.0)
     wait_sim(lab.snapshot, 0.5)  # the person waits: no grip in a band, so no release
@@ -286,16 +295,16 @@ def test_topic_stream_delivers_at_about_the_asked_rate(client):
     # never more than the asked rate: each message at least one period (20 ms) of simulated time after
     # the one before (how many fewer a loaded machine delivers depends on its speed: not asserted)
     assert min(gaps) >= 0.02 - 0.0005 and count <= 51, (count, min(gaps))
-    assert msg["header"]["frame_id"] == "panda_K" and "force" in msg["wrench"]
+    assert msg["header"]["frame_id"] == "panda_K"
+    assert "force" in msg["wrench"]
 
 
 def test_topic_stream_refusals(client):
     from starlette.websockets import WebSocketDisconnect
 
     for path in ("/topics/nope/stream", "/topics/joint_states/stream?rate=0", "/topics/joint_states/stream?rate=5000"):
-        with pytest.raises(WebSocketDisconnect):
-            with client.websocket_connect(path) as ws:
-                ws.receive_json()
+        with pytest.raises(WebSocketDisconnect), client.websocket_connect(path) as ws:
+            ws.receive_json()
 
 
 def _break_human(world) -> None:
@@ -315,7 +324,8 @@ def test_a_simulation_fault_stops_the_robot_not_the_loop(client, lab):
     lab.call(_break_human)
     wait_for(lambda: lab.runtime.health().stats.step_errors > 10)
     health = client.get("/health").json()
-    assert health["loop_alive"] is True and health["step_errors"] > 10
+    assert health["loop_alive"] is True
+    assert health["step_errors"] > 10
     assert "simulation error: ValueError: injected fault" in client.get("/topics/lifting_state").json()["error"]
     lab.call(_fix_human)
     assert client.post("/services/error_recovery").json()["success"] is True
@@ -330,13 +340,15 @@ def test_start_selects_the_controller(client, lab):
     assert (
         client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "patch"}).status_code == 200
     )
-    assert lab.call(cmd.controller_name) == "PatchController" and lab.call(cmd.lifting_state)[:2] == (True, 10.0)
+    assert lab.call(cmd.controller_name) == "PatchController"
+    assert lab.call(cmd.lifting_state)[:2] == (True, 10.0)
     assert client.get("/params/cooperative_lifting/controller").json()["value"] == "patch"
     client.post("/services/stop_cooperative_lifting")
     client.post("/services/start_cooperative_lifting", json={"force": 12})
     assert lab.call(cmd.controller_name) == "PatchController"  # kept
     refused = client.post("/services/start_cooperative_lifting", json={"force": 12, "controller": "pid"})
-    assert refused.status_code == 422 and refused.json()["detail"][0]["loc"][-1] == "controller"
+    assert refused.status_code == 422
+    assert refused.json()["detail"][0]["loc"][-1] == "controller"
     client.post("/services/start_cooperative_lifting", json={"force": 10, "controller": "sp"})
     assert lab.call(cmd.controller_name) == "SPController"
     client.post("/services/stop_cooperative_lifting")

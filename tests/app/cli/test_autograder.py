@@ -24,7 +24,9 @@ def test_the_bundle_holds_the_scripts_executable_the_config_and_the_labs_source(
         config = json.loads(z.read(CONFIG))
         setup = z.read("setup.sh").decode()
     assert {f"{SOURCE}/pyproject.toml", f"{SOURCE}/sim/world.py", f"{SOURCE}/app/cli/autograder.py"} <= names
-    assert config["seed"] == 31 and config["services"] and config["hide_until_due"]
+    assert config["seed"] == 31
+    assert config["services"]
+    assert config["hide_until_due"]
     assert config["reference"] == "zero"
     assert f'"$ROOT/source/{SOURCE}[nodes]"' in setup  # --services: roslibpy installed for the nodes
     assert "seed 31" in capsys.readouterr().out
@@ -37,7 +39,8 @@ def test_the_public_seed_is_refused_unless_asked_for(tmp_path, capsys, monkeypat
     monkeypatch.delenv("HRI_LAB_GRADE_SEED", raising=False)
     assert build(bundle_args(tmp_path)) == 2
     err = capsys.readouterr().err
-    assert f"seed {PUBLIC_SEED} is the public default" in err and "--public-seed" in err
+    assert f"seed {PUBLIC_SEED} is the public default" in err
+    assert "--public-seed" in err
     assert not (tmp_path / "autograder.zip").exists()
     assert build(bundle_args(tmp_path, "--public-seed")) == 0
     assert f"seed {PUBLIC_SEED}, the public default" in capsys.readouterr().out
@@ -66,6 +69,7 @@ def test_results_json_adds_the_reports_and_hides_the_tests_until_due():
     assert results["score"] == 3.0
     assert [t["name"] for t in results["tests"]] == ["probe: p", "services: s"]
     assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}
-    assert results["visibility"] == "visible" and results["stdout_visibility"] == "hidden"
+    assert results["visibility"] == "visible"
+    assert results["stdout_visibility"] == "hidden"
     assert results["output"].splitlines()[0] == "a note"
     assert {t["visibility"] for t in results_json([a], [], hide_until_due=False)["tests"]} == {"visible"}

@@ -31,7 +31,8 @@ def test_bag_info_prints_ros2_bag_infos_layout_or_json(recording, capsys):
     assert "Duration:          0.050s" in text  # the topics at 0, 10, ..., 50 ms
     assert main(["bag", "info", "--json", str(recording)]) == 0
     info = json.loads(capsys.readouterr().out)
-    assert info["complete"] and info["duration"] == pytest.approx(0.05)
+    assert info["complete"]
+    assert info["duration"] == pytest.approx(0.05)
     assert {t["name"]: t["count"] for t in info["topics"]}["/joint_states"] == 6
 
 

@@ -54,7 +54,8 @@ def test_param_get_set_describe_as_ros2_prints_them(hri_lab, capsys):
     )
     assert hri_lab("param", "describe", "/cooperative_lifting", "mu") == 0
     out = capsys.readouterr().out
-    assert out.startswith("Parameter name: mu\n  Type: double\n") and "  Constraints:\n    Min value:" in out
+    assert out.startswith("Parameter name: mu\n  Type: double\n")
+    assert "  Constraints:\n    Min value:" in out
     assert hri_lab("param", "get", "/cooperative_lifting", "no_such") == 1
 
 
@@ -75,5 +76,7 @@ def test_action_list_and_a_goal_to_its_end(hri_lab, capsys):
     assert "/count" in capsys.readouterr().out.splitlines()
     assert hri_lab("action", "send_goal", "/count", "{count: 2}", "--feedback") == 0
     out = capsys.readouterr().out
-    assert out.startswith("Sending goal:\n    count: 2\n") and "Goal accepted with ID: " in out
-    assert out.count("Feedback:\n") >= 1 and out.endswith("Goal finished with status: SUCCEEDED\n")
+    assert out.startswith("Sending goal:\n    count: 2\n")
+    assert "Goal accepted with ID: " in out
+    assert out.count("Feedback:\n") >= 1
+    assert out.endswith("Goal finished with status: SUCCEEDED\n")

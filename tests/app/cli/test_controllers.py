@@ -21,7 +21,8 @@ def test_built_in_names_give_their_controllers():
 
 def test_a_file_s_class_is_loaded():
     controller = loaded_factory(f"{CONTROLLERS / 'reference_sp.py'}", sandboxed=False)()
-    assert callable(controller.step) and callable(controller.reset)
+    assert callable(controller.step)
+    assert callable(controller.reset)
 
 
 @pytest.mark.parametrize("spec", ["missing.py", f"{CONTROLLERS / 'reference_sp.py'}:NoSuchClass", "pid"])

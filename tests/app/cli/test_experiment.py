@@ -33,5 +33,6 @@ def test_one_trial_with_a_changed_parameter(capsys):
     report = json.loads(capsys.readouterr().out)
     assert (report["controller"], report["seed"], report["set"]) == ("sp", 0, {"k_t": 0.2})
     [trial] = report["trials"]
-    assert trial["participant"] == "calm" and trial["success"] is True
+    assert trial["participant"] == "calm"
+    assert trial["success"] is True
     assert (report["summary"]["trials"], report["summary"]["successes"]) == (1, 1)

@@ -46,7 +46,8 @@ def test_a_report_in_out_is_kept_only_for_the_same_file_seed_and_parts(tmp_path)
     fresh.sha256 = "f" * 64
     write_report(graded(tmp_path / "a.py", sections=("probe",)), out, gradescope=False, single=True)
     kept = up_to_date(fresh, out, ("probe",))
-    assert kept is not None and kept.items[0].name == "x"
+    assert kept is not None
+    assert kept.items[0].name == "x"
     fresh.seed = 6
     assert up_to_date(fresh, out, ("probe",)) is None  # another seed
     fresh.seed, fresh.sha256 = 5, "e" * 64
@@ -76,5 +77,7 @@ def test_a_file_that_cannot_be_a_controller_gets_a_report_saying_why(tmp_path, c
     out = tmp_path / "out"
     assert grade(str(tmp_path / name), "--seed", "5", "--out", str(out)) == 1
     written = json.loads((out / f"{name[:-3]}.json").read_text())
-    assert written["points"] == 0 and written["max_points"] == 130 and said in written["error"]
+    assert written["points"] == 0
+    assert written["max_points"] == 130
+    assert said in written["error"]
     assert (out / "summary.csv").read_text().splitlines()[1].startswith(str(tmp_path / name))

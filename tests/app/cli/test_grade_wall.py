@@ -29,5 +29,6 @@ def test_a_file_that_cannot_be_read_is_reported_without_a_trial(tmp_path, capsys
     assert grade_wall(str(tmp_path / "gone.py"), "--out", str(out), "--seed", "4") == 1
     report = json.loads((out / "gone.json").read_text())
     assert report["error"].startswith(f"cannot read {tmp_path / 'gone.py'}: No such file or directory")
-    assert report["points"] == 0 and report["seed"] == 4
+    assert report["points"] == 0
+    assert report["seed"] == 4
     assert report["kind"] == "wall following"

@@ -18,10 +18,12 @@ def test_no_folder_no_outputs():
 def test_the_folders_are_made(tmp_path):
     record, plots = tmp_path / "a" / "rec", tmp_path / "b" / "fig"
     outputs = trial_outputs(argparse.Namespace(record=str(record), plots=str(plots)))
-    assert isinstance(outputs, TrialOutputs) and record.is_dir() and plots.is_dir()
+    assert isinstance(outputs, TrialOutputs)
+    assert record.is_dir()
+    assert plots.is_dir()
 
 
 def test_a_folder_that_cannot_be_made_stops_with_its_reason(tmp_path):
     (tmp_path / "file").write_text("")
-    with pytest.raises(SystemExit, match="cannot write to .*file/rec"):
+    with pytest.raises(SystemExit, match=r"cannot write to .*file/rec"):
         trial_outputs(argparse.Namespace(record=str(tmp_path / "file" / "rec"), plots=None))

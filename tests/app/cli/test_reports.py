@@ -39,7 +39,8 @@ def test_one_report_is_printed_in_its_format_and_the_status_says_whether_it_pass
     assert "score: 10/10" in capsys.readouterr().out
     assert emit([report(points=5.0)], args(format="json", json=str(tmp_path / "r.json"))) == 1  # 50 % < 60 %
     printed = json.loads(capsys.readouterr().out)
-    assert printed["points"] == 5.0 and json.loads((tmp_path / "r.json").read_text()) == printed
+    assert printed["points"] == 5.0
+    assert json.loads((tmp_path / "r.json").read_text()) == printed
     assert emit([report(error="SyntaxError")], args(format="gradescope")) == 1
     assert json.loads(capsys.readouterr().out)["tests"][0]["name"] == "controller: not graded"
 

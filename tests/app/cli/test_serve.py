@@ -23,7 +23,9 @@ def test_a_short_token_is_refused(monkeypatch, capsys):
 def test_uvicorn_gets_the_servers_limits():
     config = server_config(app=None, host="127.0.0.1", port=8123)
     assert (config.host, config.port) == ("127.0.0.1", 8123)
-    assert config.timeout_keep_alive == KEEP_ALIVE_S and config.timeout_graceful_shutdown == SHUTDOWN_S
-    assert config.ws_max_size == 2 * MAX_FRAME and config.ws_ping_timeout == WS_PING_TIMEOUT_S
+    assert config.timeout_keep_alive == KEEP_ALIVE_S
+    assert config.timeout_graceful_shutdown == SHUTDOWN_S
+    assert config.ws_max_size == 2 * MAX_FRAME
+    assert config.ws_ping_timeout == WS_PING_TIMEOUT_S
     assert config.http.read_timeout_s == READ_TIMEOUT_S
     assert server_config(None, "127.0.0.1", 1, read_timeout_s=0.5).http.read_timeout_s == 0.5

@@ -8,7 +8,7 @@ from app.interfaces.parser import DefinitionError
 from tests.ros_running import PROGRAMS
 
 
-@pytest.fixture()
+@pytest.fixture
 def interfaces(tmp_path):
     return Interfaces([tmp_path, PROGRAMS])
 
@@ -17,22 +17,24 @@ def test_a_workspace_service_has_rclpy_and_rospy_classes_with_ros_defaults(inter
     multiply = interfaces.get("cpp_package", "srv", "MultiplyThree")
     request = multiply.Request()
     assert (request.a, request.b, request.c) == (0, 0, 0)
-    assert multiply._request_class is multiply.Request and multiply._type == "cpp_package/MultiplyThree"
+    assert multiply._request_class is multiply.Request
+    assert multiply._type == "cpp_package/MultiplyThree"
     assert multiply.Request(1, 2, 3).to_json() == {"a": 1, "b": 2, "c": 3}  # rospy: positional
     assert multiply.Request(b=5).to_json() == {"a": 0, "b": 5, "c": 0}  # keyword, the rest default
     assert multiply.Response.from_json({"product": 6}).product == 6
     divide = interfaces.get("cpp_package", "srv", "DivideInts")
-    assert divide.Response().result == 0.0 and divide.Response().message == ""
+    assert divide.Response().result == 0.0
+    assert divide.Response().message == ""
 
 
 def test_a_wrong_field_or_type_is_an_error_naming_it(interfaces):
     add = interfaces.get("example_interfaces", "srv", "AddTwoInts")
-    with pytest.raises(TypeError, match="has no field 'c'.*a, b"):
+    with pytest.raises(TypeError, match=r"has no field 'c'.*a, b"):
         add.Request(a=1, c=2)
     with pytest.raises(AttributeError, match="'c'"):
         add.Request().c = 3
     bad = add.Request(a="1")
-    with pytest.raises(TypeError, match="'example_interfaces/AddTwoIntsRequest.a' field must be of type 'int'"):
+    with pytest.raises(TypeError, match=r"'example_interfaces/AddTwoIntsRequest.a' field must be of type 'int'"):
         bad.to_json()
     with pytest.raises(ValueError, match=r"int64"):
         add.Request(a=2**63).to_json()
@@ -46,15 +48,19 @@ def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
             "wrench": {"force": {"x": 1, "y": 2.5, "z": -3}, "torque": {"x": 0, "y": 0, "z": 0}},
         }
     )
-    assert msg.wrench.force.x == 1.0 and isinstance(msg.wrench.force.x, float)
-    assert msg.header.stamp.to_sec() == 3.5 and msg.header.stamp.secs == 3  # rospy's names too
+    assert msg.wrench.force.x == 1.0
+    assert isinstance(msg.wrench.force.x, float)
+    assert msg.header.stamp.to_sec() == 3.5
+    assert msg.header.stamp.secs == 3
     assert interfaces.message("geometry_msgs/Quaternion")().w == 1.0  # a default in the definition
     joint = interfaces.message("sensor_msgs/msg/JointState")(position=[0.1, 0.2], name=["a", "b"])
-    assert joint.to_json()["position"] == [0.1, 0.2] and joint.velocity == []
+    assert joint.to_json()["position"] == [0.1, 0.2]
+    assert joint.velocity == []
     log = interfaces.message("rosgraph_msgs/Log")
     assert (log.INFO, log.ERROR) == (2, 8)
     status = interfaces.message("actionlib_msgs/GoalStatus")
-    assert status.SUCCEEDED == 3 and status().goal_id.id == ""
+    assert status.SUCCEEDED == 3
+    assert status().goal_id.id == ""
     image = interfaces.message("sensor_msgs/Image")(data=b"\x01\x02")
     assert image.to_json()["data"] == "AQI="  # uint8[] as base64, as rosbridge sends it
     assert interfaces.message("sensor_msgs/Image").from_json({"data": "AQI="}).data == b"\x01\x02"
@@ -75,7 +81,9 @@ def test_an_array_field_of_json_that_is_no_array_is_a_type_error_naming_it(inter
 
 def test_an_action_has_goal_result_feedback(interfaces):
     counting = interfaces.get("cpp_package", "action", "Counting")
-    assert counting.Goal(count=3).count == 3 and counting.Feedback().current == 0 and counting.Result().reached == 0
+    assert counting.Goal(count=3).count == 3
+    assert counting.Feedback().current == 0
+    assert counting.Result().reached == 0
 
 
 def test_the_lab_interfaces_are_its_own_declarations(interfaces):
@@ -90,7 +98,7 @@ def test_the_lab_interfaces_are_its_own_declarations(interfaces):
 
 
 @pytest.mark.parametrize(
-    "text, expected",
+    ("text", "expected"),
     [
         ("int64 a\nint64\n", "line 2: expected 'TYPE NAME'"),
         ("int64 a\nfoo bar\n", "line 2: unknown type 'foo'|cannot be read"),
@@ -137,7 +145,8 @@ def test_a_carried_srv_text_makes_the_labs_request_and_response_models(interface
     from app.ros.interface_models import BadDefinition, fields, own_text, service_models
 
     text = full_text(interfaces.get("cpp_package", "srv", "ScalePoint"))
-    assert "MSG: geometry_msgs/Point" in text and "MSG: cpp_package/Note" in text
+    assert "MSG: geometry_msgs/Point" in text
+    assert "MSG: cpp_package/Note" in text
     assert own_text(text) == (PROGRAMS / "cpp_package/srv/ScalePoint.srv").read_text().strip()
     request, response = service_models("cpp_package/srv/ScalePoint", text)
     ok = request.model_validate({"point": {"x": 1, "y": 2.5}, "factor": 2})
@@ -191,7 +200,8 @@ def test_an_actions_topic_messages_are_genmsgs(interfaces):
 def test_none_is_a_fields_default_as_genpy_takes_it(interfaces):
     header_string = interfaces.message("geometry_msgs/PointStamped")
     made = header_string(None, None)  # genpy: None by position or by name is the field's default
-    assert made.header.frame_id == "" and made.point.x == 0.0
+    assert made.header.frame_id == ""
+    assert made.point.x == 0.0
     assert header_string(header=None, point=None).to_json()["point"] == {"x": 0.0, "y": 0.0, "z": 0.0}
 
 

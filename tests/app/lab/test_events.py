@@ -18,7 +18,8 @@ def test_the_lab_node_is_named_once():
         if re.match(r"\s*LAB_NODE\s*[:=]", line)
     ]
     assert len(defined) == 1 and defined[0].startswith("app/lab/events.py:"), defined
-    assert LAB_NODE == "/hri_lab" and node_name(LAB_NODE) == "hri_lab"
+    assert LAB_NODE == "/hri_lab"
+    assert node_name(LAB_NODE) == "hri_lab"
 
 
 def test_the_lab_is_listed_and_logs_under_that_name(client, lab):

@@ -13,7 +13,8 @@ from app.ros.params import ParameterServer
 def test_both_labs_are_lab_ports(make):
     lab = make()  # not started: no process runs
     assert isinstance(lab, LabPort)
-    assert isinstance(lab.params, ParameterServer) and lab.params.lab is lab
+    assert isinstance(lab.params, ParameterServer)
+    assert lab.params.lab is lab
 
 
 def test_an_object_missing_a_member_is_not_a_lab_port():

@@ -2,6 +2,7 @@
 the server's shutdown."""
 
 import io
+import itertools
 import time
 
 import pytest
@@ -25,35 +26,41 @@ def wait_sim(client, seconds: float) -> None:
 def test_start_and_stop_recording_the_live_lab(client, lab, tmp_path):
     lab.recordings_dir = tmp_path
     started = client.post("/services/start_recording", json={"name": "live"})
-    assert started.status_code == 200 and started.json()["path"] == str(tmp_path / "live.mcap")
+    assert started.status_code == 200
+    assert started.json()["path"] == str(tmp_path / "live.mcap")
     again = client.post("/services/start_recording", json={"name": "other"})
-    assert again.status_code == 400 and "already recording" in again.json()["detail"]
+    assert again.status_code == 400
+    assert "already recording" in again.json()["detail"]
     assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
     wait_sim(client, 0.5)
     assert client.get("/recordings").json() == [
         {"name": "live.mcap", "bytes": pytest.approx(0, abs=10**7), "recording": True}
     ]
     stopped = client.post("/services/stop_recording", json={}).json()
-    assert stopped["success"] and stopped["messages"] > 0
+    assert stopped["success"]
+    assert stopped["messages"] > 0
     download = client.get("/recordings/live.mcap")
-    assert download.status_code == 200 and len(download.content) == stopped["bytes"]
+    assert download.status_code == 200
+    assert len(download.content) == stopped["bytes"]
     summary = make_reader(io.BytesIO(download.content)).get_summary()  # finished: indexed, with a summary
     counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
-    assert counts["/tf"] == 11 * counts["/scene"] and counts["/joint_states"] > 1
+    assert counts["/tf"] == 11 * counts["/scene"]
+    assert counts["/joint_states"] > 1
     stamps = [
         m.data["header"]["stamp"]["sec"] + m.data["header"]["stamp"]["nanosec"] * 1e-9
         for m in reader.messages(tmp_path / "live.mcap", ["/joint_states"])
     ]
-    steps = [b - a for a, b in zip(stamps, stamps[1:])]
+    steps = [b - a for a, b in itertools.pairwise(stamps)]
     assert min(steps) >= 0.01 - 1e-6  # decimated to 100 Hz of simulated time
     assert stamps[-1] - stamps[0] >= 0.4  # over the 0.5 s recorded (a loaded machine may skip samples, not the span)
     assert any(m.data["started"] for m in reader.messages(tmp_path / "live.mcap", ["/lifting_state"]))
     not_recording = client.post("/services/stop_recording", json={})
-    assert not_recording.status_code == 400 and "not recording" in not_recording.json()["detail"]
+    assert not_recording.status_code == 400
+    assert "not recording" in not_recording.json()["detail"]
 
 
 @pytest.mark.parametrize(
-    "body, field",
+    ("body", "field"),
     [
         ({"name": "../escape"}, "name"),
         ({"name": ".hidden"}, "name"),
@@ -63,7 +70,8 @@ def test_start_and_stop_recording_the_live_lab(client, lab, tmp_path):
 )
 def test_bad_recording_requests_name_the_field(client, body, field):
     response = client.post("/services/start_recording", json=body)
-    assert response.status_code == 422 and response.json()["detail"][0]["loc"][-1] == field
+    assert response.status_code == 422
+    assert response.json()["detail"][0]["loc"][-1] == field
 
 
 def test_file_routes_refuse_paths_out_of_their_folder(client):
@@ -79,7 +87,8 @@ def test_a_recording_is_finished_on_shutdown(tmp_path):
         assert client.post("/services/start_recording", json={"name": "shutdown"}).status_code == 200
         wait_sim(client, 0.2)
     bag = reader.info(tmp_path / "shutdown.mcap")  # the server stopped without /stop_recording
-    assert bag.complete and bag.messages > 0
+    assert bag.complete
+    assert bag.messages > 0
 
 
 def test_a_live_recording_has_the_cameras_images_in_foxgloves_schema(client, lab, tmp_path):
@@ -103,6 +112,8 @@ def test_a_live_recording_has_the_cameras_images_in_foxgloves_schema(client, lab
     channel = next(c for c in summary.channels.values() if c.topic == IMAGE_TOPIC)
     assert summary.schemas[channel.schema_id].name == "foxglove.CompressedImage"
     images = list(reader.messages(tmp_path / "camera.mcap", [IMAGE_TOPIC]))
-    assert images and images[0].data["format"] == "jpeg" and images[0].data["frame_id"] == "camera_optical"
+    assert images
+    assert images[0].data["format"] == "jpeg"
+    assert images[0].data["frame_id"] == "camera_optical"
     picture = cv2.imdecode(np.frombuffer(base64.b64decode(images[0].data["data"]), np.uint8), cv2.IMREAD_COLOR)
     assert picture.shape == (480, 640, 3)

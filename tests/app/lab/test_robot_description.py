@@ -20,7 +20,8 @@ def rosapi(ws, service: str, **args) -> dict:
 def test_robot_description_is_the_pandas_urdf_over_rosbridge(client):
     with client.websocket_connect("/") as ws:
         answer = rosapi(ws, "get_param", name="/robot_description")
-        assert answer["result"] and json.loads(answer["values"]["value"]) == PANDA_URDF
+        assert answer["result"]
+        assert json.loads(answer["values"]["value"]) == PANDA_URDF
         assert rosapi(ws, "has_param", name="robot_description")["values"] == {"exists": True}
         assert "/robot_description" in rosapi(ws, "get_param_names")["values"]["names"]
         assert rosapi(ws, "search_param", name="robot_description")["values"]["global_name"] == "/robot_description"
@@ -44,6 +45,7 @@ def test_robot_description_is_read_only_with_the_reason(client):
 
 def test_robot_description_over_http(client):
     response = client.get("/robot/description")
-    assert response.status_code == 200 and response.headers["content-type"].startswith("application/xml")
+    assert response.status_code == 200
+    assert response.headers["content-type"].startswith("application/xml")
     assert response.text == PANDA_URDF
     assert client.get("/robot").json()["name"] == "panda"

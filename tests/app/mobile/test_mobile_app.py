@@ -24,10 +24,13 @@ def client():
 
 def test_the_page_and_the_arena(client):
     page = client.get("/")
-    assert page.status_code == 200 and "the mobile world" in page.text
+    assert page.status_code == 200
+    assert "the mobile world" in page.text
     arena = client.get("/mobile/arena").json()
-    assert arena["half_size_xy"] == [2.0, 2.0] and arena["obstacles"][0]["shape"] == "cylinder"
-    assert arena["max_linear"] == 0.22 and arena["max_angular"] == 2.84
+    assert arena["half_size_xy"] == [2.0, 2.0]
+    assert arena["obstacles"][0]["shape"] == "cylinder"
+    assert arena["max_linear"] == 0.22
+    assert arena["max_angular"] == 2.84
     names = {s["name"] for s in client.get("/services").json()}
     assert names == {"/start_recording", "/stop_recording"}  # the lifting lab's others are not this world's
     assert client.post("/teleop/key", json={"key": "w"}).status_code == 404
@@ -35,17 +38,19 @@ def test_the_page_and_the_arena(client):
 
 def test_out_of_range_rays_are_null_over_http(client):
     ranges = client.get("/topics/scan").json()["ranges"]
-    assert len(ranges) == 360 and None in ranges  # the far corners: > 3.5 m from (-1, 0)
+    assert len(ranges) == 360
+    assert None in ranges
     assert all(r is None or 0.12 <= r <= 3.5 for r in ranges)
 
 
 @pytest.mark.parametrize(
-    "body, field",
+    ("body", "field"),
     [({"linear_x": "fast", "angular_z": 0.0}, "linear_x"), ({"linear_x": 0.1, "angular_z": math.inf}, "angular_z")],
 )
 def test_bad_teleop_is_refused_naming_the_field(client, body, field):
     answer = client.post("/mobile/drive", content=json.dumps(body), headers={"content-type": "application/json"})
-    assert answer.status_code == 422 and field in answer.text
+    assert answer.status_code == 422
+    assert field in answer.text
 
 
 def test_the_page_teleop_drives_the_base(client):
@@ -70,9 +75,11 @@ def test_a_live_recording_of_the_mobile_world(client, tmp_path):
         )
     )
     stopped = client.post("/services/stop_recording", json={}).json()
-    assert stopped["success"] and stopped["messages"] > 10
+    assert stopped["success"]
+    assert stopped["messages"] > 10
     download = client.get("/recordings/drive.mcap")
-    assert download.status_code == 200 and download.content.startswith(b"\x89MCAP0\r\n")
+    assert download.status_code == 200
+    assert download.content.startswith(b"\x89MCAP0\r\n")
     assert is_mobile(tmp_path / "drive.mcap")
     assert "foxglove.LaserScan" in {m.schema for m in reader.messages(tmp_path / "drive.mcap", ["/scan"])}
 
@@ -82,6 +89,7 @@ def test_a_graded_trials_world_cannot_be_reset(client):
     lab.graded = True
     try:
         refused = client.post("/mobile/reset")
-        assert refused.status_code == 403 and "cannot be reset" in refused.text
+        assert refused.status_code == 403
+        assert "cannot be reset" in refused.text
     finally:
         lab.graded = False

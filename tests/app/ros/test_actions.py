@@ -74,9 +74,8 @@ def test_how_a_goal_ends(n, status, message, result):
 def test_feedback_arrives_in_order_and_a_view_can_start_after_the_n_th():
     handle = ActionServer([COUNT], lab=None).send_goal(COUNT, Count(count=3))
     finished(handle)
-    assert [f["at"] for f in handle.view()["feedback"]] == [0, 1, 2] and handle.view(after=2)["feedback"] == [
-        {"at": 2, "note": ""}
-    ]
+    assert [f["at"] for f in handle.view()["feedback"]] == [0, 1, 2]
+    assert handle.view(after=2)["feedback"] == [{"at": 2, "note": ""}]
 
 
 def test_a_cancel_preempts_a_running_goal_and_a_second_goal_is_rejected_meanwhile():
@@ -84,7 +83,8 @@ def test_a_cancel_preempts_a_running_goal_and_a_second_goal_is_rejected_meanwhil
     first = server.send_goal(COUNT, Count(count=10))
     first.wait_for_update(after=0, timeout=30.0)  # it runs: its first feedback came
     second = server.send_goal(COUNT, Count(count=1))
-    assert second.status == GoalStatus.REJECTED and first.id in second.message
+    assert second.status == GoalStatus.REJECTED
+    assert first.id in second.message
     server.cancel(first)
     view = finished(first)
     assert (view["status"], view["message"], view["result"]) == ("preempted", "canceled", {"reached": 0})
@@ -102,8 +102,10 @@ def test_actions_come_and_go_and_goals_are_found_by_their_action():
         server.add(COUNT)
     handle = server.send_goal(COUNT, Count(count=0))
     finished(handle)
-    assert server.goal("count", handle.id) is handle and server.goal("/other", handle.id) is None
-    assert server.remove("count") is COUNT and server.get("/count") is None
+    assert server.goal("count", handle.id) is handle
+    assert server.goal("/other", handle.id) is None
+    assert server.remove("count") is COUNT
+    assert server.get("/count") is None
 
 
 def test_old_finished_goals_are_forgotten(monkeypatch):

@@ -9,7 +9,8 @@ from app.ros.param_tree import ParamError, ParameterTree, canonical
 
 def test_canonical_names_as_the_master_keys_them():
     assert canonical("a/b", "/ns") == "/ns/a/b"
-    assert canonical("/a/b/") == "/a/b" and canonical("/") == "/"
+    assert canonical("/a/b/") == "/a/b"
+    assert canonical("/") == "/"
     for bad in ("", "  ", "a b", "/a//b", "x" * 300, 3):
         with pytest.raises(ParamError):
             canonical(bad)
@@ -21,7 +22,8 @@ def test_a_dict_sets_a_subtree_and_a_namespace_reads_as_a_dict():
     tree.set("/robot/name", "panda")
     assert tree.get("/robot") == {"gains": {"k_n": 0.005, "k_t": 0.1}, "name": "panda"}
     assert tree.names() == ["/robot/gains/k_n", "/robot/gains/k_t", "/robot/name"]
-    assert tree.get("/robot/none", "default") == "default" and not tree.has("/robot/none")
+    assert tree.get("/robot/none", "default") == "default"
+    assert not tree.has("/robot/none")
 
 
 def test_a_value_read_is_a_copy():
@@ -35,9 +37,11 @@ def test_delete_a_leaf_a_namespace_and_the_root():
     tree = ParameterTree()
     tree.set("/a/b", 1)
     tree.set("/a/c", 2)
-    assert tree.delete("/a/b") and not tree.delete("/a/b")
+    assert tree.delete("/a/b")
+    assert not tree.delete("/a/b")
     assert tree.names() == ["/a/c"]
-    assert tree.delete("/") and tree.names() == []
+    assert tree.delete("/")
+    assert tree.names() == []
 
 
 def test_search_finds_the_nearest_name_up_from_the_namespace():
@@ -78,4 +82,5 @@ def test_values_are_json_and_the_tree_is_bounded(monkeypatch):
     with pytest.raises(ParamError, match="at most 2 parameters"):
         tree.set("/c", 3)
     tree.set("/a", 10)  # replacing a leaf adds none
-    assert tree.names() == ["/a", "/b"] and tree.get("/a") == 10
+    assert tree.names() == ["/a", "/b"]
+    assert tree.get("/a") == 10

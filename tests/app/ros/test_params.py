@@ -23,7 +23,8 @@ def server() -> ParameterServer:
 def test_get_and_set_by_either_spelling_of_the_node():
     lab = server()
     lab.set("/cooperative_lifting", "mu", 1)  # an integer for a double (JSON has one number type)
-    assert lab.get("cooperative_lifting", "mu") == 1.0 and isinstance(lab.get("cooperative_lifting", "mu"), float)
+    assert lab.get("cooperative_lifting", "mu") == 1.0
+    assert isinstance(lab.get("cooperative_lifting", "mu"), float)
     assert lab.typed("/cooperative_lifting", "mu") == ("double", 1.0)
 
 
@@ -77,7 +78,8 @@ def test_dump_and_load_round_trip_with_one_result_per_parameter():
     assert yaml.safe_load(text) == {"cooperative_lifting": {"ros__parameters": {"mu": 0.5, "controller": "sp"}}}
     results = lab.load("cooperative_lifting:\n  ros__parameters:\n    mu: 0.8\n    controller: pid\n")
     assert [(r["name"], r["successful"]) for r in results] == [("mu", True), ("controller", False)]
-    assert lab.get("cooperative_lifting", "mu") == 0.8 and "must be one of" in results[1]["reason"]
+    assert lab.get("cooperative_lifting", "mu") == 0.8
+    assert "must be one of" in results[1]["reason"]
     with pytest.raises(ParameterRefused, match="no ros__parameters"):
         lab.load("cooperative_lifting: 3\n")
 
@@ -107,10 +109,14 @@ class NodeParameters:
 def test_a_node_s_own_parameters_join_the_lab_s():
     lab = server()
     lab.remote = NodeParameters()
-    assert lab.remote_node("/talker") and not lab.remote_node("human")
-    assert ("talker", "rate") in lab.names() and lab.has("talker", "rate") and not lab.has("talker", "other")
+    assert lab.remote_node("/talker")
+    assert not lab.remote_node("human")
+    assert ("talker", "rate") in lab.names()
+    assert lab.has("talker", "rate")
+    assert not lab.has("talker", "other")
     lab.set("/talker", "rate", 20)
-    assert lab.get("talker", "rate") == 20 and lab.typed("talker", "rate") == ("integer", 20)
+    assert lab.get("talker", "rate") == 20
+    assert lab.typed("talker", "rate") == ("integer", 20)
     assert yaml.safe_load(lab.dump("talker")) == {"talker": {"ros__parameters": {"rate": 20}}}
     with pytest.raises(ParameterRefused, match="Parameter not set"):
         lab.get("talker", "other")
@@ -139,9 +145,8 @@ def test_a_parameter_file_s_limits(tmp_path, monkeypatch):
 def test_a_number_parameter_reads_as_a_float_and_a_string_one_is_refused():
     lab = server()
     lab.set("cooperative_lifting", "mu", 1)
-    assert lab.number("/cooperative_lifting", "mu") == 1.0 and isinstance(
-        lab.number("cooperative_lifting", "mu"), float
-    )
+    assert lab.number("/cooperative_lifting", "mu") == 1.0
+    assert isinstance(lab.number("cooperative_lifting", "mu"), float)
     assert lab.number("human", "steps") == 3.0
     with pytest.raises(ParameterRefused, match="'controller' is not a number: string"):
         lab.number("cooperative_lifting", "controller")

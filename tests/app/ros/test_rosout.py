@@ -18,9 +18,11 @@ from app.ros.rosout import (
 def test_a_line_as_either_message_type():
     line = LogLine(12.25, "WARN", "cooperative_lifting", "slipping")
     ros2 = line.message(TYPE)
-    assert ros2["stamp"] == {"sec": 12, "nanosec": 250_000_000} and ros2["level"] == LEVELS["WARN"] == 30
+    assert ros2["stamp"] == {"sec": 12, "nanosec": 250_000_000}
+    assert ros2["level"] == LEVELS["WARN"] == 30
     ros1 = line.message(ROS1_TYPE)
-    assert ros1["header"]["stamp"] == {"secs": 12, "nsecs": 250_000_000} and ros1["level"] == ROS1_LEVELS["WARN"] == 4
+    assert ros1["header"]["stamp"] == {"secs": 12, "nsecs": 250_000_000}
+    assert ros1["level"] == ROS1_LEVELS["WARN"] == 4
     assert ros1["name"] == ros2["name"] == "cooperative_lifting"
 
 

@@ -38,7 +38,8 @@ def test_a_name_is_declared_once_and_found_by_any_spelling():
     registry = ServiceRegistry([ADD])
     with pytest.raises(ValueError, match="declared twice"):
         registry.add(ADD)
-    assert registry.get("add_two_ints/") is ADD and registry.get("/other") is None
+    assert registry.get("add_two_ints/") is ADD
+    assert registry.get("/other") is None
     assert [s.name for s in registry] == ["/add_two_ints"]
 
 
@@ -47,8 +48,10 @@ def test_put_replaces_in_place_and_remove_takes_it_away():
     registry = ServiceRegistry([echo, ADD])
     node_text = Service("/echo", "hri_lab/Echo", Text, Text, lambda lab, r: r, text="string text\n---\nstring text")
     registry.put(node_text)
-    assert [s.name for s in registry] == ["/echo", "/add_two_ints"] and registry.get("/echo").srv == node_text.text
-    assert registry.remove("echo") is node_text and registry.remove("echo") is None
+    assert [s.name for s in registry] == ["/echo", "/add_two_ints"]
+    assert registry.get("/echo").srv == node_text.text
+    assert registry.remove("echo") is node_text
+    assert registry.remove("echo") is None
     assert [s.name for s in registry] == ["/add_two_ints"]
 
 

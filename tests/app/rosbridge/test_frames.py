@@ -35,7 +35,7 @@ def call(ws, service, args, id_="c"):
 
 
 @pytest.mark.parametrize(
-    "frame, says",
+    ("frame", "says"),
     [
         ("{not json", "not a JSON message"),
         ("[1, 2]", "JSON object with an 'op' field"),
@@ -119,7 +119,8 @@ def test_a_bad_frame_gets_a_status_message_naming_the_field(client, frame, says)
 def test_wrong_request_fields_fail_the_call_naming_them(client):
     with client.websocket_connect("/") as ws:
         response = call(ws, "/add_two_ints", {"a": 1, "b": "2"})
-        assert response["result"] is False and "b: Input should be a valid integer" in response["values"]
+        assert response["result"] is False
+        assert "b: Input should be a valid integer" in response["values"]
         assert call(ws, "/divide_ints", [7, 2])["values"] == {
             "result": 3.5,
             "message": "Division ok.",
@@ -162,7 +163,8 @@ def test_a_publish_flood_is_relayed_without_stalling(client):
             received.append(message["msg"]["data"])
         assert [int(data) for data in received] == sorted(int(data) for data in received)  # in order
     health = client.get("/health").json()
-    assert health["loop_alive"] is True and health["step_errors"] == 0
+    assert health["loop_alive"] is True
+    assert health["step_errors"] == 0
     client.post("/services/error_recovery")  # the one command above may have gone stale
 
 
@@ -190,7 +192,9 @@ def test_with_a_token_changes_need_it_reading_does_not():
             refused = exchange(
                 ws, {"op": "call_service", "id": 1, "service": "/add_two_ints", "args": {"a": 1, "b": 2}}
             )
-            assert refused["op"] == "status" and "needs a token" in refused["msg"] and refused["id"] == 1
+            assert refused["op"] == "status"
+            assert "needs a token" in refused["msg"]
+            assert refused["id"] == 1
             refused = exchange(ws, {"op": "advertise_service", "service": "/mine", "type": "std_srvs/Trigger"})
             assert "needs a token" in refused["msg"]
             names = call(ws, "/rosapi/get_param_names", {})["values"]["names"]  # reading stays open
@@ -222,7 +226,8 @@ def test_a_definition_other_than_the_declared_one_is_a_warning_and_the_declarati
         other = {"op": "advertise_service", "service": "/echo", "type": "mine/Echo", "definition": "int64 n\n---\n"}
         ws.send_json(other)
         warning = ws.receive_json()
-        assert warning["level"] == "warning" and "/echo is declared by the lab as hri_lab/Echo" in warning["msg"]
+        assert warning["level"] == "warning"
+        assert "/echo is declared by the lab as hri_lab/Echo" in warning["msg"]
         assert client.get("/services/echo").json()["type"] == "hri_lab/Echo"
         assert any("checked against that definition, not mine/Echo's" in e["msg"] for e in client.get("/log").json())
         same = {**other, "type": "mine/srv/Echo", "definition": "# mine\nstring in\n---\nstring out\n"}
@@ -240,7 +245,8 @@ def test_a_services_info_names_the_node_that_provides_it_now(client):
         ws.send_json({"op": "advertise_service", "service": "/echo", "type": "hri_lab/Echo"})
         call(ws, "/rosapi/get_time", {})  # ops of a connection are handled in order: advertised now
         node = client.get("/services/echo").json()["node"]
-        assert node != "/hri_lab" and node in call(ws, "/rosapi/nodes", {})["values"]["nodes"]
+        assert node != "/hri_lab"
+        assert node in call(ws, "/rosapi/nodes", {})["values"]["nodes"]
     assert wait_for(lambda: client.get("/services/echo").json()["node"] == "/hri_lab")
 
 
@@ -249,7 +255,8 @@ def test_what_a_client_sent_is_echoed_cut_short(client):
     with client.websocket_connect("/") as ws:
         bad = {"op": "advertise_service", "service": "/x", "type": "p/" + "X" * 200_000, "definition": "int64\n---\n"}
         reply = exchange(ws, bad)
-        assert reply["level"] == "error" and len(reply["msg"]) <= MAX_STATUS + 30
+        assert reply["level"] == "error"
+        assert len(reply["msg"]) <= MAX_STATUS + 30
         assert reply["msg"].endswith("characters)")
 
 

@@ -36,9 +36,11 @@ def test_topics_services_and_types_are_the_labs():
         assert (await values("/rosapi/service_type", service="/divide_ints"))["type"] == "hri_lab/DivideInts"
         assert (await values("/rosapi/service_type", service="/rosapi/topics"))["type"] == "rosapi/Topics"
         request = (await values("/rosapi/service_request_details", type="hri_lab/AddTwoInts"))["typedefs"][0]
-        assert request["fieldnames"] == ["a", "b"] and request["fieldtypes"] == ["int64", "int64"]
+        assert request["fieldnames"] == ["a", "b"]
+        assert request["fieldtypes"] == ["int64", "int64"]
         lab_node = await values("/rosapi/node_details", node="/hri_lab")
-        assert "/add_two_ints" in lab_node["services"] and "/joint_states" in lab_node["publishing"]
+        assert "/add_two_ints" in lab_node["services"]
+        assert "/joint_states" in lab_node["publishing"]
         assert (await values("/rosapi/publishers", topic="/joint_states"))["publishers"] == ["/hri_lab"]
         await op(session, op="node", name="/listener")
         await op(session, op="subscribe", topic="/chatter", type="std_msgs/String")
@@ -68,8 +70,10 @@ def test_parameters_by_rosapis_two_kinds_of_names():
         assert await table.call(caller, "/rosapi/get_param", {"name": "/my/gain"}) == (True, {"value": "2"})
         assert await table.call(caller, "/rosapi/has_param", {"name": "/my/gain"}) == (True, {"exists": True})
         ok, reason = await table.call(caller, "/rosapi/set_param", {"name": "/my/gain", "value": "not json"})
-        assert not ok and "'value' must be JSON text" in reason
+        assert not ok
+        assert "'value' must be JSON text" in reason
         ok, reason = await table.call(caller, "/rosapi/delete_param", {"name": "/cooperative_lifting:alpha"})
-        assert not ok and "declared by its node" in reason
+        assert not ok
+        assert "declared by its node" in reason
 
     run(check())

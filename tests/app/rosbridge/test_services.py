@@ -18,11 +18,16 @@ def test_every_service_has_one_entry_with_its_type_and_access():
         assert entry is not None and entry.type.startswith("rosapi/"), service.name
         assert entry.writes == (service.name in WRITING_ROSAPI), service.name
     republish = table.get("/republish_tfs")
-    assert republish is not None and republish.type == "tf2_web_republisher/RepublishTFs" and not republish.writes
+    assert republish is not None
+    assert republish.type == "tf2_web_republisher/RepublishTFs"
+    assert not republish.writes
     lab_service = table.get("/add_two_ints")
-    assert lab_service is not None and lab_service.type == "hri_lab/AddTwoInts" and lab_service.writes
+    assert lab_service is not None
+    assert lab_service.type == "hri_lab/AddTwoInts"
+    assert lab_service.writes
     assert table.get("/no_such_service") is None
-    assert table.answers_itself("/rosapi/topics") and table.answers_itself("/republish_tfs")
+    assert table.answers_itself("/rosapi/topics")
+    assert table.answers_itself("/republish_tfs")
     assert not table.answers_itself("/add_two_ints")
 
 
@@ -32,7 +37,8 @@ def test_the_names_are_the_labs_offered_services_then_rosapis_then_the_republish
     names = table.names()
     rosapi_names = sorted(s.name for s in rosapi.SERVICES)
     assert names[-len(rosapi_names) - 1 :] == [*rosapi_names, "/republish_tfs"]
-    assert "/add_two_ints" not in names and "/reset_simulation" in names
+    assert "/add_two_ints" not in names
+    assert "/reset_simulation" in names
     assert table.get("/add_two_ints") is not None  # declared: a call goes to the node that will provide it
 
 
@@ -44,12 +50,15 @@ def test_one_path_answers_each_kind_of_service():
         assert await table.call(caller, "/add_two_ints", {"a": 2, "b": 3}) == (True, {"sum": 5})
         assert await table.call(caller, "/add_two_ints", [2, 3]) == (True, {"sum": 5})  # fields in order
         ok, reason = await table.call(caller, "/add_two_ints", {"a": "two", "b": 3})
-        assert not ok and "a" in reason
+        assert not ok
+        assert "a" in reason
         assert await table.call(caller, "/nope", {}) == (False, "service /nope does not exist")
         ok, values = await table.call(caller, "/rosapi/get_time", {})
-        assert ok and values["time"]["sec"] == 0  # the lab's first snapshot (its simulation never ran)
+        assert ok
+        assert values["time"]["sec"] == 0
         ok, reason = await table.call(caller, "/republish_tfs", {"source_frames": ["no_such_frame"]})
-        assert not ok and "frame 'no_such_frame' does not exist" in reason
+        assert not ok
+        assert "frame 'no_such_frame' does not exist" in reason
 
     run(check())
 
@@ -64,7 +73,8 @@ def test_a_call_of_a_writing_service_needs_the_token_reading_does_not():
             refused = await op(stranger, op="call_service", id=1, service=name, args={})
             assert refused[0]["op"] == "status" and "needs a token" in refused[0]["msg"], name
         answer = await op(stranger, op="call_service", service="/rosapi/get_param_names", args={})
-        assert answer[0]["result"] and "/cooperative_lifting:mu" in answer[0]["values"]["names"]
+        assert answer[0]["result"]
+        assert "/cooperative_lifting:mu" in answer[0]["values"]["names"]
         unknown = await op(stranger, op="call_service", service="/nope", args={})
         assert unknown[0] == {
             "op": "service_response",

@@ -52,13 +52,19 @@ def test_close_finishes_every_capability_and_the_shared_state_forgets_the_client
             "publishing": ["/chatter", "/tf"],
             "services": ["/mine"],
         }
-        assert "/chatter" in bridge.node_topics and bridge.services.get("/mine") is not None
-        assert "my_marker" in bridge.frames.names() and topic in bridge.topics and bridge.streams == 1
+        assert "/chatter" in bridge.node_topics
+        assert bridge.services.get("/mine") is not None
+        assert "my_marker" in bridge.frames.names()
+        assert topic in bridge.topics
+        assert bridge.streams == 1
         await session.close()
         assert session not in bridge.sessions
-        assert "/chatter" not in bridge.node_topics and bridge.streams == 0
-        assert bridge.services.get("/mine") is None and not bridge.nodes.providers
-        assert "my_marker" not in bridge.frames.names() and topic not in bridge.topics
+        assert "/chatter" not in bridge.node_topics
+        assert bridge.streams == 0
+        assert bridge.services.get("/mine") is None
+        assert not bridge.nodes.providers
+        assert "my_marker" not in bridge.frames.names()
+        assert topic not in bridge.topics
         assert session.capability(AdvertiseService).names() == []
 
     run(check())
@@ -84,7 +90,8 @@ def test_with_a_token_a_mutating_op_needs_it():
         lab = parts(token=token, replay=True)
         stranger, owner = await connect(lab), await connect(lab, token=token)
         refused = await op(stranger, op="advertise", topic="/chatter", type="std_msgs/String", id=1)
-        assert refused[0]["level"] == "error" and "advertise: this lab needs a token" in refused[0]["msg"]
+        assert refused[0]["level"] == "error"
+        assert "advertise: this lab needs a token" in refused[0]["msg"]
         assert "/chatter" not in lab.bridge.node_topics
         assert await op(owner, op="advertise", topic="/chatter", type="std_msgs/String") == []
         assert "/chatter" in lab.bridge.node_topics
@@ -99,6 +106,7 @@ def test_a_sessions_name_is_its_first_node_else_its_client_name():
         assert session.name.startswith("/rosbridge_client_")
         await op(session, op="node", name="/talker")
         await op(session, op="node", name="/listener")
-        assert session.name == "/talker" and session.node_names == ["/talker", "/listener"]
+        assert session.name == "/talker"
+        assert session.node_names == ["/talker", "/listener"]
 
     run(check())

@@ -40,7 +40,8 @@ def test_a_chain_is_composed_from_its_root_and_a_pair_is_relative():
         [stamped("base", "/tool", (0.5, 0.0, 0.0))], [stamped("/world", "base", (1.0, 0.0, 0.0), math.pi / 2)]
     )
     poses = tree_poses(bridge, None)
-    assert set(poses) == {"world", "base", "tool"} and {root for _, root in poses.values()} == {"world"}
+    assert set(poses) == {"world", "base", "tool"}
+    assert {root for _, root in poses.values()} == {"world"}
     assert np.allclose(poses["tool"][0][:3, 3], [1.0, 0.5, 0.0])
     tool_in_world = relative(poses, "world", "tool")
     world_in_tool = relative(poses, "tool", "world")
@@ -56,7 +57,8 @@ def test_frames_of_two_trees_or_below_a_loop_do_not_resolve():
     poses = tree_poses(bridge, None)
     assert {"a", "b", "c"}.isdisjoint(poses)  # a loop, and what hangs below it
     assert relative(poses, "world", "base_footprint") is None  # two trees: odom's and world's
-    assert relative(poses, "odom", "base_footprint") is not None and relative(poses, "world", "nowhere") is None
+    assert relative(poses, "odom", "base_footprint") is not None
+    assert relative(poses, "world", "nowhere") is None
 
 
 def test_programs_frames_serve_when_the_lab_publishes_no_tf():
@@ -82,11 +84,12 @@ def test_a_pair_sends_when_it_moved_or_turned_beyond_its_thresholds():
     assert pair.moved(pose(x_m=0.011), 0.01, 0.01)
     assert not pair.moved(pose(yaw_rad=0.009), 0.01, 0.01)
     assert pair.moved(pose(yaw_rad=0.011), 0.01, 0.01)
-    assert pair.moved(pose(), 0.0, 0.01) and pair.moved(pose(), 0.01, 0.0)  # a threshold 0: every period
+    assert pair.moved(pose(), 0.0, 0.01)
+    assert pair.moved(pose(), 0.01, 0.0)
 
 
 @pytest.mark.parametrize(
-    "args, says",
+    ("args", "says"),
     [
         ({"source_frames": "plate"}, "'source_frames' must be a list"),
         ({"source_frames": ["plate", 3]}, "'source_frames' must be a frame name"),
@@ -142,8 +145,10 @@ def test_a_goal_gets_its_frames_as_feedback_and_a_cancel_ends_it_preempted():
         await op(client, op="publish", topic=GOAL, msg=goal("g1"))
         feedback = await until(lambda: on(client, FEEDBACK), "feedback")
         (transform,) = feedback[0]["feedback"]["transforms"]
-        assert feedback[0]["status"]["goal_id"]["id"] == "g1" and feedback[0]["status"]["status"] == 1  # ACTIVE
-        assert transform["header"]["frame_id"] == "panda_link8" and transform["child_frame_id"] == "plate"
+        assert feedback[0]["status"]["goal_id"]["id"] == "g1"
+        assert feedback[0]["status"]["status"] == 1
+        assert transform["header"]["frame_id"] == "panda_link8"
+        assert transform["child_frame_id"] == "plate"
         offset = lab.lab.snapshot().lifting.plate_offset  # the plate hangs on the flange's z (app/lab/tf.py)
         assert math.isclose(transform["transform"]["translation"]["z"], offset, abs_tol=1e-9)
         await op(client, op="publish", topic=CANCEL, msg={"id": "g1"})
@@ -162,7 +167,8 @@ def test_a_goal_ends_with_its_client_and_a_bad_goal_is_rejected_naming_its_field
         assert lab.bridge.tf_republisher.subscriptions() == 1
         await client.close()
         (result,) = await until(lambda: on(watcher, RESULT), "result")
-        assert result["status"]["status"] == 2 and result["status"]["text"] == "its client disconnected"
+        assert result["status"]["status"] == 2
+        assert result["status"]["text"] == "its client disconnected"
         refused = await op(watcher, op="publish", topic=GOAL, msg=goal("g3", rate=0))
         assert "goal rejected: 'rate' must be a positive number" in refused[0]["msg"]
         rejected = await until(lambda: on(watcher, RESULT)[1:], "the rejected goal's result")

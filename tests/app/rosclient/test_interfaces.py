@@ -18,7 +18,8 @@ def test_actionlib_names_of_an_action_in_msg_and_action(tmp_path):
     try:
         msg = importlib.import_module("cpp_package.msg")
         action = importlib.import_module("cpp_package.action")
-        assert msg.CountingGoal is action.Counting.Goal and action.CountingAction is msg.CountingAction
+        assert msg.CountingGoal is action.Counting.Goal
+        assert action.CountingAction is msg.CountingAction
         assert msg.CountingAction.Goal is action.Counting.Goal  # actionlib's ActionSpec names its parts
         assert msg.CountingAction._action_type == "cpp_package/action/Counting"
         srv = importlib.import_module("cpp_package.srv")
@@ -56,7 +57,8 @@ def test_cv_bridge_converts_images_as_cv_bridge_does():
         msg = bridge.cv2_to_imgmsg(rgb, "rgb8")
         assert (msg.height, msg.width, msg.step, msg.encoding) == (2, 3, 9, "rgb8")
         bgr = bridge.imgmsg_to_cv2(type(msg).from_json(msg.to_json()), "bgr8")  # through rosbridge's JSON
-        assert tuple(bgr[0, 0]) == (0, 0, 255) and bgr.shape == (2, 3, 3)
+        assert tuple(bgr[0, 0]) == (0, 0, 255)
+        assert bgr.shape == (2, 3, 3)
         assert bridge.imgmsg_to_cv2(msg, "mono8")[0, 0] == 76  # 0.299 * 255, OpenCV's weights
         with pytest.raises(CvBridgeError, match="incompatible"):
             bridge.cv2_to_imgmsg(rgb, "mono8")
@@ -92,7 +94,8 @@ def test_point_cloud2_packs_and_reads_points_as_ros1s_module():
         assert point_cloud2.read_points_list(sent, field_names=["z"])[1].z == -1.0
         rgb = [PointField("x", 0, PointField.FLOAT32, 1), PointField("rgb", 8, PointField.UINT32, 1)]  # a gap
         packed = point_cloud2.create_cloud(Header(), rgb, [(0.25, 0xFF0000)])
-        assert packed.point_step == 12 and list(point_cloud2.read_points(packed)) == [(0.25, 0xFF0000)]
+        assert packed.point_step == 12
+        assert list(point_cloud2.read_points(packed)) == [(0.25, 0xFF0000)]
     finally:
         sys.path.remove(str(boot.SITE))
         sys.meta_path.remove(finder)

@@ -20,7 +20,7 @@ def _write(folder, name: str, text: str):
 
 
 @pytest.mark.parametrize(
-    "body, says",
+    ("body", "says"),
     [
         (
             "<group>" * 10_000 + "</group>" * 10_000,
@@ -78,7 +78,8 @@ def test_hri_lab_launch_prints_the_refusal_not_a_traceback(tmp_path, capsys):
     args = argparse.Namespace(file=str(path), args=[], url=None, workspace=None)
     assert launch.run(args) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"error: {path}, line 2:") and "Traceback" not in err
+    assert err.startswith(f"error: {path}, line 2:")
+    assert "Traceback" not in err
 
 
 def test_a_well_formed_file_still_reads(tmp_path):
@@ -90,4 +91,6 @@ def test_a_well_formed_file_still_reads(tmp_path):
         '<param name="rate" type="int" value="$(arg rate)"/>\n</node>\n</launch>\n',
     )
     (node,) = read(path).nodes
-    assert node.name == "talker" and node.params == {"rate": 10} and node.program == tmp_path / "talker.py"
+    assert node.name == "talker"
+    assert node.params == {"rate": 10}
+    assert node.program == tmp_path / "talker.py"

@@ -26,7 +26,8 @@ def test_a_reader_gets_every_sample_once_in_order():
             got += list(rows)
     rows, seen, lost = ring.since(seen)
     got += list(rows)
-    assert seen == 20 and lost == 0
+    assert seen == 20
+    assert lost == 0
     assert np.array_equal(np.array(got)[:, 0], np.arange(20) * 1e-3)
     assert np.array_equal(np.array(got)[:, 1:], np.array([_wrench(i) for i in range(20)]))
 
@@ -37,7 +38,9 @@ def test_a_reader_that_fell_behind_is_told_what_it_lost():
         ring.append(i * 1e-3, _wrench(i))
     rows, seen, lost = ring.since(0)
     # the oldest slot still whole is sample 23 (sample 22's slot is the next the writer fills)
-    assert seen == 30 and lost == 23 and len(rows) == 7
+    assert seen == 30
+    assert lost == 23
+    assert len(rows) == 7
     assert np.array_equal(rows[:, 0], np.arange(23, 30) * 1e-3)
 
 
@@ -57,5 +60,6 @@ def test_the_writer_may_be_a_forked_process():
         lost_total += lost
         got += list(rows)
     child.join()
-    assert lost_total == 0 and len(got) == 3000
+    assert lost_total == 0
+    assert len(got) == 3000
     assert np.array_equal(np.array(got)[:, 1:], np.array([_wrench(i) for i in range(3000)]))

@@ -16,7 +16,8 @@ def test_friction_cone_opening_is_mu():
     vertices, faces = cone_mesh(0.5, height=0.1)
     radius = np.linalg.norm(vertices[1:, :2], axis=1)
     assert radius == pytest.approx(0.05, rel=1e-6)  # tan(half angle) = r / h = mu
-    assert np.all(vertices[1:, 2] == pytest.approx(0.1)) and faces.shape == (24, 3)
+    assert np.all(vertices[1:, 2] == pytest.approx(0.1))
+    assert faces.shape == (24, 3)
 
 
 def test_converted_meshes_are_cached(tmp_path, monkeypatch):

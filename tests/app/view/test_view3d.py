@@ -41,7 +41,8 @@ def test_force_arrow_follows_f_ext(view):
     assert f_ee[2] > 5.0  # pressing: a visible normal arrow along the plate normal (base +y)
     assert (end - start)[1] > 0.05
     # the robot's meshes follow q (flange link placed by pinocchio)
-    assert view.robot.frames and np.allclose(view.shapes.box.position, snapshot.box_position)
+    assert view.robot.frames
+    assert np.allclose(view.shapes.box.position, snapshot.box_position)
 
 
 def test_colours_tell_the_state(view):
@@ -75,7 +76,8 @@ def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
     assert world.human.phase == "manual"
     assert world.box.position[2] - box_before > 0.06  # the box went up with the hand
     assert world.arm.transform_ee_to_base[2, 3] - ee_before > 0.05  # and the robot followed
-    assert world.plate_state.normal_force > 5.0 and world.error is None
+    assert world.plate_state.normal_force > 5.0
+    assert world.error is None
 
 
 def test_legend_names_every_colour_and_arrow():
@@ -84,9 +86,11 @@ def test_legend_names_every_colour_and_arrow():
     legend = legend_markdown()
     assert set(MEANING) == set(COLOURS)  # the idle colour included
     for key, rgb in COLOURS.items():
-        assert f"rgb{rgb}" in legend and MEANING[key] in legend
+        assert f"rgb{rgb}" in legend
+        assert MEANING[key] in legend
     for rgb, text in ARROWS.values():
-        assert f"rgb{rgb}" in legend and text in legend
+        assert f"rgb{rgb}" in legend
+        assert text in legend
 
 
 def test_status_is_current_whatever_changed_the_state(view):
@@ -95,11 +99,13 @@ def test_status_is_current_whatever_changed_the_state(view):
     world.stop_lifting()
     world.reset()
     view.update(world.snapshot())
-    assert "lifting **off**" in view.status.content and "True" not in view.status.content
+    assert "lifting **off**" in view.status.content
+    assert "True" not in view.status.content
     world.start_lifting(12.0)  # not through the view
     world.run(0.05)
     view.update(world.snapshot())
-    assert "lifting **on**, band [12, 17] N" in view.status.content and "trial running" in view.status.content
+    assert "lifting **on**, band [12, 17] N" in view.status.content
+    assert "trial running" in view.status.content
     world.stop_lifting()
 
 
@@ -114,7 +120,8 @@ def test_take_over_stops_the_scripted_person_and_keeps_the_gizmo(view):
     view._on_take_over(None)  # what viser calls when the box is ticked
     world.run(0.05)
     view.update(world.snapshot())
-    assert world.human.phase == "manual" and world.trial.state == "abandoned"
+    assert world.human.phase == "manual"
+    assert world.trial.state == "abandoned"
     held = np.array(view.gizmo.position)
     view.gizmo.position = held + [0.0, 0.0, 0.05]  # the user's drag is not overwritten by the palm
     view.update(world.snapshot())
@@ -150,4 +157,5 @@ def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
         depth = rel @ forward
         x_px, y_px = focal_px * (rel @ right) / depth, focal_px * (rel @ up) / depth
         assert abs(x_px) < 0.95 * width_px / 2 and abs(y_px) < 0.95 * height_px / 2, (point, x_px, y_px)
-    assert view.gizmo.fixed and view.gizmo.scale == GIZMO_SIZE >= 80  # px, whatever the zoom
+    assert view.gizmo.fixed
+    assert view.gizmo.scale == GIZMO_SIZE >= 80

@@ -45,7 +45,8 @@ def test_replay_api_serves_the_recorded_topics_at_the_playback_time(view):
     with TestClient(replay_app(view)) as client:
         names = {t["name"]: t["type"] for t in client.get("/topics").json()}
         assert names["/franka_state_controller/F_ext"] == "geometry_msgs/WrenchStamped"
-        assert "/tf" not in names and "/scene" not in names  # the 3D view's channels are drawn, not served
+        assert "/tf" not in names
+        assert "/scene" not in names
         view.seek(2.0)
         pose = client.get("/topics/object_pose").json()
         stamp = pose["header"]["stamp"]["sec"] + pose["header"]["stamp"]["nanosec"] * 1e-9
@@ -92,7 +93,8 @@ def test_play_advances_and_stops_at_the_end(view):
     deadline = time.monotonic() + 10
     while view.playing and time.monotonic() < deadline:
         time.sleep(0.05)
-    assert not view.playing and view.time == view.playback.duration
+    assert not view.playing
+    assert view.time == view.playback.duration
 
 
 def test_the_replay_view_refuses_a_foreign_origin(view):

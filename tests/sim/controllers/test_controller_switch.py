@@ -18,11 +18,12 @@ def carrying_fast(controller: str) -> Trial:
     world.set_controller(builtin(controller))
     world.start_lifting(10.0)
     while not (world.human.phase == "carrying" and np.linalg.norm(world.twist_command[:3]) > 0.02):
-        assert trial.step() and world.time < 30.0
+        assert trial.step()
+        assert world.time < 30.0
     return trial
 
 
-@pytest.mark.parametrize("before, after", [("sp", "patch"), ("patch", "sp")])
+@pytest.mark.parametrize(("before", "after"), [("sp", "patch"), ("patch", "sp")])
 def test_switching_the_controller_while_carrying_keeps_the_command_continuous(before, after):
     trial = carrying_fast(before)
     world = trial.world

@@ -20,7 +20,8 @@ def test_a_command_selects_the_external_controller_and_is_followed_smoothly():
         if world.time * 1000 % 10 < 1:
             cmd.external_twist(world, np.array([0.0, 0.0, 0.05, 0.0, 0.0, 0.0]))
         world.step()
-    assert abs(world.twist_command[2] - 0.05) < 1e-12 and world.error is None
+    assert abs(world.twist_command[2] - 0.05) < 1e-12
+    assert world.error is None
 
 
 def test_a_command_not_renewed_within_the_period_stops_the_robot():
@@ -49,7 +50,9 @@ def test_the_period_is_a_parameter_and_limits_still_trip_reflexes():
         world.step()
         if world.error:
             break
-    assert world.error is not None and "velocity" in world.error and "communication" not in world.error
+    assert world.error is not None
+    assert "velocity" in world.error
+    assert "communication" not in world.error
 
 
 def test_a_non_finite_command_is_refused():
@@ -58,6 +61,6 @@ def test_a_non_finite_command_is_refused():
         try:
             controller.command(np.array(bad, dtype=float))
         except ValueError as exc:
-            assert "6 finite numbers" in str(exc)
+            assert "6 finite numbers" in str(exc)  # noqa: PT017 - the exception's text is the subject, checked where it is caught
         else:
             raise AssertionError(f"{bad} was accepted")

@@ -17,7 +17,9 @@ R_EQ = PatchGeometry(0.10, 0.10).mean_radius
 
 def test_pure_normal_force_at_the_centre():
     grip = patch_grip(np.array([0, 0, 10.0, 0, 0, 0]), D, 0.5, R_EQ)
-    assert grip.cop == pytest.approx([0, 0]) and grip.m_n == pytest.approx(0) and grip.limit_surface == pytest.approx(0)
+    assert grip.cop == pytest.approx([0, 0])
+    assert grip.m_n == pytest.approx(0)
+    assert grip.limit_surface == pytest.approx(0)
 
 
 def test_offset_force():
@@ -40,7 +42,7 @@ def test_tangential_force_at_the_surface_is_not_an_offset():
 
 def test_pure_torsion():
     # m_z = 0.1 Nm, f_n = 10 N, mu = 0.5: s = (0.1 / (5 r_eq))^2, r_eq = mean point distance (0.0379 m)
-    assert R_EQ == pytest.approx(0.03788, abs=1e-4)
+    assert pytest.approx(0.03788, abs=1e-4) == R_EQ
     grip = patch_grip(np.array([0, 0, 10.0, 0, 0, 0.1]), D, 0.5, R_EQ)
     assert grip.m_n == pytest.approx(0.1)
     assert grip.limit_surface == pytest.approx((0.1 / (5 * R_EQ)) ** 2)
@@ -130,7 +132,8 @@ def test_torsion_beyond_the_limit_surface_turns_about_the_normal_and_raises_the_
     assert s > 0.5**2
     twist = PatchController().twist_ee(wrench, params())
     assert twist[5] == pytest.approx(-(1 - 0.5 / np.sqrt(s)) * 0.275)
-    assert twist[:2] == pytest.approx([0, 0]) and twist[2] > 0
+    assert twist[:2] == pytest.approx([0, 0])
+    assert twist[2] > 0
 
 
 def test_torsion_the_patch_holds_and_torsion_noise_do_not_move_it():

@@ -73,7 +73,8 @@ def test_the_watchdog_stops_a_base_nobody_commands():
     w.run(0.45)
     assert w.velocity[0] == pytest.approx(0.2)
     w.run(0.1)  # 0.55 s after the last command: past the 0.5 s timeout
-    assert w.velocity[0] == 0.0 and not w.commanded
+    assert w.velocity[0] == 0.0
+    assert not w.commanded
     x = w.pose[0]
     w.run(0.5)
     assert w.pose[0] == x
@@ -91,7 +92,9 @@ def test_a_wall_stops_the_motion_into_it_and_is_reported():
     w = world(arena=Arena((1.0, 1.0), ()), start=(0.5, 0.0, 0.0))
     drive_for(w, 0.2, 0.0, 5.0)
     assert w.pose[0] == pytest.approx(1.0 - 0.105, abs=1e-9)  # touching: the footprint's radius away
-    assert w.contact and w.contact_with == "the arena's wall" and w.contacts > 0
+    assert w.contact
+    assert w.contact_with == "the arena's wall"
+    assert w.contacts > 0
     assert w.odom_pose[0] > 1.3  # the wheels slip on: the odometry runs past the wall
 
 
@@ -100,7 +103,8 @@ def test_along_a_wall_the_base_slides_and_cannot_enter_an_obstacle():
     w = world(arena=arena, start=(0.0, 0.05, 0.0))
     drive_for(w, 0.2, 0.0, 8.0)
     d, which = w.nearest_surface()
-    assert which == 0 and d >= 0.105 - 1e-9
+    assert which == 0
+    assert d >= 0.105 - 1e-9
     assert w.contact_with == "the obstacle"
 
 

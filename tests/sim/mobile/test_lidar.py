@@ -29,7 +29,8 @@ def test_walls_read_their_distance_ray_by_ray():
 
 def test_rays_turn_with_the_sensor():
     r = ranges(Arena((2.0, 1.5), ()), yaw=math.pi / 2)
-    assert r[0] == pytest.approx(1.5) and r[90] == pytest.approx(2.0)
+    assert r[0] == pytest.approx(1.5)
+    assert r[90] == pytest.approx(2.0)
 
 
 def test_a_cylinder_in_front_and_beside():
@@ -37,7 +38,8 @@ def test_a_cylinder_in_front_and_beside():
     r = ranges(arena)
     assert r[0] == pytest.approx(0.5)
     half_angle = math.degrees(math.asin(0.5))  # 30 degrees: the tangent
-    assert r[29] < 3.0 and r[31] == pytest.approx(3.0 / math.cos(math.radians(31)))
+    assert r[29] < 3.0
+    assert r[31] == pytest.approx(3.0 / math.cos(math.radians(31)))
     # ray 20: |p + t d - c| = 0.5 with d at 20 degrees, by the quadratic
     d = math.radians(20)
     b = -math.cos(d)

@@ -24,7 +24,8 @@ def circle_path(monitor: WallMonitor, radius: float, surface: float, speed: floa
 def test_a_full_circuit_in_the_band_passes():
     m = WallMonitor(RULES, (0.0, 0.0), (0.8, 0.0))
     circle_path(m, 0.8, 0.4, 0.15, 60.0)
-    assert m.state.passed and m.state.verdict.startswith("circuit")
+    assert m.state.passed
+    assert m.state.verdict.startswith("circuit")
     assert m.state.elapsed == pytest.approx(2 * math.pi * 0.8 / 0.15, abs=0.01)
     assert "counter-clockwise" in m.state.verdict
 
@@ -34,14 +35,16 @@ def test_a_collision_fails_at_once_with_its_time():
     for _ in range(100):
         m.update(DT, (0.8, 0.0), 0.4, None)
     m.update(DT, (0.8, 0.0), 0.09, "the obstacle")
-    assert m.state.done and not m.state.passed
+    assert m.state.done
+    assert not m.state.passed
     assert m.state.verdict == "collision: at 0.5 s the robot touched the obstacle (0.09 m from the obstacle)"
 
 
 def test_standing_still_is_a_stall():
     m = WallMonitor(RULES, (0.0, 0.0), (0.8, 0.0))
     circle_path(m, 0.8, 0.4, 0.0, 30.0)
-    assert not m.state.passed and m.state.verdict.startswith("stall: at 10.0 s")
+    assert not m.state.passed
+    assert m.state.verdict.startswith("stall: at 10.0 s")
 
 
 def test_too_long_outside_the_band_fails():

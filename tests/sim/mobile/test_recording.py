@@ -35,7 +35,8 @@ def test_the_scan_is_foxgloves_laser_scan(recorded):
     assert {m.schema for m in scans} == {"foxglove.LaserScan"}
     assert len(scans) == 16  # 5 Hz: at 0, 0.2, ..., 3.0 s
     last = scans[-1].data
-    assert last["frame_id"] == "base_scan" and len(last["ranges"]) == 360
+    assert last["frame_id"] == "base_scan"
+    assert len(last["ranges"]) == 360
     assert last["end_angle"] == pytest.approx(math.radians(359))
     expected = [None if not math.isfinite(r) else r for r in world.scan_ranges.tolist()]
     assert last["ranges"] == pytest.approx(expected)  # out-of-range rays are null (JSON has no Infinity)
@@ -53,7 +54,7 @@ def test_tf_and_the_scene(recorded):
 
 
 def test_playback_gives_the_pose_and_topics_at_any_time(recorded):
-    path, world, poses = recorded
+    path, _world, poses = recorded
     assert is_mobile(path)
     playback = MobilePlayback(path)
     assert playback.duration == pytest.approx(0.005 + 59 * 0.05)  # the topics at 20 Hz from the first step

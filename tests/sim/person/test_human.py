@@ -27,7 +27,8 @@ def run(person: VirtualHuman, seconds: float, plate_force: float, band=(10.0, 15
 def test_the_path_s_segments_take_1_875_distance_over_peak_speed():
     path = HandPath(PickAndPlace(lift=0.2, carry=0.3, lower=0.2, hold=1.0), peak_speed=0.08)
     assert [t for _, t in path.segments] == pytest.approx([4.6875, 7.03125, 4.6875])
-    assert path.duration == pytest.approx(17.40625) and path.goal == pytest.approx([-0.3, 0.0, 0.0])
+    assert path.duration == pytest.approx(17.40625)
+    assert path.goal == pytest.approx([-0.3, 0.0, 0.0])
     assert path.offset(4.6875 / 2) == pytest.approx([0.0, 0.0, 0.1])  # minimum jerk is half-way at half time
     assert path.offset(4.6875 + 7.03125) == pytest.approx([-0.3, 0.0, 0.2])
     speed = (path.offset(2.34375 + 1e-4)[2] - path.offset(2.34375 - 1e-4)[2]) / 2e-4
@@ -37,16 +38,20 @@ def test_the_path_s_segments_take_1_875_distance_over_peak_speed():
 def test_the_person_lets_go_once_the_felt_grip_stayed_in_the_band():
     person = human()
     run(person, 1.0, plate_force=0.0)
-    assert person.phase == "grasping" and person.grasp_weight == 1.0  # no grip: it holds on
+    assert person.phase == "grasping"
+    assert person.grasp_weight == 1.0
     person = human()
     feel, dwell = HumanParams().feel_time_constant, HumanParams().grip_dwell
     let_go_at = feel * math.log(12.0 / 2.0) + dwell  # 12 N felt through 0.1 s: 10 N after 0.1 ln 6 s
     run(person, let_go_at - 0.01, plate_force=12.0)
     assert person.phase == "grasping"
     run(person, 0.02, plate_force=12.0)
-    assert person.phase == "releasing" and person.letting_go
+    assert person.phase == "releasing"
+    assert person.letting_go
     run(person, HumanParams().release_time + 0.002, plate_force=12.0)
-    assert person.grasp_weight == 0.0 and person.holding_by_contact and person.phase == "settling"
+    assert person.grasp_weight == 0.0
+    assert person.holding_by_contact
+    assert person.phase == "settling"
     run(person, HumanParams().settle_time, plate_force=12.0)
     assert person.phase == "carrying"
 
@@ -54,7 +59,8 @@ def test_the_person_lets_go_once_the_felt_grip_stayed_in_the_band():
 def test_a_stopped_lifting_never_lets_the_box_go():
     person = human()
     run(person, 1.0, plate_force=12.0, band=None)
-    assert person.phase == "grasping" and not person.letting_go
+    assert person.phase == "grasping"
+    assert not person.letting_go
 
 
 def test_the_squeeze_moves_at_k_f_times_the_missing_force():
@@ -74,7 +80,8 @@ def test_tremor_is_in_the_palm_plane_within_its_amplitude():
     person = human(PARTICIPANTS["hasty"])
     shakes = np.array([person.tremor(t) for t in np.arange(0.0, 1.0, 0.001)])
     amplitude = PARTICIPANTS["hasty"].tremor_amplitude
-    assert np.abs(shakes[:, :2]).max() == pytest.approx(amplitude, rel=0.01) and np.all(shakes[:, 2] == 0.0)
+    assert np.abs(shakes[:, :2]).max() == pytest.approx(amplitude, rel=0.01)
+    assert np.all(shakes[:, 2] == 0.0)
     assert np.all(human().tremor(0.3) == 0.0)
 
 
@@ -96,7 +103,8 @@ def test_the_grasp_is_a_spring_to_where_the_box_was_grasped():
     box = BoxPose(np.array([0.0, 0.0, 0.1]), np.eye(3), np.zeros(3), np.zeros(3), np.full(3, 0.1))
     person.grasp(box)
     force, moment = person.hand_wrench(box, palm_force=14.0)
-    assert force == pytest.approx(np.zeros(3)) and moment == pytest.approx(np.zeros(3))
+    assert force == pytest.approx(np.zeros(3))
+    assert moment == pytest.approx(np.zeros(3))
     moved = BoxPose(np.array([0.01, 0.0, 0.1]), np.eye(3), np.zeros(3), np.zeros(3), np.full(3, 0.1))
     force, _ = person.hand_wrench(moved, palm_force=14.0)
     assert force == pytest.approx([-HumanParams().grasp_stiffness * 0.01, 0.0, 0.0])  # 50 N back

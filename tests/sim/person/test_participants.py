@@ -14,7 +14,9 @@ def test_table_1_is_the_handout_s_three_in_rising_haste():
     speeds = [PARTICIPANTS[name].peak_speed for name in TABLE_1]
     squeezes = [PARTICIPANTS[name].squeeze_force for name in TABLE_1]
     tremors = [PARTICIPANTS[name].tremor_amplitude for name in TABLE_1]
-    assert speeds == sorted(speeds) and tremors == sorted(tremors) and squeezes == sorted(squeezes, reverse=True)
+    assert speeds == sorted(speeds)
+    assert tremors == sorted(tremors)
+    assert squeezes == sorted(squeezes, reverse=True)
     assert all(8.0 <= p.tremor_frequency <= 12.0 for p in PARTICIPANTS.values())  # physiological tremor
 
 
@@ -29,8 +31,12 @@ def test_a_try_varies_speed_by_ten_percent_and_squeeze_by_one_newton():
     tries = [calm.varied(rng) for _ in range(200)]
     speeds = np.array([t.peak_speed for t in tries]) / calm.peak_speed
     squeezes = np.array([t.squeeze_force for t in tries]) - calm.squeeze_force
-    assert speeds.min() >= 0.9 and speeds.max() <= 1.1 and speeds.max() - speeds.min() > 0.15
-    assert squeezes.min() >= -1.0 and squeezes.max() <= 1.0 and squeezes.max() - squeezes.min() > 1.5
+    assert speeds.min() >= 0.9
+    assert speeds.max() <= 1.1
+    assert speeds.max() - speeds.min() > 0.15
+    assert squeezes.min() >= -1.0
+    assert squeezes.max() <= 1.0
+    assert squeezes.max() - squeezes.min() > 1.5
     assert {(t.name, t.tremor_amplitude, t.tilt) for t in tries} == {("calm", calm.tremor_amplitude, 0.0)}
 
 

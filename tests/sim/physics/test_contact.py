@@ -87,7 +87,8 @@ def test_squeezed_box_stays_within_a_millimetre_for_ten_seconds():
     assert np.linalg.norm(positions[-1] - positions[1000]) < 1e-5
     # and each contact carries about half of the weight, inside its cone
     assert plate.tangential_force[2] + palm.tangential_force[2] == pytest.approx(-GRAVITY[2], rel=1e-3)
-    assert plate.points_slipping == 0 and palm.points_slipping == 0
+    assert plate.points_slipping == 0
+    assert palm.points_slipping == 0
 
 
 def test_box_squeezed_below_mg_over_2mu_slides_down():
@@ -143,5 +144,6 @@ def test_no_nan_in_1e5_steps_of_random_motion():
                 )
             )
             assert np.all(np.isfinite(state)), f"non-finite state at step {i}"
-    assert np.all(np.isfinite(box.position)) and np.all(np.isfinite(box.rotation))
+    assert np.all(np.isfinite(box.position))
+    assert np.all(np.isfinite(box.rotation))
     assert np.linalg.det(box.rotation) == pytest.approx(1.0, abs=1e-6)

@@ -15,7 +15,8 @@ FAULT = "Ada.step raised ZeroDivisionError: division by zero\n" + TRACE
 
 def test_the_battery_is_worth_130_points_and_its_parts_theirs():
     assert battery_points() == 13 * 5 + 9 * 5 + 2 * 10 == 130
-    assert battery_points(("probe",)) == 65 and battery_points(("trial",), trials=3) == 15
+    assert battery_points(("probe",)) == 65
+    assert battery_points(("trial",), trials=3) == 15
 
 
 def test_a_file_that_cannot_be_graded_is_0_of_the_full_points_everywhere():
@@ -55,8 +56,10 @@ def test_a_fault_is_written_once_with_the_items_it_cost():
 
 def test_every_report_says_its_seed_and_whether_it_is_the_public_default():
     public, private = new_report("a.py", PUBLIC_SEED), new_report("a.py", 2024)
-    assert "seed 0, the public default" in public.text() and "seed 2024, a private seed" in private.text()
-    assert public.as_dict()["public_seed"] is True and private.as_dict()["public_seed"] is False
+    assert "seed 0, the public default" in public.text()
+    assert "seed 2024, a private seed" in private.text()
+    assert public.as_dict()["public_seed"] is True
+    assert private.as_dict()["public_seed"] is False
     assert "seed 2024, a private seed" in private.gradescope()["output"]
     rows = list(csv.DictReader(io.StringIO(summary_csv([public, private]))))
     assert [(r["seed"], r["public_seed"]) for r in rows] == [("0", "yes"), ("2024", "no")]

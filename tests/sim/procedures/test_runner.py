@@ -33,7 +33,8 @@ def test_the_same_results_here_and_in_a_pool_in_work_order():
     work = [Job(k, square, (k,), first=k % 2 == 1) for k in range(7)]
     seen = []
     here = run_jobs(work, 1, lambda job, r: seen.append((job.key, r)))
-    assert here == [k * k for k in range(7)] and seen == [(k, k * k) for k in range(7)]
+    assert here == [k * k for k in range(7)]
+    assert seen == [(k, k * k) for k in range(7)]
     seen.clear()
     assert run_jobs(work, 2, lambda job, r: seen.append((job.key, r))) == here
     assert sorted(seen) == [(k, k * k) for k in range(7)]
@@ -55,7 +56,8 @@ def test_a_job_whose_worker_dies_is_run_again(tmp_path):
 def test_a_job_that_kills_every_worker_stands_in_or_fails_the_batch(monkeypatch):
     work = [Job("dies", die, (3,), lost=lambda why: f"lost: {why}"), Job("fine", square, (5,))]
     lost, fine = run_jobs(work, 2)
-    assert lost.startswith("lost: the worker process died") and fine == 25
+    assert lost.startswith("lost: the worker process died")
+    assert fine == 25
     with pytest.raises(JobLost, match="'dies'"):
         run_jobs([Job("dies", die, (3,))], 2)
     assert runner.RETRIES >= 1
@@ -63,7 +65,9 @@ def test_a_job_that_kills_every_worker_stands_in_or_fails_the_batch(monkeypatch)
 
 def test_a_graders_lost_job_stands_in_as_its_items_at_zero():
     probes = probes_job(square, 0).stand_in("the worker process died (SIGKILL)")
-    assert len(probes) == 13 and all(i.points == 0 and i.max_points == 5 for i in probes)
-    assert probes[0].detail == LOST + "the worker process died (SIGKILL)" and probes[0].mark == "FAILED"
+    assert len(probes) == 13
+    assert all(i.points == 0 and i.max_points == 5 for i in probes)
+    assert probes[0].detail == LOST + "the worker process died (SIGKILL)"
+    assert probes[0].mark == "FAILED"
     (item,) = robustness_job(0, square, 0).stand_in("gone")
     assert (item.section, item.points, item.max_points, item.detail) == ("robustness", 0.0, 10.0, "not graded: gone")

@@ -27,7 +27,7 @@ def test_a_bomb_is_refused_from_its_chunk_header_before_decompressing(tmp_path):
 
 def test_a_bomb_is_refused_from_its_summary_first(tmp_path):
     path = hostile_bags.bomb(tmp_path / "bomb.mcap", summary=True)
-    with pytest.raises(reader.RecordingError, match="its summary states a chunk of 1536.0 MiB"):
+    with pytest.raises(reader.RecordingError, match=r"its summary states a chunk of 1536.0 MiB"):
         reader.info(path)
     assert "its summary states a chunk of 1536.0 MiB" in _refusal(path)
 

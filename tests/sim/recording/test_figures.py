@@ -73,4 +73,5 @@ def test_both_are_saved_as_png_and_svg(tmp_path):
     assert (tmp_path / "figs/trial01_calm_2.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "— success" in (tmp_path / "figs/trial01_calm_2.svg").read_text()
     summary = save_summary_figure({"": [result(success=True)]}, tmp_path)
-    assert sorted(summary) == ["png", "svg"] and all(p.startswith(str(tmp_path / "summary")) for p in summary.values())
+    assert sorted(summary) == ["png", "svg"]
+    assert all(p.startswith(str(tmp_path / "summary")) for p in summary.values())

@@ -12,7 +12,7 @@ from sim.recording.reader import RecordingError, format_info, info, messages, me
 
 def write(path, n: int) -> None:
     """n messages on /a (every 0.5 s from t = 10 s), one on /b and a metadata record; a finished file."""
-    f = open(path, "wb")
+    f = open(path, "wb")  # noqa: SIM115 - the file stays open beyond this block (closed by its owner, or held on purpose)
     writer = Writer(f, compression=CompressionType.ZSTD, chunk_size=64)
     writer.start(profile="", library="test")
     schema = writer.register_schema("std_msgs/Float64", "jsonschema", b"{}")
@@ -51,7 +51,8 @@ def test_bag_info_of_a_finished_file_comes_from_its_summary(tmp_path):
     path = tmp_path / "r.mcap"
     write(path, 5)
     bag = info(path)
-    assert bag.complete and bag.messages == 6
+    assert bag.complete
+    assert bag.messages == 6
     assert (bag.start, bag.end, bag.duration) == (10_000_000_000, 12_000_000_000, 2.0)
     assert [(t.name, t.type, t.count, t.encoding) for t in bag.topics] == [
         ("/a", "std_msgs/Float64", 5, "json"),

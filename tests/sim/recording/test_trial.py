@@ -15,7 +15,8 @@ def test_the_outputs_name_the_trial_and_the_controller():
     assert TrialOutputs().stem(6, "hasty", 1) == "trial07_hasty_1"
     assert TrialOutputs(prefix="sp_").stem(0, "careful", 3) == "sp_trial01_careful_3"
     assert not TrialOutputs().wanted
-    assert TrialOutputs(plots_dir="p").wanted and TrialOutputs(record_dir="r").wanted
+    assert TrialOutputs(plots_dir="p").wanted
+    assert TrialOutputs(record_dir="r").wanted
 
 
 @pytest.fixture(scope="module")
@@ -38,12 +39,14 @@ def test_the_trace_follows_the_world_every_trace_period(observed):
     steps = [round((b - a) / TRACE_PERIOD, 6) for a, b in zip(trace.time, trace.time[1:])]
     assert steps == [1.0] * (len(trace.time) - 1)  # one sample every 5 ms of simulated time
     # the first step ends at 1 ms; steps 1..100 (1 ms each) are sampled at 1, 6, ..., 96 ms: 20 samples
-    assert start == pytest.approx(trial.world.config.dt) and len(trace.time) == 20
+    assert start == pytest.approx(trial.world.config.dt)
+    assert len(trace.time) == 20
     assert trace.f_n_max[-1] == pytest.approx(trial.world.params.f_n_max)
     assert trace.f_n_max[-1] - trace.f_n_min[-1] == pytest.approx(trial.world.params.f_n_band)
     assert trace.box_height == [heights[round(t * 1e3)] for t in trace.time]
     assert len(set(trace.box_height)) > 1  # the box moved: the samples are not one value repeated
-    assert trace.alpha == trial.world.params.alpha and trace.max_slip == trial.rules.max_slip
+    assert trace.alpha == trial.world.params.alpha
+    assert trace.max_slip == trial.rules.max_slip
     assert set(trace.arrays()) == {
         "time",
         "f_n",
@@ -61,7 +64,8 @@ def test_finish_closes_the_recording_with_the_result_and_writes_the_figure(obser
     result = trial.result()
     result.success, result.reason, result.duration = False, "dropped: slipped 2 cm in the palm", 0.1
     paths = observer.finish(result)
-    assert observer.trace.failure == 0.1 and observer.trace.reason.startswith("dropped")
+    assert observer.trace.failure == 0.1
+    assert observer.trace.reason.startswith("dropped")
     assert paths == {
         "recording": str(folder / "trial02_calm_2.mcap"),
         "png": str(folder / "trial02_calm_2.png"),

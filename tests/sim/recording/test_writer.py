@@ -84,9 +84,13 @@ def test_a_recording_over_its_cap_stops_and_says_why(tmp_path, world_and_snapsho
     path = tmp_path / "r.mcap"
     rec = Recording(path, world.config, model=world.model, state_period=0.001, flush_period=0.005, max_bytes=1)
     kept = [rec.add(s) for s in snapshots[:20]]
-    assert kept[:5] == [True] * 5 and kept[-1] is False  # the first flush (5 ms) saw the file over 1 byte
-    assert rec.stopped is not None and "cap 0 MiB" in rec.stopped
-    assert rec.closed and not rec.add(snapshots[-1]) and not rec.add_image(0.0, b"jpeg", "camera")
+    assert kept[:5] == [True] * 5
+    assert kept[-1] is False
+    assert rec.stopped is not None
+    assert "cap 0 MiB" in rec.stopped
+    assert rec.closed
+    assert not rec.add(snapshots[-1])
+    assert not rec.add_image(0.0, b"jpeg", "camera")
     assert metadata(path)["end"] == {"stopped": rec.stopped}
     rec.close()  # idempotent
 
@@ -97,7 +101,8 @@ def test_an_image_is_recorded_as_a_base64_jpeg(tmp_path, world_and_snapshots):
     with Recording(path, world.config, model=world.model) as rec:
         rec.add_image(1.25, b"\xff\xd8jpeg", "camera_optical")
     (image,) = list(messages(path))
-    assert image.schema == "foxglove.CompressedImage" and image.log_time == 1_250_000_000
+    assert image.schema == "foxglove.CompressedImage"
+    assert image.log_time == 1_250_000_000
     assert image.data == {
         "timestamp": {"sec": 1, "nsec": 250_000_000},
         "frame_id": "camera_optical",

@@ -36,7 +36,8 @@ def test_small_twist_is_followed(arm):
 def test_cartesian_velocity_limit_is_a_reflex_and_recover_clears_it(arm):
     ramp(arm, [0.0, 0.0, 0.05, 0, 0, 0], steps=10)
     arm.command_twist(np.array([0.0, 0.0, 1.8, 0, 0, 0]), DT)  # 1.8 > 1.7 m/s
-    assert arm.error is not None and "cartesian velocity limit" in arm.error
+    assert arm.error is not None
+    assert "cartesian velocity limit" in arm.error
     q_stopped = arm.q.copy()
     # while in error nothing moves, whatever is commanded
     for _ in range(50):
@@ -70,7 +71,8 @@ def test_joint_position_limit_is_a_reflex(arm):
         arm.command_joint_velocity(qdot, DT)
         if arm.error:
             break
-    assert arm.error is not None and "joint position limit: joint 4" in arm.error
+    assert arm.error is not None
+    assert "joint position limit: joint 4" in arm.error
     assert arm.q[3] <= q4_max
     assert arm.qdot == pytest.approx(np.zeros(7))
 
@@ -109,7 +111,8 @@ def test_after_recovery_the_posture_term_ramps_instead_of_re_tripping():
 
     unramped = drifted(np.inf)
     unramped.command_twist(np.zeros(6), DT)
-    assert unramped.error is not None and "joint acceleration limit" in unramped.error
+    assert unramped.error is not None
+    assert "joint acceleration limit" in unramped.error
     arm = drifted(CartesianVelocityInterface.null_space_ramp)
     q_start, ee_start = arm.q.copy(), arm.transform_ee_to_base[:3, 3].copy()
     for _ in range(1000):

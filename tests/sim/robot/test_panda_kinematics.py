@@ -44,7 +44,7 @@ def test_the_chain_is_read_from_pinocchios_model():
 
     panda.chain = chain_arrays(panda.model, panda.flange_id)
     q = np.array([0.1, -0.3, 0.2, -2.0, 0.1, 1.5, 0.7])
-    transform, jacobian = compiled(panda, q)
+    transform, _jacobian = compiled(panda, q)
     default = compiled(PandaModel(), q)[0]
     pin.framesForwardKinematics(panda.model, panda.data, q)
     np.testing.assert_allclose(transform, panda.data.oMf[panda.flange_id].homogeneous, atol=1e-12)

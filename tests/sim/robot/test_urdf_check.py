@@ -68,7 +68,8 @@ def test_a_broken_file_names_its_line_and_exits_1(capsys, name, line, words):
     captured = capsys.readouterr()
     assert captured.out == ""
     err = captured.err.strip()
-    assert "\n" not in err and "Traceback" not in err
+    assert "\n" not in err
+    assert "Traceback" not in err
     assert err.startswith(f"error: {path}:{line}: ")
     assert words in err
 
@@ -132,7 +133,8 @@ def test_a_continuous_joint_slides_over_plus_minus_pi_and_children_go_in_joint_n
 
 def test_the_pandas_urdf_checks():
     model = parse_urdf_file(panda_urdf())
-    assert model.name == "panda" and model.root == "panda_link0"
+    assert model.name == "panda"
+    assert model.root == "panda_link0"
     assert len(model.movable_joints()) == 9  # 7 arm joints and the two fingers
 
 
@@ -160,4 +162,5 @@ def test_a_xacro_file_is_named_as_unsupported():
     )
     with pytest.raises(UrdfError) as refused:
         parse_urdf(xacro)
-    assert "a xacro file" in refused.value.message and "xacro robot.urdf.xacro > robot.urdf" in refused.value.message
+    assert "a xacro file" in refused.value.message
+    assert "xacro robot.urdf.xacro > robot.urdf" in refused.value.message

@@ -29,10 +29,13 @@ def test_an_unknown_action_or_a_bad_goal_is_an_aborted_result_and_a_status():
     async def check() -> None:
         session = await connect(parts(replay=True))
         unknown = await op(session, op="send_action_goal", id="u", action="/fly", args={})
-        assert unknown[0]["op"] == "action_result" and unknown[0]["status"] == 6 and not unknown[0]["result"]
+        assert unknown[0]["op"] == "action_result"
+        assert unknown[0]["status"] == 6
+        assert not unknown[0]["result"]
         assert unknown[1]["msg"] == "send_action_goal: action /fly does not exist"
         bad = await op(session, op="send_action_goal", id="b", action="/count", args={"count": -1})
-        assert bad[0]["status"] == 6 and "count" in bad[1]["msg"]
+        assert bad[0]["status"] == 6
+        assert "count" in bad[1]["msg"]
         refused = await op(session, op="cancel_action_goal", id="nothing")
         assert refused[0]["msg"] == 'cancel_action_goal: no goal with id "nothing" from this client'
 

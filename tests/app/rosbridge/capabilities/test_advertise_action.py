@@ -18,7 +18,9 @@ def test_a_goal_reaches_the_provider_and_its_result_ends_the_goal():
         await op(provider, op="action_feedback", id=goal["id"], action="/tally", values={"current_number": 1})
         await op(provider, op="action_result", id=goal["id"], action="/tally", values={"final_count": 2}, result=True)
         result = (await until(lambda: sent(client, "action_result"), "the result at the client"))[0]
-        assert result["values"] == {"final_count": 2} and result["status"] == 4 and result["id"] == "t"
+        assert result["values"] == {"final_count": 2}
+        assert result["status"] == 4
+        assert result["id"] == "t"
 
     run(check())
 
@@ -40,6 +42,7 @@ def test_finish_takes_the_clients_actions_away():
         session = await connect(lab)
         await op(session, op="advertise_action", action="/tally", type="hri_lab/Count")
         session.capability(AdvertiseAction).finish()
-        assert lab.bridge.actions.get("/tally") is None and not lab.bridge.node_actions.providers
+        assert lab.bridge.actions.get("/tally") is None
+        assert not lab.bridge.node_actions.providers
 
     run(check())

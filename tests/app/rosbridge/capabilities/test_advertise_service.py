@@ -15,11 +15,14 @@ def test_another_clients_call_reaches_the_provider_and_its_answer_comes_back():
         assert lab.bridge.services.get("/greet") is not None
         await caller.handle('{"op": "call_service", "id": "hi", "service": "/greet", "args": {}}')
         request = (await until(lambda: sent(provider, "call_service"), "the call at its provider"))[0]
-        assert request["service"] == "/greet" and request["args"] == {}
+        assert request["service"] == "/greet"
+        assert request["args"] == {}
         answer = {"success": True, "message": "hello"}
         await op(provider, op="service_response", id=request["id"], service="/greet", values=answer, result=True)
         response = (await until(lambda: sent(caller, "service_response"), "the answer at the caller"))[0]
-        assert response["values"] == answer and response["result"] is True and response["id"] == "hi"
+        assert response["values"] == answer
+        assert response["result"] is True
+        assert response["id"] == "hi"
 
     run(check())
 
@@ -41,7 +44,8 @@ def test_replacing_a_labs_own_service_is_warned_and_finish_gives_it_back():
         lab = parts(replay=True)
         session = await connect(lab)
         warned = await op(session, op="advertise_service", service="/add_two_ints", type="hri_lab/AddTwoInts")
-        assert warned[-1]["level"] == "warning" and "one of the lab's own services" in warned[-1]["msg"]
+        assert warned[-1]["level"] == "warning"
+        assert "one of the lab's own services" in warned[-1]["msg"]
         assert lab.bridge.nodes.goes_to_node("/add_two_ints")
         session.capability(AdvertiseService).finish()
         assert not lab.bridge.nodes.goes_to_node("/add_two_ints")
@@ -57,7 +61,8 @@ def test_unadvertise_withdraws_only_the_clients_own():
         await op(first, op="advertise_service", service="/mine", type="std_srvs/Trigger")
         await op(second, op="set_level", level="warning")
         refused = await op(second, op="unadvertise_service", service="/mine")
-        assert "not provided by this client" in refused[0]["msg"] and lab.bridge.services.get("/mine") is not None
+        assert "not provided by this client" in refused[0]["msg"]
+        assert lab.bridge.services.get("/mine") is not None
         await op(first, op="unadvertise_service", service="/mine")
         assert lab.bridge.services.get("/mine") is None
 

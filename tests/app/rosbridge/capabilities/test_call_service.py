@@ -16,8 +16,10 @@ def test_a_call_is_answered_with_its_id_a_failure_with_its_reason():
             {"op": "service_response", "service": "/add_two_ints", "values": {"sum": 3}, "result": True, "id": "c1"}
         ]
         failed = await op(session, op="call_service", id="c2", service="/add_two_ints", args={"a": 2**62, "b": 2**62})
-        assert failed[0]["result"] is False and failed[0]["id"] == "c2"
-        assert failed[1]["op"] == "status" and failed[1]["msg"] == f"call_service /add_two_ints: {failed[0]['values']}"
+        assert failed[0]["result"] is False
+        assert failed[0]["id"] == "c2"
+        assert failed[1]["op"] == "status"
+        assert failed[1]["msg"] == f"call_service /add_two_ints: {failed[0]['values']}"
         bad = await op(session, op="call_service", service="/add_two_ints", args="1 2")
         assert "field 'args' must be an object" in bad[0]["msg"]
 
@@ -43,7 +45,8 @@ def test_a_republished_tf_topic_goes_with_its_client():
         session = await connect(lab)
         answer = await op(session, op="call_service", service="/republish_tfs", args={"source_frames": ["panda_link8"]})
         topic = answer[0]["values"]["topic_name"]
-        assert topic in lab.bridge.topics and len(session.capability(CallService).on_close) == 1
+        assert topic in lab.bridge.topics
+        assert len(session.capability(CallService).on_close) == 1
         await session.close()
         assert topic not in lab.bridge.topics
         await asyncio.sleep(0)

@@ -22,7 +22,9 @@ def test_auth_presents_the_token_a_wrong_one_is_refused():
 def test_auth_without_a_token_set_changes_nothing():
     async def check() -> None:
         session = await connect(parts(replay=True))
-        assert session.authorized and await op(session, op="auth", mac="anything") == [] and session.authorized
+        assert session.authorized
+        assert await op(session, op="auth", mac="anything") == []
+        assert session.authorized
 
     run(check())
 
@@ -34,7 +36,8 @@ def test_set_level_shows_that_level_and_the_ones_after_it_a_bad_level_is_dropped
         await op(session, op="set_level", level="warning")
         assert session.level == "warning"
         shown = await op(session, op="unsubscribe", topic="/never")
-        assert shown[0]["level"] == "warning" and "not subscribed to /never" in shown[0]["msg"]
+        assert shown[0]["level"] == "warning"
+        assert "not subscribed to /never" in shown[0]["msg"]
         await op(session, op="set_level", level="loud")
         assert session.level == "warning"
         await op(session, op="set_level", level="none")

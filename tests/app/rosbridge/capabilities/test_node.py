@@ -29,7 +29,8 @@ def test_a_named_node_is_what_rosapi_services_and_rosout_show(client):
         ws.send_json({"op": "node", "name": "/tutorial/listener"})  # a second node of the same program
         ws.send_json({"op": "advertise_service", "service": "/named_echo", "type": "std_srvs/Trigger"})
         nodes = call(ws, "/rosapi/nodes", {})["values"]["nodes"]
-        assert "/tutorial/talker" in nodes and "/tutorial/listener" in nodes
+        assert "/tutorial/talker" in nodes
+        assert "/tutorial/listener" in nodes
         assert not any(n.startswith("/rosbridge_client_") for n in nodes)
         details = call(ws, "/rosapi/node_details", {"node": "/tutorial/listener"})["values"]
         assert details["services"] == ["/named_echo"]
@@ -48,11 +49,12 @@ def test_a_second_provider_is_refused_naming_the_node_that_has_the_name(client):
         call(first, "/rosapi/get_time", {})
         second.send_json({"op": "advertise_service", "id": "again", "service": "/taken", "type": "std_srvs/Trigger"})
         refusal = within(second.receive_json, 30, "the refusal")
-        assert refusal["id"] == "again" and "already provided by node /first_server" in refusal["msg"]
+        assert refusal["id"] == "again"
+        assert "already provided by node /first_server" in refusal["msg"]
 
 
 @pytest.mark.parametrize(
-    "name, says",
+    ("name", "says"),
     [
         ("/hri_lab", "node: /hri_lab is the lab's own node"),
         ("/bad name", "field 'name' must be a ROS name"),
@@ -66,7 +68,8 @@ def test_a_bad_node_name_is_refused_naming_the_field(client, name, says):
         refusal = within(ws.receive_json, 30, "the refusal")
         assert refusal["op"] == "status" and says in refusal["msg"], refusal
         nodes = call(ws, "/rosapi/nodes", {})["values"]["nodes"]
-        assert nodes.count("/hri_lab") == 1 and any(n.startswith("/rosbridge_client_") for n in nodes)  # unnamed
+        assert nodes.count("/hri_lab") == 1
+        assert any(n.startswith("/rosbridge_client_") for n in nodes)
 
 
 def test_a_bad_name_or_the_labs_own_is_refused_naming_the_field():

@@ -41,7 +41,8 @@ def test_a_log_line_joins_the_labs_log_under_the_nodes_name():
         await op(session, op="advertise", topic="/rosout", type="rosgraph_msgs/Log")
         await op(session, op="publish", topic="/rosout", msg={"level": 4, "msg": "too close"})  # ROS 1's WARN
         line = [entry for entry in lab.lab.rosout.recent() if entry.msg == "too close"][-1]
-        assert line.node == "/talker" and line.level == "WARN"
+        assert line.node == "/talker"
+        assert line.level == "WARN"
 
     run(check())
 
@@ -59,7 +60,8 @@ def test_a_refused_frame_is_told_once_and_finish_takes_the_clients_frames_away()
         session = await connect(lab)
         await op(session, op="advertise", topic="/tf", type="tf2_msgs/TFMessage")
         refused = await op(session, op="publish", topic="/tf", msg={"transforms": [frame, mine]})
-        assert "refused" in refused[0]["msg"] and "panda_link0" in refused[0]["msg"]
+        assert "refused" in refused[0]["msg"]
+        assert "panda_link0" in refused[0]["msg"]
         assert await op(session, op="publish", topic="/tf", msg={"transforms": [frame, mine]}) == []  # told once
         assert "marker" in lab.bridge.frames.names()
         session.capability(Publish).finish()

@@ -10,6 +10,7 @@ def test_an_answer_nobody_waits_for_is_a_warning():
         assert await op(session, op="service_response", id="lab:/x:1", values={}, result=True) == []  # level error
         await op(session, op="set_level", level="warning")
         warned = await op(session, op="service_response", id="lab:/x:1", values={}, result=True)
-        assert warned[0]["level"] == "warning" and 'no call with id "lab:/x:1" waits' in warned[0]["msg"]
+        assert warned[0]["level"] == "warning"
+        assert 'no call with id "lab:/x:1" waits' in warned[0]["msg"]
 
     run(check())

@@ -26,11 +26,14 @@ def test_subscriptions_of_one_topic_share_a_stream_at_the_lowest_throttle_and_lo
         await op(session, op="subscribe", id="fast", topic="/chatter", throttle_rate=100, queue_length=5000)
         stream = session.capability(Subscribe).streams["/chatter"]
         assert stream.options == {"slow": (500, 0), "fast": (100, MAX_QUEUE)}
-        assert stream.period == 0.1 and stream.queue.maxlen == MAX_QUEUE
+        assert stream.period == 0.1
+        assert stream.queue.maxlen == MAX_QUEUE
         await op(session, op="unsubscribe", id="fast", topic="/chatter")  # the other one holds the stream
-        assert stream.period == 0.5 and not stream.stopped
+        assert stream.period == 0.5
+        assert not stream.stopped
         await op(session, op="unsubscribe", id="slow", topic="/chatter")
-        assert stream.stopped and "/chatter" not in session.bridge.node_topics
+        assert stream.stopped
+        assert "/chatter" not in session.bridge.node_topics
 
     run(check())
 
@@ -60,7 +63,8 @@ def test_finish_stops_every_stream_and_gives_back_its_share_of_the_rate():
         streams = list(session.capability(Subscribe).streams.values())
         assert lab.bridge.streams == 2
         session.capability(Subscribe).finish()
-        assert all(s.stopped for s in streams) and lab.bridge.streams == 0
+        assert all(s.stopped for s in streams)
+        assert lab.bridge.streams == 0
         assert all(t.lab for t in lab.bridge.node_topics.values())  # left: the lab's own node's (tf2_web_republisher's)
 
     run(check())

@@ -98,7 +98,10 @@ class Playback:
 
     def _frame(self, t: int, q: np.ndarray, frames: dict, scene: dict) -> Frame:
         entities = {e["id"]: e for e in scene["entities"]}
-        meta = lambda e: {kv["key"]: kv["value"] for kv in e["metadata"]}  # noqa: E731
+
+        def meta(entity: dict) -> dict:
+            return {kv["key"]: kv["value"] for kv in entity["metadata"]}
+
         forces = entities["forces"]
         names = meta(forces)["order"].split(",")
         box = entities["box"]

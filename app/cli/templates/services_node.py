@@ -149,7 +149,7 @@ def guarded(handler):
     def serve(request, response):
         try:
             return bool(handler(request, response))
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:  # noqa: BLE001 - any error of a handler becomes its call's failure
             response.clear()
             response["error"] = f"{type(exc).__name__}: {exc}"
             return False

@@ -29,9 +29,9 @@ POLL_S = 0.25  # s between two looks at the graph's counts when nothing in this 
 
 
 @dataclass
-class QoSPublisherMatchedInfo:
-    """rmw's matched status of a publisher: subscriptions matched in all (ever) and now, and each
-    one's change since the last event."""
+class _MatchedInfo:
+    """rmw's matched status: the peers matched in all (ever) and now, and each one's change since
+    the last event."""
 
     total_count: int = 0
     total_count_change: int = 0
@@ -39,14 +39,12 @@ class QoSPublisherMatchedInfo:
     current_count_change: int = 0
 
 
-@dataclass
-class QoSSubscriptionMatchedInfo:
-    """rmw's matched status of a subscription: its publishers, as QoSPublisherMatchedInfo counts."""
+class QoSPublisherMatchedInfo(_MatchedInfo):
+    """A publisher's matched status: its subscriptions."""
 
-    total_count: int = 0
-    total_count_change: int = 0
-    current_count: int = 0
-    current_count_change: int = 0
+
+class QoSSubscriptionMatchedInfo(_MatchedInfo):
+    """A subscription's matched status: its publishers."""
 
 
 class PublisherEventCallbacks:
@@ -71,7 +69,7 @@ class EventHandler(Waitable):
     """A matched event's handler: ready when the count it watches changed."""
 
     def __init__(self, callback_group: CallbackGroup, callback: Callable[[Any], Any], count: Callable[[], int],
-                 info: type[QoSPublisherMatchedInfo] | type[QoSSubscriptionMatchedInfo]) -> None:
+                 info: type[_MatchedInfo]) -> None:
         super().__init__(callback_group)
         self.callback, self._count, self._info = callback, count, info
         self._current = self._total = 0  # as of the last event
@@ -110,17 +108,17 @@ class EventHandler(Waitable):
 
 def publisher_handlers(callbacks: Any, group: CallbackGroup, topic: str) -> list[EventHandler]:
     """The event handlers a publisher's PublisherEventCallbacks ask for (matched: the one the lab can tell)."""
-    matched = getattr(callbacks, "matched", None)
-    if matched is None:
-        return []
-    return [EventHandler(group, matched, lambda: _graph.count_subscriptions(topic), QoSPublisherMatchedInfo)]
+    return _matched(callbacks, group, lambda: _graph.count_subscriptions(topic), QoSPublisherMatchedInfo)
 
 
 def subscription_handlers(callbacks: Any, group: CallbackGroup, topic: str) -> list[EventHandler]:
+    """The event handlers a subscription's SubscriptionEventCallbacks ask for."""
+    return _matched(callbacks, group, lambda: _graph.count_publishers(topic), QoSSubscriptionMatchedInfo)
+
+
+def _matched(callbacks: Any, group: CallbackGroup, count: Callable[[], int], info: type[_MatchedInfo]) -> list[EventHandler]:
     matched = getattr(callbacks, "matched", None)
-    if matched is None:
-        return []
-    return [EventHandler(group, matched, lambda: _graph.count_publishers(topic), QoSSubscriptionMatchedInfo)]
+    return [] if matched is None else [EventHandler(group, matched, count, info)]
 
 
 # --- the watcher ---------------------------------------------------------------------------------

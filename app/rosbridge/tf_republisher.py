@@ -142,6 +142,9 @@ class Pair:
     sent: np.ndarray | None = None
 
     def moved(self, now: np.ndarray, trans_thres_m: float, angular_thres_rad: float) -> bool:
+        """Whether `now` is to be sent: never sent, a threshold 0, or beyond one. The turn is the
+        rotation's angle between the two poses (upstream compares tf's Quaternion::angle, half of it:
+        its angular_thres lets a frame turn twice as far before it is sent again)."""
         if self.sent is None or trans_thres_m == 0.0 or angular_thres_rad == 0.0:
             return True
         if float(np.linalg.norm(now[:3, 3] - self.sent[:3, 3])) > trans_thres_m:

@@ -9,9 +9,10 @@ for a web client, the two ways upstream's node (RobotWebTools/tf2_web_republishe
   `cancel`, `status`, `feedback`, `result`; tf2_web_republisher/TFSubscriptionAction), which
   roslibjs' TFClient uses: every goal is accepted, and its transforms come as its feedback at `rate`
   Hz until it is cancelled (PREEMPTED, with a result) or its client goes. As upstream, a goal sends a
-  frame when it moved more than `trans_thres` (m) or turned more than `angular_thres` (rad) since it
-  was last sent (or a threshold is 0, or it was never sent), and nothing when no frame did; a frame
-  not (yet) in the tree is left out until it is. The status array goes out at actionlib's 5 Hz.
+  frame when it moved more than `trans_thres` (m) or turned more than `angular_thres` (rad, tf's
+  Quaternion::angle: half the rotation's angle) since it was last sent (or a threshold is 0, or it
+  was never sent), and nothing when no frame did; a frame not (yet) in the tree is left out until it
+  is. The status array goes out at actionlib's 5 Hz.
 
 The frames are the whole tree the lab's /tf and /tf_static carry — the world's own and the
 programs' (app/rosbridge/internal/node_frames.py) — so either world's frames serve, and a pair
@@ -142,15 +143,16 @@ class Pair:
     sent: np.ndarray | None = None
 
     def moved(self, now: np.ndarray, trans_thres_m: float, angular_thres_rad: float) -> bool:
-        """Whether `now` is to be sent: never sent, a threshold 0, or beyond one. The turn is the
-        rotation's angle between the two poses (upstream compares tf's Quaternion::angle, half of it:
-        its angular_thres lets a frame turn twice as far before it is sent again)."""
+        """Whether `now` is to be sent: never sent, a threshold 0, or beyond one. The turn is measured
+        as upstream measures it, tf's Quaternion::angle between the two rotations: half the angle of
+        the rotation from one to the other."""
         if self.sent is None or trans_thres_m == 0.0 or angular_thres_rad == 0.0:
             return True
         if float(np.linalg.norm(now[:3, 3] - self.sent[:3, 3])) > trans_thres_m:
             return True
         turn = now[:3, :3] @ self.sent[:3, :3].T  # the rotation between the two, its angle from its trace
-        return math.acos(max(-1.0, min(1.0, (float(np.trace(turn)) - 1.0) / 2.0))) > angular_thres_rad
+        angle = math.acos(max(-1.0, min(1.0, (float(np.trace(turn)) - 1.0) / 2.0)))
+        return angle / 2.0 > angular_thres_rad
 
 
 @dataclass

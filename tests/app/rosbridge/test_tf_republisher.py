@@ -82,8 +82,8 @@ def test_a_pair_sends_when_it_moved_or_turned_beyond_its_thresholds():
     pair.sent = pose()
     assert not pair.moved(pose(x_m=0.009), 0.01, 0.01)
     assert pair.moved(pose(x_m=0.011), 0.01, 0.01)
-    assert not pair.moved(pose(yaw_rad=0.009), 0.01, 0.01)
-    assert pair.moved(pose(yaw_rad=0.011), 0.01, 0.01)
+    assert not pair.moved(pose(yaw_rad=0.019), 0.01, 0.01)  # tf's Quaternion::angle: half of it, 0.0095
+    assert pair.moved(pose(yaw_rad=0.021), 0.01, 0.01)
     assert pair.moved(pose(), 0.0, 0.01)
     assert pair.moved(pose(), 0.01, 0.0)
 

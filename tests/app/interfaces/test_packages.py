@@ -1,6 +1,9 @@
 """Interfaces from text (app/interfaces/): the classes genpy and rosidl make of .msg, .srv and
 .action files, the errors of bad definitions, and a definition carried as text."""
 
+import base64
+import binascii
+
 import pytest
 
 from app.interfaces.packages import Interfaces, full_text
@@ -64,6 +67,19 @@ def test_nested_messages_arrays_constants_and_header_stamps(interfaces):
     image = interfaces.message("sensor_msgs/Image")(data=b"\x01\x02")
     assert image.to_json()["data"] == "AQI="  # uint8[] as base64, as rosbridge sends it
     assert interfaces.message("sensor_msgs/Image").from_json({"data": "AQI="}).data == b"\x01\x02"
+
+
+def test_base64_byte_arrays_decode_as_the_standard_library_does(interfaces):
+    """The SIMD decoder (pybase64) gives base64.b64decode's bytes, including for text with
+    characters outside the alphabet (skipped), and refuses bad padding as it does."""
+    image = interfaces.message("sensor_msgs/Image")
+    data = bytes(range(256)) * 3
+    text = base64.b64encode(data).decode("ascii")
+    assert image.from_json({"data": text}).data == data
+    wrapped = "\n".join(text[i : i + 76] for i in range(0, len(text), 76))  # MIME's lines
+    assert image.from_json({"data": wrapped}).data == base64.b64decode(wrapped) == data
+    with pytest.raises(binascii.Error):
+        image.from_json({"data": "AQI"})
 
 
 def test_an_array_field_of_json_that_is_no_array_is_a_type_error_naming_it(interfaces):

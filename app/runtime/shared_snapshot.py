@@ -44,6 +44,7 @@ class _Leaf:
     kind: str  # "array", "float", "int", "bool" or "text"
     start: int  # float index (numbers) or byte offset (texts)
     shape: tuple[int, ...] = ()
+    size: int = 1  # elements of an array (the product of its shape, counted once here, not per read)
 
 
 class SharedSnapshot(Generic[R]):
@@ -82,7 +83,7 @@ class SharedSnapshot(Generic[R]):
             if dataclasses.is_dataclass(value) and not isinstance(value, type):
                 fields.append((f.name, self._plan(value, path + ".", text_fields)))
             elif isinstance(value, np.ndarray):
-                fields.append((f.name, _Leaf("array", self._floats, value.shape)))
+                fields.append((f.name, _Leaf("array", self._floats, value.shape, value.size)))
                 self._arrays.append((getter, self._floats, self._floats + value.size))
                 self._floats += value.size
             elif isinstance(value, (bool, int, float)):
@@ -152,8 +153,7 @@ class SharedSnapshot(Generic[R]):
             if isinstance(part, _Node):
                 kwargs[name] = self._build(part, numbers, data)
             elif part.kind == "array":
-                size = int(np.prod(part.shape))
-                kwargs[name] = numbers[part.start : part.start + size].reshape(part.shape)
+                kwargs[name] = numbers[part.start : part.start + part.size].reshape(part.shape)
             elif part.kind == "text":
                 offset = self._text_base + part.start * TEXT_SLOT
                 (length,) = struct.unpack_from("<H", data, offset)

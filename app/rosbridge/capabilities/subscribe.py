@@ -141,12 +141,19 @@ async def sample(
 
 
 POLL_S = 0.001  # s between two reads of the F_ext ring (the control period)
+# event-loop turns a full queue's sender gets, in all, over one look's samples before the next sample
+# replaces its newest: enough for the one or two samples of a look that keeps up, never enough to
+# send a client that is behind old samples in order (a lifting node fed those went unstable)
+HANDOFF_TURNS = 4
 
 
 async def sample_every_step(lab: Any, stream: Stream) -> None:
     """F_ext from the ring of every step's sample (app/runtime/sample_ring.py): each sample at least
     throttle_rate of simulation time after the last one sent (0: every step), in order, however
-    late this thread got the CPU; what a slow client cannot take is dropped by its queue."""
+    late this thread got the CPU; what a slow client cannot take is dropped by its queue. A sample
+    read with others in one look waits for the stream's sender to take the one before (HANDOFF_TURNS
+    for the whole look): a short queue (queue_length 1, rospy's queue_size=1) loses samples to a
+    client that is slow, not to the look's batching, and a client that is behind gets the newest."""
     _, seen, _ = lab.wrench_samples(0)  # from now on
     last = None
     with Need(lab) as need:
@@ -154,10 +161,14 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
             period = stream.period
             need.every(period)
             rows, seen, _ = lab.wrench_samples(seen)
+            turns = HANDOFF_TURNS
             for row in rows:
                 if last is None or row[0] - last >= period - 0.0005:
                     last = row[0]
                     time_s = float(row[0])
+                    while turns and stream.queue.maxlen is not None and len(stream.queue) >= stream.queue.maxlen:
+                        turns -= 1
+                        await asyncio.sleep(0)  # the sender's turn: it takes the one before
                     shared = stream.session.bridge.shared  # each step's sample built once for every client
                     stream.offer(shared.built(F_EXT, time_s, partial(wrench_stamped_at, time_s, row[1:])))
             await asyncio.sleep(max(POLL_S, period))  # no oftener than it may send: its share of the lab's rate

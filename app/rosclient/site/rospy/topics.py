@@ -1,10 +1,11 @@
 """rospy.topics: Publisher and Subscriber over the lab's rosbridge endpoint.
 
 A publisher fills a message's `header.seq` (its count of messages, from 1) as rospy does. A
-subscriber's `queue_size` is its own queue, in this process: every message crosses the wire (the
-lab's rosbridge queue is never asked to drop) and the callback, on the subscriber's own thread,
-takes them in order; a full queue drops its oldest. Both may be made before init_node, as rospy
-allows; a message is published only after it.
+subscriber's `queue_size` is its own queue, in this process (and the most the lab holds for it
+while the program's socket is full): the callback, on the subscriber's own thread, takes the
+messages in order; a full queue drops its oldest, so a message is lost only while the callback is
+busy, as in rospy (HANDOFF_S). Both may be made before init_node, as rospy allows; a message is
+published only after it.
 """
 
 from __future__ import annotations
@@ -134,6 +135,11 @@ class Publisher(Topic):
             process.remove_publisher(self.name)
 
 
+# s the connection's reader waits for an idle callback thread to take the message before the next
+# one: a queue_size=1 callback that keeps up loses nothing to the two threads sharing the interpreter
+HANDOFF_S = 0.002
+
+
 class Subscriber(Topic):
     """Messages into a queue of `queue_size` (None: unbounded; full: the oldest dropped), handed to
     the callback on this subscriber's own thread."""
@@ -154,6 +160,8 @@ class Subscriber(Topic):
         self.received = 0
         self._ready = threading.Condition()
         self._closed = False
+        self._taker_idle = False  # the callback thread is waiting for a message (or woken, not yet run)
+        self._taker_late = False  # it did not take one within HANDOFF_S: not waited for again until it does
         threading.Thread(target=self._deliver, daemon=True, name=f"rospy-sub{self.name}").start()
         # the lab holds at most queue_size messages for this subscriber while its socket is busy, as a
         # ROS publisher's queue drops for a subscriber that cannot keep up: a program behind on a 1 kHz
@@ -163,19 +171,30 @@ class Subscriber(Topic):
         )
 
     def _offer(self, data: dict[str, Any]) -> None:
+        """A message from the connection's reader thread."""
         with self._ready:
             self.received += 1
+            full = self.queue.maxlen is not None and len(self.queue) >= self.queue.maxlen
+            if full and self._taker_idle and not self._taker_late:
+                # the callback thread was woken for the one before and has not had its turn (the
+                # reader held the interpreter): it gets one, bounded. A callback that is running is
+                # not waited for: its queue drops the oldest, as rospy's does for a slow callback.
+                if not self._ready.wait_for(lambda: len(self.queue) < (self.queue.maxlen or 0), HANDOFF_S):
+                    self._taker_late = True  # not waited for again until it takes one
             self.queue.append(data)
-            self._ready.notify()
+            self._ready.notify_all()
 
     def _deliver(self) -> None:
         while True:
             with self._ready:
+                self._taker_idle = True
                 while not self.queue and not self._closed:
                     self._ready.wait()
                 if self._closed:
                     return
                 data = self.queue.popleft()
+                self._taker_idle = self._taker_late = False
+                self._ready.notify_all()  # a reader waiting for this take goes on
             if self.callback is None:
                 continue
             if process.shutdown_event.is_set():  # the program is ending: no new callback

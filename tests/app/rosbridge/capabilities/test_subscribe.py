@@ -2,7 +2,15 @@
 client, at the lowest throttle and the longest queue of its subscriptions; the stream goes with
 the last of them, or with the client."""
 
-from app.rosbridge.capabilities.subscribe import MAX_QUEUE, MAX_TOPICS, Subscribe
+import asyncio
+from contextlib import contextmanager
+
+import numpy as np
+
+from sim.messages import F_EXT
+
+from app.rosbridge.capabilities.subscribe import HANDOFF_TURNS, MAX_QUEUE, MAX_TOPICS, Subscribe, sample_every_step
+from app.rosbridge.internal.streams import Stream
 from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 
@@ -68,3 +76,67 @@ def test_finish_stops_every_stream_and_gives_back_its_share_of_the_rate():
         assert all(t.lab for t in lab.bridge.node_topics.values())  # left: the lab's own node's (tf2_web_republisher's)
 
     run(check())
+
+
+class _Ring:
+    """A lab whose F_ext ring gives one look's rows at a time (app/runtime/sample_ring.py's shape)."""
+
+    def __init__(self, looks: list[int]) -> None:
+        self.looks, self.step, self.opened = list(looks), 0, False
+
+    def wrench_samples(self, seen: int):
+        if not self.opened:  # the subscription's first look: from now on
+            self.opened = True
+            return [], 0, 0
+        if not self.looks:
+            return [], seen, 0
+        rows = [np.array([(self.step + k + 1) * 0.001, 0, 0, 5.0, 0, 0, 0]) for k in range(self.looks.pop(0))]
+        self.step += len(rows)
+        return rows, seen + len(rows), 0
+
+    @contextmanager
+    def needs(self, period: float):
+        yield
+
+
+async def _f_ext_through_a_queue_of_one(looks: list[int]) -> list[float]:
+    """sample_every_step into a stream of queue_length 1 whose sender takes a message each turn of
+    the event loop: the samples' times (s) the sender took, in order."""
+    session = await connect(parts(replay=True))
+    stream = Stream(session, F_EXT)
+    stream.options["rospy"] = (0, 1)
+    stream.configure()
+    taken: list[float] = []
+
+    async def sender() -> None:
+        while True:
+            while stream.queue:
+                message = stream.queue.popleft()
+                stamp = message["header"]["stamp"]
+                taken.append(round(stamp["sec"] + stamp["nanosec"] * 1e-9, 3))
+            await asyncio.sleep(0)
+
+    ring = _Ring(looks)
+    tasks = [asyncio.ensure_future(sample_every_step(ring, stream)), asyncio.ensure_future(sender())]
+    await until(lambda: not ring.looks and not stream.queue and ring.step, "every look read and taken")
+    for _ in range(10):
+        await asyncio.sleep(0)
+    for task in tasks:
+        task.cancel()
+    stream.stop()
+    return taken
+
+
+def test_f_ext_samples_read_together_reach_a_queue_of_one_in_order():
+    """A look that keeps up (one or two samples) loses none to the queue of one (rospy's
+    queue_size=1): each waits for the sender to take the one before."""
+    taken = run(_f_ext_through_a_queue_of_one([1, 2, 2, 1, 2]))
+    assert taken == [round(0.001 * k, 3) for k in range(1, 9)]
+
+
+def test_f_ext_samples_of_a_look_that_is_behind_give_the_newest_not_a_backlog():
+    """A look that is behind (the sender gets HANDOFF_TURNS turns in all over its samples) ends with
+    its newest sample: a slow client is not sent old samples in order."""
+    taken = run(_f_ext_through_a_queue_of_one([40]))
+    assert taken[-1] == 0.04
+    assert len(taken) <= HANDOFF_TURNS + 2  # the turns' samples, the first and the newest

@@ -167,7 +167,7 @@ def _stamp(cls: type[Message]) -> Convert:
                     out[name] = part
         for key in value:
             if key not in out:
-                raise FieldError([str(key)], f"does not exist: a {expected} has no field '{key}'")
+                raise FieldError([str(key)], f"does not exist: {expected} has no field '{key}'")
         if len(out) == 4 and (out["sec"], out["nanosec"]) != (out["secs"], out["nsecs"]):
             raise FieldError([], f"gives two different times: {_short(value)}")
         return out

@@ -121,12 +121,13 @@ def _message(cls: type[Message], made: dict[str, Convert]) -> Convert:
         if not isinstance(value, dict):
             raise _mismatch(f"a {type_name} (an object)", value)
         out: dict[str, JSON] = {}
-        for name, field_convert in fields:
-            try:
-                out[name] = field_convert(value.get(name))
-            except FieldError as error:
-                raise error.within(name) from None
-        if len(value) > len(out) or any(key not in out for key in value):
+        get, name = value.get, ""
+        try:
+            for name, field_convert in fields:
+                out[name] = field_convert(get(name))
+        except FieldError as error:
+            raise error.within(name) from None
+        if not value.keys() <= out.keys():  # a field it does not have (or ROS 1's: Header's seq)
             for key in value:
                 if key in out:
                     continue
@@ -152,18 +153,30 @@ def _stamp(cls: type[Message]) -> Convert:
     limits = [INTEGERS[f.base] for f in cls._fields]  # (sec, nanosec)'s ranges
     expected = f"a {'time' if cls._type.endswith('Time') else 'duration'} {{sec, nanosec}} or {{secs, nsecs}}"
 
+    (low, high), (nano_low, nano_high) = limits
+
     def convert(value: JSON) -> JSON:
         if value is None or value == {}:
             return {"sec": 0, "nanosec": 0, "secs": 0, "nsecs": 0}
         if not isinstance(value, dict):
             raise _mismatch(expected, value)
+        if len(value) == 2:  # the common case, whole in one spelling
+            for sec, nanosec in SPELLINGS:
+                whole, part = value.get(sec), value.get(nanosec)
+                if (
+                    type(whole) is int
+                    and type(part) is int
+                    and low <= whole <= high
+                    and nano_low <= part <= nano_high
+                ):
+                    return {sec: whole, nanosec: part}
         out: dict[str, JSON] = {}
         for spelling in SPELLINGS:
             if any(name in value for name in spelling):
-                for name, (low, high) in zip(spelling, limits):
+                for name, (least, most) in zip(spelling, limits):
                     part = value.get(name, 0)
-                    if type(part) is not int or not low <= part <= high:
-                        raise _mismatch(f"an integer in [{low}, {high}]", part).within(name)
+                    if type(part) is not int or not least <= part <= most:
+                        raise _mismatch(f"an integer in [{least}, {most}]", part).within(name)
                     out[name] = part
         for key in value:
             if key not in out:
@@ -215,6 +228,19 @@ def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
     if f.msg_class is not None:
         return _message(f.msg_class, made)
     base, _, bound_text = f.base.partition("<=")
+    if base in FLOATS:
+        expected = f"of type {base} (a number)"
+
+        def number(value: JSON) -> JSON:
+            if type(value) is float:
+                return value
+            if type(value) is int:
+                return float(value)
+            if value is None:
+                return default
+            raise _mismatch(expected, value)
+
+        return number
     check: Callable[[Any], bool]
     if base in INTEGERS:
         low, high = INTEGERS[base]
@@ -222,11 +248,6 @@ def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
 
         def check(value: Any) -> bool:
             return type(value) is int and low <= value <= high
-    elif base in FLOATS:
-        expected = f"of type {base} (a number)"
-
-        def check(value: Any) -> bool:
-            return type(value) is float or type(value) is int
     elif base == "bool":
         expected = "of type bool (true or false)"
 
@@ -236,16 +257,20 @@ def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         limit = int(bound_text) if bound_text else None
         expected = f"of type {base}{f' (at most {limit} characters)' if limit else ''}"
 
-        def check(value: Any) -> bool:
-            return type(value) is str and (limit is None or len(value) <= limit)
+        if limit is None:
 
-    floats = base in FLOATS
+            def check(value: Any) -> bool:
+                return type(value) is str
+        else:
+
+            def check(value: Any) -> bool:
+                return type(value) is str and len(value) <= limit
 
     def convert(value: JSON) -> JSON:
         if value is None:
             return default
         if not check(value):
             raise _mismatch(expected, value)
-        return float(value) if floats else value  # type: ignore[arg-type]  # checked: a number
+        return value
 
     return convert

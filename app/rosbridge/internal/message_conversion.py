@@ -51,7 +51,14 @@ class FieldError(ValueError):
         return f"{root_type} message: field '{'.'.join(self.path)}' {self.reason}"
 
 
-_JSON_KINDS = {dict: "an object", list: "an array", str: "a string", int: "an integer", float: "a number", bool: "a bool"}
+_JSON_KINDS = {
+    dict: "an object",
+    list: "an array",
+    str: "a string",
+    int: "an integer",
+    float: "a number",
+    bool: "a bool",
+}
 
 
 def _mismatch(expected: str, value: JSON) -> FieldError:
@@ -163,12 +170,7 @@ def _stamp(cls: type[Message]) -> Convert:
         if len(value) == 2:  # the common case, whole in one spelling
             for sec, nanosec in SPELLINGS:
                 whole, part = value.get(sec), value.get(nanosec)
-                if (
-                    type(whole) is int
-                    and type(part) is int
-                    and low <= whole <= high
-                    and nano_low <= part <= nano_high
-                ):
+                if type(whole) is int and type(part) is int and low <= whole <= high and nano_low <= part <= nano_high:
                     return {sec: whole, nanosec: part}
         out: dict[str, JSON] = {}
         for spelling in SPELLINGS:
@@ -208,7 +210,9 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         if not isinstance(value, list):
             raise _mismatch(expected, value)
         if size is not True and (len(value) > size if bound else len(value) != size):
-            raise FieldError([], f"requires {'at most ' if bound else ''}{size} items ({f.type_text}), got {len(value)}")
+            raise FieldError(
+                [], f"requires {'at most ' if bound else ''}{size} items ({f.type_text}), got {len(value)}"
+            )
         out = []
         for i, item in enumerate(value):
             try:
@@ -229,42 +233,8 @@ def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         return _message(f.msg_class, made)
     base, _, bound_text = f.base.partition("<=")
     if base in FLOATS:
-        expected = f"of type {base} (a number)"
-
-        def number(value: JSON) -> JSON:
-            if type(value) is float:
-                return value
-            if type(value) is int:
-                return float(value)
-            if value is None:
-                return default
-            raise _mismatch(expected, value)
-
-        return number
-    check: Callable[[Any], bool]
-    if base in INTEGERS:
-        low, high = INTEGERS[base]
-        expected = f"of type {base} (an integer in [{low}, {high}])"
-
-        def check(value: Any) -> bool:
-            return type(value) is int and low <= value <= high
-    elif base == "bool":
-        expected = "of type bool (true or false)"
-
-        def check(value: Any) -> bool:
-            return type(value) is bool
-    else:
-        limit = int(bound_text) if bound_text else None
-        expected = f"of type {base}{f' (at most {limit} characters)' if limit else ''}"
-
-        if limit is None:
-
-            def check(value: Any) -> bool:
-                return type(value) is str
-        else:
-
-            def check(value: Any) -> bool:
-                return type(value) is str and len(value) <= limit
+        return _number(base, default)
+    expected, check = _check(base, int(bound_text) if bound_text else None)
 
     def convert(value: JSON) -> JSON:
         if value is None:
@@ -274,3 +244,31 @@ def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         return value
 
     return convert
+
+
+def _number(base: str, default: JSON) -> Convert:
+    """A float field's value: a float, or an integer sent on as a float (as ROS delivers it)."""
+    expected = f"of type {base} (a number)"
+
+    def number(value: JSON) -> JSON:
+        if type(value) is float:
+            return value
+        if type(value) is int:
+            return float(value)
+        if value is None:
+            return default
+        raise _mismatch(expected, value)
+
+    return number
+
+
+def _check(base: str, limit: int | None) -> tuple[str, Callable[[Any], bool]]:
+    """What an integer, bool or string field's value must be, and its check."""
+    if base in INTEGERS:
+        low, high = INTEGERS[base]
+        return f"of type {base} (an integer in [{low}, {high}])", lambda v: type(v) is int and low <= v <= high
+    if base == "bool":
+        return "of type bool (true or false)", lambda v: type(v) is bool
+    if limit is None:
+        return f"of type {base}", lambda v: type(v) is str
+    return f"of type {base} (at most {limit} characters)", lambda v: type(v) is str and len(v) <= limit

@@ -48,8 +48,9 @@ def test_a_node_topics_message_reaches_every_subscriber_whole_and_a_wrong_one_is
         assert len(lab.bridge.shared._frames["/test_action/cancel"]) == 1  # one message, encoded once for both
         refused = await op(client, op="publish", topic="/test_action/cancel", msg={"id": "goal_2", "stamp": 5})
         assert refused[0]["level"] == "error"
-        assert "publish /test_action/cancel: actionlib_msgs/GoalID message: field 'stamp' must be a time" in (
-            refused[0]["msg"]
+        assert (
+            "publish /test_action/cancel: actionlib_msgs/GoalID message: field 'stamp' must be a time"
+            in (refused[0]["msg"])
         )
 
     run(check())

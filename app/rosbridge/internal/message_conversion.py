@@ -19,6 +19,7 @@ result is shared by every subscriber's stream (app/rosbridge/internal/shared.py 
 
 from __future__ import annotations
 
+from array import array
 from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
@@ -30,6 +31,9 @@ from app.json_value import JSON
 
 STAMPS = ("builtin_interfaces/Time", "builtin_interfaces/Duration")  # `time`, `duration`
 SPELLINGS = (("sec", "nanosec"), ("secs", "nsecs"))  # ROS 2's and ROS 1's names of a stamp's parts
+# array.array's type codes of the integer types (their ranges are the ROS types' on Linux)
+ARRAY_CODES = {"byte": "B", "char": "B", "int8": "b", "uint8": "B", "int16": "h", "uint16": "H"}
+ARRAY_CODES.update({"int32": "i", "uint32": "I", "int64": "q", "uint64": "Q"})
 MAX_TYPES = 256  # converters kept (a type and the definition it was read from)
 
 Convert = Callable[[JSON], JSON]  # a value (None: left out) -> its whole value; raises FieldError
@@ -199,6 +203,7 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
     expected = f"an array ({f.type_text}){' or base64 text' if f.base in BYTES else ''}"
     nested = f.msg_class is not None
     fixed_messages = nested and size is not True and not bound  # T[N] of messages: N defaults
+    whole = None if nested else _whole_array(f.base)
 
     def convert(value: JSON) -> JSON:
         if value is None:
@@ -213,6 +218,8 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
             raise FieldError(
                 [], f"requires {'at most ' if bound else ''}{size} items ({f.type_text}), got {len(value)}"
             )
+        if whole is not None and whole(value):  # a long array of numbers at C speed, kept as it is
+            return value
         out = []
         for i, item in enumerate(value):
             try:
@@ -224,6 +231,26 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         return out
 
     return convert
+
+
+def _whole_array(base: str) -> Callable[[list], bool] | None:
+    """A check that passes a whole array of a primitive type with nothing to change (its items all
+    of the type, integers in range), or None; an array it does not pass is checked item by item,
+    which names the first wrong one."""
+    if base in FLOATS:
+        return lambda items: all(type(x) is float for x in items)
+    if base in ARRAY_CODES:  # array.array checks each item's type and range in C (it takes a bool as 0/1)
+        code = ARRAY_CODES[base]
+
+        def integers(items: list) -> bool:
+            try:
+                array(code, items)
+            except (TypeError, OverflowError):
+                return False
+            return True
+
+        return integers
+    return None
 
 
 def _scalar(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:

@@ -49,6 +49,12 @@ def test_arrays_are_filled_checked_item_by_item_and_numbers_made_floats():
     assert "field 'name.0' must be of type string, got null" in refused("sensor_msgs/JointState", {"name": [None]})
     image = populate("sensor_msgs/Image", "", {"data": "AAEC", "width": 1})
     assert image["data"] == "AAEC"  # a uint8[] as rosbridge's base64 text passes as it is
+    pixels = list(range(256)) * 100
+    assert populate("sensor_msgs/Image", "", {"data": pixels})["data"] == pixels  # as a list of byte values
+    assert "field 'data.25600' must be of type uint8 (an integer in [0, 255]), got an integer 256" in (
+        refused("sensor_msgs/Image", {"data": [*pixels, 256]})
+    )
+    assert "field 'data.1' must be of type uint8" in refused("sensor_msgs/Image", {"data": [1, 2.0]})
 
 
 def test_a_field_the_type_does_not_have_is_refused_with_its_name():

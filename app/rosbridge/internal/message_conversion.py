@@ -11,7 +11,8 @@ not know is relayed as it was sent. Defaults come from the parsed definitions (a
 source). The lab speaks ROS 1's and ROS 2's JSON at once, so a time or duration is read in either
 spelling (`sec`/`nanosec`, ROS 1's `secs`/`nsecs`) and one left out is filled in both (as rosapi's
 `get_time` answers: app/rosbridge/rosapi.py), and a field ROS 1's version of a standard message has
-(std_msgs/Header's `seq`: app/interfaces/share_ros1) is taken where given.
+(std_msgs/Header's `seq`: app/interfaces/share_ros1) is taken where given, and so is a ROS 1 field
+named as ROS 2's in capitals (sensor_msgs/CameraInfo's `D`, `K`, `R`, `P`), kept under its ROS 1 name.
 
 A type's converter is made once (cached); a message is converted once per publish, and the one
 result is shared by every subscriber's stream (app/rosbridge/internal/shared.py encodes it once).
@@ -34,6 +35,7 @@ SPELLINGS = (("sec", "nanosec"), ("secs", "nsecs"))  # ROS 2's and ROS 1's names
 # array.array's type codes of the integer types (their ranges are the ROS types' on Linux)
 ARRAY_CODES = {"byte": "B", "char": "B", "int8": "b", "uint8": "B", "int16": "h", "uint16": "H"}
 ARRAY_CODES.update({"int32": "i", "uint32": "I", "int64": "q", "uint64": "Q"})
+BASE64 = (*BYTES, "int8")  # arrays that may travel as base64 text (sim/recording/bags.py's to_json)
 MAX_TYPES = 256  # converters kept (a type and the definition it was read from)
 
 Convert = Callable[[JSON], JSON]  # a value (None: left out) -> its whole value; raises FieldError
@@ -138,11 +140,14 @@ def _message(cls: type[Message], made: dict[str, Convert]) -> Convert:
                 out[name] = field_convert(get(name))
         except FieldError as error:
             raise error.within(name) from None
-        if not value.keys() <= out.keys():  # a field it does not have (or ROS 1's: Header's seq)
+        if not value.keys() <= out.keys():  # a field it does not have, or ROS 1's (Header's seq)
             for key in value:
                 if key in out:
                     continue
                 extra = extras.get(key)
+                if extra is None and key.lower() in named and key.lower() not in value:
+                    extra = named[key.lower()]  # ROS 1's capital (CameraInfo's D, K, R, P): kept as ROS 1's
+                    del out[key.lower()]
                 if extra is None:
                     raise FieldError([str(key)], f"does not exist: {type_name} has no field '{key}'")
                 if value[key] is not None:
@@ -156,6 +161,7 @@ def _message(cls: type[Message], made: dict[str, Convert]) -> Convert:
     defaults = cls().to_json()  # the ROS defaults, as the lab's messages make them
     fields.extend((f.name, _field(f, defaults.get(f.name), made)) for f in cls._fields)
     extras = {name: _field(f, None, made) for name, f in _ros1_extras(cls).items()}
+    named = dict(fields)
     return convert
 
 
@@ -200,7 +206,7 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
         return _scalar(f, default, made)
     element = _scalar(f, None, made)
     size, bound = f.array, f.bound
-    expected = f"an array ({f.type_text}){' or base64 text' if f.base in BYTES else ''}"
+    expected = f"an array ({f.type_text}){' or base64 text' if f.base in BASE64 else ''}"
     nested = f.msg_class is not None
     fixed_messages = nested and size is not True and not bound  # T[N] of messages: N defaults
     whole = None if nested else _whole_array(f.base)
@@ -210,8 +216,8 @@ def _field(f: Field, default: JSON, made: dict[str, Convert]) -> Convert:
             if fixed_messages:
                 return [element(None) for _ in range(int(size))]
             return list(default) if isinstance(default, list) else default
-        if isinstance(value, str) and f.base in BYTES:
-            return value  # rosbridge's base64 text of a uint8/char array
+        if isinstance(value, str) and f.base in BASE64:
+            return value  # rosbridge's base64 text of a uint8/char array (hri-lab bag play's of int8[] too)
         if not isinstance(value, list):
             raise _mismatch(expected, value)
         if size is not True and (len(value) > size if bound else len(value) != size):

@@ -91,6 +91,13 @@ def test_a_ros1_header_keeps_its_seq_and_a_wrong_one_is_refused():
     assert "field 'header.seq' must be of type uint32" in refused("actionlib/TestActionGoal", {"header": {"seq": -1}})
 
 
+def test_ros1s_capitals_of_camera_info_are_kept_as_ros1s():
+    info = populate("sensor_msgs/CameraInfo", "", {"K": [1.0, 0, 2, 0, 1, 2, 0, 0, 1], "D": []})
+    assert info["K"] == [1.0, 0.0, 2.0, 0.0, 1.0, 2.0, 0.0, 0.0, 1.0]  # checked and kept under ROS 1's name
+    assert "k" not in info and "d" not in info and info["r"] == [0.0] * 9  # the others filled as ROS 2 has them
+    assert "field 'K' requires 9 items" in refused("sensor_msgs/CameraInfo", {"K": [1.0]})
+
+
 def test_a_type_the_lab_does_not_know_is_relayed_as_it_came():
     message = {"anything": [1, "two"], "goal_id": 3}
     assert populate("actionlib_tutorials/FibonacciActionGoal", "", message) is message

@@ -1,7 +1,8 @@
 """ROS 1 programs written as rospy's and actionlib's tutorials write them, run unchanged with `hri-lab
 run` / `hri-lab launch` (tests/ros_programs/): genpy's star imports, a Header's seq, names in a
 launch file's namespace, actionlib's server reached over its ROS 1 topics (roslibpy's ActionClient)
-and by a rospy client, and the program's node name where the lab shows nodes."""
+and by a rospy client, a ROS 1 cancel of its id alone relayed whole, and the program's node name
+where the lab shows nodes."""
 
 import threading
 
@@ -120,4 +121,28 @@ def test_a_subscribe_listener_hears_of_each_peer(lab, ros):
         program.wait_for_line("a peer unsubscribed from topic [/chatter_peers], 0 left")
         assert rosapi(ros, "publishers", {"topic": "/chatter_peers"})["publishers"] == ["/talker_callback"]
     finally:
+        program.interrupt()
+
+
+def test_a_ros1_cancel_of_its_id_alone_reaches_a_program_and_a_client_with_its_stamp(lab, ros):
+    program = run(lab.url, "cancel_listener_rospy.py")
+    heard: list = []
+    listener = roslibpy.Topic(ros, "/test_action/cancel", "actionlib_msgs/GoalID")
+    cancel = roslibpy.Topic(ros, "/test_action/cancel", "actionlib_msgs/GoalID")
+    try:
+        program.wait_for_line("listening")
+        listener.subscribe(heard.append)
+        cancel.advertise()
+
+        def relayed() -> bool:  # roslibpy's advertise does not wait: sent again until it is heard
+            if not heard:
+                cancel.publish(roslibpy.Message({"id": "goal_7"}))  # as roslibpy's ROS 1 Goal.cancel sends it
+            return bool(heard)
+
+        wait_for(relayed, timeout=60)
+        assert heard[0] == {"stamp": {"sec": 0, "nanosec": 0, "secs": 0, "nsecs": 0}, "id": "goal_7"}
+        program.wait_for_line("cancel goal_7 stamp 0.000000000")
+    finally:
+        listener.unsubscribe()
+        cancel.unadvertise()
         program.interrupt()

@@ -2,7 +2,10 @@
 command topic drives the robot (commands.external_twist, through the lab's one door); a log line
 on /rosout joins the lab's log (app/ros/rosout.py); a program's transforms on /tf and /tf_static
 join the lab's tree (app/rosbridge/internal/node_frames.py); a goal or a cancel of the
-tf2_web_republisher action goes to the lab's server of it (app/rosbridge/tf_republisher.py)."""
+tf2_web_republisher action goes to the lab's server of it (app/rosbridge/tf_republisher.py). A node
+topic's message of a type the lab knows is made whole once (its defaults filled, a field it does not
+have or a wrong value refused: app/rosbridge/internal/message_conversion.py), as rosbridge_suite makes
+a ROS message of it, and that one message goes to every subscriber."""
 
 from __future__ import annotations
 
@@ -16,6 +19,7 @@ from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.advertise import Advertise
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.internal.message_conversion import FieldError, populate
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
@@ -65,6 +69,10 @@ class Publish(Capability):
         entry = bridge.node_topics.get(topic)
         if entry is None or self.session not in entry.publishers:
             raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
+        try:  # made whole once, shared by every subscriber (and the lab's readers of it below)
+            msg = populate(entry.type, entry.definition, msg)
+        except FieldError as error:
+            raise BadFrame(f"publish {topic}: {error.describe(entry.type)}") from None
         if topic in bridge.tf_republisher.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
             bridge.tf_republisher.take(self.session, topic, msg)
         if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image

@@ -1,5 +1,6 @@
-"""publish (app/rosbridge/capabilities/publish.py): a node topic to its subscribers, a log line to
-/rosout, transforms into the lab's tree, a Twist checked before it reaches the simulation."""
+"""publish (app/rosbridge/capabilities/publish.py): a node topic to its subscribers (made whole once
+for all of them), a log line to /rosout, transforms into the lab's tree, a Twist checked before it
+reaches the simulation."""
 
 import math
 
@@ -7,7 +8,7 @@ import pytest
 
 from app.rosbridge.capabilities.publish import Publish, twist_values
 from app.rosbridge.protocol import BadFrame
-from tests.app.rosbridge.clients import connect, op, parts, run
+from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 
 def test_a_twist_is_six_finite_numbers_missing_ones_zero():
@@ -28,6 +29,29 @@ def test_a_node_topic_needs_its_advertise_and_the_labs_topics_are_the_labs():
         assert "published by the lab" in (await op(session, op="publish", topic="/joint_states", msg={}))[0]["msg"]
         await op(session, op="advertise", topic="/chatter", type="std_msgs/String")
         assert await op(session, op="publish", topic="/chatter", msg={"data": "x"}) == []
+
+    run(check())
+
+
+def test_a_node_topics_message_reaches_every_subscriber_whole_and_a_wrong_one_is_refused_by_name():
+    async def check() -> None:
+        lab = parts(replay=True)
+        client, server, watcher = [await connect(lab) for _ in range(3)]
+        for listener in (server, watcher):
+            await op(listener, op="subscribe", topic="/test_action/cancel", type="actionlib_msgs/GoalID")
+        await op(client, op="advertise", topic="/test_action/cancel", type="actionlib_msgs/GoalID")
+        assert await op(client, op="publish", topic="/test_action/cancel", msg={"id": "goal_1"}) == []  # ROS 1's cancel
+        for listener in (server, watcher):
+            delivered = await until(lambda listener=listener: sent(listener, "publish"), "the cancel at its subscriber")
+            stamp = {"sec": 0, "nanosec": 0, "secs": 0, "nsecs": 0}
+            assert delivered[0]["msg"] == {"stamp": stamp, "id": "goal_1"}
+        assert len(lab.bridge.shared._frames["/test_action/cancel"]) == 1  # one message, encoded once for both
+        refused = await op(client, op="publish", topic="/test_action/cancel", msg={"id": "goal_2", "stamp": 5})
+        assert refused[0]["level"] == "error"
+        assert (
+            "publish /test_action/cancel: actionlib_msgs/GoalID message: field 'stamp' must be a time"
+            in (refused[0]["msg"])
+        )
 
     run(check())
 

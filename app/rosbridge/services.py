@@ -36,7 +36,9 @@ def _fields(args: Args) -> dict:
 
 
 def _rosapi_entry(service: rosapi.RosapiService) -> ServiceEntry:
-    async def answer(caller: Caller, args: Args, header: Header) -> object:  # in a worker thread: parameters ask the simulation
+    async def answer(
+        caller: Caller, args: Args, header: Header
+    ) -> object:  # in a worker thread: parameters ask the simulation
         return await asyncio.to_thread(service.handler, caller.bridge, _fields(args))
 
     return ServiceEntry(service.name, service.type, answer, service.writes)

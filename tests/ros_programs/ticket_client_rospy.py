@@ -13,6 +13,7 @@ if __name__ == "__main__":
     header = resp._connection_header
     print("sum %s" % resp.sum, flush=True)
     print(
-        "answered by %s for %s (%s, md5 %s)" % (header["callerid"], header["service"], header["type"], header["md5sum"]),
+        "answered by %s for %s (%s, md5 %s)"
+        % (header["callerid"], header["service"], header["type"], header["md5sum"]),
         flush=True,
     )

@@ -131,7 +131,7 @@ class Connection:
             for table in (self.topic_handlers, self.header_handlers):
                 handlers = table.get(topic, [])
                 if handler in handlers:
-                    handlers.remove(handler)  # type: ignore[arg-type]
+                    handlers.remove(handler)
         self.send({"op": "unsubscribe", "id": sid, "topic": topic})
 
     # --- services -------------------------------------------------------------------------------
@@ -275,7 +275,7 @@ class Connection:
                 wants_header = call_id in self._with_header
                 self._with_header.discard(call_id)
             if future is not None and not future.done():
-                answer = (bool(message.get("result", True)), message.get("values"))
+                answer: tuple = (bool(message.get("result", True)), message.get("values"))
                 if wants_header:
                     header = message.get("connection_header")
                     answer += (header if isinstance(header, dict) else {},)

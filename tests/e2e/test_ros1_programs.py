@@ -133,7 +133,7 @@ def test_a_listener_reads_the_talkers_connection_header(lab):
         string_md5 = "992ce8a1687cec8c8bd883ec73ca41d1"  # genpy's std_msgs/String._md5sum
         assert (
             line
-            == f"/snack_talker on /snacks (std_msgs/String, md5 {string_md5}, latching 1) offers pretzels from shelf 3"
+            == f"/snack_talker on /snacks (std_msgs/String, md5 {string_md5}, latching 1) offers pretzels from shelf 3 with tea"
         )
     finally:
         if talker is not None:

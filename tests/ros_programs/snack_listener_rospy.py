@@ -8,7 +8,7 @@ from std_msgs.msg import String
 def callback(msg):
     header = msg._connection_header
     print(
-        "%s on %s (%s, md5 %s, latching %s) offers %s from shelf %s"
+        "%s on %s (%s, md5 %s, latching %s) offers %s from shelf %s with %s"
         % (
             header["callerid"],
             header["topic"],
@@ -17,6 +17,7 @@ def callback(msg):
             header["latching"],
             header.get("snack", "nothing"),
             header.get("shelf", "?"),
+            header.get("drink", "nothing to drink"),
         ),
         flush=True,
     )

@@ -1,6 +1,6 @@
 #!/usr/bin/env python
 """A talker that tells its listeners more than its messages: extra fields in its connection header
-(rospy's Publisher(headers=...)), latched."""
+(rospy's Publisher(headers=...)), latched; a second publisher of the topic adds its own."""
 
 import rospy
 from std_msgs.msg import String
@@ -8,6 +8,8 @@ from std_msgs.msg import String
 
 def talker():
     pub = rospy.Publisher("snacks", String, headers={"snack": "pretzels", "shelf": 3}, latch=True, queue_size=10)
+    # a second publisher of the topic: rospy's publishers of one topic share one connection header
+    rospy.Publisher("snacks", String, headers={"drink": "tea"}, queue_size=10)
     rospy.init_node("snack_talker")
     r = rospy.Rate(5)
     while not rospy.is_shutdown():

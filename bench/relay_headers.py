@@ -69,13 +69,18 @@ def main() -> None:
     with running_server("--view", "none") as server:
         url = f"ws://127.0.0.1:{server.port}/"
         rates: dict[bool, list[float]] = {False: [], True: []}
+        headers: dict[bool, bool] = {False: True, True: True}
         for _ in range(args.rounds):
             for asks in (False, True):
-                rates[asks].append(asyncio.run(rate(url, asks, args.seconds)))
-    for asks, label in ((False, "rosbridge's frame (no header asked)"), (True, "with connection_header")):
+                per_second, all_headers = asyncio.run(rate(url, asks, args.seconds))
+                rates[asks].append(per_second)
+                headers[asks] = headers[asks] and all_headers
+    for asks, label in ((False, "no header asked"), (True, "connection_header asked")):
         values = rates[asks]
+        carried = "every frame with its header" if headers[asks] else "frames without a header"
         print(
-            f"{label:38s} median {statistics.median(values):7.0f} msg/s (min {min(values):.0f}, max {max(values):.0f})"
+            f"{label:24s} median {statistics.median(values):7.0f} msg/s "
+            f"(min {min(values):.0f}, max {max(values):.0f}); {carried}"
         )
 
 

@@ -21,6 +21,7 @@ from sim.messages import Topic
 
 from app.api.app import Running, create_api
 from app.lab.actions import ACTIONS
+from app.lab.events import LAB_NODE
 from app.lab.lab import Lab
 from app.lab.services import EXERCISES, NODE_EFFECTS, SERVICES
 from app.lab.topics import TOPICS
@@ -99,6 +100,7 @@ def build(lab: Lab | MobileLab, token: str | None = None, exercises: bool = Fals
         lab,
         EXERCISES if exercises and lifting else (),
         effects=NODE_EFFECTS if lifting else None,
+        caller=LAB_NODE,
     )
     actions = ActionServer(actions_declared, lab)
     lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server

@@ -13,9 +13,11 @@ from app.json_value import JSON
 
 
 class Message:
-    """A message of a parsed definition (subclasses are made by `message_class`)."""
+    """A message of a parsed definition (subclasses are made by `message_class`). As genpy's, it has
+    a slot `_connection_header`, set only on a message rospy received (the publisher's connection
+    header, app/rosclient/site/rospy/topics.py): unset, reading it is an AttributeError."""
 
-    __slots__ = ()
+    __slots__ = ("_connection_header",)
     _type = ""
     _ros2_type = ""
     _fields: tuple[Field, ...] = ()

@@ -96,8 +96,10 @@ class NodeServices:
         exercises: tuple[str, ...] = (),
         timeout: float = NODE_SERVICE_TIMEOUT,
         effects: Mapping[str, Callable[[Any, RosMessage], None]] | None = None,
+        caller: str = "",
     ) -> None:
         self.lab = lab
+        self.caller = caller  # the lab's own node: the `callerid` of a call from HTTP, the CLI or the page
         self.effects = dict(effects or {})  # service name -> what a node's answer does to the lab
         self.timeout = timeout
         self.slots = {name for name in exercises if base.get(name) is not None}
@@ -281,12 +283,18 @@ class NodeServices:
         return call_id, future, provider
 
     @contextmanager
-    def _calling(self, name: str, request: RosMessage):
+    def _calling(self, name: str, request: RosMessage, header: dict[str, str] | None = None):
         """One call of the node's service, pending while the block runs: yields the provider, the
         call_service message to send it and the future of its answer; a wait beyond `timeout` (s)
-        is a NodeTimeout naming the service."""
+        is a NodeTimeout naming the service. The message carries the caller's connection header
+        (`connection_header`: its `callerid` and what it added, as a ROS 1 service client sends;
+        the lab's own calls: the lab's node), which rosbridge clients ignore."""
         call_id, future, provider = self._request(name)
         message = {"op": "call_service", "id": call_id, "service": name, "args": request.model_dump(by_alias=True)}
+        if header is None and self.caller:
+            header = {"callerid": self.caller}
+        if header is not None:
+            message["connection_header"] = header
         try:
             yield provider, message, future
         except TimeoutError:  # concurrent.futures' and asyncio's are this one
@@ -309,11 +317,12 @@ class NodeServices:
         self._effect(name, request)
         return response
 
-    async def call_async(self, name: str, request: RosMessage) -> RosMessage:
-        """The same from the server's event loop (a node calling another node's service)."""
+    async def call_async(self, name: str, request: RosMessage, header: dict[str, str] | None = None) -> RosMessage:
+        """The same from the server's event loop (a node calling another node's service: `header`,
+        its connection header)."""
         by = "a node"
         try:
-            with self._calling(name, request) as (provider, message, future):
+            with self._calling(name, request, header) as (provider, message, future):
                 by = f"node {provider.session.name}"
                 await provider.session.send(message)
                 ok, values = await asyncio.wait_for(asyncio.wrap_future(future), self.timeout)

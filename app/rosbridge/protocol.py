@@ -15,6 +15,9 @@ MAX_FRAME = 1_600_000  # characters of one frame: a 640x480 rgb8 sensor_msgs/Ima
 MAX_DEPTH = 32  # nesting of objects and arrays in one frame
 MAX_STATUS = 2000  # characters of a status message's text: what a client sent is never echoed whole
 Id = str | int | None  # a frame's "id" when it is a string or an integer (else None)
+MAX_HEADERS = 32  # fields of a connection header a client gives (the lab's extension: advertise, call_service)
+MAX_HEADER_KEY = 64  # characters of a header field's name
+MAX_HEADER_VALUE = 1024  # characters of a header field's value
 LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it
 
 
@@ -90,6 +93,29 @@ def name_field(message: dict, key: str) -> str:
     if not value.strip("/") or len(value) > 256 or any(c.isspace() for c in value):
         raise BadFrame(f"{message.get('op')}: field '{key}' must be a ROS name like /add_two_ints, got {value[:80]!r}")
     return "/" + value.strip("/")
+
+
+def headers_field(message: dict) -> dict[str, str] | None:
+    """The lab's extension `headers` (advertise, call_service): a ROS 1 connection header's extra
+    fields, {str: str}, at most MAX_HEADERS of them, each name and value within its bound (a
+    rosbridge client sends none: None)."""
+    headers = field(message, "headers", dict, None)
+    if headers is None:
+        return None
+    op = message.get("op")
+    if len(headers) > MAX_HEADERS:
+        raise BadFrame(f"{op}: field 'headers' holds at most {MAX_HEADERS} fields, got {len(headers)}")
+    for key, value in headers.items():
+        if not 0 < len(key) <= MAX_HEADER_KEY or "=" in key:
+            raise BadFrame(
+                f"{op}: field 'headers': a name of 1 to {MAX_HEADER_KEY} characters without '=', got {key[:80]!r}"
+            )
+        if not isinstance(value, str) or len(value) > MAX_HEADER_VALUE:
+            shown = json.dumps(value)[:80]
+            raise BadFrame(
+                f"{op}: field 'headers.{key}' must be a string of at most {MAX_HEADER_VALUE} characters, got {shown}"
+            )
+    return headers
 
 
 def status(level: str, msg: str, id_: Id = None) -> dict:

@@ -17,8 +17,9 @@ from app.rosbridge import rosapi, tf_republisher
 from app.rosbridge.ports import Caller
 
 Args = dict | list | None  # a call's args: an object, or the request's fields in order
-# answer(the caller: a client's call_service capability, its args) -> the response's values
-Answer = Callable[[Caller, Args], Awaitable[object]]
+Header = dict[str, str] | None  # the extra fields of the caller's connection header (call_service's `headers`)
+# answer(the caller: a client's call_service capability, its args, its header) -> the response's values
+Answer = Callable[[Caller, Args, Header], Awaitable[object]]
 
 
 @dataclass(frozen=True)
@@ -35,13 +36,15 @@ def _fields(args: Args) -> dict:
 
 
 def _rosapi_entry(service: rosapi.RosapiService) -> ServiceEntry:
-    async def answer(caller: Caller, args: Args) -> object:  # in a worker thread: parameters ask the simulation
+    async def answer(
+        caller: Caller, args: Args, header: Header
+    ) -> object:  # in a worker thread: parameters ask the simulation
         return await asyncio.to_thread(service.handler, caller.bridge, _fields(args))
 
     return ServiceEntry(service.name, service.type, answer, service.writes)
 
 
-async def _republish(caller: Caller, args: Args) -> object:
+async def _republish(caller: Caller, args: Args, header: Header) -> object:
     return tf_republisher.republish(caller, _fields(args))
 
 
@@ -75,26 +78,32 @@ class ServiceTable:
     def _lab_entry(self, service: Service) -> ServiceEntry:
         nodes = self.nodes
 
-        async def answer(caller: Caller, args: Args) -> object:
+        async def answer(caller: Caller, args: Args, header: Header) -> object:
             try:
                 request = message_from_args(service.request, args)
             except BadArguments as bad:
                 raise ServiceFailure(str(bad)) from None
-            if nodes.goes_to_node(service.name):  # from this loop: a node answers on it
-                response = await nodes.call_async(service.name, request)
+            if nodes.goes_to_node(service.name):  # from this loop: a node answers on it, told who calls
+                response = await nodes.call_async(
+                    service.name, request, {"callerid": caller.session.name, **(header or {})}
+                )
             else:
                 response = await asyncio.to_thread(service.handler, nodes.lab, request)
             return response.model_dump(by_alias=True)
 
         return ServiceEntry(service.name, service.type, answer, writes=True)
 
-    async def call(self, caller: Caller, name: str, args: Args) -> tuple[bool, object]:
+    def provider(self, name: str) -> str | None:
+        """The node that answers `name` now (None: the lab or rosbridge itself)."""
+        return None if name in self.own else self.nodes.node_of(name)
+
+    async def call(self, caller: Caller, name: str, args: Args, header: Header = None) -> tuple[bool, object]:
         """(True, the response's values) or (False, the reason)."""
         entry = self.get(name)
         if entry is None:
             return False, f"service {name} does not exist"
         try:
-            return True, await entry.answer(caller, args)
+            return True, await entry.answer(caller, args, header)
         except ServiceFailure as failure:
             return False, str(failure)
         except Exception as exc:  # noqa: BLE001 - a handler bug is a failed call, the connection goes on

@@ -69,6 +69,9 @@ class Connection:
         self._goals: dict[str, tuple[Callable, Callable]] = {}  # id -> (on_feedback, on_result)
         self._refusals: dict[str, list[str]] = {}  # an op's id -> the lab's errors of it, for its sender
         self.topic_handlers: dict[str, list[Callable[[dict], None]]] = {}
+        # handlers given each message with its publisher's connection header (rospy's subscribers)
+        self.header_handlers: dict[str, list[Callable[[dict, dict], None]]] = {}
+        self._with_header: set[str] = set()  # ids of calls answered with the server's connection header
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
         self.status_handler: Callable[[dict], None] = _print_status
@@ -94,28 +97,41 @@ class Connection:
 
     # --- topics ---------------------------------------------------------------------------------
     def subscribe(
-        self, topic: str, type_name: str, handler: Callable[[dict], None], queue_length: int = 0, throttle_rate: int = 0
+        self,
+        topic: str,
+        type_name: str,
+        handler: Callable[..., None],
+        queue_length: int = 0,
+        throttle_rate: int = 0,
+        connection_header: bool = False,
     ) -> str:
+        """Hand `topic`'s messages to `handler`; with `connection_header` (the lab's extension), as
+        `handler(msg, header)`, the header of the publisher that sent it ({} when the lab sent none)."""
         with self._lock:
-            self.topic_handlers.setdefault(topic, []).append(handler)
+            if connection_header:
+                self.header_handlers.setdefault(topic, []).append(handler)
+            else:
+                self.topic_handlers.setdefault(topic, []).append(handler)
         sid = self.next_id(f"subscribe:{topic}")
-        self.send(
-            {
-                "op": "subscribe",
-                "id": sid,
-                "topic": topic,
-                "type": type_name,
-                "queue_length": queue_length,
-                "throttle_rate": throttle_rate,
-            }
-        )
+        frame = {
+            "op": "subscribe",
+            "id": sid,
+            "topic": topic,
+            "type": type_name,
+            "queue_length": queue_length,
+            "throttle_rate": throttle_rate,
+        }
+        if connection_header:
+            frame["connection_header"] = True
+        self.send(frame)
         return sid
 
-    def unsubscribe(self, topic: str, sid: str, handler: Callable[[dict], None]) -> None:
+    def unsubscribe(self, topic: str, sid: str, handler: Callable[..., None]) -> None:
         with self._lock:
-            handlers = self.topic_handlers.get(topic, [])
-            if handler in handlers:
-                handlers.remove(handler)
+            for table in (self.topic_handlers, self.header_handlers):
+                handlers = table.get(topic, [])
+                if handler in handlers:
+                    handlers.remove(handler)
         self.send({"op": "unsubscribe", "id": sid, "topic": topic})
 
     # --- services -------------------------------------------------------------------------------
@@ -127,13 +143,18 @@ class Connection:
             raise RosbridgeError(values if isinstance(values, str) else json.dumps(values))
         return values
 
-    def call_service_async(self, name: str, args: dict) -> Future:
-        """A Future of (ok, values)."""
+    def call_service_async(self, name: str, args: dict, headers: dict[str, str] | None = None) -> Future:
+        """A Future of (ok, values); with `headers` (the lab's extension: the extra fields of this
+        client's connection header), of (ok, values, the server's connection header)."""
         call_id = self.next_id(f"call_service:{name}")
         future: Future = Future()
+        frame: dict[str, Any] = {"op": "call_service", "id": call_id, "service": name, "args": args}
         with self._lock:
             self._calls[call_id] = future
-        self.send({"op": "call_service", "id": call_id, "service": name, "args": args})
+            if headers is not None:
+                self._with_header.add(call_id)
+                frame["headers"] = headers
+        self.send(frame)
         return future
 
     def advertise_service(
@@ -237,15 +258,28 @@ class Connection:
     def _dispatch(self, message: dict) -> None:
         op = message.get("op")
         if op == "publish":
+            topic = str(message.get("topic"))
             with self._lock:
-                handlers = list(self.topic_handlers.get(str(message.get("topic")), ()))
+                handlers = list(self.topic_handlers.get(topic, ()))
+                with_header = list(self.header_handlers.get(topic, ()))
             for handler in handlers:
                 handler(message.get("msg") or {})
+            if with_header:
+                header = message.get("connection_header")
+                for header_handler in with_header:
+                    header_handler(message.get("msg") or {}, header if isinstance(header, dict) else {})
         elif op == "service_response":
             with self._lock:
-                future = self._calls.pop(str(message.get("id")), None)
+                call_id = str(message.get("id"))
+                future = self._calls.pop(call_id, None)
+                wants_header = call_id in self._with_header
+                self._with_header.discard(call_id)
             if future is not None and not future.done():
-                future.set_result((bool(message.get("result", True)), message.get("values")))
+                answer: tuple = (bool(message.get("result", True)), message.get("values"))
+                if wants_header:
+                    header = message.get("connection_header")
+                    answer += (header if isinstance(header, dict) else {},)
+                future.set_result(answer)
         elif op == "call_service":
             serve = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
             if serve is not None:
@@ -275,10 +309,12 @@ class Connection:
 
     def _lost(self, reason: str) -> None:
         with self._lock:
-            calls, self._calls = list(self._calls.values()), {}
-        for future in calls:
+            calls, self._calls = list(self._calls.items()), {}
+            with_header, self._with_header = self._with_header, set()
+        for call_id, future in calls:
             if not future.done():
-                future.set_result((False, f"the lab at {self.url} went away"))
+                lost: tuple = (False, f"the lab at {self.url} went away")
+                future.set_result(lost + ({},) if call_id in with_header else lost)
         self.on_lost(reason)
 
 

@@ -146,3 +146,41 @@ def test_a_ros1_cancel_of_its_id_alone_reaches_a_program_and_a_client_with_its_s
         listener.unsubscribe()
         cancel.unadvertise()
         program.interrupt()
+
+
+def test_a_listener_reads_the_talkers_connection_header(lab):
+    listener = run(lab.url, "snack_listener_rospy.py")
+    talker = None
+    try:
+        listener.wait_for_line("a message built here has a connection header: False")  # as in rospy
+        talker = run(lab.url, "snack_talker_rospy.py")
+        line = listener.wait_for_line("offers")
+        string_md5 = "992ce8a1687cec8c8bd883ec73ca41d1"  # genpy's std_msgs/String._md5sum
+        assert (
+            line
+            == f"/snack_talker on /snacks (std_msgs/String, md5 {string_md5}, latching 1) offers pretzels from shelf 3 with tea"
+        )
+    finally:
+        if talker is not None:
+            talker.interrupt()
+        listener.interrupt()
+
+
+def test_a_server_reads_the_callers_header_and_the_client_the_servers(lab):
+    server = run(lab.url, "ticket_server_rospy.py")
+    try:
+        server.wait_for_line("Ready to add with tickets.")
+        client = run(lab.url, "ticket_client_rospy.py")
+        assert client.wait() == 0, client.output
+        assert "sum 42" in client.output
+        add_two_ints_md5 = "6a2e34150c00229791cc89ff309fff21"  # genpy's AddTwoInts._md5sum
+        assert (
+            f"answered by /ticket_server for /ticketed_add (example_interfaces/AddTwoInts, md5 {add_two_ints_md5})"
+            in client.output
+        )
+        server.wait_for_line("call from /ticket_client with ticket A-113")
+        answer = http.post(f"{lab.url}/services/ticketed_add", json={"a": 1, "b": 2}, timeout=30)  # the lab calls
+        assert answer.json() == {"sum": 3}, answer.text
+        server.wait_for_line("call from /hri_lab with ticket none")
+    finally:
+        assert server.interrupt() == 0, server.output

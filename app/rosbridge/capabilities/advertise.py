@@ -5,6 +5,11 @@ As rosbridge_suite's advertise capability, a client's publisher of a topic count
 advertise ops that made it (an op without an id counts as one id of its own): an unadvertise
 withdraws its id (one without an id withdraws them all), and the publisher ends when its last id
 is withdrawn.
+
+The lab's extension `headers` ({str: str}, bounded: protocol.headers_field) is a ROS 1 publisher's
+connection header's extra fields (rospy's `Publisher(headers=...)`): the relay hands them, with the
+publisher's node name as `callerid`, to the subscribers that ask for connection headers
+(capabilities/subscribe.py). An advertise that carries them replaces the topic's earlier ones.
 """
 
 from __future__ import annotations
@@ -14,7 +19,7 @@ from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.ports import Id, SessionLike
-from app.rosbridge.protocol import BadFrame, field, name_field
+from app.rosbridge.protocol import BadFrame, field, headers_field, name_field
 
 MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
 
@@ -29,6 +34,8 @@ class Advertise(Capability):
         super().__init__(session)
         self.ids: dict[str, set[Id]] = {}  # topic -> the ids of the advertise ops that hold its publisher
         self.rosout_type = rosout.TYPE
+        self.headers: dict[str, dict[str, str]] = {}  # topic -> the connection header's extra fields
+        self._connection_headers: dict[str, tuple[str, dict[str, str]]] = {}  # topic -> (node name, header)
 
     @property
     def publishing(self) -> set[str]:
@@ -40,10 +47,21 @@ class Advertise(Capability):
     def _hold(self, topic: str, id_: Id) -> None:
         self.ids.setdefault(topic, set()).add(id_)
 
+    def connection_header(self, topic: str) -> dict[str, str]:
+        """What a subscriber of `topic` is told of this publisher: `callerid` (its node's name) and
+        the extra fields it advertised, which may replace it (as rospy's may). One dict while the
+        name and the fields stay (built once, not per message)."""
+        name = self.session.name
+        kept = self._connection_headers.get(topic)
+        if kept is None or kept[0] != name:
+            kept = self._connection_headers[topic] = (name, {"callerid": name, **self.headers.get(topic, {})})
+        return kept[1]
+
     async def advertise(self, message: dict, id_: Id) -> None:
         bridge = self.bridge
         topic = name_field(message, "topic")
         type_name = normalise_type(field(message, "type", str))
+        headers = headers_field(message)
         known = bridge.topic_types().get(topic)
         if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
             if type_name not in rosout.TYPES:
@@ -63,6 +81,9 @@ class Advertise(Capability):
             definition = message.get("definition")  # hri-lab's programs carry their type's full text
             if isinstance(definition, str) and not entry.definition and len(definition) <= MAX_DEFINITION:
                 entry.definition = definition
+        if headers is not None:
+            self.headers[topic] = headers
+            self._connection_headers.pop(topic, None)
         self._hold(topic, id_)
 
     async def unadvertise(self, message: dict, id_: Id) -> None:
@@ -82,6 +103,8 @@ class Advertise(Capability):
         if ids:  # another of its advertise ops still holds the publisher
             return
         del self.ids[topic]
+        self.headers.pop(topic, None)
+        self._connection_headers.pop(topic, None)
         self.bridge.leave(topic, publisher=self.session)
 
     def finish(self) -> None:

@@ -77,8 +77,9 @@ class Publish(Capability):
             bridge.tf_republisher.take(self.session, topic, msg)
         if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
             bridge.windows[topic] = msg
+        header = advertised.connection_header(topic)  # for the streams that asked (capabilities/subscribe.py)
         for stream in list(entry.subscriptions):
-            stream.offer(msg)
+            stream.offer(msg, header)
 
     def finish(self) -> None:
         self.bridge.frames.drop(self.session)  # its frames leave the lab's tree

@@ -2,7 +2,9 @@
 the lowest throttle and longest queue of its subscriptions, as rosbridge does. The lab's topics
 are sampled from its snapshot (newest first; what a slow client cannot take is dropped, the
 simulation never waits); node topics are relayed from their publishers; /rosout carries each
-log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log."""
+log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log. The lab's extension
+`connection_header: true` (rospy's subscribers) asks that a node topic's messages come with their
+publisher's connection header (capabilities/advertise.py); a lab topic's never do."""
 
 from __future__ import annotations
 
@@ -47,6 +49,7 @@ class Subscribe(Capability):
         queue_length = field(message, "queue_length", int, 0)
         if throttle < 0 or queue_length < 0:
             raise BadFrame("subscribe: 'throttle_rate' and 'queue_length' must be >= 0")
+        wants_header = field(message, "connection_header", bool, False)  # the lab's extension (rospy's)
         compression = field(message, "compression", str, "none")
         if compression not in ("none", ""):
             raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
@@ -61,10 +64,12 @@ class Subscribe(Capability):
         if stream is None and len(self.streams) >= MAX_TOPICS:
             raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
         if stream is not None:
+            stream.connection_header |= wants_header
             stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
             stream.configure()
             return
         stream = self.streams[topic] = self._open(topic, id_, throttle, queue_length)
+        stream.connection_header = wants_header
         lab, lab_topic = bridge.lab, bridge.topics.get(topic)
         if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
             loop = asyncio.get_running_loop()

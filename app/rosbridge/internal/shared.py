@@ -16,7 +16,7 @@ KEEP_FRAMES = 8  # encoded frames kept per topic (an image's is a few MB)
 class SharedMessages:
     def __init__(self) -> None:
         self._built: dict[str, OrderedDict[float, dict]] = {}
-        self._frames: dict[str, OrderedDict[int, tuple[dict, str]]] = {}
+        self._frames: dict[str, OrderedDict[tuple[int, int], tuple[dict, str]]] = {}
 
     def built(self, topic: str, time_s: float, make: Callable[[], dict]) -> dict:
         """The topic's message at `time_s`: made once, the same object for every stream."""
@@ -28,14 +28,19 @@ class SharedMessages:
                 kept.popitem(last=False)
         return message
 
-    def frame(self, topic: str, message: dict) -> str:
-        """rosbridge's publish frame of `message` on `topic`, as text: encoded once per message."""
+    def frame(self, topic: str, message: dict, header: dict | None = None) -> str:
+        """rosbridge's publish frame of `message` on `topic`, as text: encoded once per message (and
+        once more with `connection_header`, the publisher's header, for the streams that asked)."""
         kept = self._frames.setdefault(topic, OrderedDict())
-        found = kept.get(id(message))
+        key = (id(message), header is not None)
+        found = kept.get(key)
         if found is not None and found[0] is message:  # the object itself (kept alive here): not a reused id
             return found[1]
-        text = json.dumps({"op": "publish", "topic": topic, "msg": message})
-        kept[id(message)] = (message, text)
+        frame: dict = {"op": "publish", "topic": topic, "msg": message}
+        if header is not None:
+            frame["connection_header"] = header
+        text = json.dumps(frame)
+        kept[key] = (message, text)
         if len(kept) > KEEP_FRAMES:
             kept.popitem(last=False)
         return text

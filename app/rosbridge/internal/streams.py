@@ -21,7 +21,8 @@ class Stream:
     def __init__(self, session: SessionLike, topic: str, paced: bool = False) -> None:
         self.session, self.topic, self.paced = session, topic, paced  # session: has `async send(dict)`
         self.options: dict[Id, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
-        self.queue: deque[dict] = deque(maxlen=1)
+        self.queue: deque[tuple[dict, dict | None]] = deque(maxlen=1)  # (message, its connection header)
+        self.connection_header = False  # asked for: a node topic's messages carry their publisher's header
         self.ready = asyncio.Event()
         self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
         self.tasks: list[asyncio.Task] = []
@@ -54,9 +55,10 @@ class Stream:
         if length != self.queue.maxlen:
             self.queue = deque(self.queue, maxlen=length)
 
-    def offer(self, message: dict) -> None:
-        """Queue a message for the sender (full: the oldest is dropped); never refused."""
-        self.queue.append(message)
+    def offer(self, message: dict, header: dict | None = None) -> None:
+        """Queue a message for the sender (full: the oldest is dropped); never refused. `header`:
+        its publisher's connection header (a node topic's), sent if this stream asked for it."""
+        self.queue.append((message, header if self.connection_header else None))
         self.ready.set()
 
     async def deliver(self) -> None:
@@ -71,11 +73,14 @@ class Stream:
                         await asyncio.sleep(wait)
                         continue
                     self.last_sent = loop.time()
-                message = self.queue.popleft()
+                message, header = self.queue.popleft()
                 if self.bridge is not None:  # encoded once for every client's stream of the topic
-                    await self.session.send_text(self.bridge.shared.frame(self.topic, message))
+                    await self.session.send_text(self.bridge.shared.frame(self.topic, message, header))
                 else:
-                    await self.session.send({"op": "publish", "topic": self.topic, "msg": message})
+                    frame = {"op": "publish", "topic": self.topic, "msg": message}
+                    if header is not None:
+                        frame["connection_header"] = header
+                    await self.session.send(frame)
                 await asyncio.sleep(0)  # one message, then the others' turn: HTTP waits behind no queue
 
     def stop(self) -> None:

@@ -6,6 +6,13 @@ while the program's socket is full): the callback, on the subscriber's own threa
 messages in order; a full queue drops its oldest, so a message is lost only while the callback is
 busy, as in rospy (HANDOFF_S). Both may be made before init_node, as rospy allows; a message is
 published only after it.
+
+Connection headers as TCPROS has them (rospy's impl/tcpros_pubsub.py): a Publisher's `headers`
+go with its advertise (the lab's extension, docs/reference/rosbridge.md), and every message a
+Subscriber hands its callback has `_connection_header`, the publisher's header: `topic`, `type`,
+`latching`, `message_definition`, `md5sum` (genmsg's, app/interfaces/md5sum.py), `callerid` (the
+publishing node, as the lab relays it) and the publisher's own fields, which may replace those. A
+message the program builds has none, as in rospy.
 """
 
 from __future__ import annotations
@@ -16,7 +23,9 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
+from app.interfaces.md5sum import md5sum
 from app.interfaces.messages import Message
+from app.interfaces.packages import full_text
 from app.rosclient import process
 from rospy import core, names
 from rospy.exceptions import ROSException, ROSSerializationException
@@ -82,7 +91,11 @@ class Publisher(Topic):
         self._lock = threading.Lock()
         self._has_header = _has_header(data_class)
         self._registered = True
-        process.add_publisher(self.name, self.type, self.data_class)
+        # TCPROSPub's header fields the subscribers cannot know: latching, and the program's own
+        # (headers' keys and values written as text, as rospy's handshake writes `key=value`)
+        extra = {"latching": "1"} if latch else {}
+        extra.update({str(k): str(v) for k, v in (headers or {}).items()})
+        process.add_publisher(self.name, self.type, self.data_class, extra)
         if subscriber_listener is not None:
             threading.Thread(
                 target=self._watch_peers, args=(subscriber_listener,), daemon=True, name=f"rospy-peers{self.name}"
@@ -156,7 +169,11 @@ class Subscriber(Topic):
     ) -> None:
         super().__init__(name, data_class, "rospy.Subscriber")
         self.callback, self.callback_args = callback, callback_args
-        self.queue: deque[dict[str, Any]] = deque(maxlen=queue_size if queue_size and queue_size > 0 else None)
+        # (a message, its publisher's connection header as the lab relays it)
+        self.queue: deque[tuple[dict[str, Any], dict[str, Any]]] = deque(
+            maxlen=queue_size if queue_size and queue_size > 0 else None
+        )
+        self._header_base: dict[str, str] | None = None  # the fields every publisher's header shares
         self.received = 0
         self._ready = threading.Condition()
         self._closed = False
@@ -167,11 +184,15 @@ class Subscriber(Topic):
         # ROS publisher's queue drops for a subscriber that cannot keep up: a program behind on a 1 kHz
         # topic gets the newest message, not a growing backlog of stale ones (a carry failed on those)
         self._sid = process.connection().subscribe(
-            self.name, data_class._type, self._offer, queue_length=queue_size if queue_size and queue_size > 0 else 0
+            self.name,
+            data_class._type,
+            self._offer,
+            queue_length=queue_size if queue_size and queue_size > 0 else 0,
+            connection_header=True,
         )
 
-    def _offer(self, data: dict[str, Any]) -> None:
-        """A message from the connection's reader thread."""
+    def _offer(self, data: dict[str, Any], header: dict[str, Any]) -> None:
+        """A message from the connection's reader thread, with what the lab relayed of its publisher."""
         with self._ready:
             self.received += 1
             full = self.queue.maxlen is not None and len(self.queue) >= self.queue.maxlen
@@ -181,8 +202,21 @@ class Subscriber(Topic):
                 # not waited for: its queue drops the oldest, as rospy's does for a slow callback.
                 if not self._ready.wait_for(lambda: len(self.queue) < (self.queue.maxlen or 0), HANDOFF_S):
                     self._taker_late = True  # not waited for again until it takes one
-            self.queue.append(data)
+            self.queue.append((data, header))
             self._ready.notify_all()
+
+    def _connection_header(self, relayed: dict[str, Any]) -> dict[str, str]:
+        """The publisher's header as TCPROSPub writes it: what the type gives, then what the lab
+        relayed of the publisher (its `callerid`, `latching` and own fields)."""
+        if self._header_base is None:
+            self._header_base = {
+                "topic": self.name,
+                "type": self.type,
+                "latching": "0",
+                "message_definition": full_text(self.data_class),
+                "md5sum": md5sum(self.data_class),
+            }
+        return {**self._header_base, **{str(k): str(v) for k, v in relayed.items()}}
 
     def _deliver(self) -> None:
         while True:
@@ -192,7 +226,7 @@ class Subscriber(Topic):
                     self._ready.wait()
                 if self._closed:
                     return
-                data = self.queue.popleft()
+                data, header = self.queue.popleft()
                 self._taker_idle = self._taker_late = False
                 self._ready.notify_all()  # a reader waiting for this take goes on
             if self.callback is None:
@@ -202,6 +236,7 @@ class Subscriber(Topic):
             try:
                 with process.running_callback():
                     msg = self.data_class.from_json(data)
+                    msg._connection_header = self._connection_header(header)
                     if self.callback_args is None:
                         self.callback(msg)
                     else:

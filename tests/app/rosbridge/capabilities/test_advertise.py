@@ -6,7 +6,7 @@ from fastapi.testclient import TestClient
 
 from app.cli.compose import create_app
 from app.rosbridge.capabilities.advertise import Advertise
-from tests.app.rosbridge.clients import connect, op, parts, run
+from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 from tests.waiting import within
 
 
@@ -68,5 +68,60 @@ def test_the_lab_s_topics_and_a_wrong_type_are_refused_and_finish_leaves_the_top
         session.capability(Advertise).finish()
         assert "/chatter" not in lab.bridge.node_topics
         assert session.capability(Advertise).names() == []
+
+    run(check())
+
+
+def test_a_subscriber_that_asks_gets_each_message_with_its_publishers_connection_header():
+    async def check() -> None:
+        lab = parts(replay=True)
+        talker, asking, plain = await connect(lab), await connect(lab), await connect(lab)
+        await op(talker, op="node", name="/talker")
+        for session, asks in ((asking, True), (plain, False)):
+            frame = {"op": "subscribe", "topic": "/chatter", "type": "std_msgs/String", "connection_header": asks}
+            assert await op(session, **frame) == []
+        advertise = {"op": "advertise", "topic": "/chatter", "type": "std_msgs/String", "headers": {"cookies": "oreo"}}
+        assert await op(talker, **advertise) == []
+        await op(talker, op="publish", topic="/chatter", msg={"data": "hello"})
+        heard = (await until(lambda: sent(asking, "publish"), "the message at the asking subscriber"))[0]
+        assert heard["msg"] == {"data": "hello"}
+        assert heard["connection_header"] == {"callerid": "/talker", "cookies": "oreo"}
+        other = (await until(lambda: sent(plain, "publish"), "the message at the other subscriber"))[0]
+        assert other == {"op": "publish", "topic": "/chatter", "msg": {"data": "hello"}}  # rosbridge's frame
+        # a later advertise's headers replace the earlier ones
+        await op(talker, op="advertise", topic="/chatter", type="std_msgs/String", headers={"callerid": "/own"})
+        await op(talker, op="publish", topic="/chatter", msg={"data": "again"})
+        again = (await until(lambda: sent(asking, "publish")[1:], "the second message"))[0]
+        assert again["connection_header"] == {"callerid": "/own"}  # a publisher's own field replaces it, as in rospy
+
+    run(check())
+
+
+@pytest.mark.parametrize(
+    ("headers", "reason"),
+    [
+        ("oreo", "field 'headers' must be an object"),
+        ({f"k{i}": "v" for i in range(33)}, "field 'headers' holds at most 32 fields, got 33"),
+        ({"": "v"}, "field 'headers': a name of 1 to 64 characters without '='"),
+        ({"k" * 65: "v"}, "field 'headers': a name of 1 to 64 characters without '='"),
+        ({"a=b": "v"}, "field 'headers': a name of 1 to 64 characters without '='"),
+        ({"cookies": 3}, "field 'headers.cookies' must be a string of at most 1024 characters, got 3"),
+        ({"cookies": "x" * 1025}, "field 'headers.cookies' must be a string of at most 1024 characters"),
+    ],
+)
+def test_headers_out_of_bounds_are_refused_naming_the_field(headers, reason):
+    async def check() -> None:
+        lab = parts(replay=True)
+        session = await connect(lab)
+        for frame in (
+            {"op": "advertise", "topic": "/bounded", "type": "std_msgs/String", "headers": headers},
+            {"op": "call_service", "service": "/rosapi/get_time", "headers": headers},
+        ):
+            refused = await op(session, **frame)
+            assert [m["op"] for m in refused] == ["status"], frame["op"]
+            assert refused[0]["level"] == "error"
+            assert refused[0]["msg"].startswith(f"{frame['op']}: {reason}")
+            assert len(refused[0]["msg"]) < 300  # what the client sent is cut, never echoed whole
+        assert "/bounded" not in session.capability(Advertise).ids
 
     run(check())

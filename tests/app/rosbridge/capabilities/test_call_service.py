@@ -3,9 +3,11 @@ with service_response; a failed call is result false with its reason; a client's
 are bounded; what a call left for the client (a republished tf topic) goes with it."""
 
 import asyncio
+import json
 
+from app.lab.events import LAB_NODE
 from app.rosbridge.capabilities.call_service import MAX_CALLS_IN_FLIGHT, CallService
-from tests.app.rosbridge.clients import connect, op, parts, run, sent
+from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 
 def test_a_call_is_answered_with_its_id_a_failure_with_its_reason():
@@ -51,5 +53,36 @@ def test_a_republished_tf_topic_goes_with_its_client():
         assert topic not in lab.bridge.topics
         await asyncio.sleep(0)
         assert sent(session, "status") == []
+
+    run(check())
+
+
+def test_a_call_with_headers_reaches_the_node_with_the_callers_and_returns_the_servers():
+    async def check() -> None:
+        lab = parts(replay=True)
+        provider, caller, plain = await connect(lab), await connect(lab), await connect(lab)
+        await op(provider, op="node", name="/add_two_ints_server")
+        await op(provider, op="advertise_service", service="/greet", type="std_srvs/Trigger")
+        await op(caller, op="node", name="/client")
+        frame = {"op": "call_service", "id": "hi", "service": "/greet", "args": {}, "headers": {"cookies": "peanut"}}
+        await caller.handle(json.dumps(frame))
+        await plain.handle(json.dumps({"op": "call_service", "id": "plain", "service": "/greet", "args": {}}))
+        await until(lambda: sent(provider, "call_service")[1:], "both calls at the provider")
+        requests = sent(provider, "call_service")
+        headers = {r["id"]: r["connection_header"] for r in requests}
+        assert sorted(headers.values(), key=len) == [
+            {"callerid": plain.client_name},  # a rosbridge client's call: its name, no fields of its own
+            {"callerid": "/client", "cookies": "peanut"},
+        ]
+        for request in requests:
+            answer = {"success": True, "message": "hello"}
+            await op(provider, op="service_response", id=request["id"], service="/greet", values=answer, result=True)
+        response = (await until(lambda: sent(caller, "service_response"), "the answer at the caller"))[0]
+        assert response["connection_header"] == {"callerid": "/add_two_ints_server"}
+        plain_response = (await until(lambda: sent(plain, "service_response"), "the plain answer"))[0]
+        assert "connection_header" not in plain_response  # rosbridge's frame for a client that gave none
+        # a service the lab answers: the lab's own node
+        own = await op(caller, op="call_service", service="/rosapi/get_time", headers={})
+        assert own[0]["connection_header"] == {"callerid": LAB_NODE}
 
     run(check())

@@ -23,12 +23,15 @@ class RecordingConnection:
         self.topic_handlers: dict[str, list] = {}
         self.service_handlers: dict[str, object] = {}
         self.calls: list[WireFuture] = []
+        self.with_header: set = set()
 
     def send(self, message: dict) -> None:
         self.sent.append(message)
 
-    def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0) -> str:
+    def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False) -> str:
         self.topic_handlers.setdefault(topic, []).append(handler)
+        if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
+            self.with_header.add(handler)
         return f"subscribe:{topic}"
 
     def unsubscribe(self, topic, sid, handler) -> None:
@@ -48,7 +51,7 @@ class RecordingConnection:
 
     def publish(self, topic: str, msg: dict) -> None:
         for handler in list(self.topic_handlers.get(topic, [])):
-            handler(msg)
+            handler(msg, {}) if handler in self.with_header else handler(msg)
 
     def call(self, service: str, call_id: str, args: dict) -> None:
         self.service_handlers[service]({"op": "call_service", "id": call_id, "service": service, "args": args})

@@ -1,9 +1,16 @@
 """rospy.impl.tcpros_service: Service, ServiceProxy and wait_for_service over the lab's rosbridge
 endpoint. A service's every call runs its handler on a thread of its own; a name this program or
-another node already provides is a ServiceException, as rospy raises for a name registered twice."""
+another node already provides is a ServiceException, as rospy raises for a name registered twice.
+
+Connection headers as TCPROS has them: a ServiceProxy's `headers` (and `persistent`'s
+`persistent: 1`) go with each call (call_service's `headers`, the lab's extension); the request a
+handler gets has `_connection_header`, the client's header (`service`, `md5sum`, `callerid`: the
+calling node, or the lab's own for a call from HTTP or the CLI, then the client's fields), and the
+response the proxy returns has the server's (`service`, `type`, `md5sum`, `callerid`)."""
 
 from __future__ import annotations
 
+import json
 import threading
 import traceback
 from collections.abc import Callable
@@ -11,10 +18,10 @@ from typing import Any
 
 from genpy import TVal
 
+from app.interfaces.md5sum import md5sum
 from app.interfaces.messages import Message
 from app.interfaces.packages import full_text
 from app.rosclient import process
-from app.rosclient.connection import RosbridgeError
 from rospy import core, names
 from rospy.exceptions import ROSException, ROSInterruptException
 from rospy.service import ServiceException
@@ -48,6 +55,11 @@ class ServiceProxy:
         self.resolved_name = names.resolve_name(name)
         self.request_class = service_class._request_class
         self.response_class = service_class._response_class
+        self.persistent = persistent
+        # TCPROSServiceClient's extra header fields, written as text (`key=value` on the wire)
+        self.headers = {str(k): str(v) for k, v in (headers or {}).items()}
+        if persistent:
+            self.headers["persistent"] = "1"
 
     def __call__(self, *args: Any, **kwds: Any) -> Any:
         return self.call(*args, **kwds)
@@ -57,14 +69,24 @@ class ServiceProxy:
             request = args[0]
         else:
             request = self.request_class(*args, **kwds)
+        # rospy's callerid (its node's name, /unnamed before init_node), which the proxy's own may replace
+        headers = {"callerid": names.get_caller_id(), **self.headers}
+        wire = process.connection().call_service_async(self.resolved_name, request.to_json(), headers)
+        ok, values, server = wire.result()
+        if not ok:
+            reason = values if isinstance(values, str) else json.dumps(values)
+            raise ServiceException(f"service [{self.resolved_name}] failed: {reason}")
         try:
-            values = process.connection().call_service(self.resolved_name, request.to_json())
-        except RosbridgeError as exc:
-            raise ServiceException(f"service [{self.resolved_name}] failed: {exc}") from None
-        try:
-            return self.response_class.from_json(values if values is not None else {})
+            response = self.response_class.from_json(values if values is not None else {})
         except (TypeError, ValueError) as exc:
             raise ServiceException(f"service [{self.resolved_name}] answered with a bad response: {exc}") from None
+        response._connection_header = {  # TCPService's header fields
+            "service": self.resolved_name,
+            "type": self.service_class._type,
+            "md5sum": md5sum(self.service_class),
+            **{str(k): str(v) for k, v in server.items()},
+        }
+        return response
 
     def wait_for_service(self, timeout: float | TVal | None = None) -> None:
         wait_for_service(self.resolved_name, timeout)
@@ -110,6 +132,12 @@ class Service:
         connection = process.connection()
         try:
             request = self.service_class._request_class.from_json(message.get("args") or {})
+            relayed = message.get("connection_header")
+            request._connection_header = {  # TCPROSServiceClient's header fields, then the client's
+                "service": self.resolved_name,
+                "md5sum": md5sum(self.service_class),
+                **{str(k): str(v) for k, v in (relayed if isinstance(relayed, dict) else {}).items()},
+            }
             response = _as_response(self.service_class._response_class, self.handler(request))
             connection.service_response(message.get("id"), self.resolved_name, response.to_json(), True)
         except ServiceException as exc:

@@ -114,6 +114,14 @@ def trial_outcome(s: Snapshot) -> dict:
     }
 
 
+class Base64Text(str):
+    """A byte array's base64 text, as rosbridge's JSON carries uint8[]: only the base64 alphabet, so
+    no character of it needs a JSON escape (a frame's encoder may put it in as it is:
+    app/rosbridge/internal/shared.py)."""
+
+    __slots__ = ()
+
+
 def image(time: float, bgr: np.ndarray) -> dict:
     """sensor_msgs/Image of a BGR uint8 image (height x width x 3) at `time` (s), in the camera's
     optical frame; `data` as rosbridge's JSON carries uint8[]: base64 text."""
@@ -125,7 +133,7 @@ def image(time: float, bgr: np.ndarray) -> dict:
         "encoding": "bgr8",
         "is_bigendian": 0,
         "step": width * 3,
-        "data": pybase64.b64encode(np.ascontiguousarray(bgr, np.uint8).tobytes()).decode("ascii"),
+        "data": Base64Text(pybase64.b64encode(np.ascontiguousarray(bgr, np.uint8).tobytes()).decode("ascii")),
     }
 
 

@@ -9,6 +9,8 @@ import json
 from collections import OrderedDict
 from collections.abc import Callable
 
+from sim.messages import Base64Text
+
 KEEP_BUILT = 64  # messages kept per topic by simulation time: streams a few samples apart still share
 KEEP_FRAMES = 8  # encoded frames kept per topic (an image's is a few MB)
 
@@ -39,7 +41,7 @@ class SharedMessages:
         frame: dict = {"op": "publish", "topic": topic, "msg": message}
         if header is not None:
             frame["connection_header"] = header
-        text = json.dumps(frame)
+        text = dumps(frame)
         kept[key] = (message, text)
         if len(kept) > KEEP_FRAMES:
             kept.popitem(last=False)
@@ -49,3 +51,20 @@ class SharedMessages:
         """Nobody subscribes to `topic` any more: its messages go."""
         self._built.pop(topic, None)
         self._frames.pop(topic, None)
+
+
+def dumps(frame: dict) -> str:
+    """json.dumps of a frame, its message's Base64Text values (an image's data: no character needs
+    an escape) put in as they are instead of scanned by json's encoder, which held the event loop
+    5.6 ms per 640x480 image (30 a second) where this takes a fraction of a millisecond."""
+    msg = frame.get("msg")
+    if not isinstance(msg, dict):
+        return json.dumps(frame)
+    verbatim = {k: v for k, v in msg.items() if isinstance(v, Base64Text)}
+    if not verbatim:
+        return json.dumps(frame)
+    holders = {k: f"\x00{k}" for k in verbatim}  # the lab's own message: no other value of it is this text
+    text = json.dumps({**frame, "msg": {**msg, **holders}})
+    for k, value in verbatim.items():
+        text = text.replace(json.dumps(holders[k]), f'"{value}"', 1)
+    return text

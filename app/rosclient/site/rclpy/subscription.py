@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from app.rosclient import process
+from app.rosclient.connection import message_of
 from app.interfaces.messages import Message
 from rclpy import _graph, context
 from rclpy._entity import Call, Entity
@@ -37,17 +38,17 @@ class Subscription(Entity):
         self.qos_profile = profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
         depth = self.qos_profile.queue_length
-        self._queue: deque[dict[str, Any]] = deque(maxlen=depth or None)
+        self._queue: deque[str | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
         self._sid = process.connection().subscribe(
-            self.topic_name, type_name(msg_type), self._offer, queue_length=LAB_QUEUE
+            self.topic_name, type_name(msg_type), self._offer, queue_length=LAB_QUEUE, undecoded=True
         )
         self._destroyed = False
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
         _graph.add_subscription(self.topic_name)
 
-    def _offer(self, data: dict[str, Any]) -> None:
-        """A message from the lab (the connection's reader thread)."""
+    def _offer(self, data: str | dict[str, Any]) -> None:
+        """A message from the lab (the connection's reader thread): its frame, decoded only if taken."""
         with context.CONDITION:
             self.received += 1
             self._queue.append(data)
@@ -60,7 +61,10 @@ class Subscription(Entity):
         with context.CONDITION:
             if not self._queue:
                 return None
-            data = self._queue.popleft()
+            frame = self._queue.popleft()
+        data = message_of(frame)
+        if data is None:  # not JSON: nothing a callback could take (the lab sends none)
+            return None
         # raw: the message as it travelled (rosbridge's JSON, UTF-8), where rclpy gives its CDR bytes
         msg = json.dumps(data).encode() if self.raw else self.msg_type.from_json(data)
         callback = self.callback

@@ -1,9 +1,14 @@
 """What the streams of one topic share (app/rosbridge/internal/shared.py): a message built once per
 topic and time, a frame encoded once per message object, both bounded."""
 
+import base64
 import json
 
-from app.rosbridge.internal.shared import KEEP_BUILT, KEEP_FRAMES, SharedMessages
+import numpy as np
+
+from sim.messages import Base64Text, image
+
+from app.rosbridge.internal.shared import KEEP_BUILT, KEEP_FRAMES, SharedMessages, dumps
 
 
 def test_a_message_is_built_once_per_topic_and_time():
@@ -35,3 +40,15 @@ def test_a_frame_is_encoded_once_per_message_object():
     assert len(shared._frames["/a"]) == KEEP_FRAMES
     shared.forget("/a")
     assert "/a" not in shared._frames
+
+
+def test_an_images_frame_is_json_dumps_text_with_its_base64_put_in_as_it_is():
+    """The camera's image (sim/messages.py: its data a Base64Text) encodes to the very text
+    json.dumps gives, and reads back as the same message; other frames are json.dumps's."""
+    bgr = np.arange(48 * 64 * 3, dtype=np.uint8).reshape(48, 64, 3)
+    frame = {"op": "publish", "topic": "/image_raw", "msg": image(1.25, bgr)}
+    assert isinstance(frame["msg"]["data"], Base64Text)
+    assert dumps(frame) == json.dumps(frame)
+    assert base64.b64decode(json.loads(dumps(frame))["msg"]["data"]) == bgr.tobytes()
+    plain = {"op": "publish", "topic": "/chatter", "msg": {"data": 'a "quoted"\nline'}}
+    assert dumps(plain) == json.dumps(plain)

@@ -28,7 +28,8 @@ class RecordingConnection:
     def send(self, message: dict) -> None:
         self.sent.append(message)
 
-    def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False) -> str:
+    def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False,
+                  undecoded=False) -> str:  # an undecoded handler takes the message itself too (message_of)
         self.topic_handlers.setdefault(topic, []).append(handler)
         if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
             self.with_header.add(handler)

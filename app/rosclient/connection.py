@@ -279,7 +279,7 @@ class Connection:
     def _read(self) -> None:
         try:
             for text in self.ws:
-                topic = _publish_topic(text) if isinstance(text, str) else None
+                topic = _publish_topic(text) if self.frame_handlers and isinstance(text, str) else None
                 if isinstance(text, str) and topic is not None:
                     with self._lock:
                         undecoded = list(self.frame_handlers.get(topic, ()))
@@ -308,12 +308,9 @@ class Connection:
             topic = str(message.get("topic"))
             with self._lock:
                 handlers = list(self.topic_handlers.get(topic, ()))
+                handlers += self.frame_handlers.get(topic, ())  # decoded already, for the topic's other handlers
                 with_header = list(self.header_handlers.get(topic, ()))
             for handler in handlers:
-                handler(message.get("msg") or {})
-            with self._lock:
-                undecoded = list(self.frame_handlers.get(topic, ()))
-            for handler in undecoded:  # decoded already, for the topic's other handlers
                 handler(message.get("msg") or {})
             if with_header:
                 header = message.get("connection_header")

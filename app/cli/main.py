@@ -13,6 +13,7 @@ import argparse
 import multiprocessing
 import os
 import signal
+import sys
 
 from sim.person.participants import PARTICIPANTS
 from sim.procedures.report import PUBLIC_SEED
@@ -356,4 +357,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command in ("experiment", "grade"):
         for signum in (signal.SIGTERM, signal.SIGHUP):
             signal.signal(signum, _stop_with_workers)
-    return client_cli.run(args.func, args)
+    try:
+        return client_cli.run(args.func, args)
+    except BrokenPipeError:  # e.g. `hri-lab topic echo ... | head`: the reader has what it wanted
+        # Python's advice for a closed stdout: nothing more goes to it, not even at exit's flush
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + signal.SIGPIPE

@@ -5,6 +5,9 @@ refused by argparse (exit 2) with the reason."""
 
 import argparse
 import shlex
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
@@ -13,6 +16,7 @@ from sim.procedures.report import PUBLIC_SEED
 from app.cli import arguments
 from app.cli.main import COMMANDS, build_parser
 
+ROOT = Path(__file__).resolve().parents[3]
 SHELL = (">", "|", "&", "2>")  # where an example's command ends (a redirection, a pipe, the background)
 
 
@@ -139,3 +143,18 @@ def test_the_scheduler_and_the_jobs_read_the_same_in_every_batch_command(monkeyp
         args = parser.parse_args([*words, "--jobs", "3"])
         assert (args.scheduler, args.jobs) == ("tcp://10.0.0.1:8786", 3), words
     assert parser.parse_args(["grade", "f.py", "--scheduler", ""]).scheduler is None
+
+
+def test_a_closed_stdout_ends_the_command_quietly_as_sigpipe_would():
+    """`hri-lab topic echo ... | head`: once the reader has gone, the command ends with 141 and no
+    traceback (its printing fails with BrokenPipeError, here raised by the command itself)."""
+    program = (
+        "import sys\n"
+        "from app.cli import client, main\n"
+        "def closed(func, args):\n"
+        "    raise BrokenPipeError(32, 'Broken pipe')\n"
+        "client.run = closed\n"
+        "sys.exit(main.main(['topic', 'list']))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    assert (done.returncode, done.stderr) == (141, "")

@@ -23,6 +23,7 @@ from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
 from app.runtime.camera_process import CameraProcess
 from app.runtime.process import SimulationProcess
+from app.runtime.sample_ring import NewSamples
 
 T = TypeVar("T")
 
@@ -85,6 +86,11 @@ class Lab:
         """Every step's (time, F_ext) after the first `seen` samples: (rows, new count, lost);
         app/runtime/sample_ring.py."""
         return self.runtime.wrenches.since(seen)
+
+    def new_wrench_samples(self) -> AbstractContextManager[NewSamples]:
+        """While the block runs, a waiter whose `next()` returns once a step has written its F_ext
+        sample (app/runtime/sample_ring.py), in the running event loop."""
+        return self.runtime.wrenches.new_samples()
 
     def needs(self, period: float) -> AbstractContextManager[None]:
         """While the block runs, a reader of snapshots needs a fresh one every `period` s (an idle

@@ -4,36 +4,78 @@ throttle_rate 0) gets every sample, whenever the server's own thread gets the CP
 newest snapshot at the moments it looks.
 
 Layout (one anonymous shared mapping, made before the fork): the count of samples written so far
-(uint64), then CAPACITY slots of (time, wrench[6]) as float64. The writer is alone: it fills slot
-count % CAPACITY, then publishes count + 1. A reader copies the slots after the last count it saw
-and reads the count again: slots the writer may have overwritten meanwhile (more than CAPACITY
-behind) are dropped, never returned torn.
+(uint64), how many readers want to be woken (uint64), then CAPACITY slots of (time, wrench[6]) as
+float64. The writer is alone: it fills slot count % CAPACITY, then publishes count + 1. A reader
+copies the slots after the last count it saw and reads the count again: slots the writer may have
+overwritten meanwhile (more than CAPACITY behind) are dropped, never returned torn.
+
+Woken by the writer: while a reader watches (`watching`), the writer signals an eventfd after each
+sample, so an event loop reads every sample as it is written (`NewSamples`), one at a time and 1 ms
+apart as the steps are, as a 1 kHz ROS publisher sends. A reader that polls instead finds none or
+two as often as one (its wake-ups drift against the steps') and sends pairs back to back, which a
+subscriber with a queue of one, busy with the first, loses one of.
 """
 
 from __future__ import annotations
 
+import asyncio
 import mmap
+import os
+import threading
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 
 import numpy as np
 
 CAPACITY = 4096  # samples: about 4 s at 1 kHz
 _FIELDS = 7  # time (s), then the wrench (N, Nm)
+_HEAD = 16  # bytes before the slots: the count, the watchers
 
 
 class SampleRing:
     def __init__(self, capacity: int = CAPACITY) -> None:
         self.capacity = capacity
-        self._memory = mmap.mmap(-1, 8 + 8 * _FIELDS * capacity)  # MAP_SHARED | MAP_ANONYMOUS
+        self._memory = mmap.mmap(-1, _HEAD + 8 * _FIELDS * capacity)  # MAP_SHARED | MAP_ANONYMOUS
         self._count = np.frombuffer(self._memory, np.uint64, 1, 0)
-        self._slots = np.frombuffer(self._memory, np.float64, _FIELDS * capacity, 8).reshape(capacity, _FIELDS)
+        self._watchers = np.frombuffer(self._memory, np.uint64, 1, 8)
+        self._slots = np.frombuffer(self._memory, np.float64, _FIELDS * capacity, _HEAD).reshape(capacity, _FIELDS)
+        self.wake_fd = os.eventfd(0, os.EFD_NONBLOCK | os.EFD_CLOEXEC)  # inherited by the forked writer
+        self._watch_lock = threading.Lock()
+        self._new_samples: dict[asyncio.AbstractEventLoop, NewSamples] = {}
 
     def append(self, time: float, wrench: np.ndarray) -> None:
-        """The writer (one process): one sample after a step."""
+        """The writer (one process): one sample after a step; the watching readers woken."""
         count = int(self._count[0])
         slot = self._slots[count % self.capacity]
         slot[0] = time
         slot[1:] = wrench
         self._count[0] = count + 1
+        if self._watchers[0]:
+            try:
+                os.eventfd_write(self.wake_fd, 1)
+            except BlockingIOError:  # the counter is full: the readers are woken already
+                pass
+
+    @contextmanager
+    def watching(self) -> Iterator[None]:
+        """While the block runs, the writer signals `wake_fd` after each sample."""
+        with self._watch_lock:
+            self._watchers[0] += 1
+        try:
+            yield
+        finally:
+            with self._watch_lock:
+                self._watchers[0] -= 1
+
+    @contextmanager
+    def new_samples(self) -> Iterator[NewSamples]:
+        """The running event loop's waiter for the next sample, while the block runs."""
+        loop = asyncio.get_running_loop()
+        waiter = self._new_samples.get(loop)
+        if waiter is None:
+            waiter = self._new_samples[loop] = NewSamples(self, loop)
+        with waiter.held():
+            yield waiter
 
     @property
     def count(self) -> int:
@@ -51,3 +93,41 @@ class SampleRing:
             rows = rows[safe_from - first :]
             first = safe_from
         return rows, count, first - seen
+
+
+class NewSamples:
+    """The coroutines of one event loop that wait for the ring's next sample: the loop watches the
+    writer's eventfd while at least one of them is held (`held`), and `next()` returns once a
+    sample was written after the last wake-up."""
+
+    def __init__(self, ring: SampleRing, loop: asyncio.AbstractEventLoop) -> None:
+        self.ring, self.loop = ring, loop
+        self._event = asyncio.Event()
+        self._holders = 0
+        self._watching = ExitStack()
+
+    @contextmanager
+    def held(self) -> Iterator[None]:
+        if self._holders == 0:
+            self._watching.enter_context(self.ring.watching())
+            self.loop.add_reader(self.ring.wake_fd, self._woken)
+        self._holders += 1
+        try:
+            yield
+        finally:
+            self._holders -= 1
+            if self._holders == 0:
+                self.loop.remove_reader(self.ring.wake_fd)
+                self._watching.close()
+
+    def _woken(self) -> None:
+        try:
+            os.eventfd_read(self.ring.wake_fd)
+        except BlockingIOError:  # read already (a wake-up of the same samples)
+            return
+        event, self._event = self._event, asyncio.Event()
+        event.set()
+
+    async def next(self) -> None:
+        """Return once the writer has written a sample (since the last wake-up of this loop)."""
+        await self._event.wait()

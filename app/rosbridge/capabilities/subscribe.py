@@ -145,7 +145,7 @@ async def sample(
             await asyncio.sleep(due - loop.time())
 
 
-POLL_S = 0.001  # s between two reads of the F_ext ring (the control period)
+POLL_S = 0.001  # s, the control period: a stream this eager reads each sample as its step writes it
 # event-loop turns a full queue's sender gets, in all, over one look's samples before the next sample
 # replaces its newest: enough for the one or two samples of a look that keeps up, never enough to
 # send a client that is behind old samples in order (a lifting node fed those went unstable)
@@ -155,13 +155,17 @@ HANDOFF_TURNS = 4
 async def sample_every_step(lab: Any, stream: Stream) -> None:
     """F_ext from the ring of every step's sample (app/runtime/sample_ring.py): each sample at least
     throttle_rate of simulation time after the last one sent (0: every step), in order, however
-    late this thread got the CPU; what a slow client cannot take is dropped by its queue. A sample
-    read with others in one look waits for the stream's sender to take the one before (HANDOFF_TURNS
-    for the whole look): a short queue (queue_length 1, rospy's queue_size=1) loses samples to a
-    client that is slow, not to the look's batching, and a client that is behind gets the newest."""
+    late this thread got the CPU; what a slow client cannot take is dropped by its queue. At 1 kHz
+    the ring wakes this look as each step writes its sample, so samples go out one at a time, as
+    the steps came; at a lower rate it looks on a schedule. A sample read with others in one look
+    (this thread was late) waits for the stream's sender to take the one before (HANDOFF_TURNS for
+    the whole look): a short queue (queue_length 1, rospy's queue_size=1) loses samples to a client
+    that is slow, not to the look's batching, and a client that is behind gets the newest."""
     _, seen, _ = lab.wrench_samples(0)  # from now on
     last = None
-    with Need(lab) as need:
+    loop = asyncio.get_running_loop()
+    look = loop.time()
+    with Need(lab) as need, lab.new_wrench_samples() as new_samples:
         while True:
             period = stream.period
             need.every(period)
@@ -176,7 +180,11 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
                         await asyncio.sleep(0)  # the sender's turn: it takes the one before
                     shared = stream.session.bridge.shared  # each step's sample built once for every client
                     stream.offer(shared.built(F_EXT, time_s, partial(wrench_stamped_at, time_s, row[1:])))
-            await asyncio.sleep(max(POLL_S, period))  # no oftener than it may send: its share of the lab's rate
+            if period <= POLL_S:  # every step's: the next as it is written
+                await new_samples.next()
+            else:  # no oftener than it may send (its share of the lab's rate), on a schedule
+                look = max(look + period, loop.time() - period)
+                await asyncio.sleep(look - loop.time())
 
 
 async def sample_images(lab: Any, stream: Stream) -> None:

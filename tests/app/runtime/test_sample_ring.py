@@ -1,8 +1,11 @@
 """Every step's F_ext in shared memory (app/runtime/sample_ring.py): a reader gets every sample
 once, oldest first; one that fell more than the ring behind is told how many it lost, and is never
-handed a torn or overwritten sample; the writer may be a forked process."""
+handed a torn or overwritten sample; the writer may be a forked process, and it wakes an event loop
+that waits for its next sample (and nobody when nobody waits)."""
 
+import asyncio
 import multiprocessing
+import select
 import time
 
 import numpy as np
@@ -63,3 +66,40 @@ def test_the_writer_may_be_a_forked_process():
     assert lost_total == 0
     assert len(got) == 3000
     assert np.array_equal(np.array(got)[:, 1:], np.array([_wrench(i) for i in range(3000)]))
+
+
+def _readable(fd: int) -> bool:
+    return bool(select.select([fd], [], [], 0)[0])
+
+
+def test_a_waiting_event_loop_is_woken_by_each_sample_a_forked_writer_appends():
+    ring = SampleRing(capacity=8)
+
+    async def check() -> None:
+        with ring.new_samples() as new_samples:
+            for k in range(3):
+                waiting = asyncio.ensure_future(new_samples.next())
+                for _ in range(20):  # the loop turns: no sample, no wake-up
+                    await asyncio.sleep(0)
+                assert not waiting.done()
+                child = multiprocessing.get_context("fork").Process(target=_write, args=(ring, 1))
+                child.start()
+                await asyncio.wait_for(waiting, 60)  # a bound for a starved machine, not a speed figure
+                child.join()
+                assert ring.count == k + 1
+
+    asyncio.run(check())
+
+
+def test_nobody_waiting_means_no_signal():
+    ring = SampleRing(capacity=8)
+    ring.append(0.0, _wrench(0))
+    assert not _readable(ring.wake_fd)
+
+    async def hold_then_leave() -> None:
+        with ring.new_samples():
+            pass
+
+    asyncio.run(hold_then_leave())
+    ring.append(0.001, _wrench(1))
+    assert not _readable(ring.wake_fd)

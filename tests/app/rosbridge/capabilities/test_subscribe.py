@@ -98,6 +98,13 @@ class _Ring:
     def needs(self, period: float):
         yield
 
+    @contextmanager
+    def new_wrench_samples(self):
+        yield self
+
+    async def next(self) -> None:  # the next look at once: the looks' rows stand for the steps
+        await asyncio.sleep(0)
+
 
 async def _f_ext_through_a_queue_of_one(looks: list[int]) -> list[float]:
     """sample_every_step into a stream of queue_length 1 whose sender takes a message each turn of

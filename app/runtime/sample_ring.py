@@ -74,8 +74,12 @@ class SampleRing:
         waiter = self._new_samples.get(loop)
         if waiter is None:
             waiter = self._new_samples[loop] = NewSamples(self, loop)
-        with waiter.held():
-            yield waiter
+        try:
+            with waiter.held():
+                yield waiter
+        finally:
+            if not waiter.holders:  # the loop's last: forgotten with the loop
+                self._new_samples.pop(loop, None)
 
     @property
     def count(self) -> int:
@@ -103,20 +107,20 @@ class NewSamples:
     def __init__(self, ring: SampleRing, loop: asyncio.AbstractEventLoop) -> None:
         self.ring, self.loop = ring, loop
         self._event = asyncio.Event()
-        self._holders = 0
+        self.holders = 0
         self._watching = ExitStack()
 
     @contextmanager
     def held(self) -> Iterator[None]:
-        if self._holders == 0:
+        if self.holders == 0:
             self._watching.enter_context(self.ring.watching())
             self.loop.add_reader(self.ring.wake_fd, self._woken)
-        self._holders += 1
+        self.holders += 1
         try:
             yield
         finally:
-            self._holders -= 1
-            if self._holders == 0:
+            self.holders -= 1
+            if self.holders == 0:
                 self.loop.remove_reader(self.ring.wake_fd)
                 self._watching.close()
 

@@ -9,7 +9,7 @@ float64. The writer is alone: it fills slot count % CAPACITY, then publishes cou
 copies the slots after the last count it saw and reads the count again: slots the writer may have
 overwritten meanwhile (more than CAPACITY behind) are dropped, never returned torn.
 
-Woken by the writer: while a reader watches (`watching`), the writer signals an eventfd after each
+Woken by the writer: while a reader watches (`watch`), the writer signals an eventfd after each
 sample, so an event loop reads every sample as it is written (`NewSamples`), one at a time and 1 ms
 apart as the steps are, as a 1 kHz ROS publisher sends. A reader that polls instead finds none or
 two as often as one (its wake-ups drift against the steps') and sends pairs back to back, which a
@@ -23,7 +23,7 @@ import mmap
 import os
 import threading
 from collections.abc import Iterator
-from contextlib import ExitStack, contextmanager
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -56,16 +56,11 @@ class SampleRing:
             except BlockingIOError:  # the counter is full: the readers are woken already
                 pass
 
-    @contextmanager
-    def watching(self) -> Iterator[None]:
-        """While the block runs, the writer signals `wake_fd` after each sample."""
+    def watch(self, readers: int) -> None:
+        """`readers` more (or, negative, fewer) readers want the writer to signal `wake_fd` after
+        each sample: it does while any does."""
         with self._watch_lock:
-            self._watchers[0] += 1
-        try:
-            yield
-        finally:
-            with self._watch_lock:
-                self._watchers[0] -= 1
+            self._watchers[0] = int(self._watchers[0]) + readers
 
     @contextmanager
     def new_samples(self) -> Iterator[NewSamples]:
@@ -108,12 +103,11 @@ class NewSamples:
         self.ring, self.loop = ring, loop
         self._event = asyncio.Event()
         self.holders = 0
-        self._watching = ExitStack()
 
     @contextmanager
     def held(self) -> Iterator[None]:
         if self.holders == 0:
-            self._watching.enter_context(self.ring.watching())
+            self.ring.watch(1)
             self.loop.add_reader(self.ring.wake_fd, self._woken)
         self.holders += 1
         try:
@@ -122,7 +116,7 @@ class NewSamples:
             self.holders -= 1
             if self.holders == 0:
                 self.loop.remove_reader(self.ring.wake_fd)
-                self._watching.close()
+                self.ring.watch(-1)
 
     def _woken(self) -> None:
         try:

@@ -6,7 +6,10 @@
 2. /franka_state_controller/F_ext (the lab samples it at 1 kHz of simulation time) to a rospy
    subscriber with queue_size=1 (bench/ros_fext_subscriber.py): the share of the published
    messages that reached the callback, and of those that were dropped on the way (server queue,
-   client queue);
+   client queue); each run followed by what the same callback loses on this machine with no lab
+   running (bench/rospy_floor.py: a paced 1 kHz stream over TCP into rospy's own receive rule),
+   since both depend on how promptly the machine wakes a thread (each F_ext run has a lab of its own,
+   so that the reference runs with none); with --fext-runs N, the medians;
 3. a program's start-up time: from `hri-lab run` to its first request served (the lab answers
    404 "not provided yet" until the program has advertised the service); and what a program's
    `from hri_lab.srv import DivideInts` costs in a fresh interpreter, against the import of the
@@ -14,7 +17,7 @@
 4. the same service called by another rospy program (bench/ros_service_caller.py) through
    rospy.ServiceProxy, one call at a time: p50/p99 (ms).
 
-    .venv/bin/python -m bench.ros_programs [--calls 1000] [--seconds 10]
+    .venv/bin/python -m bench.ros_programs [--calls 1000] [--seconds 10] [--fext-runs 1]
 
 Measure on a quiet machine: every figure here depends on the cores being free.
 """
@@ -31,6 +34,7 @@ from pathlib import Path
 import httpx
 
 from app.cli.launch import running_server
+from bench import rospy_floor
 
 ROOT = Path(__file__).resolve().parent.parent
 SERVER = ROOT / "tests" / "ros_programs" / "add_two_ints_server_rospy.py"
@@ -132,6 +136,7 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--calls", type=int, default=1000)
     parser.add_argument("--seconds", type=float, default=10.0, help="how long the F_ext subscriber listens")
+    parser.add_argument("--fext-runs", type=int, default=1, help="F_ext runs, each followed by its reference")
     args = parser.parse_args(argv)
     with running_server("--view", "none", "--exercises") as lab:
         first, latencies = startup_and_latency(lab.url, args.calls)
@@ -150,13 +155,30 @@ def main(argv: list[str] | None = None) -> None:
             f"rospy service called by another rospy program ({args.calls} calls, one at a time): "
             f"p50 {percentile(between, 0.5):.2f} ms, p99 {percentile(between, 0.99):.2f} ms"
         )
-        figures = fext(lab.url, args.seconds)
+    lab_dropped, floor_dropped = [], []
+    for _ in range(args.fext_runs):  # the lab's figure, then the machine's own with no lab running, in turns
+        with running_server("--view", "none", "--exercises") as lab:
+            figures = fext(lab.url, args.seconds)
         published = figures["published"]
+        lab_dropped.append(100 * (1 - figures["handled"] / published))
         print(
             f"F_ext at 1 kHz to a rospy subscriber (queue_size=1), {args.seconds:g} s: {published} published, "
             f"{figures['arrived']} reached the program, {figures['handled']} the callback: "
-            f"{100 * (1 - figures['handled'] / published):.1f} % dropped "
-            f"({100 * (1 - figures['arrived'] / published):.1f} % before the program)"
+            f"{lab_dropped[-1]:.1f} % dropped ({100 * (1 - figures['arrived'] / published):.1f} % before the "
+            f"program); {figures['slow']} callbacks took over 1 ms"
+        )
+        floor = rospy_floor.measure(args.seconds)
+        floor_dropped.append(floor["dropped"])
+        print(
+            f"the same callback with no lab (bench/rospy_floor.py: a paced 1 kHz TCP stream into rospy's "
+            f"receive rule; no lab running), {args.seconds:g} s: {floor['published']} published, "
+            f"{floor['handled']} the callback: {floor['dropped']:.1f} % dropped; {floor['slow']} callbacks took "
+            f"over 1 ms"
+        )
+    if args.fext_runs > 1:
+        print(
+            f"F_ext dropped, median of {args.fext_runs} runs: {statistics.median(lab_dropped):.1f} % through the "
+            f"lab, {statistics.median(floor_dropped):.1f} % with no lab"
         )
 
 

@@ -92,10 +92,11 @@ class Lab:
         sample (app/runtime/sample_ring.py), in the running event loop."""
         return self.runtime.wrenches.new_samples()
 
-    def needs(self, period: float) -> AbstractContextManager[None]:
-        """While the block runs, a reader of snapshots needs a fresh one every `period` s (an idle
-        loop wakes that often; app/runtime/loop.py)."""
-        return self.runtime.needs(period)
+    def needs(self, period: float, snapshots: bool = True) -> AbstractContextManager[None]:
+        """While the block runs, a reader needs a step every `period` s (an idle loop wakes that
+        often; app/runtime/loop.py) and, unless `snapshots` is false (a reader of every step's
+        F_ext), a fresh snapshot as often."""
+        return self.runtime.needs(period, snapshots)
 
     def info(self, node: str, message: str) -> None:
         """One of the lab's log lines on /rosout (level INFO)."""

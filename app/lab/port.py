@@ -48,8 +48,9 @@ class LabPort(Protocol[S_co]):
         """fn(world, *args) sent to the simulation without waiting."""
         ...
 
-    def needs(self, period: float) -> AbstractContextManager[None]:
-        """While the block runs, a fresh snapshot every `period` s."""
+    def needs(self, period: float, snapshots: bool = True) -> AbstractContextManager[None]:
+        """While the block runs, a step every `period` s and, unless `snapshots` is false, a fresh
+        snapshot as often."""
         ...
 
     def info(self, node: str, message: str) -> None:

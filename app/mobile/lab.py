@@ -74,8 +74,8 @@ class MobileLab:
     def snapshot(self) -> MobileSnapshot:
         return self.runtime.snapshot()  # type: ignore[return-value]
 
-    def needs(self, period: float) -> AbstractContextManager[None]:
-        return self.runtime.needs(period)
+    def needs(self, period: float, snapshots: bool = True) -> AbstractContextManager[None]:
+        return self.runtime.needs(period, snapshots)
 
     def info(self, node: str, message: str) -> None:
         self.rosout.log(node, message)

@@ -14,11 +14,15 @@ come for `fine_hold` seconds, nothing needs 1 ms granularity, so the loop wakes 
 50 Hz topic stream) and runs the periods that came due back to back (the same steps, the same
 simulated time; only their wall-clock spacing changes), publishing the last of them. A command wakes it at once and the loop is back at
 1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
-(`LoopStats.batched` counts the ticks stepped in batches).
+(`LoopStats.batched` counts the ticks stepped in batches). An idle loop kept at 1 ms granularity
+only by a reader of every step's sample (`sample`, a 1 kHz F_ext subscriber), with no reader of
+snapshots that needs them oftener than `batch_period` (`snapshot_spacing`), publishes a snapshot
+once per `batch_period`, as an idle batch does: the snapshot's write is most of a step's cost.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import queue
 import threading
@@ -78,13 +82,18 @@ class SimulationLoop:
         realtime: bool = True,
         granularity: SharedSeconds | None = None,
         sample: Callable[[World], None] | None = None,
+        snapshot_spacing: SharedSeconds | None = None,
     ) -> None:
-        """granularity: a shared value (.value, s) the server sets to the finest spacing of snapshots
-        its readers need now (app/runtime/process.py, `needs`); None: only `batch_period`.
-        sample: called with the world after every step, published or not (every step's F_ext)."""
+        """granularity: a shared value (.value, s) the server sets to the finest spacing of steps its
+        readers need now (app/runtime/process.py, `needs`); None: only `batch_period`.
+        sample: called with the world after every step, published or not (every step's F_ext).
+        snapshot_spacing: as granularity, for the snapshots' readers alone (`_snapshot_due`);
+        None: every step at 1 ms granularity is published."""
         self._sample = sample
         self.world = world
         self._granularity = granularity
+        self._snapshot_spacing = snapshot_spacing
+        self._published_time = -math.inf  # s, simulation time of the last snapshot published
         self.realtime = realtime
         self._publish = publish
         self._reply = reply
@@ -133,7 +142,8 @@ class SimulationLoop:
             done = self._run_commands()
             # an idle batch's catch-up publishes only its last step (no reader needs finer), and any
             # step that answers a command (its effect must be in the snapshot)
-            publish = bool(done) or not self._catching_up or time.perf_counter() < next_tick + period
+            now = time.perf_counter()
+            publish = bool(done) or (now < next_tick + period if self._catching_up else self._snapshot_due(now))
             try:
                 self._step(publish)
             finally:  # answered once their effect is in the snapshot (or the step failed)
@@ -161,6 +171,22 @@ class SimulationLoop:
             if not self._catching_up:  # a batch's due periods are late by design, not by load
                 self._lateness.append(max(0.0, time.perf_counter() - next_tick))
 
+    def _snapshot_due(self, now: float) -> bool:
+        """At 1 ms granularity, is the coming step's snapshot published? Every step while somebody
+        commands the robot, a command came lately or a reader of snapshots needs one at least every
+        `batch_period` (a reader looking on a schedule of its own finds a fresh one whenever it
+        looks); otherwise (an idle loop kept fine only by a reader of every step's sample) once
+        `batch_period` has passed, as an idle batch publishes."""
+        if (
+            self._snapshot_spacing is None
+            or self._snapshot_spacing.value <= self.batch_period
+            or self.world.commanded
+            or now - self._last_command <= self.fine_hold
+        ):
+            return True
+        dt = self.world.config.dt
+        return self.world.time + dt - self._published_time >= self.batch_period - dt / 2
+
     def _step(self, publish: bool = True) -> None:
         stats = self.stats
         try:
@@ -176,6 +202,7 @@ class SimulationLoop:
             self._sample(self.world)
         if publish:
             self._publish(Published(self.world.snapshot(), stats))
+            self._published_time = self.world.time
 
     def _update_timing(self) -> None:
         late = sorted(self._lateness)

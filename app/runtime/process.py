@@ -39,7 +39,7 @@ from typing import TypeVar
 
 from sim.world import Snapshot, World
 
-from app.runtime.loop import LoopStats, Published, SimulationLoop, raise_priority
+from app.runtime.loop import LoopStats, Published, SharedSeconds, SimulationLoop, raise_priority
 from app.runtime.sample_ring import SampleRing
 from app.runtime.shared_snapshot import SharedSnapshot
 
@@ -78,11 +78,13 @@ class SimulationProcess:
         self._process: BaseProcess | None = None
         self._conn: Connection | None = None
         self._stop = threading.Event()
-        # the finest spacing (s of wall clock) between published snapshots that a reader needs now
-        # (read by the loop of every process forked from here: app/runtime/loop.py, idle batches)
+        # the finest spacing (s of wall clock) between two steps that a reader needs now, and between
+        # two published snapshots (read by the loop of every process forked from here:
+        # app/runtime/loop.py, idle batches); a reader of every step's F_ext needs only the first
         self._granularity = _FORK.RawValue("d", math.inf)
+        self._snapshot_spacing = _FORK.RawValue("d", math.inf)
         self.wrenches = SampleRing()  # every step's F_ext (a 1 kHz subscriber's source)
-        self._needed: Counter[float] = Counter()
+        self._needed: Counter[tuple[float, bool]] = Counter()  # (period, of snapshots) -> readers
         self._needed_lock = threading.Lock()
 
     # --- life cycle -------------------------------------------------------------------------
@@ -97,7 +99,15 @@ class SimulationProcess:
         parent_end, child_end = _FORK.Pipe()
         process = _FORK.Process(
             target=_child_main,
-            args=(self.world, self.realtime, self._shared, child_end, parent_end, self._granularity, self.wrenches),
+            args=(
+                self.world,
+                self.realtime,
+                self._shared,
+                child_end,
+                parent_end,
+                (self._granularity, self._snapshot_spacing),
+                self.wrenches,
+            ),
             name="hri-lab-sim",
             daemon=True,
         )
@@ -151,20 +161,26 @@ class SimulationProcess:
         return process.pid if process is not None else None
 
     @contextmanager
-    def needs(self, period: float) -> Iterator[None]:
-        """While the block runs, a reader needs a fresh snapshot every `period` s of wall clock
-        (a topic stream at 1/period Hz, a recording): an idle loop wakes at least that often."""
+    def needs(self, period: float, snapshots: bool = True) -> Iterator[None]:
+        """While the block runs, a reader needs the loop to step at least every `period` s of wall
+        clock (an idle loop wakes that often) and, unless `snapshots` is false (a reader of every
+        step's F_ext, app/runtime/sample_ring.py), a fresh snapshot as often (a topic stream at
+        1/period Hz, a recording)."""
         with self._needed_lock:
-            self._needed[period] += 1
-            self._granularity.value = min(self._needed)
+            self._needed[(period, snapshots)] += 1
+            self._publish_needs()
         try:
             yield
         finally:
             with self._needed_lock:
-                self._needed[period] -= 1
-                if not self._needed[period]:
-                    del self._needed[period]
-                self._granularity.value = min(self._needed, default=math.inf)
+                self._needed[(period, snapshots)] -= 1
+                if not self._needed[(period, snapshots)]:
+                    del self._needed[(period, snapshots)]
+                self._publish_needs()
+
+    def _publish_needs(self) -> None:
+        self._granularity.value = min((period for period, _ in self._needed), default=math.inf)
+        self._snapshot_spacing.value = min((period for period, of in self._needed if of), default=math.inf)
 
     # --- talking to the world ---------------------------------------------------------------
     def submit(self, fn: Callable[..., T], *args: object) -> Future[T]:
@@ -271,7 +287,7 @@ def _child_main(
     shared: SharedSnapshot,
     conn: Connection,
     parent_end: Connection,
-    granularity,
+    needs: tuple[SharedSeconds, SharedSeconds],
     wrenches: SampleRing,
 ) -> None:
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
@@ -302,7 +318,13 @@ def _child_main(
 
     has_wrench = hasattr(world, "wrench_ee")  # the lifting world's F_ext; the mobile world has none
     loop = SimulationLoop(
-        world, shared.write, reply, realtime=realtime, granularity=granularity, sample=sample if has_wrench else None
+        world,
+        shared.write,
+        reply,
+        realtime=realtime,
+        granularity=needs[0],
+        snapshot_spacing=needs[1],
+        sample=sample if has_wrench else None,
     )
 
     def receive() -> None:

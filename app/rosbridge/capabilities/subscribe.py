@@ -165,7 +165,7 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
     last = None
     loop = asyncio.get_running_loop()
     look = loop.time()
-    with Need(lab) as need, lab.new_wrench_samples() as new_samples:
+    with Need(lab, snapshots=False) as need, lab.new_wrench_samples() as new_samples:
         while True:
             period = stream.period
             need.every(period)
@@ -211,17 +211,18 @@ IMAGE_POLL_S = 0.005  # s between two looks for a new image
 
 
 class Need:
-    """How often this subscription needs a fresh snapshot (Lab.needs), kept to its current period."""
+    """How often this subscription needs a step and (`snapshots`) a fresh snapshot (Lab.needs),
+    kept to its current period."""
 
-    def __init__(self, lab: Any) -> None:
+    def __init__(self, lab: Any, snapshots: bool = True) -> None:
         self.period: float | None = None
-        self.lab, self._held = lab, ExitStack()
+        self.lab, self._held, self.snapshots = lab, ExitStack(), snapshots
 
     def every(self, period: float) -> None:
         if period != self.period:
             self._held.close()
             self._held = ExitStack()
-            self._held.enter_context(self.lab.needs(max(period, 0.001)))
+            self._held.enter_context(self.lab.needs(max(period, 0.001), self.snapshots))
             self.period = period
 
     def __enter__(self) -> Need:

@@ -96,3 +96,44 @@ def test_readers_set_how_often_an_idle_loop_wakes():
         assert loop.wake_period(now) == 0.01
     assert loop.wake_period(now) == loop.batch_period
     assert loop.wake_period(loop.fine_hold / 2) == world.config.dt  # a command came lately
+
+
+def test_an_idle_loop_kept_fine_for_every_step_s_sample_publishes_as_the_snapshots_readers_need():
+    """A 1 kHz F_ext reader keeps the loop at 1 ms steps (each step sampled), not publishing each
+    snapshot: an idle batch's spacing does; with a reader of snapshots every 10 ms, every step's is
+    published, so a look on its own schedule always finds a fresh one."""
+    from app.runtime.process import SimulationProcess
+
+    world = World()
+    process = SimulationProcess(world)  # not started: only its registry of needs is used here
+    published: list[float] = []
+    sampled: list[float] = []
+    loop = SimulationLoop(
+        world,
+        lambda p: published.append(p.snapshot.time),
+        lambda *answer: None,
+        granularity=process._granularity,
+        snapshot_spacing=process._snapshot_spacing,
+        sample=lambda stepped: sampled.append(stepped.time),
+    )
+    dt = world.config.dt
+    thread = threading.Thread(target=loop.run, daemon=True)
+    thread.start()
+    try:
+        with process.needs(0.001, snapshots=False):
+            ticks = loop.stats.ticks
+            wait_for(lambda: loop.stats.ticks >= ticks + 3 * loop.batch_period / dt)  # the last batch is over
+            first, ticks = len(published), loop.stats.ticks
+            wait_for(lambda: loop.stats.ticks >= ticks + 200)
+            spaced = np.diff(published[first:])
+            assert len(spaced) >= 5 and spaced.min() >= loop.batch_period - dt / 2
+            with process.needs(0.01):
+                wait_for(lambda: len(published) > first + len(spaced) + 3)
+                first = len(published)
+                wait_for(lambda: len(published) >= first + 100)
+                assert np.allclose(np.diff(published[first : first + 100]), dt)  # every step's
+        assert np.allclose(np.diff(sampled), dt)  # every step sampled, whatever was published
+    finally:
+        loop.stop()
+        thread.join(timeout=30)
+    assert not thread.is_alive()

@@ -83,6 +83,7 @@ class _Ring:
 
     def __init__(self, looks: list[int]) -> None:
         self.looks, self.step, self.opened = list(looks), 0, False
+        self.needed: list[tuple[float, bool]] = []  # (period s, of snapshots) asked of the loop
 
     def wrench_samples(self, seen: int):
         if not self.opened:  # the subscription's first look: from now on
@@ -95,7 +96,8 @@ class _Ring:
         return rows, seen + len(rows), 0
 
     @contextmanager
-    def needs(self, period: float):
+    def needs(self, period: float, snapshots: bool = True):
+        self.needed.append((period, snapshots))
         yield
 
     @contextmanager
@@ -106,7 +108,7 @@ class _Ring:
         await asyncio.sleep(0)
 
 
-async def _f_ext_through_a_queue_of_one(looks: list[int]) -> list[float]:
+async def _f_ext_through_a_queue_of_one(looks: list[int], ring: _Ring | None = None) -> list[float]:
     """sample_every_step into a stream of queue_length 1 whose sender takes a message each turn of
     the event loop: the samples' times (s) the sender took, in order."""
     session = await connect(parts(replay=True))
@@ -123,7 +125,7 @@ async def _f_ext_through_a_queue_of_one(looks: list[int]) -> list[float]:
                 taken.append(round(stamp["sec"] + stamp["nanosec"] * 1e-9, 3))
             await asyncio.sleep(0)
 
-    ring = _Ring(looks)
+    ring = ring or _Ring(looks)
     tasks = [asyncio.ensure_future(sample_every_step(ring, stream)), asyncio.ensure_future(sender())]
     await until(lambda: not ring.looks and not stream.queue and ring.step, "every look read and taken")
     for _ in range(10):
@@ -139,6 +141,14 @@ def test_f_ext_samples_read_together_reach_a_queue_of_one_in_order():
     queue_size=1): each waits for the sender to take the one before."""
     taken = run(_f_ext_through_a_queue_of_one([1, 2, 2, 1, 2]))
     assert taken == [round(0.001 * k, 3) for k in range(1, 9)]
+
+
+def test_an_f_ext_stream_needs_the_loop_to_step_each_ms_not_to_publish_each_snapshot():
+    """Every step's F_ext comes from the ring: the stream keeps the loop at 1 ms steps, and the
+    snapshot is published only as often as its own readers need (app/runtime/loop.py)."""
+    ring = _Ring([1, 1])
+    run(_f_ext_through_a_queue_of_one(ring.looks, ring))
+    assert ring.needed == [(0.001, False)]
 
 
 def test_f_ext_samples_of_a_look_that_is_behind_give_the_newest_not_a_backlog():

@@ -253,7 +253,7 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, browser):
 
 def the_3d_view_on_demand(server, page):
     http.post(f"{server}/services/reset_simulation")
-    assert "software-rendered" in text_of(page, "#view-off-reason")
+    wait_text(page, "#view-off-reason", "software-rendered")  # the page fills it once it has asked the server
     without = round_trips(page, 3)
     view = embed_view(page)
     assert page.locator("#view").get_attribute("src").startswith("http://localhost:")

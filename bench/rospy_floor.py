@@ -23,10 +23,11 @@ import socket
 import struct
 import time
 
+from app.runtime.loop import SimulationLoop
 from bench.fext_callback import PERIOD_S, Tally
 
 BUFF_SIZE = 65536  # bytes, rospy.Subscriber's buff_size default
-MAX_BEHIND_S = 0.05  # s; further behind, the sender drops the missed ticks (app/runtime/loop.py's rule)
+MAX_BEHIND_S = SimulationLoop.max_behind  # s; further behind, the sender drops the missed ticks, as the loop does
 FRAME_ID = b"panda_link8"
 _BODY = struct.Struct(f"<4I{len(FRAME_ID)}s6d")  # seq, stamp (secs, nsecs), frame_id (length, text), wrench
 

@@ -105,7 +105,8 @@ class SimulationProcess:
                 self._shared,
                 child_end,
                 parent_end,
-                (self._granularity, self._snapshot_spacing),
+                self._granularity,
+                self._snapshot_spacing,
                 self.wrenches,
             ),
             name="hri-lab-sim",
@@ -287,7 +288,8 @@ def _child_main(
     shared: SharedSnapshot,
     conn: Connection,
     parent_end: Connection,
-    needs: tuple[SharedSeconds, SharedSeconds],
+    granularity: SharedSeconds,
+    snapshot_spacing: SharedSeconds,
     wrenches: SampleRing,
 ) -> None:
     """Run the loop, publish its snapshots, serve the supervisor's calls until told to stop (or
@@ -322,8 +324,8 @@ def _child_main(
         shared.write,
         reply,
         realtime=realtime,
-        granularity=needs[0],
-        snapshot_spacing=needs[1],
+        granularity=granularity,
+        snapshot_spacing=snapshot_spacing,
         sample=sample if has_wrench else None,
     )
 

@@ -116,7 +116,8 @@ class SimulationProcess:
         child_end.close()
         with self._lock:
             self._conn, self._process = parent_end, process
-        threading.Thread(target=self._receive, args=(parent_end,), name="sim-results", daemon=True).start()
+        self._receiver = threading.Thread(target=self._receive, args=(parent_end,), name="sim-results", daemon=True)
+        self._receiver.start()
 
     def _watch(self) -> None:
         ticks, since = -1, time.monotonic()
@@ -133,6 +134,7 @@ class SimulationProcess:
             if not process.is_alive() and not self._stop.is_set():
                 self.last_death = self._shared.read().stats.fatal or _describe_exit(process.exitcode)
                 self.restarts += 1
+                self._receiver.join(timeout=2.0)  # the answers it sent before it died are read first (EOF)
                 self._fail_pending(SimulationRestarting(f"the simulation restarted ({self.last_death}); call again"))
                 self._spawn()
                 ticks, since = -1, time.monotonic()

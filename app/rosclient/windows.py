@@ -1,10 +1,16 @@
-"""cv2's windows in a program `hri-lab run` starts: `cv2.imshow(name, image)` publishes the image to
-the lab's dashboard (a window per name, like rqt_image_view) instead of failing without a display;
-`cv2.waitKey(ms)` waits ms (no key ever comes: -1; 0 waits until the program is stopped). The rest
-of OpenCV is the real one: the hook only replaces the window functions once `import cv2` has run.
+"""cv2's windows in a program `hri-lab run` starts: `cv2.imshow(name, image)` shows the image on the
+lab's dashboard (a window per name, like rqt_image_view) instead of failing without a display;
+`cv2.waitKey(ms)` paints the windows and waits ms from its call (no key ever comes: -1; 0 waits
+until the program is stopped). The rest of OpenCV is the real one: the hook only replaces the window
+functions once `import cv2` has run.
 
-An image goes as sensor_msgs/CompressedImage (JPEG) on WINDOWS + the name made a ROS name, with
-the window's name in header.frame_id, at most MAX_RATE_HZ per window (the newest is kept).
+As in OpenCV, a window paints in the event loop that `waitKey` (or `pollKey`) runs, not in
+`imshow`: imshow keeps a copy of the image, and a program that never calls waitKey shows nothing,
+unless it called `cv2.startWindowThread()` (then windows paint at once, as with OpenCV's window
+thread). So painting (a JPEG, ~1 ms) is part of waitKey's delay, as it is on a desktop, not time
+added to a callback. An image goes as sensor_msgs/CompressedImage (JPEG) on WINDOWS + the name made
+a ROS name, with the window's name in header.frame_id, at most MAX_RATE_HZ per window (the newest
+shown is kept for the next paint).
 """
 
 from __future__ import annotations
@@ -14,6 +20,7 @@ import importlib.abc
 import importlib.machinery
 import re
 import sys
+import threading
 import time
 from typing import Any
 
@@ -21,7 +28,10 @@ from app.interfaces.image_windows import WINDOWS
 
 MAX_RATE_HZ = 15.0
 JPEG_QUALITY = 80
+_lock = threading.Lock()
+_shown: dict[str, tuple[str, Any]] = {}  # topic -> (window name, image) shown since the window last painted
 _last_sent: dict[str, float] = {}
+_window_thread = [False]  # cv2.startWindowThread() was called: windows paint as they are shown
 
 
 def topic_of(name: str) -> str:
@@ -30,15 +40,9 @@ def topic_of(name: str) -> str:
 
 
 def imshow(cv2: Any, name: str, image: Any) -> None:
+    """Keep `image` (a copy in 8 bits, as OpenCV shows it) for window `name`'s next paint."""
     import numpy as np
 
-    from app.rosclient import process
-
-    topic = topic_of(name)
-    now = time.monotonic()
-    if now - _last_sent.get(topic, -1e9) < 1.0 / MAX_RATE_HZ:
-        return
-    _last_sent[topic] = now
     image = np.asarray(image)
     if image.dtype.kind == "f":  # OpenCV shows floats as 0..1
         image = np.clip(image * 255.0, 0, 255).astype(np.uint8)
@@ -46,36 +50,72 @@ def imshow(cv2: Any, name: str, image: Any) -> None:
         image = (image >> 8).astype(np.uint8)
     elif image.dtype != np.uint8:
         image = np.clip(image, 0, 255).astype(np.uint8)
-    ok, data = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
-    if not ok:
-        raise cv2.error(f"imshow: the image of window '{name}' could not be encoded")
-    wall = time.time()
-    message = {
-        "header": {"stamp": {"sec": int(wall), "nanosec": int((wall % 1) * 1e9)}, "frame_id": str(name)},
-        "format": "jpeg",
-        "data": base64.b64encode(data.tobytes()).decode("ascii"),
-    }
-    process.publish(topic, "sensor_msgs/CompressedImage", message)
+    else:
+        image = image.copy()  # the program may change its array before the window paints
+    with _lock:
+        _shown[topic_of(name)] = (str(name), image)
+    if _window_thread[0]:
+        paint(cv2)
 
 
-def wait_key(delay: int = 0) -> int:
+def paint(cv2: Any) -> None:
+    """Publish each window's newest image shown, at most MAX_RATE_HZ per window (one shown sooner
+    waits for a later paint)."""
     from app.rosclient import process
 
+    now = time.monotonic()
+    with _lock:
+        due = [
+            (topic, shown) for topic, shown in _shown.items() if now - _last_sent.get(topic, -1e9) >= 1.0 / MAX_RATE_HZ
+        ]
+        for topic, _ in due:
+            del _shown[topic]
+            _last_sent[topic] = now
+    for topic, (name, image) in due:
+        ok, data = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+        if not ok:
+            raise cv2.error(f"imshow: the image of window '{name}' could not be encoded")
+        wall = time.time()
+        message = {
+            "header": {"stamp": {"sec": int(wall), "nanosec": int((wall % 1) * 1e9)}, "frame_id": name},
+            "format": "jpeg",
+            "data": base64.b64encode(data.tobytes()).decode("ascii"),
+        }
+        process.publish(topic, "sensor_msgs/CompressedImage", message)
+
+
+def wait_key(cv2: Any, delay: int = 0) -> int:
+    """Paint the windows, then wait until `delay` ms from the call; no key ever comes: -1."""
+    from app.rosclient import process
+
+    deadline = time.monotonic() + delay / 1000.0
+    paint(cv2)
     if delay <= 0:  # until a key that never comes: until the program is stopped (Ctrl+C)
         process.shutdown_event.wait()
     else:
-        process.shutdown_event.wait(delay / 1000.0)
+        process.shutdown_event.wait(max(0.0, deadline - time.monotonic()))
     return -1
+
+
+def poll_key(cv2: Any) -> int:
+    paint(cv2)
+    return -1
+
+
+def start_window_thread() -> int:
+    _window_thread[0] = True
+    return 1
 
 
 def patch(cv2: Any) -> None:
     """Replace cv2's window functions by the dashboard's."""
     cv2.imshow = lambda winname, mat: imshow(cv2, winname, mat)
-    cv2.waitKey = lambda delay=0: wait_key(delay)
-    cv2.pollKey = lambda: -1
+    cv2.waitKey = lambda delay=0: wait_key(cv2, delay)
+    cv2.pollKey = lambda: poll_key(cv2)
     cv2.waitKeyEx = cv2.waitKey
-    for name in ("namedWindow", "destroyWindow", "destroyAllWindows", "startWindowThread", "resizeWindow",
-                 "moveWindow", "setWindowTitle"):  # fmt: skip
+    cv2.startWindowThread = start_window_thread
+    for name in ("namedWindow", "destroyWindow", "destroyAllWindows", "resizeWindow", "moveWindow",
+                 "setWindowTitle"):  # fmt: skip
         setattr(cv2, name, lambda *args, **kwargs: None)
 
 

@@ -38,7 +38,7 @@ class Subscription(Entity):
         self.qos_profile = profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
         depth = self.qos_profile.queue_length
-        self._queue: deque[str | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
+        self._queue: deque[bytes | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
         self._sid = process.connection().subscribe(
             self.topic_name, type_name(msg_type), self._offer, queue_length=LAB_QUEUE, undecoded=True
@@ -47,7 +47,7 @@ class Subscription(Entity):
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
         _graph.add_subscription(self.topic_name)
 
-    def _offer(self, data: str | dict[str, Any]) -> None:
+    def _offer(self, data: bytes | dict[str, Any]) -> None:
         """A message from the lab (the connection's reader thread): its frame, decoded only if taken."""
         with context.CONDITION:
             self.received += 1

@@ -44,6 +44,8 @@ def imshow(cv2: Any, name: str, image: Any) -> None:
     import numpy as np
 
     image = np.asarray(image)
+    if image.size == 0:  # OpenCV refuses it in imshow, not at the paint
+        raise cv2.error(f"imshow: the image of window '{name}' is empty (size.width>0 && size.height>0)")
     if image.dtype.kind == "f":  # OpenCV shows floats as 0..1
         image = np.clip(image * 255.0, 0, 255).astype(np.uint8)
     elif image.dtype == np.uint16:

@@ -75,3 +75,10 @@ def test_after_startwindowthread_a_window_paints_as_it_is_shown(painted):
     assert windows.start_window_thread() == 1
     windows.imshow(cv2, "live", image(90).astype(np.float32) / 255.0)  # floats shown as 0..1
     assert len(painted) == 1 and abs(int(painted[0][2].mean()) - 90) <= 2
+
+
+def test_an_empty_image_is_refused_by_imshow_as_opencv_does(painted):
+    with pytest.raises(cv2.error, match="is empty"):
+        windows.imshow(cv2, "w", np.zeros((0, 0, 3), np.uint8))
+    windows.poll_key(cv2)
+    assert painted == []

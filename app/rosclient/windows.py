@@ -100,11 +100,13 @@ def wait_key(cv2: Any, delay: int = 0) -> int:
 
 
 def poll_key(cv2: Any) -> int:
+    """cv2.pollKey: paint the windows, wait for nothing; no key ever comes: -1."""
     paint(cv2)
     return -1
 
 
 def start_window_thread() -> int:
+    """cv2.startWindowThread: from now on a window paints as it is shown, without waitKey."""
     _window_thread[0] = True
     return 1
 

@@ -15,7 +15,10 @@
    `from hri_lab.srv import DivideInts` costs in a fresh interpreter, against the import of the
    lab's declarations that it took before the hri_lab files shipped (app/lab/interface_files.py);
 4. the same service called by another rospy program (bench/ros_service_caller.py) through
-   rospy.ServiceProxy, one call at a time: p50/p99 (ms).
+   rospy.ServiceProxy, one call at a time: p50/p99 (ms);
+5. F_ext to the same subscriber whose callback computes 2 ms, slower than the messages come: how
+   many it handled, and how far behind the freshest the messages it handled were (p50/p99): the
+   newest each time, not a backlog of stale ones.
 
     .venv/bin/python -m bench.ros_programs [--calls 1000] [--seconds 10] [--fext-runs 1]
 
@@ -121,8 +124,11 @@ def program_to_program(url: str, calls: int) -> list[float]:
     return list(json.loads(line)["latencies_ms"])
 
 
-def fext(url: str, seconds: float) -> dict:
-    program = hri_lab_run(url, SUBSCRIBER, str(seconds))
+SLOW_WORK_S = 0.002  # s a slow callback computes per message (twice F_ext's period)
+
+
+def fext(url: str, seconds: float, work_s: float | None = None) -> dict:
+    program = hri_lab_run(url, SUBSCRIBER, str(seconds), *([] if work_s is None else [str(work_s)]))
     out, _ = program.communicate(timeout=seconds + 120)
     line = next((x for x in out.splitlines() if x.startswith("{")), None)
     if line is None:
@@ -175,6 +181,13 @@ def main(argv: list[str] | None = None) -> None:
             f"{floor['handled']} the callback: {floor['dropped']:.1f} % dropped; {floor['slow']} callbacks took "
             f"over 1 ms"
         )
+    with running_server("--view", "none", "--exercises") as lab:
+        slow = fext(lab.url, args.seconds, SLOW_WORK_S)
+    print(
+        f"F_ext to the same subscriber whose callback computes {SLOW_WORK_S * 1e3:g} ms (slower than the "
+        f"messages), {args.seconds:g} s: {slow['handled']} handled of {slow['published']}; behind the freshest "
+        f"by p50 {slow['behind_ms_p50']:.1f} ms, p99 {slow['behind_ms_p99']:.1f} ms"
+    )
     if args.fext_runs > 1:
         print(
             f"F_ext dropped, median of {args.fext_runs} runs: {statistics.median(lab_dropped):.1f} % through the "

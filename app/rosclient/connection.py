@@ -26,6 +26,14 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
 DEFAULT_URL = "http://127.0.0.1:8000"
+
+# rosbridge's queue_length a program's subscription asks of the lab: 0, every message sent on (the lab
+# bounds what it holds for a reader that is behind; /image_raw at a few images). A subscriber's own
+# queue (rclpy's QoS depth, rospy's queue_size) is on the program's side, as a DDS reader's history
+# and a rospy subscriber's queue are: the wire drops nothing a callback could still take.
+LAB_QUEUE = 0
+READER_SWITCH_S = 0.0005  # s, the program's interpreter switch interval (Connection.__init__)
+
 EXIT_LAB_GONE = 1
 
 
@@ -126,6 +134,11 @@ class Connection:
         self.rosout_refused: Callable[[str], None] = lambda reason: (
             None
         )  # the lab refused a /rosout line (process.py keeps it)
+        # the interpreter passes between threads every READER_SWITCH_S while one wants it: the
+        # connection's readers (websockets' and ours) then get their turn while a callback computes,
+        # and read the lab's messages as they come; at Python's 5 ms, a callback that computes 2 ms
+        # per message of a 1 kHz topic left them behind, seconds of stale messages in the socket
+        sys.setswitchinterval(min(sys.getswitchinterval(), READER_SWITCH_S))
         self._reader = threading.Thread(target=self._read, name="rosbridge-reader", daemon=True)
         self._reader.start()
 
@@ -149,7 +162,7 @@ class Connection:
         topic: str,
         type_name: str,
         handler: Callable[..., None],
-        queue_length: int = 0,
+        queue_length: int = LAB_QUEUE,
         throttle_rate: int = 0,
         connection_header: bool = False,
         undecoded: bool = False,

@@ -29,3 +29,11 @@ def test_the_tally_counts_the_samples_over_the_span_it_saw_and_the_slow_callback
     figures = tally.figures()
     assert figures["published"] == 5 and figures["handled"] == 3
     assert 0 <= figures["slow"] <= 3 and all(d >= 0.0002 for d in tally.durations_s)
+
+
+def test_how_far_behind_the_freshest_is_read_off_the_lateness_of_each_message():
+    tally = Tally(work_s=0.0)
+    tally.lateness_s = [0.010, 0.012, 0.050, 0.011]  # the wall clock minus the stamp, an offset apart
+    assert tally.behind_ms(0.0) == 0.0
+    assert abs(tally.behind_ms(0.5) - 1.0) < 1e-9  # the second of 10, 11, 12, 50 ms
+    assert abs(tally.behind_ms(1.0) - 40.0) < 1e-9

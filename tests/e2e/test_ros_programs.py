@@ -248,6 +248,25 @@ def test_ctrl_c_ends_an_rclpy_program_whose_parent_ignores_it(lab):
         assert server.interrupt() == 0, server.output
 
 
+def test_a_connected_program_passes_its_interpreter_between_threads_every_half_millisecond(lab, tmp_path):
+    """The connection's reader threads get their turn while a callback computes (a callback of 2 ms
+    per 1 kHz message left them seconds behind at Python's 5 ms: app/rosclient/connection.py)."""
+    from app.rosclient.connection import READER_SWITCH_S
+
+    program = tmp_path / "switch_interval.py"
+    program.write_text(
+        "import sys\nprint('before', sys.getswitchinterval())\nimport rospy\n"
+        "rospy.init_node('switch_interval')\nprint('after', sys.getswitchinterval(), flush=True)\n"
+    )
+    node = Program(lab.url, "run", str(program))
+    try:
+        assert node.wait() == 0, node.output
+    finally:
+        node.stop()
+    assert "before 0.005" in node.output  # Python's own, until the program connects
+    assert f"after {READER_SWITCH_S}" in node.output
+
+
 def test_no_lab_to_reach_is_a_message_and_exit_1_not_a_traceback():
     from app.cli.launch import free_port
 

@@ -21,11 +21,6 @@ from rclpy.qos import QoSProfile, profile
 if TYPE_CHECKING:
     from rclpy.node import Node
 
-# rosbridge's queue_length asked of the lab: 0, every message sent on (the lab caps what it holds for
-# a slow reader; /image_raw at a few images). The QoS depth is this subscription's own queue, on the
-# program's side, as a DDS reader's history is: the wire drops nothing a callback could still take.
-LAB_QUEUE = 0
-
 
 class Subscription(Entity):
     def __init__(self, node: Node, msg_type: type, topic: str, callback: Callable[..., Any], qos: QoSProfile | int,
@@ -41,8 +36,8 @@ class Subscription(Entity):
         self._queue: deque[bytes | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
         self._sid = process.connection().subscribe(
-            self.topic_name, type_name(msg_type), self._offer, queue_length=LAB_QUEUE, undecoded=True
-        )
+            self.topic_name, type_name(msg_type), self._offer, undecoded=True
+        )  # every message (connection.LAB_QUEUE): the QoS depth is this subscription's own queue
         self._destroyed = False
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
         _graph.add_subscription(self.topic_name)

@@ -1,10 +1,10 @@
 """rospy.topics: Publisher and Subscriber over the lab's rosbridge endpoint.
 
 A publisher fills a message's `header.seq` (its count of messages, from 1) as rospy does. A
-subscriber's `queue_size` is its own queue, in this process (and the most the lab holds for it
-while the program's socket is full): the callback, on the subscriber's own thread, takes the
-messages in order; a full queue drops its oldest, so a message is lost only while the callback is
-busy, as in rospy (HANDOFF_S). Both may be made before init_node, as rospy allows; a message is
+subscriber's `queue_size` is its own queue, in this process: the lab sends it every message
+(connection.LAB_QUEUE), the callback, on the subscriber's own thread, takes them in order, and a
+full queue drops its oldest, so a message is lost only to a callback that does not keep up, as in
+rospy (HANDOFF_S, KEEPUP_SHARE). Both may be made before init_node, as rospy allows; a message is
 published only after it.
 
 Connection headers as TCPROS has them (rospy's impl/tcpros_pubsub.py): a Publisher's `headers`
@@ -18,6 +18,7 @@ message the program builds has none, as in rospy.
 from __future__ import annotations
 
 import threading
+import time
 import traceback
 from collections import deque
 from collections.abc import Callable
@@ -148,9 +149,20 @@ class Publisher(Topic):
             process.remove_publisher(self.name)
 
 
-# s the connection's reader waits for an idle callback thread to take the message before the next
-# one: a queue_size=1 callback that keeps up loses nothing to the two threads sharing the interpreter
-HANDOFF_S = 0.002
+# s the connection's reader waits, at most, for the callback thread to take the queued message before
+# it puts the next in its place (queue full): rospy reads and calls back on one thread, so nothing
+# arrives while a callback runs; here the reader and the callback are two threads sharing the
+# interpreter, and on this 2-core machine the callback thread's turn can take tens of milliseconds
+# (its CPU slows down for 0.1-0.3 s every 1.5 s or so: docs/ros-programs-client.md#measured)
+HANDOFF_S = 0.05
+# A callback that keeps up (busy less than KEEPUP_SHARE of the last KEEPUP_WINDOW_S s) is handed a
+# burst in order: the lab's messages come in bursts where a ROS publisher's are paced (its server
+# catching up after this machine's pauses, docs/ros-programs-client.md#measured). One busy longer
+# does not keep up and is not waited for: its queue drops the oldest, as rospy's does, and the reader
+# reads on, so it gets the newest, never a growing backlog of stale ones. The window is long enough
+# that a burst does not decide (it makes up for the pause before it).
+KEEPUP_WINDOW_S = 1.0
+KEEPUP_SHARE = 0.9
 
 
 class Subscriber(Topic):
@@ -179,31 +191,45 @@ class Subscriber(Topic):
         self._closed = False
         self._taker_idle = False  # the callback thread is waiting for a message (or woken, not yet run)
         self._taker_late = False  # it did not take one within HANDOFF_S: not waited for again until it does
+        # the callback thread's time at work: (end, s) of each callback of the last KEEPUP_WINDOW_S and
+        # their sum, the start of the one running, the start of the first
+        self._callbacks: deque[tuple[float, float]] = deque()
+        self._busy_s = 0.0
+        self._running_since: float | None = None
+        self._first_started: float | None = None
         threading.Thread(target=self._deliver, daemon=True, name=f"rospy-sub{self.name}").start()
-        # the lab holds at most queue_size messages for this subscriber while its socket is busy, as a
-        # ROS publisher's queue drops for a subscriber that cannot keep up: a program behind on a 1 kHz
-        # topic gets the newest message, not a growing backlog of stale ones (a carry failed on those)
-        self._sid = process.connection().subscribe(
-            self.name,
-            data_class._type,
-            self._offer,
-            queue_length=queue_size if queue_size and queue_size > 0 else 0,
-            connection_header=True,
-        )
+        self._sid = process.connection().subscribe(self.name, data_class._type, self._offer, connection_header=True)
 
     def _offer(self, data: dict[str, Any], header: dict[str, Any]) -> None:
         """A message from the connection's reader thread, with what the lab relayed of its publisher."""
         with self._ready:
             self.received += 1
             full = self.queue.maxlen is not None and len(self.queue) >= self.queue.maxlen
-            if full and self._taker_idle and not self._taker_late:
-                # the callback thread was woken for the one before and has not had its turn (the
-                # reader held the interpreter): it gets one, bounded. A callback that is running is
-                # not waited for: its queue drops the oldest, as rospy's does for a slow callback.
+            if full and not self._taker_late and self._keeps_up():
+                # the callback thread takes the one before first (it is waiting for its turn, or
+                # running a callback and will be done soon): bounded. A callback that does not keep
+                # up is not waited for: its queue drops the oldest, as rospy's does.
                 if not self._ready.wait_for(lambda: len(self.queue) < (self.queue.maxlen or 0), HANDOFF_S):
                     self._taker_late = True  # not waited for again until it takes one
             self.queue.append((data, header))
             self._ready.notify_all()
+
+    def _keeps_up(self) -> bool:
+        """The callback thread is waiting for a message, or was at work less than KEEPUP_SHARE of
+        the last KEEPUP_WINDOW_S (of the time since its first callback, before that)."""
+        if self._taker_idle:
+            return True
+        if self._first_started is None:
+            return False
+        now = time.monotonic()
+        self._forget_before(now - KEEPUP_WINDOW_S)
+        busy = self._busy_s + (now - self._running_since if self._running_since is not None else 0.0)
+        return busy < KEEPUP_SHARE * min(KEEPUP_WINDOW_S, now - self._first_started)
+
+    def _forget_before(self, moment: float) -> None:
+        """Forget the callbacks that ended before `moment` (with the lock held)."""
+        while self._callbacks and self._callbacks[0][0] < moment:
+            self._busy_s -= self._callbacks.popleft()[1]
 
     def _connection_header(self, relayed: dict[str, Any]) -> dict[str, str]:
         """The publisher's header as TCPROSPub writes it: what the type gives, then what the lab
@@ -233,6 +259,11 @@ class Subscriber(Topic):
                 continue
             if process.shutdown_event.is_set():  # the program is ending: no new callback
                 return
+            started = time.monotonic()
+            with self._ready:
+                self._running_since = started
+                if self._first_started is None:
+                    self._first_started = started
             try:
                 with process.running_callback():
                     msg = self.data_class.from_json(data)
@@ -243,6 +274,12 @@ class Subscriber(Topic):
                         self.callback(msg, self.callback_args)
             except Exception:  # noqa: BLE001 - rospy logs a failing callback, the subscriber goes on
                 core.logerr("bad callback: %s\n%s", self.callback, traceback.format_exc())
+            with self._ready:
+                ended = time.monotonic()
+                self._callbacks.append((ended, ended - started))
+                self._busy_s += ended - started
+                self._running_since = None
+                self._forget_before(ended - KEEPUP_WINDOW_S)
 
     def unregister(self) -> None:
         with self._ready:

@@ -24,6 +24,7 @@ class RecordingConnection:
         self.service_handlers: dict[str, object] = {}
         self.calls: list[WireFuture] = []
         self.with_header: set = set()
+        self.queue_lengths: dict[str, int] = {}  # what each subscription asked the lab to hold for it
 
     def send(self, message: dict) -> None:
         self.sent.append(message)
@@ -31,6 +32,7 @@ class RecordingConnection:
     def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False,
                   undecoded=False) -> str:  # an undecoded handler takes the message itself too (message_of)
         self.topic_handlers.setdefault(topic, []).append(handler)
+        self.queue_lengths[topic] = queue_length
         if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
             self.with_header.add(handler)
         return f"subscribe:{topic}"

@@ -47,7 +47,8 @@ class Tally:
 
     def figures(self) -> dict:
         """published: the samples over the span of the stamps seen (one per PERIOD_S); handled; slow:
-        callbacks that took longer than the period (the callback did not keep up for those)."""
+        callbacks that took longer than the period (the callback did not keep up for those);
+        behind_ms_p50/p99: `behind_ms` at the median and the 99th percentile."""
         span = 0 if self.first_ns is None or self.last_ns is None else self.last_ns - self.first_ns
         published = round(span / (PERIOD_S * 1e9)) + 1 if self.first_ns is not None else 0
         slow = sum(d > PERIOD_S for d in self.durations_s)

@@ -27,10 +27,10 @@ from websockets.sync.client import connect
 
 DEFAULT_URL = "http://127.0.0.1:8000"
 
-# rosbridge's queue_length a program's subscription asks of the lab: 0, every message sent on (the lab
-# bounds what it holds for a reader that is behind; /image_raw at a few images). A subscriber's own
-# queue (rclpy's QoS depth, rospy's queue_size) is on the program's side, as a DDS reader's history
-# and a rospy subscriber's queue are: the wire drops nothing a callback could still take.
+# rosbridge's queue_length a program's subscription asks of the lab unless it says: 0, every message
+# sent on (the lab bounds what it holds for a reader that is behind; /image_raw at a few images). An
+# rclpy subscription's QoS depth is its own queue, on the program's side, as a DDS reader's history
+# is; a rospy subscriber asks for its queue_size (rospy/topics.py)
 LAB_QUEUE = 0
 READER_SWITCH_S = 0.0005  # s, the program's interpreter switch interval (Connection.__init__)
 

@@ -202,8 +202,8 @@ class Subscriber(Topic):
         # the lab holds at most queue_size messages for this subscriber while it or the program is
         # behind, as a ROS publisher's queue drops for a subscriber that cannot keep up: a program
         # behind on a 1 kHz topic gets the newest message, not a backlog of stale ones (with every
-        # message sent, the rospy lifting node's carry failed: in a fresh clone's suite, and in 2 of
-        # 3 runs beside two busy loops; 3 of 3 passed with this)
+        # message sent, the rospy lifting node's carry failed: in a fresh clone's suite, and in 4 of
+        # 5 runs beside two busy loops; 3 of 3 passed with this)
         self._sid = process.connection().subscribe(
             self.name,
             data_class._type,

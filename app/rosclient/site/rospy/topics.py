@@ -267,15 +267,15 @@ class Subscriber(Topic):
                 data, header = self.queue.popleft()
                 self._taker_idle = self._taker_late = False
                 self._ready.notify_all()  # a reader waiting for this take goes on
+                started = time.monotonic()
+                if self.callback is not None:  # at work from now (_keeps_up)
+                    self._running_since = started
+                    if self._first_started is None:
+                        self._first_started = started
             if self.callback is None:
                 continue
             if process.shutdown_event.is_set():  # the program is ending: no new callback
                 return
-            started = time.monotonic()
-            with self._ready:
-                self._running_since = started
-                if self._first_started is None:
-                    self._first_started = started
             try:
                 with process.running_callback():
                     msg = self.data_class.from_json(data)

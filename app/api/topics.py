@@ -12,6 +12,7 @@ from collections import deque
 from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect
 
 from sim.messages import Topic
+from sim.sampling import due
 
 from app.api.camera import current_frame
 from app.api.deps import LabDep
@@ -83,7 +84,7 @@ async def _send_each_new_state(websocket: WebSocket, topic, lab, period: float, 
     last_time = None
     while not gone.done():
         snapshot = lab.snapshot()
-        if last_time is None or snapshot.time - last_time >= period - 0.0005:
+        if due(last_time, snapshot.time, period):
             last_time = snapshot.time
             await websocket.send_json(finite_or_null(topic.build(snapshot)))
         next_send = max(next_send + period, loop.time())
@@ -96,7 +97,7 @@ async def _send_each_new_image(websocket: WebSocket, lab, period: float, gone: a
     while not gone.done():
         if camera.number != seen:
             frame = camera.latest()
-            if frame is not None and (last is None or frame.time - last >= period - 0.0005):
+            if frame is not None and due(last, frame.time, period):
                 seen, last = frame.number, frame.time
                 await websocket.send_json(image_message(frame))
         await asyncio.wait([gone], timeout=0.005)

@@ -23,6 +23,7 @@ import cv2
 
 from sim.camera import OPTICAL_FRAME
 from sim.recording.writer import MIN_FREE_BYTES, Recording
+from sim.sampling import due
 
 from app.lab import commands
 
@@ -61,7 +62,7 @@ class LiveRecorder:
         while not self._stop.wait(POLL_PERIOD):
             if camera.number != seen_image:
                 frame = camera.latest()
-                if frame is not None and (last_image is None or abs(frame.time - last_image) >= IMAGE_PERIOD - 0.0005):
+                if frame is not None and due(last_image, frame.time, IMAGE_PERIOD):
                     seen_image, last_image = frame.number, frame.time
                     ok, jpeg = cv2.imencode(".jpg", frame.image, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
                     if ok:

@@ -6,7 +6,7 @@ They import neither class, so neither imports them back."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Awaitable, Callable, Iterable
+from collections.abc import Awaitable, Callable, Hashable, Iterable
 from typing import Any, Protocol, TypeVar
 
 from sim.messages import Topic
@@ -55,7 +55,9 @@ class NodeTopicLike(Protocol):
 class SharedMessagesLike(Protocol):
     """What every client's stream of a topic shares (app/rosbridge/internal/shared.py)."""
 
-    def built(self, topic: str, time_s: float, make: Callable[[], dict]) -> dict: ...
+    def trial(self, time_s: float) -> int: ...
+
+    def built(self, topic: str, key: Hashable, make: Callable[[], dict]) -> dict: ...
 
     def frame(self, topic: str, message: dict, header: dict | None = None) -> str: ...
 

@@ -474,3 +474,23 @@ def test_a_node_replacing_a_labs_service_is_warned_on_the_console(page, server):
         service.unadvertise()
         ros.close()
         ros.terminate()
+
+
+def test_after_reset_the_page_shows_the_new_trial_without_a_reload(page, server):
+    """Time may go back (sim/sampling.py): Reset starts the simulated time again at 0, and the page's
+    status, plots and header follow the new trial at once (the code before froze them until the new
+    trial's time passed the old one's)."""
+    last_plotted = "plots.charts[0].chart.data[0][plots.charts[0].chart.data[0].length - 1]"
+    page.wait_for_function(f"{last_plotted} > 3")  # the old trial ran a while
+    page.locator("#ctl-force").fill("11")
+    page.locator("#ctl-start").click()
+    wait_text(page, "#st-lifting", "ON, band [11, 16] N")
+    before = page.evaluate(last_plotted)
+    page.locator("#ctl-reset").click()
+    wait_text(page, "#st-lifting", "off")  # the new trial's /lifting_state, not the old one's last
+    page.wait_for_function(f"{last_plotted} < {before / 2}")  # the plots show the new trial's samples
+    page.wait_for_function(
+        f"(() => {{ const m = document.querySelector('#health').textContent.match(/t = ([0-9.]+) s/);"
+        f" return m && parseFloat(m[1]) < {before / 2}; }})()"
+    )
+    assert page.evaluate("plots.charts[0].chart.data[0].length") > 1  # drawing again, from the new trial

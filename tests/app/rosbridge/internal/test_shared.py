@@ -11,7 +11,7 @@ from sim.messages import Base64Text, image
 from app.rosbridge.internal.shared import KEEP_BUILT, KEEP_FRAMES, SharedMessages, dumps
 
 
-def test_a_message_is_built_once_per_topic_and_time():
+def test_a_message_is_built_once_per_topic_and_sample():
     shared, made = SharedMessages(), []
 
     def make(value):
@@ -25,6 +25,17 @@ def test_a_message_is_built_once_per_topic_and_time():
     for n in range(KEEP_BUILT):
         shared.built("/a", 2.0 + n, lambda: make(0))
     assert shared.built("/a", 1.0, lambda: make(4)) == {"data": 4}  # the oldest went: made again
+
+
+def test_a_snapshot_s_trial_changes_when_time_goes_back_so_two_trials_never_share_a_message():
+    shared = SharedMessages()
+    assert [shared.trial(t) for t in (0.1, 0.2, 0.2, 0.3)] == [0, 0, 0, 0]  # read in order, one trial
+    first = shared.built("/a", (shared.trial(0.3), 0.3), lambda: {"trial": 0})
+    assert shared.trial(0.1) == 1  # the world was reset
+    assert shared.trial(0.3) == 1
+    again = shared.built("/a", (shared.trial(0.3), 0.3), lambda: {"trial": 1})
+    assert again == {"trial": 1}, "the new trial's snapshot at 0.3 s was given the old trial's message"
+    assert first == {"trial": 0}
 
 
 def test_a_frame_is_encoded_once_per_message_object():

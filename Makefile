@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test test-fast experiment bench clean chromium bubblewrap egl docs lint
+.PHONY: run test test-fast experiment bench clean chromium bubblewrap egl ros1 docs lint
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -40,7 +40,11 @@ egl:
 bubblewrap:
 	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
 
-test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
+# real ROS 1 (Debian's roscore and rospy) for the tests that check the lab's emulation against it (bench/ros1_oracle.py)
+ros1:
+	@{ command -v roscore >/dev/null && /usr/bin/python3 -c 'import rospy' 2>/dev/null; } || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq ros-core python3-rospy >/dev/null; }
+
+test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl ros1
 	$(BIN)/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder
 
 # the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything

@@ -63,6 +63,7 @@ LONG_FILES_FIRST = (
     "e2e/browser/test_page.py",
     "e2e/test_docs_instructor_pages.py",
     "e2e/test_ros_programs.py",
+    "e2e/test_ros1_oracle.py",
     "e2e/test_bags.py",
     "e2e/test_autograder.py",
     "e2e/test_grading.py",

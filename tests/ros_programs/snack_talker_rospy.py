@@ -7,7 +7,7 @@ from std_msgs.msg import String
 
 
 def talker():
-    pub = rospy.Publisher("snacks", String, headers={"snack": "pretzels", "shelf": 3}, latch=True, queue_size=10)
+    pub = rospy.Publisher("snacks", String, headers={"snack": "pretzels", "shelf": "3"}, latch=True, queue_size=10)
     # a second publisher of the topic: rospy's publishers of one topic share one connection header
     rospy.Publisher("snacks", String, headers={"drink": "tea"}, queue_size=10)
     rospy.init_node("snack_talker")

@@ -13,7 +13,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 # programs of their own, run with other imports on sys.path: students' handouts and the rospy/rclpy shims
-NOT_MODULES = ("app/cli/templates/", "app/rosclient/site/")
+NOT_MODULES = ("app/cli/templates/", "rosclient/site/")
 NEVER_IN_SIM = ("app", "fastapi", "starlette", "uvicorn", "viser")
 # The package arrows that run the wrong way today, each named with what cuts it (issue 34, after the
 # merges): left out of the package check so that any other package circle fails; one that is gone

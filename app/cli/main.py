@@ -302,7 +302,7 @@ def _run(sub: a.Subparsers) -> None:
     a.workspace(run, "the program's")
     run.add_argument("program", metavar="FILE.py")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
-    run.set_defaults(func=a.runs("app.rosclient.run"))
+    run.set_defaults(func=a.runs("rosclient.run"))
 
 
 def _launch(sub: a.Subparsers) -> None:

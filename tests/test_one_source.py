@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parent.parent
 METHOD = ROOT / "docs" / "method.md"
 PATCH = ROOT / "sim" / "controllers" / "patch.py"
 HISTORY = ("CHANGELOG.md", "docs/changelog.md")  # what was true then, in the words of then
-SCANNED = ("sim", "app", "docs", "tests", "bench", "examples", "static", "README.md")
+SCANNED = ("sim", "interfaces", "app", "rosclient", "docs", "tests", "bench", "examples", "static", "README.md")
 
 LABELS = r"[0-9][ab]?(?:(?:-|, and |, | and )[0-9][ab]?)*(?![0-9])"
 STEP = re.compile(rf"(?<![-\w])(patch |SP's |SP )?[Ss]teps? ({LABELS})", re.IGNORECASE)

@@ -26,7 +26,7 @@ from websockets.sync.client import connect
 from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginFactory
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from interfaces.parser import MAX_DEFAULT_VALUES
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "tests" / "controllers"

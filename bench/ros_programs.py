@@ -36,7 +36,7 @@ from pathlib import Path
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench import rospy_floor
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -338,7 +338,7 @@ class Running:
     def __init__(self, spec: NodeSpec, index: int, url: str, workspace: str | None, logs: Path) -> None:
         self.spec, self.label = spec, f"{spec.name}-{index}"
         env = program_env(url, workspace)
-        root = str(Path(__file__).resolve().parents[2])
+        root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH", "")) if p)
         self.log = logs / f"{self.label}.log"
         self.argv = command(str(spec.program), spec.argv())

@@ -27,7 +27,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"error: no program {program}", file=sys.stderr)
         return 2
     env = program_env(args.url, args.workspace)
-    root = str(Path(__file__).resolve().parents[2])  # the lab's packages, whatever the working folder
+    root = str(Path(__file__).resolve().parents[1])  # the lab's packages, whatever the working folder
     env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH", "")) if p)
     sys.stdout.flush()
     os.execve(sys.executable, command(str(program), args.args), env)

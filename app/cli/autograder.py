@@ -31,10 +31,10 @@ from pathlib import Path
 
 from sim.controllers.plugin import DEFAULT_CLASS, PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.battery import battery, load_check, new_report, reference_items, run_items
-from sim.procedures.report import PUBLIC_SEED, Report, seed_note
 
 from app.cli.handout import lab_files
+from grading.battery import battery, load_check, new_report, reference_items, run_items
+from grading.report import PUBLIC_SEED, Report, seed_note
 
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
 SOURCE = "hri-lab"  # the lab's source in the bundle (pip installs it)
@@ -219,8 +219,8 @@ def services_report(folder: Path, seed: int) -> Report:
     as the roslibpy template is), graded over HTTP once it says "node ready" (or after
     NODE_READY_TIMEOUT s: what it does not serve then is not provided)."""
     from app.cli.grade_services import grade_services
-    from app.cli.launch import running_server
-    from app.cli.services_grading import EXERCISES
+    from app.serving.launch import running_server
+    from grading.services import EXERCISES
 
     found = sorted(folder.rglob(SERVICES_NAME))
     if not found:

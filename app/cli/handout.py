@@ -14,7 +14,14 @@ from pathlib import Path
 import sim
 
 TOP = Path(sim.__file__).resolve().parent.parent  # the checkout: the packages' folder
-LAB = ("sim", "interfaces", "app", "rosclient", "static")  # what the lab runs on (static/: the page the server mounts)
+LAB = (
+    "sim",
+    "interfaces",
+    "app",
+    "grading",
+    "rosclient",
+    "static",
+)  # what the lab runs on (static/: the page the server mounts)
 LAB_FILES = ("pyproject.toml", "README.md")
 COURSE = ("examples", "docs")  # what a student reads and runs beside the lab
 COURSE_FILES = ("Makefile", "mkdocs.yml", "CHANGELOG.md")

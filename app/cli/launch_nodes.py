@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from app.cli.launch import ServerProcess
+from app.serving.launch import ServerProcess
 from rosclient import launch
 
 

@@ -19,12 +19,12 @@ from sim.controllers.plugin import PluginFactory
 from sim.mobile.world import seeded_config
 
 from app.api.access import is_loopback
-from app.cli.compose import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
 from app.mobile.lab import MobileLab
 from app.ros.params import ParameterRefused, read_parameter_file
 from app.rosbridge.protocol import MAX_FRAME
+from app.serving.compose import create_app
 from app.tokens import TOKEN_ENV, token_problem
 
 

@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
-from app.cli.launch import running_server
-from app.cli.services_grading import grade_services
+from app.serving.launch import running_server
+from grading.services import grade_services
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run
@@ -268,7 +268,7 @@ def test_a_connected_program_passes_its_interpreter_between_threads_every_half_m
 
 
 def test_no_lab_to_reach_is_a_message_and_exit_1_not_a_traceback():
-    from app.cli.launch import free_port
+    from app.serving.launch import free_port
 
     program = run(f"http://127.0.0.1:{free_port()}", "add_two_ints_server_rospy.py")
     try:

@@ -35,7 +35,7 @@ SPELLINGS = (("sec", "nanosec"), ("secs", "nsecs"))  # ROS 2's and ROS 1's names
 # array.array's type codes of the integer types (their ranges are the ROS types' on Linux)
 ARRAY_CODES = {"byte": "B", "char": "B", "int8": "b", "uint8": "B", "int16": "h", "uint16": "H"}
 ARRAY_CODES.update({"int32": "i", "uint32": "I", "int64": "q", "uint64": "Q"})
-BASE64 = (*BYTES, "int8")  # arrays that may travel as base64 text (sim/recording/bags.py's to_json)
+BASE64 = (*BYTES, "int8")  # arrays that may travel as base64 text (app/recording/bags.py's to_json)
 MAX_TYPES = 256  # converters kept (a type and the definition it was read from)
 
 Convert = Callable[[JSON], JSON]  # a value (None: left out) -> its whole value; raises FieldError

@@ -5,10 +5,9 @@ runs it: tests/e2e/test_gradescope.py; its CLI: tests/e2e/test_autograder.py).""
 import json
 import zipfile
 
-from sim.procedures.report import PUBLIC_SEED, Item, Report
-
 from app.cli.autograder import CONFIG, SOURCE, build, results_json, submission_file
 from app.cli.main import build_parser
+from grading.report import PUBLIC_SEED, Item, Report
 
 
 def bundle_args(tmp_path, *argv: str):

@@ -1,15 +1,15 @@
-"""The composition root (app/cli/compose.py): the lab's parts are built once and handed down — the
+"""The composition root (app/serving/compose.py): the lab's parts are built once and handed down — the
 API, rosbridge and the parameter server share one service registry and one ActionServer, and the
 nodes' parameters are the parameter server's `remote` — for the lifting lab and the mobile world."""
 
 import pytest
 from fastapi.testclient import TestClient
 
-from app.cli.compose import build, create_app
 from app.lab.lab import Lab
 from app.lab.services import NODE_EFFECTS
 from app.mobile.lab import MobileLab
 from app.ros.node_params import NodeParameters
+from app.serving.compose import build, create_app
 from tests.waiting import within
 
 

@@ -1,8 +1,8 @@
 """Grading the services exercises over HTTP, one test per handout service (the items and cases of
-`hri-lab grade-services`, app/cli/services_grading.py). An instructor points it at a lab started with
+`hri-lab grade-services`, grading/services.py). An instructor points it at a lab started with
 `hri-lab serve --exercises` and the student's node connected:
 
-    HRI_LAB_URL=http://127.0.0.1:8000 HRI_LAB_GRADE_SEED=1234 .venv/bin/python -m pytest tests/grading -v
+    HRI_LAB_URL=http://127.0.0.1:8000 HRI_LAB_GRADE_SEED=1234 .venv/bin/python -m pytest tests/exercises -v
 
 Without HRI_LAB_URL it starts the lab's own server and grades the lab's own answers (how `make test`
 checks the reference: every item passes)."""
@@ -11,7 +11,7 @@ import os
 
 import pytest
 
-from app.cli.services_grading import Grading, LabClient
+from grading.services import Grading, LabClient
 
 
 @pytest.fixture(scope="session")
@@ -20,7 +20,7 @@ def lab_url():
     if url:
         yield url.rstrip("/")
         return
-    from app.cli.launch import running_server
+    from app.serving.launch import running_server
 
     with running_server("--view", "none") as server:
         yield server.url

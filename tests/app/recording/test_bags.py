@@ -1,4 +1,4 @@
-"""sim/recording/bags.py: a rosbag2 written here is what `rosbags` (and so ROS 2 and Foxglove) reads,
+"""app/recording/bags.py: a rosbag2 written here is what `rosbags` (and so ROS 2 and Foxglove) reads,
 message for message; converted to ROS 1; bags of real robots (rosbags' own writers) read back;
 hostile bags refused with their reason."""
 
@@ -15,9 +15,9 @@ from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Rosbag2Writer
 from rosbags.typesys import Stores, get_typestore
 
-from sim.recording import bags
 from sim.recording.reader import RecordingError
 
+from app.recording import bags
 from tests import hostile_bags
 
 STUDENT_INFO = "string name\nint32 age\nfloat64[] marks\n"

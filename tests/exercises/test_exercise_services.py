@@ -3,7 +3,7 @@ grader's order (the torques while the robot is at rest, start before stop)."""
 
 import pytest
 
-from app.cli.services_grading import EXERCISES, grade_exercise
+from grading.services import EXERCISES, grade_exercise
 
 
 @pytest.mark.parametrize("exercise", EXERCISES, ids=[e.service.strip("/") for e in EXERCISES])

@@ -1,9 +1,9 @@
-"""app/cli/launch.py's free port (the servers the tests and benchmarks start: tests/e2e/serving.py
+"""app/serving/launch.py's free port (the servers the tests and benchmarks start: tests/e2e/serving.py
 starts them with ServerProcess, and every end-to-end test is its check)."""
 
 import socket
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 
 
 def test_a_free_port_can_be_bound_on_the_loopback():

@@ -1,5 +1,5 @@
 """The services exercises graded over the lab's HTTP API: one item per handout service, with points
-(`hri-lab grade-services`, app/cli/grade_services.py, is its command line; tests/grading/ the same
+(`hri-lab grade-services`, app/cli/grade_services.py, is its command line; tests/exercises/ the same
 items as one test each).
 
 The lab is started with `hri-lab serve --exercises` and the student's node (from `hri-lab
@@ -11,7 +11,7 @@ The expected answers are computed here, independently of the lab's code: the pla
 torques from a finite-difference Jacobian of its forward kinematics, the Panda's tau = J(q)^T F
 with this process's own pinocchio model at the q the lab reports on /joint_states (read before
 and after each call: the robot must not move in between), and the least-squares wrench with
-numpy. The report is the controller grader's (sim/procedures/report.py), in its formats.
+numpy. The report is the controller grader's (grading/report.py), in its formats.
 """
 
 from __future__ import annotations
@@ -27,8 +27,9 @@ import numpy as np
 import pinocchio as pin
 
 from sim.controllers.interface import LiftingParams
-from sim.procedures.report import Item, Report
 from sim.robot.assets import panda_urdf
+
+from grading.report import Item, Report
 
 SECTION = "services"
 INT64_MAX = 2**63 - 1

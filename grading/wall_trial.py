@@ -27,13 +27,13 @@ import uvicorn
 
 from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command
 from sim.mobile.world import MobileConfig
-from sim.procedures.report import Item
-from sim.procedures.wall_grading import TrialOutcome, trial_item
 
-from app.cli.compose import create_app
-from app.cli.launch import free_port, stop_group
 from app.cli.serve import server_config
 from app.mobile.lab import MobileLab
+from app.serving.compose import create_app
+from app.serving.launch import free_port, stop_group
+from grading.report import Item
+from grading.wall import TrialOutcome, trial_item
 
 FIRST_COMMAND_S = 90.0  # s of wall clock for the program to start and publish its first /cmd_vel
 BEHIND_S = 120.0  # s of wall clock beyond the time limit before a trial that falls behind is ended
@@ -64,7 +64,10 @@ def served(config: MobileConfig) -> Iterator[tuple[MobileLab, str]]:
 
 PROGRAM_MEMORY_BYTES = 2 << 30  # RLIMIT_AS of a jailed program (Python, numpy, the rospy/rclpy layer)
 PROGRAM_OPEN_FILES = 256  # RLIMIT_NOFILE: its sockets, pipes and files
-LAB_CODE = str(Path(__file__).resolve().parents[1])  # the `app` package `hri-lab run` imports (not its checkout)
+# the packages `hri-lab run` imports (not their checkout; sim/ the jail shows to every child)
+LAB_CODE = tuple(
+    str(Path(__file__).resolve().parents[1] / top) for top in ("interfaces", "app", "grading", "rosclient")
+)
 
 
 def _limits() -> None:
@@ -84,7 +87,7 @@ class Program:
         command = [sys.executable, "-m", "app.cli", "run", "--url", url, str(path)]
         if jailed:
             folder = str(path.parent)
-            command = bwrap_command(command, readable=(LAB_CODE, folder), network=True, workdir=folder)
+            command = bwrap_command(command, readable=(*LAB_CODE, folder), network=True, workdir=folder)
             env = dict(CHILD_ENV)
         else:
             env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_TOKEN")}

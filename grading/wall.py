@@ -2,7 +2,7 @@
 for each trial (the arena's obstacle, its shape, size and place; the start pose; the wheels' and
 the scan's noise: sim/mobile/world.py `seeded_config`), one report item per trial judged by the
 world's monitor (sim/mobile/monitor.py), and the pass mark. Running a trial needs a live lab the
-student's program talks to (a server, rosbridge): that is app/cli/wall_trial.py's, handed to the
+student's program talks to (a server, rosbridge): that is grading/wall_trial.py's, handed to the
 job runner (sim/procedures/runner.py) as each trial's job.
 """
 
@@ -12,7 +12,8 @@ import math
 from dataclasses import dataclass
 
 from sim.mobile.world import MobileConfig, seeded_config
-from sim.procedures.report import Item, Report
+
+from grading.report import Item, Report
 
 KIND = "wall following"
 SECTION = "trials"

@@ -1,4 +1,4 @@
-"""The figures the SP-law checks' thresholds come from (grading/law_checks.py): the
+"""The figures the SP-law checks' thresholds come from (app/grading/law_checks.py): the
 reference SP and the followers, each through the grader's watched trials (the counted trials and
 the robustness situations), in-process, with each behaviour's worst figure per trial.
 
@@ -46,7 +46,7 @@ def measure(job: tuple) -> tuple:
     """(controller, item, carried, reason, measures) of one watched trial."""
     from sim.procedures.trial import make_trial, trial_seed
 
-    from grading import battery
+    from app.grading import battery
 
     name, kind, index, person, attempt, seed, root_seed = job
     make = factory(name)
@@ -64,8 +64,8 @@ def main() -> None:
     from sim.procedures.experiment import plan
     from sim.procedures.runner import worker_pool
 
-    from grading.battery import ROBUSTNESS
-    from grading.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
+    from app.grading.battery import ROBUSTNESS
+    from app.grading.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
 
     parser = argparse.ArgumentParser()
     parser.add_argument("--seed", type=int, default=0)

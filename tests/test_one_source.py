@@ -31,7 +31,6 @@ SCANNED = (
     "sim",
     "interfaces",
     "app",
-    "grading",
     "rosclient",
     "docs",
     "tests",
@@ -203,8 +202,8 @@ BAND_QUOTES = (
     "tests/nodes/",
     "tests/ros_programs/",
     "tests/e2e/test_grading.py",
-    "grading/probe_stream.py:start and stop set the band [force, force + 5] and running",
-    "grading/probe_stream.py:the band's upper end is f_n_min + 5 N",
+    "app/grading/probe_stream.py:start and stop set the band [force, force + 5] and running",
+    "app/grading/probe_stream.py:the band's upper end is f_n_min + 5 N",
 )
 
 

@@ -6,7 +6,7 @@ for every submission, its `run_autograder` with the student's files in /autograd
 that writes /autograder/results/results.json. Ours:
 - setup.sh installs bubblewrap (apt) and this very lab (its source is in the bundle, pip
   installs it with its pinned dependencies) into a virtual environment /autograder/hri-lab;
-- run_autograder runs `python -m grading.gradescope` (grading/gradescope.py): the battery
+- run_autograder runs `python -m app.grading.gradescope` (app/grading/gradescope.py): the battery
   of `hri-lab grade` on the submission's controller file, with the bundle's seed, each item a test;
   with --services also the services exercises (`hri-lab grade-services`) of the submission's
   services_node.py, run against a lab started in the container with `serve --exercises`.
@@ -24,7 +24,7 @@ import sys
 import zipfile
 
 from app.cli.handout import lab_files
-from grading.report import PUBLIC_SEED, seed_note
+from app.grading.report import PUBLIC_SEED, seed_note
 
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
 SOURCE = "hri-lab"  # the lab's source in the bundle (pip installs it)
@@ -67,12 +67,12 @@ echo "setup.sh: $("$PYTHON" --version) at $PYTHON"
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
 # Gradescope runs this for every submission: grades /autograder/submission/ and writes
-# /autograder/results/results.json (python -m grading.gradescope; docs/course-scale.md).
+# /autograder/results/results.json (python -m app.grading.gradescope; docs/course-scale.md).
 set -euo pipefail
 ROOT="${{HRI_LAB_GRADESCOPE_ROOT:-/autograder}}"
 PYTHON="${{HRI_LAB_PYTHON:-$ROOT/hri-lab/bin/python}}"
 cd "$ROOT"
-exec "$PYTHON" -m grading.gradescope "$ROOT/source/{config}"
+exec "$PYTHON" -m app.grading.gradescope "$ROOT/source/{config}"
 """
 
 

@@ -18,7 +18,6 @@ LAB = (
     "sim",
     "interfaces",
     "app",
-    "grading",
     "rosclient",
     "static",
 )  # what the lab runs on (static/: the page the server mounts)

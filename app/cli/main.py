@@ -21,9 +21,9 @@ from app.cli import arguments as a
 from app.cli import bag
 from app.cli import client as client_cli
 from app.cli import urdf as urdf_cli
-from grading.report import PUBLIC_SEED
+from app.grading.report import PUBLIC_SEED
 
-SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (grading/battery.py)
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (app/grading/battery.py)
 
 
 def _experiment(sub: a.Subparsers) -> None:

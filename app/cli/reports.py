@@ -10,7 +10,7 @@ from pathlib import Path
 
 from sim.controllers.plugin import split_spec
 
-from grading.report import Report, summary_csv
+from app.grading.report import Report, summary_csv
 
 FILE_KINDS = ("controller", "wall following")  # reports of a file (named after it), not of a lab
 

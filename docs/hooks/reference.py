@@ -248,7 +248,7 @@ def mobile_rules() -> str:
     from sim.mobile import arena, world
     from sim.mobile.monitor import WallRules
 
-    from grading import wall
+    from app.grading import wall
 
     r = WallRules()
     rows = [

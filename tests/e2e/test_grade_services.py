@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from grading.services import grade_services
+from app.grading.services import grade_services
 from tests.e2e.serving import served_lab
 from tests.waiting import start_node, stop_node
 

@@ -14,9 +14,9 @@ from sim.person.participants import PARTICIPANTS
 from sim.procedures.experiment import plan
 from sim.procedures.trial import Trial
 
-from grading.battery import PROBE_PASS_MARK, new_report, trial_items
-from grading.probe_stream import PROBES, Draw, graded, probe_items
-from grading.report import Item, summary_csv
+from app.grading.battery import PROBE_PASS_MARK, new_report, trial_items
+from app.grading.probe_stream import PROBES, Draw, graded, probe_items
+from app.grading.report import Item, summary_csv
 from tests.http_client import http
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
@@ -72,7 +72,7 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert "FLAGGED" in flag["detail"]
     assert "imports sim.controllers.sp" in flag["detail"]
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
-    # trial carried AND its stream within the SP law (grading/law_checks.py)
+    # trial carried AND its stream within the SP law (app/grading/law_checks.py)
     assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
     assert "not SP" not in (out / "reference_sp.txt").read_text()
     assert report["passed"] is True

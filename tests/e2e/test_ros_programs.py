@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
+from app.grading.services import grade_services
 from app.serving.launch import running_server
-from grading.services import grade_services
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run

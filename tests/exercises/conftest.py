@@ -1,5 +1,5 @@
 """Grading the services exercises over HTTP, one test per handout service (the items and cases of
-`hri-lab grade-services`, grading/services.py). An instructor points it at a lab started with
+`hri-lab grade-services`, app/grading/services.py). An instructor points it at a lab started with
 `hri-lab serve --exercises` and the student's node connected:
 
     HRI_LAB_URL=http://127.0.0.1:8000 HRI_LAB_GRADE_SEED=1234 .venv/bin/python -m pytest tests/exercises -v
@@ -11,7 +11,7 @@ import os
 
 import pytest
 
-from grading.services import Grading, LabClient
+from app.grading.services import Grading, LabClient
 
 
 @pytest.fixture(scope="session")

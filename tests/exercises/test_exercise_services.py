@@ -3,7 +3,7 @@ grader's order (the torques while the robot is at rest, start before stop)."""
 
 import pytest
 
-from grading.services import EXERCISES, grade_exercise
+from app.grading.services import EXERCISES, grade_exercise
 
 
 @pytest.mark.parametrize("exercise", EXERCISES, ids=[e.service.strip("/") for e in EXERCISES])

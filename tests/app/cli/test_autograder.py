@@ -1,5 +1,5 @@
 """app/cli/autograder.py in this process: the bundle's files and config, the public seed refused
-(what runs in the container: tests/grading/test_gradescope.py; the bundle run as Gradescope runs it:
+(what runs in the container: tests/app/grading/test_gradescope.py; the bundle run as Gradescope runs it:
 tests/e2e/test_gradescope.py; its CLI: tests/e2e/test_autograder.py)."""
 
 import json
@@ -7,7 +7,7 @@ import zipfile
 
 from app.cli.autograder import CONFIG, SOURCE, build
 from app.cli.main import build_parser
-from grading.report import PUBLIC_SEED
+from app.grading.report import PUBLIC_SEED
 
 
 def bundle_args(tmp_path, *argv: str):
@@ -26,7 +26,7 @@ def test_the_bundle_holds_the_scripts_executable_the_config_and_the_labs_source(
         f"{SOURCE}/pyproject.toml",
         f"{SOURCE}/sim/world.py",
         f"{SOURCE}/app/cli/autograder.py",
-        f"{SOURCE}/grading/gradescope.py",
+        f"{SOURCE}/app/grading/gradescope.py",
     } <= names
     assert config["seed"] == 31
     assert config["services"]

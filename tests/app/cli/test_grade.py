@@ -10,8 +10,8 @@ import pytest
 from app.cli.grade import SECTION_OF, expand, file_sha256, run, up_to_date
 from app.cli.main import build_parser
 from app.cli.reports import write_report
-from grading.battery import LOST, new_report
-from grading.report import Item
+from app.grading.battery import LOST, new_report
+from app.grading.report import Item
 
 ALL = ("probe", "trial", "robustness")
 

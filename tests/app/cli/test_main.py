@@ -13,7 +13,7 @@ import pytest
 
 from app.cli import arguments
 from app.cli.main import COMMANDS, build_parser
-from grading.report import PUBLIC_SEED
+from app.grading.report import PUBLIC_SEED
 
 ROOT = Path(__file__).resolve().parents[3]
 SHELL = (">", "|", "&", "2>")  # where an example's command ends (a redirection, a pipe, the background)

@@ -5,7 +5,7 @@ import json
 from argparse import Namespace
 
 from app.cli.reports import emit, report_stem, write_report
-from grading.report import Item, Report
+from app.grading.report import Item, Report
 
 
 def report(subject="students/ada.py:Mine", kind="controller", points=10.0, error="") -> Report:

@@ -11,7 +11,7 @@ import pytest
 from sim.controllers.interface import LiftingParams
 
 from app.cli.templates import FILES, NOT_IN_NODES, render
-from grading.services import EXERCISES
+from app.grading.services import EXERCISES
 
 APIS = ("rospy", "rclpy", "roslibpy")
 

@@ -10,7 +10,7 @@ import pytest
 from sim.procedures import runner
 from sim.procedures.runner import Job, JobLost, run_jobs
 
-from grading.battery import LOST, probes_job, robustness_job
+from app.grading.battery import LOST, probes_job, robustness_job
 
 
 def square(x: int) -> int:

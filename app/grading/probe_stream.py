@@ -1,7 +1,7 @@
 """The probe stream of the controller grader (docs/grading-battery.md, "The probes"): the SP law's
 situations as phases of ONE closed-loop stream that reaches the controller the way a trial does.
 
-The probes (PROBE_POINTS each; grading/battery.py assembles them with the trials into the
+The probes (PROBE_POINTS each; app/grading/battery.py assembles them with the trials into the
 battery): start/stop set the band; stopped -> zero; below the band -> +n (again at another pose:
 the twist must be in the base frame); inside -> still; above -> -n; the band's upper end is
 force + f_n_band; beyond the cone -> follow against f_t and raise the grip; inside the margin ->
@@ -26,7 +26,7 @@ from sim.robot.panda import PandaModel
 from sim.spatial import rotation_exp
 from sim.world import WorldConfig
 
-from grading.report import Item
+from app.grading.report import Item
 
 PROBE_POINTS = 5.0  # a probe's worth
 

@@ -1,4 +1,4 @@
-"""Grading reports (grading/report.py): what an instructor can defend in every format — a
+"""Grading reports (app/grading/report.py): what an instructor can defend in every format — a
 file that cannot be graded is 0 of the full points, a fault's traceback is written once with the
 items it cost, and every report says its seed and whether it is the public default."""
 
@@ -6,8 +6,8 @@ import csv
 import io
 import json
 
-from grading.battery import battery_points, new_report
-from grading.report import PUBLIC_SEED, Item, Report, summary_csv
+from app.grading.battery import battery_points, new_report
+from app.grading.report import PUBLIC_SEED, Item, Report, summary_csv
 
 TRACE = 'Traceback (most recent call last):\n  File "ada.py", line 9, in step\n    1 / 0\nZeroDivisionError: division by zero\n'
 FAULT = "Ada.step raised ZeroDivisionError: division by zero\n" + TRACE

@@ -1,16 +1,16 @@
 """`hri-lab grade FILE.py`: the battery a student's controller is graded with (docs/grading-battery.md).
 
 1. Probes (PROBE_POINTS each): the SP law's situations, as phases of ONE closed-loop stream that
-   reaches the controller the way a trial does (grading/probe_stream.py).
+   reaches the controller the way a trial does (app/grading/probe_stream.py).
 2. The experiment (5 points per counted trial): the nine Table 1 trials (sim/procedures/trial.py)
    with the lab's default parameters; the participants in COUNTED_PARTICIPANTS count (all three: at
    the default margin alpha 0.5 the reference SP carries each of them). A trial's points need the
    box carried (the world's own state) AND its whole stream within the SP law, judged from the
-   true contact and the controller's commands (grading/law_checks.py).
+   true contact and the controller's commands (app/grading/law_checks.py).
 3. Robustness (10 points each, judged the same way): a calm trial with three times the sensor
    noise; a calm trial in which the person jerks the box 3 cm sideways in 0.3 s while carrying it,
    and later stops mid-carry, holds still 2 s, lets the robot take more of the weight and turns the
-   box (grading/situations.py).
+   box (app/grading/situations.py).
 PASS: PASS_MARK % of all points and PROBE_PASS_MARK % of the probes' (the SP method itself).
 A plug-in runs sandboxed (sim/controllers/sandbox/): exceptions, bad twists, hangs, crashes and
 slow steps cost the items they break, with the reason. The same seed gives the same report.
@@ -37,10 +37,10 @@ from sim.procedures.trial import Trial, TrialResult, make_trial, trial_seed
 from sim.recording.trial import TrialObserver, TrialOutputs
 from sim.world import WorldConfig
 
-from grading.law_checks import BEHAVIOURS, LawWatch
-from grading.probe_stream import PROBE_POINTS, PROBES, graded, probe_items
-from grading.report import Item, Report
-from grading.situations import MidCarryStop
+from app.grading.law_checks import BEHAVIOURS, LawWatch
+from app.grading.probe_stream import PROBE_POINTS, PROBES, graded, probe_items
+from app.grading.report import Item, Report
+from app.grading.situations import MidCarryStop
 
 PASS_MARK = 60.0  # % of all points
 PROBE_PASS_MARK = 80.0  # % of the probes' points
@@ -77,7 +77,7 @@ def _run(
     trial: Trial, outputs, prefix: str = "", perturb: Callable[[Trial], None] | None = None
 ) -> tuple[TrialResult, LawWatch]:
     """Run a trial (perturb(trial) after every step), its stream watched for the SP law
-    (grading/law_checks.py), recorded and plotted when asked (files prefixed `prefix`)."""
+    (app/grading/law_checks.py), recorded and plotted when asked (files prefixed `prefix`)."""
     observer, watch = None, LawWatch()
     if outputs is not None and outputs.wanted:
         observer = trial.observer = TrialObserver(trial, replace(outputs, prefix=prefix) if prefix else outputs)
@@ -99,7 +99,7 @@ def _noisy_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawW
 def _pull_trial(controller, seed: int, outputs=None) -> tuple[TrialResult, LawWatch]:
     """2 s into the carry the person jerks the box 3 cm along the carry in 0.3 s (0.1 m/s on top of
     the path); later in the carry (where, drawn from the seed) the person stops: holds the box
-    still 2 s, lets the robot take more of the weight, turns it (grading/situations.py)."""
+    still 2 s, lets the robot take more of the weight, turns it (app/grading/situations.py)."""
     trial = Trial(PARTICIPANTS["calm"], seed, controller)
     human = trial.world.human
     direction = np.asarray(human.path_spec.carry_direction, float)

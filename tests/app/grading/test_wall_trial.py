@@ -1,4 +1,4 @@
-"""grading/wall_trial.py's verdict (`judge`) without a world or a program: the monitor's verdict
+"""app/grading/wall_trial.py's verdict (`judge`) without a world or a program: the monitor's verdict
 is the trial's; a program that ends, stays silent or falls behind is said so (the trial with a
 world and a program: tests/e2e/test_grade_wall.py)."""
 
@@ -10,9 +10,9 @@ import pytest
 from sim.mobile.monitor import WallState
 from sim.mobile.world import MobileConfig
 
-from grading import wall_trial
-from grading.wall import TrialOutcome
-from grading.wall_trial import Program, judge
+from app.grading import wall_trial
+from app.grading.wall import TrialOutcome
+from app.grading.wall_trial import Program, judge
 
 
 class Lab:

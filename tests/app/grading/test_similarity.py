@@ -1,12 +1,12 @@
-"""The batch's similarity report (grading/similarity.py): a copy of the lab's SP and two files that
+"""The batch's similarity report (app/grading/similarity.py): a copy of the lab's SP and two files that
 differ only in their names are flagged; a file written from the template is not."""
 
 import csv
 from pathlib import Path
 
-from grading.similarity import FIELDS, compare, reference_files
+from app.grading.similarity import FIELDS, compare, reference_files
 
-CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
+CONTROLLERS = Path(__file__).resolve().parents[2] / "controllers"
 
 
 def test_copies_and_renamed_pairs_are_flagged_and_an_honest_file_is_not(tmp_path):

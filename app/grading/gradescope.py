@@ -1,5 +1,5 @@
 """The Gradescope autograder in its container (the bundle `hri-lab autograder` writes, app/cli/autograder.py):
-`run_autograder` runs `python -m grading.gradescope CONFIG.json`, which grades /autograder/submission/
+`run_autograder` runs `python -m app.grading.gradescope CONFIG.json`, which grades /autograder/submission/
 as the bundle's config says (the battery of `hri-lab grade` on the controller file, with --services
 also the services exercises of its services_node.py against a lab started here) and writes
 /autograder/results/results.json, one test per item. $HRI_LAB_GRADESCOPE_ROOT (default /autograder)
@@ -19,8 +19,8 @@ from pathlib import Path
 from sim.controllers.plugin import DEFAULT_CLASS, PluginError, PluginFactory
 from sim.controllers.sandbox import sandbox_unavailable
 
-from grading.battery import battery, load_check, new_report, reference_items, run_items
-from grading.report import Report
+from app.grading.battery import battery, load_check, new_report, reference_items, run_items
+from app.grading.report import Report
 
 TEMPLATE_NAME = "cooperative_lifting.py"  # the name `hri-lab template` suggests for the file
 SERVICES_NAME = "services_node.py"  # the name `hri-lab template services` suggests for the node (docs/students.md)
@@ -97,8 +97,8 @@ def services_report(folder: Path, seed: int) -> Report:
     the node connected to it (a rospy/rclpy program through `hri-lab run`, else run with --port,
     as the roslibpy template is), graded over HTTP once it says "node ready" (or after
     NODE_READY_TIMEOUT s: what it does not serve then is not provided)."""
+    from app.grading.services import EXERCISES, grade_services
     from app.serving.launch import running_server
-    from grading.services import EXERCISES, grade_services
 
     found = sorted(folder.rglob(SERVICES_NAME))
     if not found:
@@ -164,7 +164,7 @@ def provided_by_nodes(url: str, services: list[str], settle_s: float) -> list[st
 
 
 def main(argv: list[str] | None = None) -> int:
-    """run_autograder's entry: `python -m grading.gradescope CONFIG.json`."""
+    """run_autograder's entry: `python -m app.grading.gradescope CONFIG.json`."""
     argv = sys.argv[1:] if argv is None else argv
     config = json.loads(Path(argv[0]).read_text(encoding="utf-8"))
     root = Path(os.environ.get("HRI_LAB_GRADESCOPE_ROOT", "/autograder"))

@@ -11,7 +11,7 @@ The expected answers are computed here, independently of the lab's code: the pla
 torques from a finite-difference Jacobian of its forward kinematics, the Panda's tau = J(q)^T F
 with this process's own pinocchio model at the q the lab reports on /joint_states (read before
 and after each call: the robot must not move in between), and the least-squares wrench with
-numpy. The report is the controller grader's (grading/report.py), in its formats.
+numpy. The report is the controller grader's (app/grading/report.py), in its formats.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ import pinocchio as pin
 from sim.controllers.interface import LiftingParams
 from sim.robot.assets import panda_urdf
 
-from grading.report import Item, Report
+from app.grading.report import Item, Report
 
 SECTION = "services"
 INT64_MAX = 2**63 - 1

@@ -1,8 +1,8 @@
-"""grading/gradescope.py in this process: which file of a submission is graded, and results.json's
+"""app/grading/gradescope.py in this process: which file of a submission is graded, and results.json's
 visibility (the bundle run as Gradescope runs it: tests/e2e/test_gradescope.py)."""
 
-from grading.gradescope import results_json, submission_file
-from grading.report import Item, Report
+from app.grading.gradescope import results_json, submission_file
+from app.grading.report import Item, Report
 
 
 def test_the_graded_file_is_the_templates_name_or_the_only_py_file(tmp_path):

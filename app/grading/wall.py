@@ -2,7 +2,7 @@
 for each trial (the arena's obstacle, its shape, size and place; the start pose; the wheels' and
 the scan's noise: sim/mobile/world.py `seeded_config`), one report item per trial judged by the
 world's monitor (sim/mobile/monitor.py), and the pass mark. Running a trial needs a live lab the
-student's program talks to (a server, rosbridge): that is grading/wall_trial.py's, handed to the
+student's program talks to (a server, rosbridge): that is app/grading/wall_trial.py's, handed to the
 job runner (sim/procedures/runner.py) as each trial's job.
 """
 
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from sim.mobile.world import MobileConfig, seeded_config
 
-from grading.report import Item, Report
+from app.grading.report import Item, Report
 
 KIND = "wall following"
 SECTION = "trials"

@@ -54,7 +54,7 @@ def compare(files: list[Path], out: Path, threshold: float = THRESHOLD) -> list[
     """Every pair of `files` and each against the lab's reference, written to out/similarity.csv and
     out/similarity.html; the pairs, flagged first, the most similar first (computed in a child
     process with a fixed hash seed: see the module's docstring)."""
-    command = [sys.executable, "-m", "grading.similarity", str(out), repr(threshold), *map(str, files)]
+    command = [sys.executable, "-m", "app.grading.similarity", str(out), repr(threshold), *map(str, files)]
     env = dict(os.environ, PYTHONHASHSEED="0")
     done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=600)
     if done.returncode != 0:

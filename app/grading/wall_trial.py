@@ -28,12 +28,12 @@ import uvicorn
 from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command
 from sim.mobile.world import MobileConfig
 
-from app.cli.serve import server_config
+from app.grading.report import Item
+from app.grading.wall import TrialOutcome, trial_item
 from app.mobile.lab import MobileLab
 from app.serving.compose import create_app
+from app.serving.http import server_config
 from app.serving.launch import free_port, stop_group
-from grading.report import Item
-from grading.wall import TrialOutcome, trial_item
 
 FIRST_COMMAND_S = 90.0  # s of wall clock for the program to start and publish its first /cmd_vel
 BEHIND_S = 120.0  # s of wall clock beyond the time limit before a trial that falls behind is ended
@@ -65,9 +65,7 @@ def served(config: MobileConfig) -> Iterator[tuple[MobileLab, str]]:
 PROGRAM_MEMORY_BYTES = 2 << 30  # RLIMIT_AS of a jailed program (Python, numpy, the rospy/rclpy layer)
 PROGRAM_OPEN_FILES = 256  # RLIMIT_NOFILE: its sockets, pipes and files
 # the packages `hri-lab run` imports (not their checkout; sim/ the jail shows to every child)
-LAB_CODE = tuple(
-    str(Path(__file__).resolve().parents[1] / top) for top in ("interfaces", "app", "grading", "rosclient")
-)
+LAB_CODE = tuple(str(Path(__file__).resolve().parents[2] / top) for top in ("interfaces", "app", "rosclient"))
 
 
 def _limits() -> None:

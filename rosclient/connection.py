@@ -350,17 +350,7 @@ class Connection:
                 for header_handler in with_header:
                     header_handler(message.get("msg") or {}, header if isinstance(header, dict) else {})
         elif op == "service_response":
-            with self._lock:
-                call_id = str(message.get("id"))
-                future = self._calls.pop(call_id, None)
-                wants_header = call_id in self._with_header
-                self._with_header.discard(call_id)
-            if future is not None and not future.done():
-                answer: tuple = (bool(message.get("result", True)), message.get("values"))
-                if wants_header:
-                    header = message.get("connection_header")
-                    answer += (header if isinstance(header, dict) else {},)
-                future.set_result(answer)
+            self._service_response(message)
         elif op == "call_service":
             serve = self.service_handlers.get("/" + str(message.get("service", "")).strip("/"))
             if serve is not None:
@@ -379,14 +369,32 @@ class Connection:
             if entry is not None:
                 entry[0 if op == "send_action_goal" else 1](message)
         elif op == "status":
-            id_ = str(message.get("id", ""))
-            if id_ == "rosout":
-                if message.get("level") == "error":
-                    self.rosout_refused(str(message.get("msg")))
-            elif id_ in self._refusals and message.get("level") == "error":  # the op's refusal: raised by its caller
-                self._refusals[id_].append(str(message.get("msg")))
-            elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
-                self.status_handler(message)
+            self._status(message)
+
+    def _service_response(self, message: dict) -> None:
+        """A call's answer to the future its caller waits on: (result, values[, connection header])."""
+        with self._lock:
+            call_id = str(message.get("id"))
+            future = self._calls.pop(call_id, None)
+            wants_header = call_id in self._with_header
+            self._with_header.discard(call_id)
+        if future is not None and not future.done():
+            answer: tuple = (bool(message.get("result", True)), message.get("values"))
+            if wants_header:
+                header = message.get("connection_header")
+                answer += (header if isinstance(header, dict) else {},)
+            future.set_result(answer)
+
+    def _status(self, message: dict) -> None:
+        """A status message: rosout's refusal, an op's refusal for its caller, else the status handler's."""
+        id_ = str(message.get("id", ""))
+        if id_ == "rosout":
+            if message.get("level") == "error":
+                self.rosout_refused(str(message.get("msg")))
+        elif id_ in self._refusals and message.get("level") == "error":  # the op's refusal: raised by its caller
+            self._refusals[id_].append(str(message.get("msg")))
+        elif not id_.startswith("call_service:"):  # a failed call's reason reaches its caller instead
+            self.status_handler(message)
 
     def _lost(self, reason: str) -> None:
         with self._lock:

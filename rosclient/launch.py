@@ -371,13 +371,11 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
     """`hri-lab launch`: the launch file's nodes against the lab at args.url, or against one that
     `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
     path = Path(args.file)
-    launch_args = {}
-    for item in args.args:
-        if ":=" not in item:
-            print(f"error: launch arguments are NAME:=VALUE, got {item!r}", file=sys.stderr)
-            return 2
-        key, value = item.split(":=", 1)
-        launch_args[key] = value
+    bad = [item for item in args.args if ":=" not in item]
+    if bad:
+        print(f"error: launch arguments are NAME:=VALUE, got {bad[0]!r}", file=sys.stderr)
+        return 2
+    launch_args = dict(item.split(":=", 1) for item in args.args)
     if args.workspace:  # $(find pkg) and <node pkg=...> resolve in it, as the nodes' imports do
         os.environ["HRI_LAB_WORKSPACE"] = str(Path(args.workspace).resolve())
     try:
@@ -426,16 +424,7 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
         if stopping.is_set():
             print("shutting down processing monitor...", flush=True)
     finally:
-        for r in running:
-            if r.proc.poll() is None:
-                r.proc.send_signal(signal.SIGINT)
-        deadline = time.monotonic() + GRACE
-        for r in running:
-            try:
-                r.proc.wait(timeout=max(deadline - time.monotonic(), 0.1))
-            except subprocess.TimeoutExpired:
-                r.proc.kill()
-                r.proc.wait()
+        _stop(running)
         if server is not None:
             server.stop()
     for r in running:  # the ones that ended while stopping
@@ -444,6 +433,20 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
             print(f"[{r.label}] process has died [pid {r.proc.pid}, exit code {r.proc.returncode}]", flush=True)
     print("done", flush=True)
     return 1 if crashed else 0
+
+
+def _stop(running: list[Running]) -> None:
+    """Ctrl+C to every node still running, as roslaunch sends it; killed after GRACE s."""
+    for r in running:
+        if r.proc.poll() is None:
+            r.proc.send_signal(signal.SIGINT)
+    deadline = time.monotonic() + GRACE
+    for r in running:
+        try:
+            r.proc.wait(timeout=max(deadline - time.monotonic(), 0.1))
+        except subprocess.TimeoutExpired:
+            r.proc.kill()
+            r.proc.wait()
 
 
 def _set_params(url: str, params: dict[str, Any]) -> None:

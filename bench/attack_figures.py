@@ -6,7 +6,7 @@ frame of tests/ costs and how long it takes to its verdict, on this machine.
 2. tests/controllers/sleeper.py (2 s sleeps on 10 of every 250 steps): the wall time from its
    first step to the fault, and the reason;
 3. the 2-byte call (`{"i":{}}`) of a client's service whose request nests a fixed-size array at the
-   cap (app/interfaces/parser.py, MAX_DEFAULT_VALUES): the server's peak resident memory
+   cap (interfaces/parser.py, MAX_DEFAULT_VALUES): the server's peak resident memory
    (VmHWM) before and after, and the call's wall time; and the refusal of 30 million items.
 
     .venv/bin/python -m bench.attack_figures
@@ -26,8 +26,8 @@ from websockets.sync.client import connect
 from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginFactory
 
-from app.cli.launch import running_server
-from app.interfaces.parser import MAX_DEFAULT_VALUES
+from app.serving.launch import running_server
+from interfaces.parser import MAX_DEFAULT_VALUES
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "tests" / "controllers"
 

@@ -30,9 +30,8 @@ from pathlib import Path
 
 import httpx
 
-from sim.recording import bags
-
-from app.cli.launch import ServerProcess
+from app.recording import bags
+from app.serving.launch import ServerProcess
 from tests import hostile_bags
 
 ROOT = Path(__file__).parent.parent

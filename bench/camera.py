@@ -24,7 +24,7 @@ import httpx
 from sim.camera_render import CameraRenderer, SceneSizes
 from sim.world import World, WorldConfig
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 NODE = Path(__file__).resolve().parent / "ros_image_subscriber.py"
 

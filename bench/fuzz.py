@@ -18,7 +18,7 @@ import schemathesis.config
 from hypothesis import HealthCheck, given, settings
 from schemathesis.checks import CHECKS, load_all_checks
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 load_all_checks()
 ALL_CHECKS = CHECKS.get_all()

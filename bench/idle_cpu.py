@@ -13,7 +13,7 @@ import time
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 TICKS = os.sysconf("SC_CLK_TCK")
 

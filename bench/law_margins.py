@@ -1,4 +1,4 @@
-"""The figures the SP-law checks' thresholds come from (sim/procedures/law_checks.py): the
+"""The figures the SP-law checks' thresholds come from (app/grading/law_checks.py): the
 reference SP and the followers, each through the grader's watched trials (the counted trials and
 the robustness situations), in-process, with each behaviour's worst figure per trial.
 
@@ -44,8 +44,9 @@ def factory(name: str):
 
 def measure(job: tuple) -> tuple:
     """(controller, item, carried, reason, measures) of one watched trial."""
-    from sim.procedures import battery
     from sim.procedures.trial import make_trial, trial_seed
+
+    from app.grading import battery
 
     name, kind, index, person, attempt, seed, root_seed = job
     make = factory(name)
@@ -60,10 +61,11 @@ def measure(job: tuple) -> tuple:
 
 
 def main() -> None:
-    from sim.procedures.battery import ROBUSTNESS
     from sim.procedures.experiment import plan
-    from sim.procedures.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
     from sim.procedures.runner import worker_pool
+
+    from app.grading.battery import ROBUSTNESS
+    from app.grading.law_checks import BAND_MOVE, FOLLOW_COS, GRIP_SPEED, MOMENT_COS, STICK_MOVE
 
     parser = argparse.ArgumentParser()
     parser.add_argument("--seed", type=int, default=0)

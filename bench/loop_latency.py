@@ -13,7 +13,7 @@ import time
 
 import httpx
 
-from app.cli.launch import free_port, running_server
+from app.serving.launch import free_port, running_server
 from bench.service_latency import run_wrk
 
 

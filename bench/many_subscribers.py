@@ -20,8 +20,8 @@ import time
 import httpx
 from websockets.asyncio.client import connect
 
-from app.cli.launch import running_server
 from app.rosbridge.bridge import MAX_OUTGOING_RATE
+from app.serving.launch import running_server
 from bench import percentile
 
 TOPICS = ("/franka_state_controller/F_ext", "/joint_states", "/contact_state", "/lifting_state")

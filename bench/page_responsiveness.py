@@ -19,7 +19,7 @@ import time
 
 import httpx
 
-from app.cli.launch import free_port, running_server
+from app.serving.launch import free_port, running_server
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 ARGS = [

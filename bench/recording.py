@@ -18,7 +18,7 @@ from pathlib import Path
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 
 def loop_cost(seconds: float, repeats: int, folder: Path) -> None:

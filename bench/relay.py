@@ -24,10 +24,10 @@ import timeit
 from typing import Any
 from unittest import mock
 
-from app.cli.compose import build
 from app.lab.lab import Lab
 from app.rosbridge.internal.message_conversion import populate
 from app.rosbridge.session import Session
+from app.serving.compose import build
 
 # a program's own 1 kHz topic (a PoseStamped with its header, as rospy/rclpy publish it) and a ROS 1
 # client's cancel (its id alone: filled)

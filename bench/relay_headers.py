@@ -16,7 +16,7 @@ import time
 
 from websockets.asyncio.client import connect
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 TOPIC = "/relay_bench"
 

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench.ros_programs import hri_lab_run, percentile, stop
 
 PROGRAM = Path(__file__).resolve().parent.parent / "tests" / "ros_programs" / "image_subscriber_rclpy.py"

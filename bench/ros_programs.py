@@ -36,7 +36,7 @@ from pathlib import Path
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench import rospy_floor
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -45,7 +45,7 @@ SUBSCRIBER = Path(__file__).resolve().parent / "ros_fext_subscriber.py"
 CALLER = Path(__file__).resolve().parent / "ros_service_caller.py"
 # a fresh interpreter's import, timed inside it: a program's hri_lab import now, and what it took before
 HRI_LAB_IMPORT = (
-    "import time; t = time.perf_counter(); from app.rosclient import interfaces; interfaces.install([]); "
+    "import time; t = time.perf_counter(); from rosclient import interfaces; interfaces.install([]); "
     "from hri_lab.srv import DivideInts; print(time.perf_counter() - t)"
 )
 DECLARATIONS_IMPORT = (

@@ -21,7 +21,7 @@ from pathlib import Path
 import httpx
 import roslibpy
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench import percentile
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "app" / "cli" / "templates" / "services_node.py"

@@ -19,7 +19,7 @@ import tempfile
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 SCRIPT = """
 wrk.method = "POST"

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import statistics
 
-from app.cli.launch import ServerProcess
+from app.serving.launch import ServerProcess
 
 
 def _proc_mb(pid: int, file: str, key: str) -> float:

@@ -10,7 +10,8 @@ import sys
 
 from sim.controllers import template
 from sim.controllers.plugin import PluginFactory
-from sim.procedures.battery import grade
+
+from app.grading.battery import grade
 
 files = [a for a in sys.argv[1:] if not a.startswith("--")]
 path = files[0] if files else template.__file__

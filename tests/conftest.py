@@ -91,9 +91,9 @@ LONG_FILES_FIRST = (
 
 
 # Markers by folder (`make test-fast` runs neither; tests/README.md): `e2e`, the files under tests/e2e/
-# (and tests/grading/, the instructors' suite) that run other programs: real servers, nodes, students'
+# (and tests/exercises/, the instructors' suite) that run other programs: real servers, nodes, students'
 # programs, sandboxed controllers, the CLI; `browser`, the files under tests/e2e/browser/ that drive Chromium.
-E2E_FOLDERS = ("e2e", "grading")
+E2E_FOLDERS = ("e2e", "exercises")
 BROWSER_FOLDER = ("e2e", "browser")
 
 
@@ -154,7 +154,7 @@ def client(tmp_path_factory):
     recordings and figures go to a temporary folder, never into the working tree."""
     from fastapi.testclient import TestClient
 
-    from app.cli.compose import create_app
+    from app.serving.compose import create_app
 
     with TestClient(create_app()) as c:
         output = tmp_path_factory.mktemp("lab")

@@ -1,6 +1,6 @@
 """Hostile recordings made byte by byte (the MCAP and rosbag1 layouts from their specifications):
 decompression bombs, chunks that lie about their size, records that claim more than the file has.
-The tests of sim/recording/bounded.py and sim/recording/bags.py, and the CLI's, refuse them."""
+The tests of sim/recording/bounded.py and app/recording/bags.py, and the CLI's, refuse them."""
 
 from __future__ import annotations
 

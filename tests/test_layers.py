@@ -4,7 +4,12 @@ no module of sim/ or app/ imports itself back through others (an import circle),
 inside every package, its subpackages and modules (each taken whole) import one another one way.
 The imports are read from the sources (ast), top-level and inside functions alike, so a lazy import
 does not hide an arrow. The checker is tested on a made-up tree with circles, so that it cannot pass
-by seeing nothing."""
+by seeing nothing.
+
+The student-side client (rosclient/, its site/ of rospy, rclpy, ... included) is a package of its own: it
+imports the message vocabulary both sides share (interfaces/) and nothing of the lab's server, its
+grading or the simulation; the server (everything but the commands, app/cli/) never imports it, nor the client
+libraries a program imports (rospy, rclpy, ...)."""
 
 from __future__ import annotations
 
@@ -13,21 +18,27 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 # programs of their own, run with other imports on sys.path: students' handouts and the rospy/rclpy shims
-NOT_MODULES = ("app/cli/templates/", "app/rosclient/site/")
+NOT_MODULES = ("app/cli/templates/", "rosclient/site/")
 NEVER_IN_SIM = ("app", "fastapi", "starlette", "uvicorn", "viser")
+PACKAGES = ("sim", "interfaces", "app", "rosclient")  # the lab's top-level packages, the layers upward
+CLIENT = "rosclient"
+SITE = ROOT / CLIENT / "site"  # the client libraries a program imports under their own names
+NEVER_IN_CLIENT = ("sim", "app")  # the client takes only the shared vocabulary (interfaces)
+COMMANDS = "app.cli"  # the composition of everything: `hri-lab run` starts the client, `hri-lab launch` its nodes
 # The package arrows that run the wrong way today, each named with what cuts it (issue 34, after the
 # merges): left out of the package check so that any other package circle fails; one that is gone
 # fails too, so that this list stays true.
 KNOWN_UPWARD: dict[tuple[str, str], str] = {}  # an arrow up kept for now, with why (none left)
 
 
-def modules(root: Path, packages: tuple[str, ...]) -> dict[str, Path]:
-    """Every module of the packages under root, by dotted name (a package by its __init__)."""
+def modules(root: Path, packages: tuple[str, ...], every: bool = False) -> dict[str, Path]:
+    """Every module of the packages under root, by dotted name (a package by its __init__); with
+    `every`, the programs of their own too (NOT_MODULES: the client's site, the handouts)."""
     found = {}
     for package in packages:
         for path in sorted((root / package).rglob("*.py")):
             relative = path.relative_to(root).as_posix()
-            if relative.startswith(NOT_MODULES):
+            if relative.startswith(NOT_MODULES) and not every:
                 continue
             parts = relative[: -len(".py")].split("/")
             found[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
@@ -130,6 +141,27 @@ def test_sim_never_imports_the_server_or_its_libraries():
     assert {name: names for name, names in wrong.items() if names} == {}
 
 
+def client_imports(root: Path, site: Path) -> tuple[dict[str, list[str]], dict[str, list[str]]]:
+    """(the client's modules, its site's included, that import the server or the simulation;
+    the server's modules that import the client or a library of its site), each with those names."""
+    site_names = {path.name for path in site.iterdir() if path.is_dir()} if site.is_dir() else set()
+    client = {
+        name: sorted(n for n in imported(name, path) if n.split(".")[0] in NEVER_IN_CLIENT)
+        for name, path in modules(root, (CLIENT,), every=True).items()
+    }
+    servers = tuple(p for p in PACKAGES if p != CLIENT)
+    server = {
+        name: sorted(n for n in imported(name, path) if n.split(".")[0] in {CLIENT, *site_names})
+        for name, path in modules(root, servers, every=True).items()
+        if not (name == COMMANDS or name.startswith(COMMANDS + "."))
+    }
+    return {n: v for n, v in client.items() if v}, {n: v for n, v in server.items() if v}
+
+
+def test_the_client_and_the_server_never_import_each_other():
+    assert client_imports(ROOT, SITE) == ({}, {})
+
+
 def test_nothing_below_the_procedures_imports_them():
     graph = import_graph(ROOT, ("sim",))
     upward = {
@@ -140,12 +172,12 @@ def test_nothing_below_the_procedures_imports_them():
     assert {name: names for name, names in upward.items() if names} == {}
 
 
-def test_no_import_circle_in_sim_or_app():
-    assert list(circles(import_graph(ROOT, ("sim", "app")))) == []
+def test_no_import_circle_in_the_lab():
+    assert list(circles(import_graph(ROOT, PACKAGES))) == []
 
 
-def test_no_package_circle_in_sim_or_app():
-    graphs = package_graphs(ROOT, ("sim", "app"))
+def test_no_package_circle_in_the_lab():
+    graphs = package_graphs(ROOT, PACKAGES)
     assert package_circles(graphs, set(KNOWN_UPWARD)) == {}
     gone = [arrow for arrow in KNOWN_UPWARD if arrow[1] not in graphs[arrow[0].rpartition(".")[0]].get(arrow[0], ())]
     assert gone == [], "these arrows are cut: take them out of KNOWN_UPWARD"
@@ -186,3 +218,29 @@ def test_the_checker_finds_a_package_circle_no_module_circle_shows(tmp_path):
     graphs = package_graphs(tmp_path, ("app",))
     assert package_circles(graphs, set()) == {"app": [["app.api", "app.view"]]}
     assert package_circles(graphs, {("app.view", "app.api")}) == {}
+
+
+def test_the_checker_finds_the_client_and_the_server_importing_each_other(tmp_path):
+    for relative, text in {
+        "rosclient/__init__.py": "",
+        "rosclient/connection.py": "from interfaces.messages import Message\n",
+        "rosclient/site/rospy/__init__.py": "from .topics import Publisher\n",
+        "rosclient/site/rospy/topics.py": "def f():\n    from app.ros.names import absolute\n",
+        "app/__init__.py": "",
+        "app/lab/__init__.py": "",
+        "app/lab/lab.py": "import rospy\n",
+        "app/cli/__init__.py": "",
+        "app/cli/main.py": "from rosclient import run\n",
+        "app/grading/__init__.py": "",
+        "app/grading/services.py": "from rosclient.connection import Connection\n",
+        "interfaces/__init__.py": "",
+        "interfaces/messages.py": "import json\n",
+    }.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    client, server = client_imports(tmp_path, tmp_path / "rosclient" / "site")
+    assert client == {"rosclient.site.rospy.topics": ["app.ros.names", "app.ros.names.absolute"]}
+    assert server == {
+        "app.lab.lab": ["rospy"],
+        "app.grading.services": ["rosclient.connection", "rosclient.connection.Connection"],
+    }  # the commands (app.cli) may start the client

@@ -27,7 +27,18 @@ ROOT = Path(__file__).resolve().parent.parent
 METHOD = ROOT / "docs" / "method.md"
 PATCH = ROOT / "sim" / "controllers" / "patch.py"
 HISTORY = ("CHANGELOG.md", "docs/changelog.md")  # what was true then, in the words of then
-SCANNED = ("sim", "app", "docs", "tests", "bench", "examples", "static", "README.md")
+SCANNED = (
+    "sim",
+    "interfaces",
+    "app",
+    "rosclient",
+    "docs",
+    "tests",
+    "bench",
+    "examples",
+    "static",
+    "README.md",
+)
 
 LABELS = r"[0-9][ab]?(?:(?:-|, and |, | and )[0-9][ab]?)*(?![0-9])"
 STEP = re.compile(rf"(?<![-\w])(patch |SP's |SP )?[Ss]teps? ({LABELS})", re.IGNORECASE)
@@ -191,8 +202,8 @@ BAND_QUOTES = (
     "tests/nodes/",
     "tests/ros_programs/",
     "tests/e2e/test_grading.py",
-    "sim/procedures/probe_stream.py:start and stop set the band [force, force + 5] and running",
-    "sim/procedures/probe_stream.py:the band's upper end is f_n_min + 5 N",
+    "app/grading/probe_stream.py:start and stop set the band [force, force + 5] and running",
+    "app/grading/probe_stream.py:the band's upper end is f_n_min + 5 N",
 )
 
 

@@ -64,7 +64,7 @@ def wait_provided(url: str, *services: str, timeout: float = 30.0) -> None:
     """Until the lab names a program's node, not its own, as each service's provider (`GET
     /services/NAME`, as `rosservice info`): roslibpy's advertise does not wait for the lab, so a
     roslibpy node's "ready" line can come before the lab has its services (the autograder's wait)."""
-    from app.cli.autograder import provided_by_nodes
+    from app.grading.gradescope import provided_by_nodes
 
     missing = provided_by_nodes(url, list(services), timeout)
     assert not missing, f"still the lab's own after {timeout} s: {missing}"

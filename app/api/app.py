@@ -1,7 +1,7 @@
 """The FastAPI app: one router per resource (services, parameters, topics, actions, teleop, robot,
 system), around one Lab whose simulation runs while the app is served. It is handed what it serves
 (the lab, its registries, the other front ends' routes and what runs beside it) by the composition
-root, app/cli/compose.py; it builds none of them."""
+root, app/serving/compose.py; it builds none of them."""
 
 from collections.abc import Sequence
 from concurrent.futures import TimeoutError as CallTimeout

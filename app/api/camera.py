@@ -19,9 +19,9 @@ from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import Response
 
 from app.api.deps import LabDep
-from app.interfaces.image_windows import WINDOWS
 from app.runtime.camera_process import MAX_RATE_HZ
 from app.runtime.shared_frame import Frame
+from interfaces.image_windows import WINDOWS
 
 WAIT_S = 30.0  # s a request waits for an image (the renderer's start on a loaded machine)
 POLL_S = 0.005

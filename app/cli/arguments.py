@@ -15,7 +15,7 @@ import re
 import sys
 from collections.abc import Callable
 
-from sim.procedures.report import PUBLIC_SEED
+from app.grading.report import PUBLIC_SEED
 
 DEFAULT_URL = "http://127.0.0.1:8000"  # the lab as `hri-lab serve` starts it
 URL_ENV, GRADE_SEED_ENV, SCHEDULER_ENV = "HRI_LAB_URL", "HRI_LAB_GRADE_SEED", "HRI_LAB_SCHEDULER"

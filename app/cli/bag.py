@@ -58,7 +58,9 @@ def record(args) -> int:
 
 def info(args) -> int:
     """What `ros2 bag info` prints, of any bag: the lab's MCAP, a rosbag2 (folder, .mcap), a rosbag1 .bag."""
-    from sim.recording import bags, reader
+    from sim.recording import reader
+
+    from app.recording import bags
 
     try:
         bag = bags.open_bag(args.file).info()
@@ -70,7 +72,9 @@ def info(args) -> int:
 
 def convert(args) -> int:
     """Any bag to a ROS 1 .bag (rosbag1), as `rosbags-convert` does."""
-    from sim.recording import bags, reader
+    from sim.recording import reader
+
+    from app.recording import bags
 
     output = Path(args.output)
     if output.suffix != ".bag":
@@ -104,7 +108,7 @@ def play(args) -> int:
     from sim.recording import reader
     from sim.recording.playback import Playback
 
-    from app.cli.launch import free_port
+    from app.serving.launch import free_port
     from app.view.replay import ReplayView, replay_app
 
     view: ReplayView

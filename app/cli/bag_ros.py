@@ -4,9 +4,9 @@ Like rosbag's, each is a node of the lab's graph (a rosbridge v2 client on the l
 
 - **record** subscribes to the topics named (or every topic with `-a`, new ones as they appear,
   less `-x REGEX`; `-e REGEX` picks by pattern) at rosbridge's pass-through (every message) and
-  writes a rosbag2 (MCAP, CDR, metadata.yaml; sim/recording/bags.py). Each topic's definition:
+  writes a rosbag2 (MCAP, CDR, metadata.yaml; app/recording/bags.py). Each topic's definition:
   ROS 2's standard types from `rosbags`, the lab's and the workspace's from their .msg files
-  (app/rosclient/share, the current folder's packages), a program's own from the full text it
+  (rosclient/share, the current folder's packages), a program's own from the full text it
   carried when it advertised (rosapi's topics_and_raw_types).
 - **play** advertises every recorded topic and publishes its messages at their recorded times
   (scaled by `-r`, from `-s` seconds in, looped with `-l`, `/clock` with `--clock`), so programs
@@ -31,10 +31,10 @@ from urllib.parse import urlsplit
 from websockets.exceptions import WebSocketException
 from websockets.sync.client import ClientConnection, connect
 
-from sim.recording import bags
 from sim.recording.reader import RecordingError
 
 from app.cli import client as c
+from app.recording import bags
 from app.rosbridge.protocol import MAX_FRAME as MAX_FRAME_CHARS  # the lab's limit on one frame
 
 LAB_NODE_TOPICS = "/rosapi/node_details"
@@ -111,9 +111,9 @@ def _stop_on_sigterm() -> None:
 # --- record -------------------------------------------------------------------------------------
 def _definition_finder() -> Callable[[str], str | None]:
     """The .msg files a program's imports would find: the current folder's workspace, then the
-    definitions the lab ships (app/interfaces/share, its own hri_lab package's included)."""
-    from app.interfaces.packages import Interfaces, full_text
-    from app.rosclient.interfaces import workspace_roots
+    definitions the lab ships (interfaces/share, its own hri_lab package's included)."""
+    from interfaces.packages import Interfaces, full_text
+    from rosclient.interfaces import workspace_roots
 
     found = Interfaces(workspace_roots(Path.cwd() / "bag"))
 

@@ -2,7 +2,7 @@
 Dask cluster (docs/course-scale.md).
 
 Every file is first loaded once where it will be graded (a file that cannot be loaded gets a
-report saying why), then its battery's jobs (sim/procedures/battery.py) run with every other
+report saying why), then its battery's jobs (app/grading/battery.py) run with every other
 file's: here, in `--jobs` processes, or one task per job on the cluster at `--scheduler` (or
 $HRI_LAB_SCHEDULER). With --out, a file's report is written as soon as its last item is in, and
 a file whose report there is for the same seed and the same file (its sha256) is skipped
@@ -11,7 +11,7 @@ a file whose report there is for the same seed and the same file (its sha256) is
 A file that imports, subclasses or copies the lab's own controllers (the sandbox sees it load them:
 docs/sandbox.md) is not a submission: its report says so and it scores 0 (`--reference flag`
 grades it, with an item that flags it). With --out, `similarity.csv` and `similarity.html` compare
-every pair of the batch's files and each against the lab's controllers (app/cli/similarity.py).
+every pair of the batch's files and each against the lab's controllers (app/grading/similarity.py).
 
 Exit status: 0 all passed, 1 some failed (or could not be loaded), 2 refused (no sandbox, no
 file); never 0 before every report is written.
@@ -30,12 +30,12 @@ from tqdm import tqdm
 
 from sim.controllers.plugin import PluginError, PluginFactory, split_spec
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.battery import LOST, Items, Loaded, battery, load_check, new_report, reference_items
-from sim.procedures.report import Item, Report
 from sim.procedures.runner import Job, run_jobs
 
 from app.cli.outputs import trial_outputs
 from app.cli.reports import emit, report_stem, write_report
+from app.grading.battery import LOST, Items, Loaded, battery, load_check, new_report, reference_items
+from app.grading.report import Item, Report
 
 
 def expand(specs: list[str]) -> list[str]:
@@ -140,8 +140,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _similarity(reports: list[Report], out: Path, threshold: float | None) -> None:
-    """The batch's similarity report beside its reports (app/cli/similarity.py); the flagged pairs said."""
-    from app.cli.similarity import THRESHOLD, compare
+    """The batch's similarity report beside its reports (app/grading/similarity.py); the flagged pairs said."""
+    from app.grading.similarity import THRESHOLD, compare
 
     threshold = threshold or THRESHOLD
     files = sorted({path for r in reports if _text_file(path := split_spec(r.subject)[0])})

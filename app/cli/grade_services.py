@@ -1,5 +1,5 @@
 """`hri-lab grade-services --url URL`: grade the handout's exercise services over the lab's HTTP API
-(the items and their checks: app/cli/services_grading.py). Every case's numbers are drawn
+(the items and their checks: app/grading/services.py). Every case's numbers are drawn
 from the seed (`--seed`, default $HRI_LAB_GRADE_SEED); reports: the controller grader's formats
 (text, JSON, Gradescope's results.json).
 """
@@ -13,7 +13,7 @@ import sys
 import httpx
 
 from app.cli.reports import emit
-from app.cli.services_grading import grade_services
+from app.grading.services import grade_services
 
 
 def run(args: argparse.Namespace) -> int:

@@ -1,8 +1,8 @@
 """`hri-lab grade-wall FOLLOWER.py|DIR...`: the EE-381 lab's wall following, graded (docs/mobile-lab.md).
 
-Every file gets the same trials, drawn from the seed (sim/procedures/wall_grading.py: the
+Every file gets the same trials, drawn from the seed (app/grading/wall.py: the
 obstacle's shape, size and place, the start pose, the noise); each trial runs the program against
-its own mobile world (app/cli/wall_trial.py) and is judged from the world's true state. The trials
+its own mobile world (app/grading/wall_trial.py) and is judged from the world's true state. The trials
 of every file are the job runner's jobs (sim/procedures/runner.py): here, in `--jobs` processes, or
 on the Dask cluster at `--scheduler`, as `hri-lab grade` runs its items. With --out, a file's report
 is written as soon as its last trial is in.
@@ -21,11 +21,11 @@ from pathlib import Path
 from tqdm import tqdm
 
 from sim.controllers.sandbox import sandbox_unavailable
-from sim.procedures.report import Item, Report
 from sim.procedures.runner import Job, run_jobs
-from sim.procedures.wall_grading import TRIALS, lost_item, new_wall_report, trial_configs
 
 from app.cli.reports import emit, write_report
+from app.grading.report import Item, Report
+from app.grading.wall import TRIALS, lost_item, new_wall_report, trial_configs
 
 
 def expand(specs: list[str]) -> list[Path]:
@@ -37,7 +37,7 @@ def expand(specs: list[str]) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from app.cli.wall_trial import run_trial  # the server's modules only when a grade runs
+    from app.grading.wall_trial import run_trial  # the server's modules only when a grade runs
 
     jailed = not args.unsandboxed
     if jailed and not args.scheduler and (reason := sandbox_unavailable()):  # a cluster checks its own

@@ -1,5 +1,5 @@
 """`hri-lab handout -o hri-lab-students.zip`: the lab as students get it (docs/instructors.md,
-"What students get"): what runs the lab and what they read — the sim and app packages, the page,
+"What students get"): what runs the lab and what they read — the lab's packages (LAB), the page,
 the examples, the docs site, the Makefile and pyproject.toml (`make run` works in it) — and none of
 what grades them: no tests/ (the reference plug-in, the templates filled in, the filled nodes and
 programs), no bench/. The autograder bundle carries the same lab (`lab_files`, one list)."""
@@ -14,7 +14,13 @@ from pathlib import Path
 import sim
 
 TOP = Path(sim.__file__).resolve().parent.parent  # the checkout: the packages' folder
-LAB = ("sim", "app", "static")  # what the lab runs on (static/: the page the server mounts)
+LAB = (
+    "sim",
+    "interfaces",
+    "app",
+    "rosclient",
+    "static",
+)  # what the lab runs on (static/: the page the server mounts)
 LAB_FILES = ("pyproject.toml", "README.md")
 COURSE = ("examples", "docs")  # what a student reads and runs beside the lab
 COURSE_FILES = ("Makefile", "mkdocs.yml", "CHANGELOG.md")

@@ -1,4 +1,4 @@
-"""`hri-lab launch FILE`: app/rosclient/launch.py runs the launch file's nodes; without --url this
+"""`hri-lab launch FILE`: rosclient/launch.py runs the launch file's nodes; without --url this
 starts the lab for them first (`hri-lab serve --view none` in a session of its own, so Ctrl+C
 reaches the nodes, and it is stopped after them, as roslaunch starts and stops its roscore)."""
 
@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import argparse
 
-from app.cli.launch import ServerProcess
-from app.rosclient import launch
+from app.serving.launch import ServerProcess
+from rosclient import launch
 
 
 def run(args: argparse.Namespace) -> int:

@@ -16,14 +16,14 @@ import signal
 import sys
 
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.report import PUBLIC_SEED
 
 from app.cli import arguments as a
 from app.cli import bag
 from app.cli import client as client_cli
 from app.cli import urdf as urdf_cli
+from app.grading.report import PUBLIC_SEED
 
-SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (sim/procedures/battery.py)
+SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (app/grading/battery.py)
 
 
 def _experiment(sub: a.Subparsers) -> None:
@@ -302,7 +302,7 @@ def _run(sub: a.Subparsers) -> None:
     a.workspace(run, "the program's")
     run.add_argument("program", metavar="FILE.py")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
-    run.set_defaults(func=a.runs("app.rosclient.run"))
+    run.set_defaults(func=a.runs("rosclient.run"))
 
 
 def _launch(sub: a.Subparsers) -> None:

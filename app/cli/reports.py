@@ -9,7 +9,8 @@ import sys
 from pathlib import Path
 
 from sim.controllers.plugin import split_spec
-from sim.procedures.report import Report, summary_csv
+
+from app.grading.report import Report, summary_csv
 
 FILE_KINDS = ("controller", "wall following")  # reports of a file (named after it), not of a lab
 

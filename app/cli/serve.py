@@ -1,30 +1,23 @@
-"""`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file).
-
-Limits of the HTTP server (besides the body limit, app/security.py): a request must arrive
-whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the connection's
-opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most 64 KiB
-(h11/httptools), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within
-SHUTDOWN_S."""
+"""`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file),
+with the HTTP server's limits (app/serving/http.py)."""
 
 import argparse
-import asyncio
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 import uvicorn
-from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 
 from sim.controllers.plugin import PluginFactory
 from sim.mobile.world import seeded_config
 
 from app.api.access import is_loopback
-from app.cli.compose import create_app
 from app.cli.controllers import loaded_factory
 from app.lab.lab import Lab
 from app.mobile.lab import MobileLab
 from app.ros.params import ParameterRefused, read_parameter_file
-from app.rosbridge.protocol import MAX_FRAME
+from app.serving.compose import create_app
+from app.serving.http import server_config
 from app.tokens import TOKEN_ENV, token_problem
 
 
@@ -80,72 +73,6 @@ def serve(
     except KeyboardInterrupt:  # Ctrl+C: the server shut down first (uvicorn, or asyncio's runner, re-raises it)
         pass  # the lab stops as asked: no traceback in the terminal
     return 0 if server.started else 1
-
-
-READ_TIMEOUT_S = 10.0
-KEEP_ALIVE_S = 5
-WS_PING_TIMEOUT_S = 60.0  # a rosbridge client's pong may wait behind its backlog of a 1 kHz topic on a busy machine
-SHUTDOWN_S = 3
-
-
-def server_config(app, host: str, port: int, read_timeout_s: float = READ_TIMEOUT_S) -> uvicorn.Config:
-    """uvicorn's configuration with the server's limits (see the module's docstring)."""
-    protocol = type("TimedProtocol", (TimedHttpProtocol,), {"read_timeout_s": read_timeout_s})
-    return uvicorn.Config(
-        app,
-        host=host,
-        port=port,
-        log_level="warning",
-        access_log=False,
-        http=protocol,
-        timeout_keep_alive=KEEP_ALIVE_S,
-        timeout_graceful_shutdown=SHUTDOWN_S,
-        h11_max_incomplete_event_size=64 * 1024,
-        ws_max_size=2 * MAX_FRAME,  # bytes; a longer rosbridge frame is refused by the session
-        ws_ping_timeout=WS_PING_TIMEOUT_S,
-    )
-
-
-class TimedHttpProtocol(HttpToolsProtocol):
-    """httptools' protocol with a read timeout: a request not received whole within read_timeout_s
-    of its first byte (a new connection: of its opening) closes the connection (slow-loris)."""
-
-    read_timeout_s = READ_TIMEOUT_S
-    _read_timer: asyncio.TimerHandle | None = None
-
-    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]  # uvicorn's own signature
-        super().connection_made(transport)
-        self._read_timer = self.loop.call_later(self.read_timeout_s, self._read_timed_out)
-
-    def on_message_begin(self) -> None:
-        super().on_message_begin()
-        if self._read_timer is None:
-            self._read_timer = self.loop.call_later(self.read_timeout_s, self._read_timed_out)
-
-    def on_message_complete(self) -> None:
-        super().on_message_complete()
-        self._cancel_read_timer()
-
-    def handle_websocket_upgrade(self) -> None:
-        self._cancel_read_timer()
-        super().handle_websocket_upgrade()
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        self._cancel_read_timer()
-        super().connection_lost(exc)
-
-    def _cancel_read_timer(self) -> None:
-        if self._read_timer is not None:
-            self._read_timer.cancel()
-            self._read_timer = None
-
-    def _read_timed_out(self) -> None:
-        self._read_timer = None
-        if self.cycle is not None and not self.cycle.response_complete:
-            self.cycle.disconnected = True  # the route reading the body sees the client gone
-            self.cycle.message_event.set()
-        if not self.transport.is_closing():
-            self.transport.close()
 
 
 class AnnouncingServer(uvicorn.Server):

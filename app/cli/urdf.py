@@ -39,7 +39,7 @@ def view(args) -> int:
 
     import uvicorn
 
-    from app.cli.launch import free_port
+    from app.serving.launch import free_port
     from app.view.urdf_bridge import urdf_app
     from app.view.urdf_view import UrdfView
 

@@ -17,7 +17,7 @@ from sim.controllers.interface import stop_lifting as stop_band
 from sim.person.participants import PARTICIPANTS
 from sim.world import World, WorldConfig
 
-from app.json_value import JSON
+from interfaces.json_value import JSON
 
 
 # --- lifting and motion ---------------------------------------------------------------------

@@ -1,5 +1,5 @@
 """The lab's own interface package, `hri_lab`, as files: the .srv and .action texts of the lab's
-declarations (app/lab/services.py, app/lab/actions.py) written under app/interfaces/share/hri_lab,
+declarations (app/lab/services.py, app/lab/actions.py) written under interfaces/share/hri_lab,
 so that a program's `from hri_lab.srv import DivideInts` reads a file and imports no simulation.
 `python -m app.lab.interface_files` writes them anew after a declaration changes; a test fails
 while they differ (tests/app/lab/test_interface_files.py).
@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from app.interfaces.packages import SHARE
+from interfaces.packages import SHARE
 
 LAB_PACKAGE = "hri_lab"
 GENERATED_KINDS = ("srv", "action")  # hri_lab/msg holds the topics' messages, written by hand
 
 
 def lab_definitions() -> dict[Path, str]:
-    """Each generated file's path (under app/interfaces/share) -> its text, from the declarations."""
+    """Each generated file's path (under interfaces/share) -> its text, from the declarations."""
     from app.lab.actions import ACTIONS
     from app.lab.services import SERVICES
 

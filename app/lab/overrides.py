@@ -17,9 +17,9 @@ import yaml
 from sim.procedures.experiment import SweepPoint
 from sim.procedures.trial import Setup
 
-from app.json_value import JSON
 from app.lab.params import LAB_PARAMETERS
 from app.ros.params import Parameter, ParameterRefused, ParameterServer, parse_parameter_file
+from interfaces.json_value import JSON
 
 VALIDATOR = ParameterServer(LAB_PARAMETERS, lab=None)  # validate() only: nothing is applied
 MAX_SWEEP_POINTS = 30

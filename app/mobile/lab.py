@@ -48,7 +48,7 @@ class MobileLab:
         self.recordings_dir = DEFAULT_DIR
         self.figures_dir = DEFAULT_DIR.parent / "figures"
         self.recorder: MobileRecorder | None = None  # the live recording (app/mobile/services.py), one at a time
-        self.graded = False  # a graded trial (app/cli/wall_trial.py): nothing may reset its world
+        self.graded = False  # a graded trial (app/grading/wall_trial.py): nothing may reset its world
 
     @property
     def world(self) -> MobileWorld:

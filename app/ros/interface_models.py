@@ -3,7 +3,7 @@ program run by `hri-lab run` carries its own .srv (and the nested .msg texts) in
 advertise_service (docs/reference/rosbridge.md), and the lab checks every request against it as it
 checks its own services' (a refusal names the field) and shows the text and fields.
 
-The text is parsed as the program parsed it (app/interfaces/: one parser); each field
+The text is parsed as the program parsed it (interfaces/: one parser); each field
 becomes a strict pydantic field of its ROS type: integers in their type's range (3.0 is 3, as
 JSON Schema says), finite floats, bools, strings (a bounded string's bound), nested messages,
 arrays with their fixed length or bound (uint8/char arrays also as rosbridge's base64 text). A
@@ -19,9 +19,9 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, Field, create_model
 
-from app.interfaces.packages import SEPARATOR, carried
-from app.interfaces.parser import BYTES, FLOATS, INTEGERS, MAX_DEFINITION_CHARS, DefinitionError
 from app.ros.messages import RosMessage, RosType, integral
+from interfaces.packages import SEPARATOR, carried
+from interfaces.parser import BYTES, FLOATS, INTEGERS, MAX_DEFINITION_CHARS, DefinitionError
 
 MAX_TEXT = MAX_DEFINITION_CHARS  # characters of a carried definition (the parser's cap)
 MAX_STRING = 10_000  # characters of an unbounded string field (as the lab's own String)
@@ -33,7 +33,7 @@ class BadDefinition(ValueError):
 
 def service_models(type_name: str, text: str) -> tuple[type[RosMessage], type[RosMessage]]:
     """(request, response) models of the service `type_name` ('pkg/Name' or 'pkg/srv/Name') from its
-    carried text (`app.interfaces.packages.full_text`); BadDefinition names what is wrong."""
+    carried text (`interfaces.packages.full_text`); BadDefinition names what is wrong."""
     if len(text) > MAX_TEXT:
         raise BadDefinition(f"the definition of {type_name} is longer than {MAX_TEXT} characters")
     try:

@@ -18,7 +18,7 @@ import json
 import threading
 from typing import TypeVar, overload
 
-from app.json_value import JSON
+from interfaces.json_value import JSON
 
 MAX_ENTRIES = 10_000  # leaves in the tree
 MAX_VALUE_CHARS = 100_000  # a value as JSON text

@@ -18,8 +18,8 @@ import yaml
 
 from sim.ranges import range_refusal
 
-from app.json_value import JSON
 from app.ros.names import node_name
+from interfaces.json_value import JSON
 
 T = TypeVar("T")
 ParamType = Literal["double", "integer", "string", "bool"]

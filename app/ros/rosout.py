@@ -15,7 +15,7 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
 
-from app.json_value import JSON
+from interfaces.json_value import JSON
 
 TOPIC = "/rosout"
 TYPE = "rcl_interfaces/Log"

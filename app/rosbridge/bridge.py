@@ -1,5 +1,5 @@
 """The bridge's shared state: the lab, its registries (handed in by the composition root,
-app/cli/compose.py), the service table, the topics nodes provide, the connected sessions. Every
+app/serving/compose.py), the service table, the topics nodes provide, the connected sessions. Every
 session (app/rosbridge/session.py) reads and changes it; it imports no session (app/rosbridge/ports.py
 has the shapes both see)."""
 

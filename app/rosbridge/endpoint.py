@@ -7,7 +7,7 @@ API and the dashboard. Access follows the API's rules: with a token set, every m
 it (the upgrade's `Authorization: Bearer <token>` or `X-HRI-Lab-Token` header, or rosauth's
 `{"op": "auth", "mac": "<token>"}`); reading is open.
 
-This module is rosbridge's public face: what the composition root (app/cli/compose.py) builds
+This module is rosbridge's public face: what the composition root (app/serving/compose.py) builds
 (the Bridge, the state every session shares: bridge.py) and mounts (the route). Layout
 (rosbridge_suite's): this route; session.py, one connection; ops.py, the ops by name from
 capabilities/ (one module per op family, a capability object per client); ports.py, what a

@@ -1,7 +1,7 @@
 """mkdocs hook: the reference pages' tables, generated at build time from the code's own declarations.
 
 A page says `<!-- generated: NAME -->` where a table goes; NAME is a key of GENERATORS. Each table
-is read from the one place the fact is declared: the HTTP API from `create_app().openapi()` (app/cli/compose.py), the CLI
+is read from the one place the fact is declared: the HTTP API from `create_app().openapi()` (app/serving/compose.py), the CLI
 from `app.cli.main.build_parser()`, the parameters from `app.lab.params.LAB_PARAMETERS`, the topics
 from `app.lab.topics.TOPICS`, the services and actions from `app.lab.services.SERVICES` and
 `app.lab.actions.ACTIONS`, rosbridge's ops from its connection's handlers, rosapi's services from
@@ -59,7 +59,7 @@ def _table(header: list[str], rows: list[list[Any]]) -> str:
 
 @functools.cache
 def _openapi() -> dict:
-    from app.cli.compose import create_app
+    from app.serving.compose import create_app
 
     return create_app().openapi()  # the app is built, never served: no simulation runs
 
@@ -247,12 +247,13 @@ def mobile_rules() -> str:
     """The wall-following grade's rule and what its seed draws."""
     from sim.mobile import arena, world
     from sim.mobile.monitor import WallRules
-    from sim.procedures import wall_grading
+
+    from app.grading import wall
 
     r = WallRules()
     rows = [
-        ["trials per file (`--trials`)", wall_grading.TRIALS],
-        ["pass mark", f"{wall_grading.PASS_MARK:g} % of the trials"],
+        ["trials per file (`--trials`)", wall.TRIALS],
+        ["pass mark", f"{wall.PASS_MARK:g} % of the trials"],
         ["full circuit", f"360° about the obstacle's centre, either way, within {r.time_limit:g} s"],
         ["band", f"{r.band[0]:.2f}-{r.band[1]:.2f} m from the obstacle's surface (from base_footprint)"],
         ["time outside the band", f"at most {r.outside_band_max:g} s of the trial"],

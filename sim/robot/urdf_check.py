@@ -169,8 +169,9 @@ def _joint(element) -> Joint:
     return Joint(name, joint_type, links["parent"], links["child"], line, lower, upper, axis)
 
 
-def parse_urdf(text: str | bytes) -> UrdfModel:
-    """The model of a URDF's text, or `UrdfError` with the line of the first thing wrong."""
+def _robot(text: str | bytes) -> tuple[etree._Element, str]:
+    """The <robot> element of a URDF's text and its name, or `UrdfError`: not XML, over the size
+    bound, another root, no name, a xacro file."""
     data = text.encode("utf-8") if isinstance(text, str) else text
     if len(data) > MAX_FILE_BYTES:
         raise UrdfError(f"the file is over {MAX_FILE_BYTES // 1_000_000} MB: not a URDF")
@@ -191,6 +192,12 @@ def parse_urdf(text: str | bytes) -> UrdfModel:
             "xacro (`xacro robot.urdf.xacro > robot.urdf`)",
             _line(root),
         )
+    return root, robot_name
+
+
+def parse_urdf(text: str | bytes) -> UrdfModel:
+    """The model of a URDF's text, or `UrdfError` with the line of the first thing wrong."""
+    root, robot_name = _robot(text)
     links: dict[str, Link] = {}
     for element in root.iterfind("link"):
         name = _name(element, "link")

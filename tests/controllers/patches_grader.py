@@ -7,7 +7,7 @@ import numpy as np
 class CooperativeLifting:
     """Replaces the grader's scoring on import of the class body (zero twist otherwise)."""
 
-    import sim.procedures.battery as _grading
+    import app.grading.battery as _grading
 
     _grading.Report.passed = property(lambda self: True)
     _grading.Report.score = property(lambda self: 100.0)

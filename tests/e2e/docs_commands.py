@@ -28,7 +28,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 from tests.http_client import http
 from tests.waiting import wait_for
 

@@ -1,11 +1,11 @@
 """A real `hri-lab serve` for a test file: `lab = served_lab("--exercises")` at a module's top gives
-its tests a module-scoped fixture `lab`, the server process (app/cli/launch.py: `url`, `port`),
+its tests a module-scoped fixture `lab`, the server process (app/serving/launch.py: `url`, `port`),
 started once for the file and stopped after it. (tests/conftest.py's `lab`, which a file without
 this line gets, is the in-process app's Lab.)"""
 
 import pytest
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 
 
 def served_lab(*args: str):

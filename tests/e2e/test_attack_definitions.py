@@ -9,7 +9,7 @@ import threading
 
 from websockets.sync.client import connect
 
-from app.interfaces.parser import MAX_DEFAULT_VALUES, MAX_FIXED_ARRAY
+from interfaces.parser import MAX_DEFAULT_VALUES, MAX_FIXED_ARRAY
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.waiting import wait_for

@@ -16,9 +16,10 @@ import roslibpy
 from rosbags.rosbag1 import Writer as Rosbag1Writer
 from rosbags.typesys import Stores, get_typestore
 
-from sim.recording import bags, bounded
+from sim.recording import bounded
 
-from app.cli.launch import running_server
+from app.recording import bags
+from app.serving.launch import running_server
 from tests import hostile_bags
 from tests.http_client import http
 from tests.ros_running import run

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
 
@@ -184,7 +184,7 @@ def test_ctrl_c_stops_the_lab_without_a_traceback():
     and the terminal shows no traceback (uvicorn re-raises the signal once it has shut down)."""
     import signal
 
-    from app.cli.launch import free_port
+    from app.serving.launch import free_port
 
     port = free_port()
     serve = subprocess.Popen(

@@ -3,7 +3,7 @@ cases per operation (the longer run: `python -m bench.fuzz`)."""
 
 import pytest
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench.fuzz import fuzz
 
 

@@ -1,6 +1,6 @@
 """`hri-lab grade-services`: a lab started with --exercises, the student's node from the services
 template (tests/nodes/services_solution.py, right and with mistakes), graded over HTTP with the
-controller grader's report formats. (The lab's own answers, the reference: tests/grading.)"""
+controller grader's report formats. (The lab's own answers, the reference: tests/exercises.)"""
 
 import json
 import os
@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from app.cli.services_grading import grade_services
+from app.grading.services import grade_services
 from tests.e2e.serving import served_lab
 from tests.waiting import start_node, stop_node
 

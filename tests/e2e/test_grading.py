@@ -11,12 +11,12 @@ import pytest
 from sim.controllers.interface import LiftingParams
 from sim.controllers.plugin import PluginError, PluginFactory
 from sim.person.participants import PARTICIPANTS
-from sim.procedures.battery import PROBE_PASS_MARK, new_report, trial_items
 from sim.procedures.experiment import plan
-from sim.procedures.probe_stream import PROBES, Draw, graded, probe_items
-from sim.procedures.report import Item, summary_csv
 from sim.procedures.trial import Trial
 
+from app.grading.battery import PROBE_PASS_MARK, new_report, trial_items
+from app.grading.probe_stream import PROBES, Draw, graded, probe_items
+from app.grading.report import Item, summary_csv
 from tests.http_client import http
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
@@ -72,7 +72,7 @@ def test_reference_sp_plugin_gets_full_marks(tmp_path):
     assert "FLAGGED" in flag["detail"]
     assert "imports sim.controllers.sp" in flag["detail"]
     # 13 probes x 5 + 9 trials x 5 (all three participants count) + 2 robustness x 10 = 130, every
-    # trial carried AND its stream within the SP law (sim/procedures/law_checks.py)
+    # trial carried AND its stream within the SP law (app/grading/law_checks.py)
     assert report["points"] == report["max_points"] == 130.0, (out / "reference_sp.txt").read_text()
     assert "not SP" not in (out / "reference_sp.txt").read_text()
     assert report["passed"] is True
@@ -303,7 +303,7 @@ def test_a_batch_reports_every_file_even_those_that_cannot_load(tmp_path):
 def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
     import time
 
-    from app.cli.launch import running_server
+    from app.serving.launch import running_server
 
     with running_server("--view", "none", "--controller", f"{CONTROLLERS / 'broken.py'}:Raising") as server:
         url = server.url

@@ -10,8 +10,8 @@ import threading
 import pytest
 
 from app.api.access import is_loopback
-from app.cli.launch import running_server
 from app.lab import commands as cmd
+from app.serving.launch import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
 

@@ -1,4 +1,4 @@
-"""The SP law judged inside the trials (sim/procedures/law_checks.py), the probes as one stream a
+"""The SP law judged inside the trials (app/grading/law_checks.py), the probes as one stream a
 file cannot tell from a trial, and the battery that tells SP from followers and probe-detecting
 files (docs/grading-battery.md: what each loses)."""
 
@@ -12,10 +12,11 @@ import pytest
 from sim.controllers.interface import LiftingParams, start_lifting
 from sim.controllers.sp import SPController
 from sim.physics.contact import MOMENT_PATCH, NORMAL_FORCE, TANGENTIAL_FORCE
-from sim.procedures.battery import PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, robustness_job, run_items
-from sim.procedures.law_checks import LawWatch
-from sim.procedures.probe_stream import probe_items, start_transform
-from sim.procedures.situations import MidCarryStop
+
+from app.grading.battery import PROBE_PASS_MARK, ROBUSTNESS, battery, new_report, robustness_job, run_items
+from app.grading.law_checks import LawWatch
+from app.grading.probe_stream import probe_items, start_transform
+from app.grading.situations import MidCarryStop
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import followers

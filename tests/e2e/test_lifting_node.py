@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from tests.e2e.lifting import carry_the_box, slow_commands
 
 NODE = Path(__file__).resolve().parents[1] / "nodes" / "lifting_solution.py"

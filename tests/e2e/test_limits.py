@@ -14,12 +14,12 @@ import uvicorn
 from starlette.websockets import WebSocketDisconnect
 
 from app.api.access import Throttle
-from app.cli.compose import create_app
-from app.cli.launch import running_server
-from app.cli.serve import server_config
 from app.ros.actions import Action, ActionServer, GoalStatus
 from app.ros.messages import Empty
 from app.security import MAX_BODY_BYTES
+from app.serving.compose import create_app
+from app.serving.http import server_config
+from app.serving.launch import running_server
 from tests.http_client import http
 
 YAML = {"content-type": "application/yaml"}

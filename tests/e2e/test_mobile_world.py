@@ -13,7 +13,7 @@ import time
 import httpx
 import roslibpy
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import Program, run

@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
-from app.cli.launch import running_server
-from app.cli.services_grading import grade_services
+from app.grading.services import grade_services
+from app.serving.launch import running_server
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run
@@ -250,8 +250,8 @@ def test_ctrl_c_ends_an_rclpy_program_whose_parent_ignores_it(lab):
 
 def test_a_connected_program_passes_its_interpreter_between_threads_every_half_millisecond(lab, tmp_path):
     """The connection's reader threads get their turn while a callback computes (a callback of 2 ms
-    per 1 kHz message left them seconds behind at Python's 5 ms: app/rosclient/connection.py)."""
-    from app.rosclient.connection import READER_SWITCH_S
+    per 1 kHz message left them seconds behind at Python's 5 ms: rosclient/connection.py)."""
+    from rosclient.connection import READER_SWITCH_S
 
     program = tmp_path / "switch_interval.py"
     program.write_text(
@@ -268,7 +268,7 @@ def test_a_connected_program_passes_its_interpreter_between_threads_every_half_m
 
 
 def test_no_lab_to_reach_is_a_message_and_exit_1_not_a_traceback():
-    from app.cli.launch import free_port
+    from app.serving.launch import free_port
 
     program = run(f"http://127.0.0.1:{free_port()}", "add_two_ints_server_rospy.py")
     try:
@@ -341,8 +341,8 @@ def test_grade_services_grades_rospy_and_rclpy_programs(lab):
 
 
 def test_every_lab_topic_is_a_message_of_its_declared_type(lab):
-    from app.interfaces.packages import Interfaces
     from app.lab.topics import TOPICS
+    from interfaces.packages import Interfaces
 
     interfaces = Interfaces([])
     for topic in TOPICS:

@@ -8,7 +8,7 @@ import time
 
 import httpx
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from tests.waiting import wait_for
 
 

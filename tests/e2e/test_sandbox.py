@@ -145,7 +145,7 @@ def test_no_files_no_network_outside_the_sandbox():
 
 
 def test_patching_the_grader_in_the_child_changes_nothing_here():
-    import sim.procedures.report as report_module
+    import app.grading.report as report_module
 
     passed = report_module.Report.__dict__["passed"]
     controller = PluginFactory(str(CONTROLLERS / "patches_grader.py"))()  # its class body patched the child's grader
@@ -388,7 +388,7 @@ def test_a_crash_or_a_killed_zygote_costs_only_its_own_item(tmp_path):
 def test_no_jail_is_left_after_a_grade():
     """A grade's workers end their jails when they exit; in this process an idle jail ends
     IDLE_SECONDS after its last item: no zygote, no bubblewrap left either way."""
-    from sim.procedures.battery import grade
+    from app.grading.battery import grade
 
     factory = PluginFactory(str(CONTROLLERS / "reference_sp.py"))
     before = set(_descendants())

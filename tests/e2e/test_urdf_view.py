@@ -16,7 +16,7 @@ import uvicorn
 
 from sim.robot.urdf_check import parse_urdf_file
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 from app.view.urdf_bridge import urdf_app
 from app.view.urdf_view import UrdfView
 from tests.http_client import http

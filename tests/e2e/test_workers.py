@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from app.cli.launch import ServerProcess
+from app.serving.launch import ServerProcess
 from tests.http_client import http
 
 CONTROLLER = Path(__file__).resolve().parents[1] / "controllers" / "reference_sp.py"

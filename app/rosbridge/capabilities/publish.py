@@ -14,7 +14,6 @@ import json
 import math
 from concurrent.futures import Future
 
-from app.interfaces.image_windows import WINDOWS
 from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.advertise import Advertise
@@ -23,6 +22,7 @@ from app.rosbridge.internal.message_conversion import FieldError, populate
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
+from interfaces.image_windows import WINDOWS
 
 MAX_COMMANDS_IN_FLIGHT = 8  # node commands sent to the simulation and not yet applied
 

@@ -5,13 +5,13 @@ client publishes: a field left out takes its ROS default, a field the type does 
 with the field's name, and every subscriber gets every field (a ROS 1 `SimpleActionServer` reads the
 `stamp` of a cancel sent as `{"id": ...}` alone).
 
-The type is the lab's where it ships it (app/interfaces/share) or the definition its first
+The type is the lab's where it ships it (interfaces/share) or the definition its first
 publisher carried (a program under `hri-lab run` carries its type's full text); a type the lab does
-not know is relayed as it was sent. Defaults come from the parsed definitions (app/interfaces: one
+not know is relayed as it was sent. Defaults come from the parsed definitions (interfaces: one
 source). The lab speaks ROS 1's and ROS 2's JSON at once, so a time or duration is read in either
 spelling (`sec`/`nanosec`, ROS 1's `secs`/`nsecs`) and one left out is filled in both (as rosapi's
 `get_time` answers: app/rosbridge/rosapi.py), and a field ROS 1's version of a standard message has
-(std_msgs/Header's `seq`: app/interfaces/share_ros1) is taken where given, and so is a ROS 1 field
+(std_msgs/Header's `seq`: interfaces/share_ros1) is taken where given, and so is a ROS 1 field
 named as ROS 2's in capitals (sensor_msgs/CameraInfo's `D`, `K`, `R`, `P`), kept under its ROS 1 name.
 
 A type's converter is made once (cached); a message is converted once per publish, and the one
@@ -25,17 +25,17 @@ from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
-from app.interfaces.messages import Message
-from app.interfaces.packages import SHARE_ROS1, Interfaces, carried
-from app.interfaces.parser import BYTES, FLOATS, INTEGERS, DefinitionError, Field
-from app.json_value import JSON
+from interfaces.json_value import JSON
+from interfaces.messages import Message
+from interfaces.packages import SHARE_ROS1, Interfaces, carried
+from interfaces.parser import BYTES, FLOATS, INTEGERS, DefinitionError, Field
 
 STAMPS = ("builtin_interfaces/Time", "builtin_interfaces/Duration")  # `time`, `duration`
 SPELLINGS = (("sec", "nanosec"), ("secs", "nsecs"))  # ROS 2's and ROS 1's names of a stamp's parts
 # array.array's type codes of the integer types (their ranges are the ROS types' on Linux)
 ARRAY_CODES = {"byte": "B", "char": "B", "int8": "b", "uint8": "B", "int16": "h", "uint16": "H"}
 ARRAY_CODES.update({"int32": "i", "uint32": "I", "int64": "q", "uint64": "Q"})
-BASE64 = (*BYTES, "int8")  # arrays that may travel as base64 text (sim/recording/bags.py's to_json)
+BASE64 = (*BYTES, "int8")  # arrays that may travel as base64 text (app/recording/bags.py's to_json)
 MAX_TYPES = 256  # converters kept (a type and the definition it was read from)
 
 Convert = Callable[[JSON], JSON]  # a value (None: left out) -> its whole value; raises FieldError
@@ -77,7 +77,7 @@ def _short(value: JSON) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-_SHIPPED = Interfaces([])  # the lab's shipped definitions (app/interfaces/share)
+_SHIPPED = Interfaces([])  # the lab's shipped definitions (interfaces/share)
 _SHIPPED_ROS1 = Interfaces([SHARE_ROS1])  # the same with ROS 1's versions first (std_msgs/Header with seq)
 
 

@@ -5,9 +5,8 @@ import argparse
 
 import pytest
 
-from sim.recording import bags
-
 from app.cli.bag_ros import chosen, timeline
+from app.recording import bags
 
 TOPICS = {
     "/joint_states": "sensor_msgs/JointState",

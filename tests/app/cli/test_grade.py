@@ -7,12 +7,11 @@ import json
 
 import pytest
 
-from sim.procedures.battery import LOST, new_report
-from sim.procedures.report import Item
-
 from app.cli.grade import SECTION_OF, expand, file_sha256, run, up_to_date
 from app.cli.main import build_parser
 from app.cli.reports import write_report
+from app.grading.battery import LOST, new_report
+from app.grading.report import Item
 
 ALL = ("probe", "trial", "robustness")
 

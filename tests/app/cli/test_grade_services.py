@@ -4,7 +4,7 @@
 from argparse import Namespace
 
 from app.cli.grade_services import run
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 
 
 def test_a_lab_that_cannot_be_reached_is_refused_with_status_2(capsys):

@@ -26,5 +26,6 @@ def test_the_students_zip_holds_the_lab_and_no_solution(tmp_path, capsys):
 def test_the_autograder_bundle_carries_the_lab_alone():
     names = {name for _, name in lab_files()}
     assert {"pyproject.toml", "static/index.html"} <= names
-    assert any(n.startswith("app/") and n.endswith("/std_msgs/msg/String.msg") for n in names)  # the message texts
+    assert any(n.startswith("interfaces/") and n.endswith("/String.msg") for n in names)  # the message texts
+    assert "rosclient/boot.py" in names  # the client `hri-lab run` starts a program in
     assert not [n for n in names if n.split("/")[0] in ("docs", "examples", "tests", "bench")]

@@ -11,10 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from sim.procedures.report import PUBLIC_SEED
-
 from app.cli import arguments
 from app.cli.main import COMMANDS, build_parser
+from app.grading.report import PUBLIC_SEED
 
 ROOT = Path(__file__).resolve().parents[3]
 SHELL = (">", "|", "&", "2>")  # where an example's command ends (a redirection, a pipe, the background)

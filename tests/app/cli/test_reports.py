@@ -4,9 +4,8 @@ results.json alone or per file in a batch), summary.csv, what is printed and the
 import json
 from argparse import Namespace
 
-from sim.procedures.report import Item, Report
-
 from app.cli.reports import emit, report_stem, write_report
+from app.grading.report import Item, Report
 
 
 def report(subject="students/ada.py:Mine", kind="controller", points=10.0, error="") -> Report:

@@ -10,8 +10,8 @@ import pytest
 
 from sim.controllers.interface import LiftingParams
 
-from app.cli.services_grading import EXERCISES
 from app.cli.templates import FILES, NOT_IN_NODES, render
+from app.grading.services import EXERCISES
 
 APIS = ("rospy", "rclpy", "roslibpy")
 

@@ -20,7 +20,7 @@ def test_a_program_importing_hri_lab_imports_no_simulation(tmp_path):
     """What `from hri_lab.srv import DivideInts` costs a program: a file read, no numba, pinocchio, sim."""
     code = (
         "import sys\n"
-        "from app.rosclient import interfaces\n"
+        "from rosclient import interfaces\n"
         "interfaces.install([])\n"
         "from hri_lab.srv import DivideInts, DivideIntsRequest\n"
         "from hri_lab.action import Count\n"

@@ -11,8 +11,8 @@ from mcap.reader import make_reader
 
 from sim.recording import reader
 
-from app.cli.compose import create_app
 from app.lab.lab import Lab
+from app.serving.compose import create_app
 
 
 def wait_sim(client, seconds: float) -> None:

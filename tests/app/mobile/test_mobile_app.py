@@ -11,8 +11,8 @@ from sim.mobile.playback import is_mobile
 from sim.mobile.world import MobileConfig
 from sim.recording import reader
 
-from app.cli.compose import create_app
 from app.mobile.lab import MobileLab
+from app.serving.compose import create_app
 from tests.waiting import wait_for
 
 

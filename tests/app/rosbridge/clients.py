@@ -1,5 +1,5 @@
 """rosbridge clients in memory, for the unit tests of app/rosbridge: a real Session on the lab's
-real Bridge (built by the composition root, app/cli/compose.py, around a Lab that is never started:
+real Bridge (built by the composition root, app/serving/compose.py, around a Lab that is never started:
 its parameters, log and first snapshot are there, its simulation does not run), whose WebSocket is
 a list. A test sends frames with `op` and reads what the client was sent."""
 
@@ -9,9 +9,9 @@ import asyncio
 import json
 from typing import Any
 
-from app.cli.compose import Parts, build
 from app.lab.lab import Lab
 from app.rosbridge.session import Session
+from app.serving.compose import Parts, build
 
 
 class Socket:

@@ -8,9 +8,9 @@ import pytest
 from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
-from app.cli.compose import create_app
 from app.rosbridge.capabilities.subscribe import MAX_TOPICS
 from app.rosbridge.protocol import MAX_DEPTH, MAX_FRAME, MAX_STATUS
+from app.serving.compose import create_app
 from tests.waiting import wait_for, within
 
 

@@ -1,11 +1,11 @@
 """rosbridge's one service table (app/rosbridge/services.py): the lab's services and the nodes',
 rosapi's and /republish_tfs, each with one access flag, all called by one path."""
 
-from app.cli.compose import build
 from app.lab.lab import Lab
 from app.rosbridge import rosapi
 from app.rosbridge.capabilities.call_service import CallService
 from app.rosbridge.services import ServiceTable
+from app.serving.compose import build
 from tests.app.rosbridge.clients import connect, op, parts, run
 
 WRITING_ROSAPI = {"/rosapi/set_param", "/rosapi/delete_param"}

@@ -7,7 +7,7 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 import pytest
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from tests.e2e.browser.test_page import ARGS, CHROMIUM
 from tests.http_client import http
 

@@ -3,7 +3,7 @@ held down (W) drives the base through the page's teleop, as a person drives it; 
 
 import os
 
-from app.cli.launch import running_server
+from app.serving.launch import running_server
 from bench.page_responsiveness import ARGS, CHROMIUM
 from tests.http_client import http
 from tests.waiting import wait_for

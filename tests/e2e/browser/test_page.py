@@ -10,7 +10,7 @@ from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 from sim.controllers.interface import LiftingParams
 
-from app.cli.launch import free_port, running_server
+from app.serving.launch import free_port, running_server
 from bench.page_responsiveness import (
     ARGS,
     CHROMIUM,

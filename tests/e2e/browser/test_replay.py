@@ -17,7 +17,7 @@ from sim.procedures.trial import Setup, run_trial
 from sim.recording.playback import Playback
 from sim.recording.trial import TrialOutputs
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 from app.view.replay import ReplayView, replay_app
 from bench.page_responsiveness import ARGS, CHROMIUM
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import roslibpy
 
-from app.cli.launch import free_port
+from app.serving.launch import free_port
 from bench.page_responsiveness import ARGS, CHROMIUM
 from tests.waiting import process_gone, wait_for
 

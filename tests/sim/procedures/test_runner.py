@@ -8,8 +8,9 @@ from pathlib import Path
 import pytest
 
 from sim.procedures import runner
-from sim.procedures.battery import LOST, probes_job, robustness_job
 from sim.procedures.runner import Job, JobLost, run_jobs
+
+from app.grading.battery import LOST, probes_job, robustness_job
 
 
 def square(x: int) -> int:

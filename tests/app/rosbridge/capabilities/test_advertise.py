@@ -4,8 +4,8 @@ lasts while one of the advertise ids that made it is not withdrawn, as rosbridge
 import pytest
 from fastapi.testclient import TestClient
 
-from app.cli.compose import create_app
 from app.rosbridge.capabilities.advertise import Advertise
+from app.serving.compose import create_app
 from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 from tests.waiting import within
 

@@ -4,8 +4,8 @@ service's info, errors and /rosout show; a bad or the lab's own name is refused 
 import pytest
 from fastapi.testclient import TestClient
 
-from app.cli.compose import create_app
 from app.rosbridge.capabilities.node import MAX_NODES
+from app.serving.compose import create_app
 from tests.app.rosbridge.clients import connect, op, parts, run
 from tests.waiting import wait_for, within
 

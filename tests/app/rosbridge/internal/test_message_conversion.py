@@ -5,8 +5,8 @@ a type the lab does not know relayed as it came."""
 
 import pytest
 
-from app.interfaces.packages import Interfaces, full_text
 from app.rosbridge.internal.message_conversion import FieldError, converter, populate
+from interfaces.packages import Interfaces, full_text
 
 ZERO_TIME = {"sec": 0, "nanosec": 0, "secs": 0, "nsecs": 0}  # left out: in ROS 2's spelling and ROS 1's
 

@@ -1,0 +1,55 @@
+"""rclpy.publisher.Publisher: advertises its topic to the lab once, publishes messages of its type."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from rosclient import process
+from interfaces.messages import Message
+from rclpy import _graph
+from rclpy.qos import QoSProfile, profile
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+
+def type_name(cls: Any) -> str:
+    """The ROS 2 type name of a message, service or action class ('pkg/msg/Name')."""
+    return str(getattr(cls, "_ros2_type", "") or cls._type)
+
+
+class Publisher:
+    def __init__(self, node: Node, msg_type: type, topic: str, qos: QoSProfile | int) -> None:
+        if not (isinstance(msg_type, type) and issubclass(msg_type, Message)):
+            raise TypeError(f"create_publisher: msg_type must be a message class, got {msg_type!r}")
+        self.node, self.msg_type, self.qos_profile = node, msg_type, profile(qos)
+        self.topic_name = node.resolve_topic_name(topic)
+        self.type = type_name(msg_type)
+        self._destroyed = False
+        _graph.add_publisher(self.topic_name, self.type, msg_type)
+        self.event_handlers: list[Any] = []  # rclpy/event_handler.py
+
+    @property
+    def topic(self) -> str:
+        return self.topic_name
+
+    def publish(self, msg: Any) -> None:
+        if not isinstance(msg, self.msg_type):
+            raise TypeError(f"Expected {self.msg_type.__module__}.{self.msg_type.__name__}, got {type(msg)}")
+        process.publish(self.topic_name, self.type, msg.to_json())
+
+    def get_subscription_count(self) -> int:
+        """The subscriptions of its topic in the graph (rclpy/_graph.py)."""
+        return _graph.count_subscriptions(self.topic_name)
+
+    def wait_for_all_acked(self, timeout: Any = None) -> bool:
+        return True
+
+    def assert_liveliness(self) -> None:
+        pass
+
+    def destroy(self) -> None:
+        """The topic is unadvertised when no other publisher of it is left in the program."""
+        if not self._destroyed:
+            self._destroyed = True
+            _graph.remove_publisher(self.topic_name)

@@ -1,0 +1,60 @@
+"""rclpy.node.Node (rosclient/site/rclpy/node.py and the modules it makes entities with) in this
+process, over the recording connection: pre- and post-set parameter callbacks as rclpy calls them,
+the logger service's levels, and a raw subscription's bytes."""
+
+import json
+
+
+def test_pre_set_callbacks_change_what_is_set_and_post_set_ones_hear_of_it(rclpy):
+    from rclpy.parameter import Parameter
+
+    node = rclpy.create_node("params", start_parameter_services=False)
+    node.declare_parameter("param1", 0.0)
+    node.declare_parameter("param2", 0.0)
+    heard: list[list[str]] = []
+    node.add_pre_set_parameters_callback(lambda ps: [*ps, Parameter("param2", Parameter.Type.DOUBLE, 4.0)])
+    node.add_post_set_parameters_callback(lambda ps: heard.append([p.name for p in ps]))
+    results = node.set_parameters([Parameter("param1", Parameter.Type.DOUBLE, 10.0)])
+    assert [r.successful for r in results] == [True]
+    assert node.get_parameter("param2").value == 4.0 and node.get_parameter("param1").value == 10.0
+    assert heard == [["param1", "param2"]]
+    node.add_pre_set_parameters_callback(lambda ps: [])
+    node.remove_pre_set_parameters_callback(node._pre_set_callbacks[0])
+    refused = node.set_parameters_atomically([Parameter("param1", Parameter.Type.DOUBLE, 1.0)])
+    assert not refused.successful and "cannot be empty" in refused.reason
+    assert node.get_parameter("param1").value == 10.0 and heard == [["param1", "param2"]]
+
+
+def test_the_logger_service_reads_and_sets_a_nodes_level(rclpy):
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.logging import LoggingSeverity, get_logger
+
+    node = rclpy.create_node("LoggerServiceNode", start_parameter_services=False, enable_logger_service=True)
+    connection = rclpy.connection
+    levels = {"names": ["LoggerServiceNode"]}
+    connection.call("/LoggerServiceNode/get_logger_levels", "get:1", levels)
+    connection.call("/LoggerServiceNode/set_logger_levels", "set:1", {"levels": [{"name": "LoggerServiceNode", "level": 40}]})
+    connection.call("/LoggerServiceNode/get_logger_levels", "get:2", levels)
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    for _ in range(3):  # one request of each service per round, in the order they came
+        executor.spin_once(timeout_sec=5)
+    answers = {m["id"]: m["values"] for m in connection.sent if m["op"] == "service_response"}
+    assert answers["get:1"] == {"levels": [{"name": "LoggerServiceNode", "level": 0}]}  # unset, as rcutils says
+    assert answers["set:1"] == {"results": [{"successful": True, "reason": ""}]}
+    assert answers["get:2"] == {"levels": [{"name": "LoggerServiceNode", "level": 40}]}
+    assert get_logger("LoggerServiceNode").get_effective_level() == LoggingSeverity.ERROR
+
+
+def test_a_raw_subscription_gets_the_message_as_it_travelled(rclpy):
+    from rclpy.executors import SingleThreadedExecutor
+    from std_msgs.msg import String
+
+    node = rclpy.create_node("raw", start_parameter_services=False)
+    got: list[object] = []
+    node.create_subscription(String, "chatter", got.append, 10, raw=True)
+    rclpy.connection.publish("/chatter", {"data": "hi"})
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    executor.spin_once(timeout_sec=5)
+    assert got == [json.dumps({"data": "hi"}).encode()]

@@ -32,7 +32,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 PROGRAMS = ROOT / "tests" / "ros_programs"
-INTERFACES = ROOT / "app" / "interfaces" / "share"
+INTERFACES = ROOT / "interfaces" / "share"
 REAL_PYTHON = "/usr/bin/python3"  # Debian's, with python3-rospy
 ROSCORE = "/usr/bin/roscore"
 GENMSG = "/usr/lib/genpy/genmsg_py.py"
@@ -345,7 +345,7 @@ def differences(case: Case, real: Seen, lab: Seen) -> list[str]:
 
 @contextlib.contextmanager
 def sides() -> Iterator[tuple[RealRos, Lab]]:
-    from app.cli.launch import free_port, running_server
+    from app.serving.launch import free_port, running_server
 
     home = Path(tempfile.mkdtemp(prefix="ros1-oracle-"))
     real = None

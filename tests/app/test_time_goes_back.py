@@ -20,8 +20,8 @@ from fastapi.testclient import TestClient
 from sim.mobile.world import MobileConfig
 from sim.recording.reader import messages
 
-from app.cli.compose import create_app
 from app.mobile.lab import MobileLab
+from app.serving.compose import create_app
 from tests.waiting import wait_for
 
 

@@ -294,13 +294,14 @@ def _run(sub: a.Subparsers) -> None:
         "run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run",
         (
             "hri-lab run add_two_ints_client.py 20 22",
+            "hri-lab run learning_service service_adder_server     # a package's executable, as ros2 run",
             "hri-lab run keys_to_twist.py w --ros-args -p linear_speed:=0.25",
             "hri-lab run --workspace ~/catkin_ws/src calculator_server.py",
         ),
     )
     a.url(run)
     a.workspace(run, "the program's")
-    run.add_argument("program", metavar="FILE.py")
+    run.add_argument("program", metavar="FILE.py|PKG", help="a program file, or a package (then its executable EXE)")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
     run.set_defaults(func=a.runs("app.rosclient.run"))
 

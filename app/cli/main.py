@@ -310,15 +310,16 @@ def _launch(sub: a.Subparsers) -> None:
     lch = a.command(
         sub,
         "launch",
-        "start the lab and the nodes of a roslaunch / ROS 2 XML launch file",
+        "start the lab and the nodes of a launch file: roslaunch XML, ROS 2 XML, YAML or Python",
         (
             "hri-lab launch calculator.launch.xml                # its own lab and the nodes",
+            "hri-lab launch lab8 lab8.launch.py offset:=10       # a package's launch file, as ros2 launch",
             "hri-lab launch --url http://127.0.0.1:8000 login_chain.launch user:=ada",
         ),
     )
     a.url(lch, "a running lab (default: start one, like roslaunch starts roscore)", start_one=True)
     a.workspace(lch, "the programs'")
-    lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
+    lch.add_argument("file", metavar="FILE|PKG", help="a launch file, or a package (then its launch file's name)")
     lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
     lch.set_defaults(func=a.runs("app.cli.launch_nodes"))
 

@@ -80,7 +80,9 @@ class Runner:
     """Performs a launch description (see the module's docstring). `dry`: processes are planned
     (`self.plans`), not started: a description's evaluation alone."""
 
-    def __init__(self, url: str = "", logs: Path | None = None, dry: bool = False, workspace: str | None = None) -> None:
+    def __init__(
+        self, url: str = "", logs: Path | None = None, dry: bool = False, workspace: str | None = None
+    ) -> None:
         _site()
         from launch import LaunchContext
 
@@ -148,10 +150,7 @@ class Runner:
             return described
         args = {k: v for k, v in context.launch_configurations.items() if isinstance(v, str)}
         try:
-            if path.suffix in (".yaml", ".yml"):
-                read = xml_launch.read_yaml(path, args)
-            else:
-                read = xml_launch.read(path, args)
+            read = xml_launch.read_yaml(path, args) if path.suffix in (".yaml", ".yml") else xml_launch.read(path, args)
         except xml_launch.LaunchError as exc:
             raise InvalidLaunchFileError(str(exc)) from None
         return LaunchDescription([_Nodes(read)])
@@ -265,9 +264,7 @@ class Runner:
             return
         process.ended = True  # type: ignore[attr-defined]
         process.reader.join(timeout=5)
-        if code == 0:
-            self.log("INFO", process.plan.label, f"process has finished cleanly [pid {process.pid}]")
-        elif process.stopping_since is not None and code in (-signal.SIGINT, -signal.SIGTERM, 130, 143):
+        if code == 0 or (process.stopping_since is not None and code in (-signal.SIGINT, -signal.SIGTERM, 130, 143)):
             self.log("INFO", process.plan.label, f"process has finished cleanly [pid {process.pid}]")
         else:
             self.died += 1
@@ -341,7 +338,12 @@ class _Nodes:
             xml_launch.set_params(runner.url, self.read.params)
         for spec in self.read.nodes:
             plan = ProcessPlan(
-                self, spec.name, program=spec.program, args=spec.argv(), output=spec.output, env=dict(context.environment)
+                self,
+                spec.name,
+                program=spec.program,
+                args=spec.argv(),
+                output=spec.output,
+                env=dict(context.environment),
             )
             runner.start(plan, context)
 

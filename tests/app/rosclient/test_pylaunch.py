@@ -37,7 +37,7 @@ def test_the_lab8_launch_file_starts_its_server_with_name_namespace_parameter_an
     assert server.label == "myServer-1"
     assert server.entry == "lab8.my_server:main"
     args = _ros_args(server)
-    assert ["-r", "__node:=lab8_server"] == args[:2]
+    assert args[:2] == ["-r", "__node:=lab8_server"]
     assert "__ns:=/lab8" in args
     assert "add_two_ints:=adder" in args
     assert _params(server) == {"offset": 7}  # a substitution's text read as YAML: an integer
@@ -60,7 +60,11 @@ def workspace(tmp_path):
     ws = tmp_path / "ws"
     pkg = ws / "src" / "demo"
     _write(pkg, "package.xml", PACKAGE_XML.format("demo"))
-    _write(pkg, "setup.py", "from setuptools import setup\nsetup(entry_points={'console_scripts': ['talker = demo.talker:main']})\n")
+    _write(
+        pkg,
+        "setup.py",
+        "from setuptools import setup\nsetup(entry_points={'console_scripts': ['talker = demo.talker:main']})\n",
+    )
     _write(pkg, "demo/__init__.py", "")
     _write(pkg, "demo/talker.py", "def main():\n    pass\n")
     _write(pkg, "config/params.yaml", "/**:\n  ros__parameters:\n    rate: 5\n")
@@ -122,7 +126,7 @@ def generate_launch_description():
     runner = pylaunch.evaluate(top, {}, workspace=str(workspace))
     inner, slow = runner.plans
     assert inner.label == "talker-1" and slow.label == "talker-2"
-    assert ["-r", "__node:=alice", "-r", "__ns:=/robot1/inner"] == _ros_args(inner)[:4]
+    assert _ros_args(inner)[:4] == ["-r", "__node:=alice", "-r", "__ns:=/robot1/inner"]
     assert _params(inner) == {"use_sim_time": True}  # SetParameter: every node after it
     assert "__node:=slow" in _ros_args(slow)
     assert _params(slow) == {"use_sim_time": True, "rate": 6}
@@ -228,7 +232,9 @@ def generate_launch_description():
         pylaunch._stop_all(runner.processes)
     said = [line for line in runner.lines if "launch]" not in line]
     assert code == 1  # `second` died with status 3
-    assert said.index("[INFO] [launch.user]: first started") > said.index(next(s for s in said if "[first-1]: process started" in s))
+    assert said.index("[INFO] [launch.user]: first started") > said.index(
+        next(s for s in said if "[first-1]: process started" in s)
+    )
     assert "[INFO] [launch.user]: second exited with 3" in said
     assert "[INFO] [launch.user]: shutting down: second ended" in said
     assert any(s.startswith("[ERROR] [second-1]: process has died [pid") and "exit code 3" in s for s in said)

@@ -34,13 +34,14 @@ from app.rosclient import boot, executables
 from app.rosclient import launch as xml_launch
 from app.rosclient.run import command, program_env
 
+_SITE = str(boot.SITE)
+if _SITE not in sys.path:  # the launch vocabulary (site/launch, site/launch_ros) for this process
+    sys.path.insert(0, _SITE)
+
+from launch._core import LaunchDescriptionEntity  # noqa: E402 - importable once site/ is on sys.path
+
 KILL_AFTER = 5.0  # s after SIGTERM before SIGKILL
 COMMANDS = {"ros2": None, "rosrun": "run", "roslaunch": "launch", "rostopic": "topic", "rosservice": "service"}
-
-
-def _site() -> None:
-    if str(boot.SITE) not in sys.path:
-        sys.path.insert(0, str(boot.SITE))
 
 
 class Process:
@@ -83,7 +84,6 @@ class Runner:
     def __init__(
         self, url: str = "", logs: Path | None = None, dry: bool = False, workspace: str | None = None
     ) -> None:
-        _site()
         from launch import LaunchContext
 
         self.url, self.dry, self.workspace = url, dry, workspace
@@ -324,7 +324,7 @@ class Runner:
         return 1 if self.died else 0
 
 
-class _Nodes:
+class _Nodes(LaunchDescriptionEntity):
     """An XML or YAML launch file's nodes and parameters, started as its own launcher starts them."""
 
     def __init__(self, read: xml_launch.Launch) -> None:
@@ -348,7 +348,7 @@ class _Nodes:
             runner.start(plan, context)
 
 
-class _Respawn:
+class _Respawn(LaunchDescriptionEntity):
     def __init__(self, plan: Any) -> None:
         self.plan = plan
 
@@ -389,7 +389,6 @@ def _stop_all(processes: list[Process]) -> None:
 def evaluate(path: Path, arguments: dict[str, str] | None = None, workspace: str | None = None) -> Runner:
     """A launch file's description performed without starting anything: `runner.plans` are the
     processes it would start first (timers and event handlers not run)."""
-    _site()
     from launch import LaunchDescription
     from launch.actions import IncludeLaunchDescription
 

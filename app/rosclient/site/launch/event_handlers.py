@@ -40,7 +40,7 @@ def _entities(given: Any, event: Any, context: LaunchContext) -> list[Any]:
 
 
 class _OnProcess(EventHandler):
-    kind: type = ProcessStarted
+    kind: Any = ProcessStarted
 
     def __init__(self, *, target_action: Any = None, entities: Any = None, handle_once: bool = False) -> None:
         def matcher(event: Any) -> bool:

@@ -1,0 +1,65 @@
+"""The course's ROS 2 packages (tests/ros_programs/course_ws) started as their handouts start them,
+against one real lab: `hri-lab run PKG EXE` (setup.py's console_scripts entry points, the workspace
+found through $ROS_PACKAGE_PATH or above the working folder, its interface package found too), the
+adder server's file whose main() nothing calls, and lab8's Python launch file."""
+
+from tests.e2e.serving import served_lab
+from tests.http_client import http
+from tests.ros_running import PROGRAMS, Program
+
+lab = served_lab("--exercises")
+
+COURSE = PROGRAMS / "course_ws"
+ADDER = COURSE / "src" / "learning_service" / "learning_service" / "service_adder_server.py"
+
+
+def _add(lab, a: int, b: int) -> dict:
+    answer = http.post(f"{lab.url}/services/add_two_ints", json={"a": a, "b": b}, timeout=30)
+    assert answer.status_code == 200, answer.text
+    return answer.json()
+
+
+def test_the_seed_programs_run_as_ros2_run_starts_them(lab):
+    server = Program(
+        lab.url, "run", "learning_service", "service_adder_server", env={"ROS_PACKAGE_PATH": str(COURSE / "src")}
+    )
+    try:
+        server.wait_for_line("adder server ready")
+        client = Program(lab.url, "run", "--workspace", str(COURSE), "lab8", "myClient", "2", "40")
+        assert client.wait(timeout=120) == 0, client.output
+        assert "sum: 42" in client.output
+        assert "a: 2 b: 40" in server.wait_for_line("a: 2 b: 40")  # learning_interface/srv/AddTwoInts, served
+    finally:
+        server.interrupt()
+    mine = Program(lab.url, "run", "--workspace", str(COURSE), "lab8", "myServer", "--ros-args", "-p", "offset:=1")
+    try:
+        mine.wait_for_line("myServer ready, offset 1")
+        assert _add(lab, 2, 40) == {"sum": 43}
+    finally:
+        assert mine.interrupt() == 0, mine.output
+    missing = Program(lab.url, "run", "--workspace", str(COURSE), "lab8", "myserver")
+    assert missing.wait() == 1
+    assert "No executable found: 'myserver' in package 'lab8'" in missing.output
+
+
+def test_a_file_whose_main_nothing_calls_runs_its_main_and_says_so(lab):
+    server = Program(lab.url, "run", str(ADDER))
+    try:
+        server.wait_for_line("adder server ready")
+        assert _add(lab, 20, 22) == {"sum": 42}
+    finally:
+        server.interrupt()
+    assert 'defines main() and has no `if __name__ == "__main__":` block: calling main()' in server.output
+
+
+def test_a_python_launch_file_starts_its_nodes_with_parameters_remaps_and_event_handlers(lab):
+    launch = Program(lab.url, "launch", "--workspace", str(COURSE), "lab8", "lab8.launch.py", "offset:=100")
+    try:
+        assert launch.wait(timeout=180) == 0, launch.output
+    finally:
+        launch.stop()
+    out = launch.output
+    assert "[myServer-1] " in out and "myServer ready, offset 100" in out  # output='screen', the argument passed
+    assert "[myClient-1] sum: 142" in out  # /lab8/adder: namespace and remap on both sides
+    assert "[INFO] [launch.user]: client done" in out  # OnProcessExit, then EmitEvent(Shutdown)
+    assert "[INFO] [myServer-1]: process has finished cleanly" in out

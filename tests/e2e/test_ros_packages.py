@@ -63,3 +63,15 @@ def test_a_python_launch_file_starts_its_nodes_with_parameters_remaps_and_event_
     assert "[myClient-1] sum: 142" in out  # /lab8/adder: namespace and remap on both sides
     assert "[INFO] [launch.user]: client done" in out  # OnProcessExit, then EmitEvent(Shutdown)
     assert "[INFO] [myServer-1]: process has finished cleanly" in out
+
+
+def test_rclpy_graph_queries_name_the_programs_topics_services_and_node(lab):
+    program = Program(lab.url, "run", str(PROGRAMS / "graph_queries_rclpy.py"))
+    assert program.wait(timeout=120) == 0, program.output
+    out = program.lines
+    assert "topic ['std_msgs/msg/String']" in out
+    assert "service ['example_interfaces/srv/AddTwoInts']" in out
+    assert "node True" in out
+    assert "by node ['std_msgs/msg/String']" in out
+    assert "parameter 3" in out
+    assert "liveliness AUTOMATIC" in out

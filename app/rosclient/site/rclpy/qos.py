@@ -34,6 +34,7 @@ class LivelinessPolicy(IntEnum):
 
 
 QoSHistoryPolicy, QoSReliabilityPolicy, QoSDurabilityPolicy = HistoryPolicy, ReliabilityPolicy, DurabilityPolicy
+QoSLivelinessPolicy = LivelinessPolicy
 
 
 class QoSProfile:

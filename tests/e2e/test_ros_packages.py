@@ -75,3 +75,11 @@ def test_rclpy_graph_queries_name_the_programs_topics_services_and_node(lab):
     assert "by node ['std_msgs/msg/String']" in out
     assert "parameter 3" in out
     assert "liveliness AUTOMATIC" in out
+
+
+def test_roslib_tf_msg_and_the_labs_own_subscriber_counted(lab):
+    program = Program(lab.url, "run", str(PROGRAMS / "roslib_tf_rospy.py"))
+    assert program.wait(timeout=120) == 0, program.output
+    assert "class std_msgs/String None" in program.lines
+    assert "tf tf/tfMessage []" in program.lines
+    assert "connections 1" in program.lines  # the lab subscribes to its command topic

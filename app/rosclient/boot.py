@@ -39,7 +39,10 @@ def main() -> None:
     workspace = os.environ.get("HRI_LAB_WORKSPACE") or None
     found = interfaces.install(interfaces.workspace_roots(program, workspace))
     found.named = packages.find(packages.workspace_of(program, workspace))  # by their package.xml names
-    own = [str(p) for p in packages.python_paths(program, found.named)]  # as installed packages import
+    # as installed packages import; not a workspace's copy of a client library the lab provides (actionlib's
+    # sources beside its tests): that one runs over the lab
+    ours = {name: folder for name, folder in found.named.items() if not (SITE / name).is_dir()}
+    own = [str(p) for p in packages.python_paths(program, ours)]
     first = [] if entry else [str(program.resolve().parent)]  # an installed script's folder holds no module
     sys.path[0:0] = [*first, *own, str(SITE)]
     sys.argv = [str(program), *sys.argv[2:]]

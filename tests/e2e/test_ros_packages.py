@@ -3,6 +3,9 @@ against one real lab: `hri-lab run PKG EXE` (setup.py's console_scripts entry po
 found through $ROS_PACKAGE_PATH or above the working folder, its interface package found too), the
 adder server's file whose main() nothing calls, and lab8's Python launch file."""
 
+import subprocess
+import sys
+
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program
@@ -83,3 +86,32 @@ def test_roslib_tf_msg_and_the_labs_own_subscriber_counted(lab):
     assert "class std_msgs/String None" in program.lines
     assert "tf tf/tfMessage []" in program.lines
     assert "connections 1" in program.lines  # the lab subscribes to its command topic
+
+
+def _cli(lab, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", *args, "--url", lab.url], capture_output=True, text=True, timeout=120
+    )
+
+
+def test_the_ros2_cli_sees_a_programs_topic_and_calls_with_a_type(lab):
+    talker = Program(lab.url, "run", str(PROGRAMS / "talker_rclpy.py"))
+    server = Program(lab.url, "run", "--workspace", str(COURSE), "lab8", "myServer")
+    try:
+        talker.wait_for_line("Publishing")
+        server.wait_for_line("myServer ready")
+        listed = _cli(lab, "topic", "list", "-t").stdout.splitlines()
+        assert "/topic [std_msgs/String]" in listed
+        assert listed == sorted(listed)  # as ros2 topic list sorts them
+        echo = _cli(lab, "topic", "echo", "/topic", "-n", "1")  # rostopic's -n
+        assert echo.returncode == 0, echo.stderr
+        assert echo.stdout.startswith("data: 'Hello World: ") and echo.stdout.endswith("---\n")
+        call = _cli(lab, "service", "call", "/add_two_ints", "example_interfaces/srv/AddTwoInts", "{a: 1, b: 2}")
+        assert call.returncode == 0, call.stderr
+        assert "AddTwoInts_Response(sum=3)" in call.stdout
+        wrong = _cli(lab, "service", "call", "/add_two_ints", "std_srvs/srv/Empty", "{}")
+        assert wrong.returncode == 1
+        assert "the type 'std_srvs/srv/Empty' is not the srv's: example_interfaces/srv/AddTwoInts" in wrong.stderr
+    finally:
+        talker.interrupt()
+        server.interrupt()

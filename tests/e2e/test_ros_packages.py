@@ -9,6 +9,7 @@ import sys
 from tests.e2e.serving import served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program
+from tests.waiting import wait_for
 
 lab = served_lab("--exercises")
 
@@ -115,3 +116,33 @@ def test_the_ros2_cli_sees_a_programs_topic_and_calls_with_a_type(lab):
     finally:
         talker.interrupt()
         server.interrupt()
+
+
+def test_a_lifecycle_node_is_driven_through_its_change_state_and_get_state_services(lab):
+    talker = Program(lab.url, "run", str(PROGRAMS / "lifecycle_talker_rclpy.py"))
+
+    def state() -> dict:
+        answer = http.post(f"{lab.url}/services/lc_talker/get_state", json={}, timeout=30)
+        assert answer.status_code == 200, answer.text
+        return answer.json()["current_state"]
+
+    def change(transition: int) -> bool:
+        answer = http.post(f"{lab.url}/services/lc_talker/change_state", json={"transition": {"id": transition}})
+        assert answer.status_code == 200, answer.text
+        return answer.json()["success"]
+
+    try:
+        wait_for(lambda: "/lc_talker/get_state" in http.get(f"{lab.url}/services").text)
+        assert state() == {"id": 1, "label": "unconfigured"}
+        assert change(3) is False  # activate: not a transition of `unconfigured`
+        assert change(1) is True
+        talker.wait_for_line("on_configure() from unconfigured")
+        talker.wait_for_line("active False")  # the publisher drops what it is given
+        assert state() == {"id": 2, "label": "inactive"}
+        assert change(3) is True
+        talker.wait_for_line("on_activate() from inactive")
+        talker.wait_for_line("active True")
+        assert change(4) is False  # on_deactivate raised: errorprocessing, on_error's SUCCESS: unconfigured
+        assert state() == {"id": 1, "label": "unconfigured"}
+    finally:
+        talker.interrupt()

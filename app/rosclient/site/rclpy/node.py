@@ -162,6 +162,13 @@ class Node:
     def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int, *,
                          callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
                          **other: Any) -> Publisher:
+        options = other.get("qos_overriding_options")
+        if options is not None:  # the QoS as parameters (rclpy/qos_overriding_options.py)
+            from rclpy.qos import profile
+            from rclpy.qos_overriding_options import _declare_qos_parameters
+
+            qos_profile = profile(qos_profile)
+            _declare_qos_parameters("publisher", self, self.resolve_topic_name(topic), qos_profile, options)
         publisher = Publisher(self, msg_type, topic, qos_profile)
         self.publishers.append(publisher)
         if event_callbacks is not None:
@@ -174,6 +181,13 @@ class Node:
                             qos_profile: QoSProfile | int, *, callback_group: CallbackGroup | None = None,
                             event_callbacks: Any = None, raw: bool = False, **other: Any) -> Subscription:
         group = self._group(callback_group)
+        options = other.get("qos_overriding_options")
+        if options is not None:  # the QoS as parameters (rclpy/qos_overriding_options.py)
+            from rclpy.qos import profile
+            from rclpy.qos_overriding_options import _declare_qos_parameters
+
+            qos_profile = profile(qos_profile)
+            _declare_qos_parameters("subscription", self, self.resolve_topic_name(topic), qos_profile, options)
         subscription = self._added(self.subscriptions, Subscription(self, msg_type, topic, callback, qos_profile,
                                                                     group, raw))
         if event_callbacks is not None:

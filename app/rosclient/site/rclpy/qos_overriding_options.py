@@ -37,7 +37,7 @@ class QoSOverridingOptions:
         return self.callback
 
 
-_ENUMS: dict[QoSPolicyKind, tuple[str, type]] = {
+_ENUMS: dict[QoSPolicyKind, tuple[str, Any]] = {
     QoSPolicyKind.HISTORY: ("history", HistoryPolicy),
     QoSPolicyKind.RELIABILITY: ("reliability", ReliabilityPolicy),
     QoSPolicyKind.DURABILITY: ("durability", DurabilityPolicy),

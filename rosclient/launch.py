@@ -4,7 +4,12 @@ Read: <launch>, <arg name default|value> (and ROS 2's <let>), <node pkg type|exe
 ns|namespace> with <param name value|type> and <rosparam> inside or at the top, <include file> of a
 sibling file (with its own <arg>s), the substitutions $(arg x)/$(var x), $(env X), $(optenv X d),
 $(find pkg)/$(find-pkg-share pkg) and $(dirname). A node's program is its `type`/`exec` file,
-looked for beside the launch file (FILE, FILE.py, PKG/FILE, PKG/scripts/FILE, scripts/FILE).
+looked for beside the launch file (FILE, FILE.py, PKG/FILE, PKG/scripts/FILE, scripts/FILE), then
+anywhere in its package as roslaunch finds it (nodes/, src/PKG/, ...) or as a console_scripts entry
+point of its setup.py (a ROS 2 package's `exec`); <remap from to> inside a node is passed to it
+(`from:=to` for rospy, `-r from:=to` for rclpy). A YAML launch file (ROS 2's) is read as its XML twin.
+`hri-lab launch PKG FILE` finds FILE in the package, as `ros2 launch` / `roslaunch` do; a Python
+launch file (FILE.launch.py) is run by rosclient/pylaunch.py.
 
 The lab is started first (`hri-lab serve` on a free port) unless --url is given; every node runs as
 `hri-lab run` runs it (rosclient/boot.py), its parameters passed the way its API reads them:
@@ -53,6 +58,8 @@ class NodeSpec:
     output: str = "log"
     namespace: str = "/"
     ros2: bool = False
+    remaps: list[tuple[str, str]] = field(default_factory=list)
+    entry: str | None = None  # a console_scripts entry point (rosclient/executables.py)
 
     def argv(self) -> list[str]:
         extra = [a for a in self.args]
@@ -62,9 +69,13 @@ class NodeSpec:
                 ros_args += ["-r", f"__ns:={self.namespace}"]
             for key, value in self.params.items():
                 ros_args += ["-p", f"{key}:={_text(value)}"]
+            for source, target in self.remaps:
+                ros_args += ["-r", f"{source}:={target}"]
             return [*extra, "--ros-args", *ros_args]
         namespace = [f"__ns:={self.namespace}"] if self.namespace.strip("/") else []  # roslaunch's <group ns>
-        return [*extra, f"__name:={self.name}", *namespace, *(f"_{k}:={_text(v)}" for k, v in self.params.items())]
+        remaps = [f"{source}:={target}" for source, target in self.remaps]
+        params = (f"_{k}:={_text(v)}" for k, v in self.params.items())
+        return [*extra, *remaps, f"__name:={self.name}", *namespace, *params]
 
 
 @dataclass
@@ -132,6 +143,8 @@ class Reader:
         return self.path.parent
 
     def read(self) -> Launch:
+        if self.path.suffix in (".yaml", ".yml"):
+            return self.read_yaml()
         from lxml import etree  # each element's line; libxml2's depth limit (256) and no entity expansion
 
         parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False)
@@ -143,6 +156,22 @@ class Reader:
             raise LaunchError(f"{self.path}, line {exc.lineno}: not a launch file ({exc.msg})") from None
         if root.tag != "launch":
             raise self.fail(f"the root element must be <launch>, not <{root.tag}>")
+        self.element(root, "/")
+        return self.launch
+
+    def read_yaml(self) -> Launch:
+        """A ROS 2 YAML launch file, read as the XML it stands for: `launch:` a list of one-key
+        mappings (tag: attributes), a list inside an entry its children (`param:`, `remap:`, `arg:`)."""
+        import yaml
+
+        try:
+            data = yaml.safe_load(self.path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+            raise self.fail(f"not a launch file ({exc})") from None
+        if not isinstance(data, dict) or not isinstance(data.get("launch"), list):
+            raise self.fail("a YAML launch file holds `launch:`, a list of its entries")
+        root = ET.Element("launch")
+        _yaml_children(root, data["launch"], self)
         self.element(root, "/")
         return self.launch
 
@@ -178,7 +207,7 @@ class Reader:
                 self.include(child)
             elif tag in ("group",):
                 self.element(child, _join(namespace, self.sub(child.get("ns") or child.get("namespace") or "")))
-            elif tag in ("remap", "machine", "env", "set_env", "test"):
+            elif tag in ("remap", "machine", "env", "set_env", "test", "push-ros-namespace"):
                 continue
             else:
                 raise self.fail(f"unsupported element <{tag}>")
@@ -196,7 +225,7 @@ class Reader:
         package = self.sub(element.get("pkg"))
         if not program_name:
             raise self.fail("<node> needs type= (ROS 1) or exec= (ROS 2): the program to run")
-        program = self.find_program(package, program_name)
+        program, entry = self.find_program(package, program_name)
         name = self.sub(element.get("name")) or Path(program_name).stem
         if not NODE_NAME.match(name):
             raise self.fail(
@@ -210,10 +239,13 @@ class Reader:
             output=element.get("output", "log"),
             namespace=_join(namespace, self.sub(element.get("ns") or element.get("namespace") or "")),
             ros2=ros2,
+            entry=entry,
         )
         for child in element:
             self.at = child
-            if child.tag == "param":
+            if child.tag == "remap":
+                spec.remaps.append((self.sub(child.get("from")), self.sub(child.get("to"))))
+            elif child.tag == "param":
                 key, value = self.param(child)
                 spec.params[key] = value
             elif child.tag == "rosparam":
@@ -221,12 +253,15 @@ class Reader:
         self.at = element
         self.launch.nodes.append(spec)
 
-    def find_program(self, package: str, name: str) -> Path:
+    def find_program(self, package: str, name: str) -> tuple[Path, str | None]:
         if "/" in name or "\\" in name or name in (".", "..") or "/" in package or package in (".", ".."):
             raise self.fail(
                 f"node program {name[:100]!r} of package {package[:100]!r}: a program's file name in its package, "
                 "not a path"
             )
+        found = self.in_package(package, name)
+        if found is not None and found[1] is not None:  # a console_scripts entry point: what ros2 run runs
+            return found
         base = self.path.parent
         candidates = []
         for stem in (name, name + ".py") if not name.endswith(".py") else (name,):
@@ -242,11 +277,24 @@ class Reader:
         inside = (base.resolve(), self.package_dir(package).resolve())  # a link out of them is not the package's
         for candidate in candidates:
             if candidate.is_file() and any(candidate.resolve().is_relative_to(root) for root in inside):
-                return candidate
+                return candidate, None
+        if found is not None:
+            return found
         raise self.fail(
             f"node program {name!r} of package {package!r} not found (looked beside the launch file: "
             f"{', '.join(str(c) for c in candidates[:4])}, ...)"
         )
+
+    def in_package(self, package: str, name: str) -> tuple[Path, str | None] | None:
+        """The program as rosrun / ros2 run find it in the package: an entry point, or a file anywhere in it."""
+        from rosclient import executables
+
+        roots = executables.workspaces(self.path.parent, os.environ.get("HRI_LAB_WORKSPACE") or None)
+        try:
+            found = executables.resolve(package, name, roots)
+        except executables.NotFound:
+            return None
+        return found.program, found.entry
 
     def param(self, element: ET.Element) -> tuple[str, Any]:
         from rosclient.process import parse_value
@@ -323,6 +371,35 @@ class Reader:
         self.launch.params.update(included.params)
 
 
+def _yaml_children(parent: ET.Element, entries: Any, reader: Reader) -> None:
+    for entry in entries if isinstance(entries, list) else [entries]:
+        if not isinstance(entry, dict) or len(entry) != 1:
+            raise reader.fail(f"a YAML launch entry is a mapping of one tag, not {str(entry)[:100]!r}")
+        ((tag, body),) = entry.items()
+        tag = str(tag)
+        if tag in ("push-ros-namespace", "push_ros_namespace"):  # the group's namespace
+            parent.set("namespace", str((body or {}).get("namespace", "")))
+            continue
+        child = ET.SubElement(parent, tag)
+        if isinstance(body, list):
+            _yaml_children(child, body, reader)
+            continue
+        for key, value in (body or {}).items():
+            if key == "children":
+                _yaml_children(child, value, reader)
+            elif isinstance(value, list) and all(isinstance(v, dict) for v in value):
+                for item in value:
+                    ET.SubElement(child, str(key), {str(k): _yaml_text(v) for k, v in item.items()})
+            else:
+                child.set(str(key), _yaml_text(value))
+
+
+def _yaml_text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return value if isinstance(value, str) else json.dumps(value)
+
+
 def _join(namespace: str, name: str) -> str:
     if name.startswith("/"):
         return name
@@ -333,6 +410,10 @@ def read(path: Path, args: dict[str, str] | None = None) -> Launch:
     return Reader(path, args or {}).read()
 
 
+def read_yaml(path: Path, args: dict[str, str] | None = None) -> Launch:
+    return Reader(path, args or {}).read_yaml()
+
+
 # --- running ------------------------------------------------------------------------------------
 class Running:
     def __init__(self, spec: NodeSpec, index: int, url: str, workspace: str | None, logs: Path) -> None:
@@ -341,7 +422,7 @@ class Running:
         root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH", "")) if p)
         self.log = logs / f"{self.label}.log"
-        self.argv = command(str(spec.program), spec.argv())
+        self.argv = command(str(spec.program), spec.argv(), spec.entry)
         self.proc = subprocess.Popen(
             self.argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
         )  # Ctrl+C reaches it from here, once
@@ -371,13 +452,22 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
     """`hri-lab launch`: the launch file's nodes against the lab at args.url, or against one that
     `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
     path = Path(args.file)
-    bad = [item for item in args.args if ":=" not in item]
+    items = list(args.args)
+    if not path.is_file() and items and ":=" not in items[0]:  # `hri-lab launch PKG FILE`, as ros2 launch / roslaunch
+        found = launch_file_of(args.file, items.pop(0), args.workspace)
+        if isinstance(found, str):
+            print(f"error: {found}", file=sys.stderr)
+            return 2
+        path = found
+    bad = [item for item in items if ":=" not in item]
     if bad:
         print(f"error: launch arguments are NAME:=VALUE, got {bad[0]!r}", file=sys.stderr)
         return 2
-    launch_args = dict(item.split(":=", 1) for item in args.args)
+    launch_args = dict(item.split(":=", 1) for item in items)
     if args.workspace:  # $(find pkg) and <node pkg=...> resolve in it, as the nodes' imports do
         os.environ["HRI_LAB_WORKSPACE"] = str(Path(args.workspace).resolve())
+    if path.suffix == ".py":
+        return _python_launch(path, launch_args, args, start_lab)
     try:
         launch = read(path, launch_args)
     except LaunchError as exc:
@@ -401,7 +491,7 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
     crashed = 0
     try:
         if launch.params:
-            _set_params(url, launch.params)
+            set_params(url, launch.params)
         print(f"launching {len(launch.nodes)} node(s) of {path} (logs in {logs})", flush=True)
         for index, spec in enumerate(launch.nodes, 1):
             running.append(Running(spec, index, url, args.workspace, logs))
@@ -449,7 +539,48 @@ def _stop(running: list[Running]) -> None:
             r.proc.wait()
 
 
-def _set_params(url: str, params: dict[str, Any]) -> None:
+def launch_file_of(package: str, name: str, workspace: str | None) -> Path | str:
+    """A package's launch file by its name (its launch/ folder first, then anywhere in it), or why not."""
+    from rosclient import executables
+
+    where = executables.find_package(package, executables.workspaces(Path.cwd(), workspace))
+    if where is None:
+        return f"Package '{package}' not found (give its workspace with --workspace DIR)"
+    if "/" in name or name in (".", ".."):
+        return f"{name[:100]!r}: a launch file's name in package '{package}', not a path"
+    files = executables.package_files(where[0], name)
+    launch_folder = [f for f in files if f.parent.name == "launch"]
+    if not files:
+        return f"file '{name}' was not found in the share directory of package '{package}' at '{where[0]}'"
+    return (launch_folder or files)[0]
+
+
+def _python_launch(
+    path: Path, arguments: dict[str, str], args: argparse.Namespace, start_lab: Callable[[], LabServer] | None
+) -> int:
+    from rosclient import pylaunch
+
+    stopping = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stopping.set())
+    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
+    server: LabServer | None = None
+    url = args.url
+    if url is None:
+        if start_lab is None:
+            print("error: no lab: give its address with --url", file=sys.stderr)
+            return 2
+        print("starting the lab (hri-lab serve) ...", flush=True)
+        server = start_lab()
+        url = server.url
+        print(f"the lab: {url}", flush=True)
+    try:
+        return pylaunch.run(path, arguments, url, args.workspace, stopping)
+    finally:
+        if server is not None:
+            server.stop()
+
+
+def set_params(url: str, params: dict[str, Any]) -> None:
     from rosclient.connection import Connection
 
     connection = Connection(url)

@@ -91,7 +91,8 @@ def service(args) -> int:
     if args.action == "show":
         print(info["srv"])
         return 0
-    request = _yaml_arg(args.values or "")
+    values = _typed_values(args, info["type"], "srv")
+    request = _yaml_arg(values)
     print(f"requester: making request: {_message(info['type'], 'Request', request)}\n")
     response = _request(args, "POST", f"/services{name}", json=request)
     if response.status_code != 200:
@@ -100,6 +101,23 @@ def service(args) -> int:
     print("response:")
     print(_message(info["type"], "Response", response.json()))
     return 0
+
+
+def _typed_values(args, type_name: str, kind: str) -> str:
+    """The YAML values of `call NAME [TYPE] [VALUES]` (ros2's form names the type): a type given must
+    be the interface's own, `pkg/kind/Name` or `pkg/Name`."""
+    first, second = args.type_or_values or "", args.values or ""
+    if not second and not _looks_like_type(first):
+        return first  # `call NAME VALUES` (rosservice's form, and this lab's)
+    given = first.replace(f"/{kind}/", "/")
+    if given != type_name.replace(f"/{kind}/", "/"):
+        package, _, name = type_name.replace(f"/{kind}/", "/").partition("/")
+        raise CliError(f"the type {first!r} is not the {kind}'s: {package}/{kind}/{name}")
+    return second
+
+
+def _looks_like_type(text: str) -> bool:
+    return bool(text) and "/" in text and not any(c in text for c in "{}[]:' \"")
 
 
 # --- param ------------------------------------------------------------------------------------
@@ -207,10 +225,55 @@ def _ros1_param(args, name: str) -> int:
 
 
 # --- topic ------------------------------------------------------------------------------------
+def _graph_topics(args) -> dict[str, str]:
+    """The graph's topics over rosbridge (the programs' own included); none when it cannot be asked."""
+    from app.cli import graph
+
+    try:
+        return graph.topics(args.url)
+    except (OSError, WebSocketException, TimeoutError, ValueError):
+        return {}
+
+
+def _topic_list(args) -> int:
+    """`ros2 topic list [-t]`: the lab's topics and the programs', sorted as ros2 sorts them."""
+    listed = {item["name"]: item["type"] for item in _request(args, "GET", "/topics").json()}
+    for name, type_name in _graph_topics(args).items():
+        listed.setdefault(name, type_name)
+    for name in sorted(listed):
+        print(f"{name} [{listed[name]}]" if args.show_types else name)
+    return 0
+
+
+def _program_topic_echo(args, name: str, failure: httpx.Response) -> int:
+    """`topic echo` of a topic a program publishes (not one of the lab's): its messages over rosbridge."""
+    from app.cli import graph
+
+    type_name = _graph_topics(args).get(name)
+    if not type_name:
+        raise CliError(f"topic '{name}' is not available: {_detail(failure)}")
+    wanted = 1 if args.once else args.count
+    received = 0
+    try:
+        for message in graph.messages(args.url, name, type_name):
+            _print_message(message)
+            received += 1
+            if wanted is not None and received >= wanted:
+                break
+    except KeyboardInterrupt:
+        pass
+    return 0
+
+
 def topic(args) -> int:
     if args.action == "list":
-        return _print_list(args, "/topics")
-    name, response = _lookup(args, "topics")
+        return _topic_list(args)
+    name = absolute(args.name)
+    response = _request(args, "GET", f"/topics{name}")
+    if response.status_code == 404:
+        return _program_topic_echo(args, name, response)
+    if response.status_code != 200:
+        raise CliError(f"topic '{name}' is not available: {_detail(response)}")
     if args.once:
         _print_message(response.json())
         return 0
@@ -262,7 +325,7 @@ def action(args) -> int:
         info = info.json()
         print(f"Action: {info['name']}\nType: {info['type']}\n\n{info['definition']}")
         return 0
-    goal = _yaml_arg(args.values or "")
+    goal = _yaml_arg(_typed_values(args, info.json()["type"], "action"))
     print(f"Sending goal:\n{_indented(goal)}\n")
     response = _request(args, "POST", f"/actions{name}/goals", json=goal)
     body = response.json()
@@ -300,6 +363,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         srv_sub.add_parser(verb, parents=[url]).add_argument("name")
     call = srv_sub.add_parser("call", parents=[url])
     call.add_argument("name")
+    call.add_argument(
+        "type_or_values", nargs="?", default="", metavar="[TYPE]", help="the service's type (ros2's form)"
+    )
     call.add_argument("values", nargs="?", default="", help="request as YAML, e.g. '{a: 1, b: 2}'")
     srv.set_defaults(func=service)
 
@@ -329,7 +395,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     echo.add_argument("name")
     echo.add_argument("--once", action="store_true", help="print one message and exit")
     echo.add_argument("--rate", type=float, default=10.0, help="messages per second (default 10)")
-    echo.add_argument("--count", type=int, help="exit after this many messages")
+    echo.add_argument("--count", "-n", type=int, help="exit after this many messages (rostopic echo -n N)")
     top.set_defaults(func=topic)
 
     act = sub.add_parser("action", help="actions (like ros2 action)")
@@ -338,6 +404,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     act_sub.add_parser("info", parents=[url]).add_argument("name")
     goal = act_sub.add_parser("send_goal", parents=[url])
     goal.add_argument("name")
+    goal.add_argument("type_or_values", nargs="?", default="", metavar="[TYPE]", help="the action's type (ros2's form)")
     goal.add_argument("values", nargs="?", default="", help="goal as YAML, e.g. '{count: 3}'")
     goal.add_argument("-f", "--feedback", action="store_true", help="print the feedback")
     act.set_defaults(func=action)

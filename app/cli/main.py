@@ -294,13 +294,14 @@ def _run(sub: a.Subparsers) -> None:
         "run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run",
         (
             "hri-lab run add_two_ints_client.py 20 22",
+            "hri-lab run learning_service service_adder_server     # a package's executable, as ros2 run",
             "hri-lab run keys_to_twist.py w --ros-args -p linear_speed:=0.25",
             "hri-lab run --workspace ~/catkin_ws/src calculator_server.py",
         ),
     )
     a.url(run)
     a.workspace(run, "the program's")
-    run.add_argument("program", metavar="FILE.py")
+    run.add_argument("program", metavar="FILE.py|PKG", help="a program file, or a package (then its executable EXE)")
     run.add_argument("args", nargs=argparse.REMAINDER, help="the program's arguments (and --ros-args ...)")
     run.set_defaults(func=a.runs("rosclient.run"))
 
@@ -309,15 +310,16 @@ def _launch(sub: a.Subparsers) -> None:
     lch = a.command(
         sub,
         "launch",
-        "start the lab and the nodes of a roslaunch / ROS 2 XML launch file",
+        "start the lab and the nodes of a launch file: roslaunch XML, ROS 2 XML, YAML or Python",
         (
             "hri-lab launch calculator.launch.xml                # its own lab and the nodes",
+            "hri-lab launch lab8 lab8.launch.py offset:=10       # a package's launch file, as ros2 launch",
             "hri-lab launch --url http://127.0.0.1:8000 login_chain.launch user:=ada",
         ),
     )
     a.url(lch, "a running lab (default: start one, like roslaunch starts roscore)", start_one=True)
     a.workspace(lch, "the programs'")
-    lch.add_argument("file", metavar="FILE.launch|FILE.launch.xml")
+    lch.add_argument("file", metavar="FILE|PKG", help="a launch file, or a package (then its launch file's name)")
     lch.add_argument("args", nargs="*", metavar="NAME:=VALUE", help="the launch file's arguments")
     lch.set_defaults(func=a.runs("app.cli.launch_nodes"))
 

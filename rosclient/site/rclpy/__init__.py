@@ -22,14 +22,17 @@ from rclpy.context import Context, default_context
 from rclpy.task import Future
 from rclpy.utilities import get_default_context, get_rmw_implementation_identifier, ok, remove_ros_args
 
-__all__ = ["create_node", "get_default_context", "get_global_executor", "get_rmw_implementation_identifier", "init",
-           "ok", "remove_ros_args", "shutdown", "spin", "spin_once", "spin_until_future_complete", "try_shutdown"]
+__all__ = ["Context", "Future", "Parameter", "SignalHandlerOptions", "create_node", "get_default_context",
+           "get_global_executor", "get_rmw_implementation_identifier", "init", "ok", "remove_ros_args", "shutdown",
+           "spin", "spin_once", "spin_until_future_complete", "try_shutdown"]
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
     from rclpy.node import Node
 
 process.ensure_interfaces()
+
+from rclpy.parameter import Parameter  # noqa: E402 - rclpy's top level exports it (the parameters tutorial)
 
 
 class SignalHandlerOptions:

@@ -58,3 +58,44 @@ def count_subscriptions(topic: str) -> int:
 
 def count_publishers(topic: str) -> int:
     return process.publishers_of(topic) + _others("/rosapi/publishers", "publishers", topic)
+
+
+# --- the graph's names (Node.get_topic_names_and_types and its kin), from the lab's rosapi -------------
+def ros2_type(type_name: str, kind: str) -> str:
+    """`pkg/Name` as ROS 2 names it: `pkg/msg/Name` (or srv, action); a ROS 2 name stays."""
+    parts = type_name.split("/")
+    return f"{parts[0]}/{kind}/{parts[1]}" if len(parts) == 2 else type_name
+
+
+def topic_names_and_types() -> list[tuple[str, list[str]]]:
+    answer = process.connection().call_service("/rosapi/topics", {}, timeout=10)
+    pairs = zip(answer.get("topics", []), answer.get("types", []), strict=False)
+    return sorted((name, [ros2_type(kind, "msg")]) for name, kind in pairs)
+
+
+def service_names_and_types() -> list[tuple[str, list[str]]]:
+    out = []
+    for name in sorted(process.service_names()):
+        kind = process.connection().call_service("/rosapi/service_type", {"service": name}, timeout=10).get("type", "")
+        out.append((name, [ros2_type(kind, "srv")] if kind else []))
+    return out
+
+
+def node_names() -> list[str]:
+    names = process.connection().call_service("/rosapi/nodes", {}, timeout=10).get("nodes", [])
+    return sorted("/" + n.strip("/") for n in names)
+
+
+def split_node(name: str) -> tuple[str, str]:
+    namespace, _, base = name.rpartition("/")
+    return base, namespace or "/"
+
+
+def by_node(node_name: str, node_namespace: str, field: str) -> list[tuple[str, list[str]]]:
+    full = "/" + "/".join(p for p in (node_namespace.strip("/"), node_name.strip("/")) if p)
+    details = process.connection().call_service("/rosapi/node_details", {"node": full}, timeout=10)
+    names = sorted(details.get(field, []))
+    if field == "services":
+        return [(n, t) for n, t in service_names_and_types() if n in names]
+    types = dict(topic_names_and_types())
+    return [(n, types.get(n, [])) for n in names]

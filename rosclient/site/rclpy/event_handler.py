@@ -25,6 +25,10 @@ from rclpy._entity import Call
 from rclpy.callback_groups import CallbackGroup
 from rclpy.waitable import Waitable
 
+class UnsupportedEventTypeError(Exception):
+    """An event type the middleware does not support (rclpy raises it when a callback is set)."""
+
+
 POLL_S = 0.25  # s between two looks at the graph's counts when nothing in this program changed
 
 

@@ -162,6 +162,13 @@ class Node:
     def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int, *,
                          callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
                          **other: Any) -> Publisher:
+        options = other.get("qos_overriding_options")
+        if options is not None:  # the QoS as parameters (rclpy/qos_overriding_options.py)
+            from rclpy.qos import profile
+            from rclpy.qos_overriding_options import _declare_qos_parameters
+
+            qos_profile = profile(qos_profile)
+            _declare_qos_parameters("publisher", self, self.resolve_topic_name(topic), qos_profile, options)
         publisher = Publisher(self, msg_type, topic, qos_profile)
         self.publishers.append(publisher)
         if event_callbacks is not None:
@@ -174,6 +181,13 @@ class Node:
                             qos_profile: QoSProfile | int, *, callback_group: CallbackGroup | None = None,
                             event_callbacks: Any = None, raw: bool = False, **other: Any) -> Subscription:
         group = self._group(callback_group)
+        options = other.get("qos_overriding_options")
+        if options is not None:  # the QoS as parameters (rclpy/qos_overriding_options.py)
+            from rclpy.qos import profile
+            from rclpy.qos_overriding_options import _declare_qos_parameters
+
+            qos_profile = profile(qos_profile)
+            _declare_qos_parameters("subscription", self, self.resolve_topic_name(topic), qos_profile, options)
         subscription = self._added(self.subscriptions, Subscription(self, msg_type, topic, callback, qos_profile,
                                                                     group, raw))
         if event_callbacks is not None:
@@ -270,7 +284,35 @@ class Node:
         return [n.strip("/") for n in process.connection().call_service("/rosapi/nodes", {}).get("nodes", [])]
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
-        return [(name, []) for name in sorted(process.service_names())]
+        """Every service of the graph with its type, as ROS 2 names it (pkg/srv/Name), sorted."""
+        return _graph.service_names_and_types()
+
+    def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        """Every topic of the graph with its type, as ROS 2 names it (pkg/msg/Name), sorted."""
+        return _graph.topic_names_and_types()
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return [_graph.split_node(n) for n in _graph.node_names()]
+
+    def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
+        return [(*_graph.split_node(n), "/") for n in _graph.node_names()]
+
+    def get_fully_qualified_node_names(self) -> list[str]:
+        return _graph.node_names()
+
+    def get_publisher_names_and_types_by_node(self, node_name: str, node_namespace: str,
+                                              no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        return _graph.by_node(node_name, node_namespace, "publishing")
+
+    def get_subscriber_names_and_types_by_node(self, node_name: str, node_namespace: str,
+                                               no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        return _graph.by_node(node_name, node_namespace, "subscribing")
+
+    def get_service_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list[tuple[str, list[str]]]:
+        return _graph.by_node(node_name, node_namespace, "services")
+
+    def get_client_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list[tuple[str, list[str]]]:
+        return []  # the lab's graph does not know a node's clients
 
     def __enter__(self) -> Node:
         return self

@@ -74,6 +74,8 @@ from rospy.topics import Publisher, SubscribeListener, Subscriber
 
 process.use_ros1()  # ROS 1's Header (with seq) for the messages this program makes from now on
 
+from std_msgs.msg import Header  # noqa: E402 - rospy's own export (`from rospy import Header`, as actionlib has it)
+
 
 __all__ = [
     "DEBUG", "INFO", "WARN", "ERROR", "FATAL",
@@ -88,5 +90,5 @@ __all__ = [
     "Service", "ServiceProxy", "wait_for_service",
     "get_name", "get_caller_id", "get_namespace", "resolve_name", "remap_name",
     "Time", "Duration", "get_rostime", "get_time", "Rate", "Timer", "TimerEvent", "sleep",
-    "Publisher", "Subscriber", "SubscribeListener",
+    "Publisher", "Subscriber", "SubscribeListener", "Header",
 ]  # fmt: skip

@@ -80,3 +80,11 @@ class TransformListener:
         return transformations.concatenate_matrices(transformations.translation_matrix(translation),
                                                     transformations.quaternion_matrix(rotation))
 
+
+
+def __getattr__(name: str) -> Any:
+    if name == "msg":  # tf/tfMessage, made from its definition by the interface finder (rosclient/interfaces.py)
+        import importlib
+
+        return importlib.import_module("tf.msg")
+    raise AttributeError(f"module 'tf' has no attribute '{name}'")

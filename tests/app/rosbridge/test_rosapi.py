@@ -45,6 +45,8 @@ def test_topics_services_and_types_are_the_labs():
         await op(session, op="node", name="/listener")
         await op(session, op="subscribe", topic="/chatter", type="std_msgs/String")
         assert (await values("/rosapi/subscribers", topic="/chatter"))["subscribers"] == ["/listener"]
+        command = lab.bridge.command_topic  # the lab's own subscriber, as get_num_connections counts it
+        assert (await values("/rosapi/subscribers", topic=command))["subscribers"] == ["/hri_lab"]
         assert "/listener" in (await values("/rosapi/nodes"))["nodes"]
         assert (await values("/rosapi/node_details", node="/listener"))["subscribing"] == ["/chatter"]
         assert "/count" in (await values("/rosapi/action_servers"))["action_servers"]

@@ -1,0 +1,5 @@
+"""rclpy.signals: which signal handlers rclpy.init() installs."""
+
+from rclpy import SignalHandlerOptions
+
+__all__ = ["SignalHandlerOptions"]

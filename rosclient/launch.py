@@ -448,26 +448,27 @@ class LabServer(Protocol):
     def stop(self) -> None: ...
 
 
-def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = None) -> int:
-    """`hri-lab launch`: the launch file's nodes against the lab at args.url, or against one that
-    `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
+def target(args: argparse.Namespace) -> tuple[Path, dict[str, str]] | str:
+    """What `hri-lab launch FILE|PKG FILE [NAME:=VALUE ...]` names: the launch file (a package's found
+    as ros2 launch and roslaunch find it) and its arguments; or why not."""
     path = Path(args.file)
     items = list(args.args)
     if not path.is_file() and items and ":=" not in items[0]:  # `hri-lab launch PKG FILE`, as ros2 launch / roslaunch
         found = launch_file_of(args.file, items.pop(0), args.workspace)
         if isinstance(found, str):
-            print(f"error: {found}", file=sys.stderr)
-            return 2
+            return found
         path = found
     bad = [item for item in items if ":=" not in item]
     if bad:
-        print(f"error: launch arguments are NAME:=VALUE, got {bad[0]!r}", file=sys.stderr)
-        return 2
-    launch_args = dict(item.split(":=", 1) for item in items)
-    if args.workspace:  # $(find pkg) and <node pkg=...> resolve in it, as the nodes' imports do
-        os.environ["HRI_LAB_WORKSPACE"] = str(Path(args.workspace).resolve())
-    if path.suffix == ".py":
-        return _python_launch(path, launch_args, args, start_lab)
+        return f"launch arguments are NAME:=VALUE, got {bad[0]!r}"
+    return path, dict(item.split(":=", 1) for item in items)
+
+
+def run(
+    args: argparse.Namespace, path: Path, launch_args: dict[str, str], start_lab: Callable[[], LabServer] | None = None
+) -> int:
+    """`hri-lab launch` of an XML or YAML file (`path`, with `launch_args`): its nodes against the lab
+    at args.url, or against one that `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
     try:
         launch = read(path, launch_args)
     except LaunchError as exc:
@@ -553,31 +554,6 @@ def launch_file_of(package: str, name: str, workspace: str | None) -> Path | str
     if not files:
         return f"file '{name}' was not found in the share directory of package '{package}' at '{where[0]}'"
     return (launch_folder or files)[0]
-
-
-def _python_launch(
-    path: Path, arguments: dict[str, str], args: argparse.Namespace, start_lab: Callable[[], LabServer] | None
-) -> int:
-    from rosclient import pylaunch
-
-    stopping = threading.Event()
-    signal.signal(signal.SIGINT, lambda *_: stopping.set())
-    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
-    server: LabServer | None = None
-    url = args.url
-    if url is None:
-        if start_lab is None:
-            print("error: no lab: give its address with --url", file=sys.stderr)
-            return 2
-        print("starting the lab (hri-lab serve) ...", flush=True)
-        server = start_lab()
-        url = server.url
-        print(f"the lab: {url}", flush=True)
-    try:
-        return pylaunch.run(path, arguments, url, args.workspace, stopping)
-    finally:
-        if server is not None:
-            server.stop()
 
 
 def set_params(url: str, params: dict[str, Any]) -> None:

@@ -27,6 +27,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -162,7 +163,7 @@ class Runner:
         if self.dry:
             return
         env = {**plan.env, **program_env(self.url, str(plan.workspace) if plan.workspace else self.workspace)}
-        root = str(Path(__file__).resolve().parents[2])
+        root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, plan.env.get("PYTHONPATH", "")) if p)
         if plan.program is not None:
             argv = command(str(plan.program), plan.args, plan.entry)
@@ -396,3 +397,27 @@ def evaluate(path: Path, arguments: dict[str, str] | None = None, workspace: str
     runner.context.launch_configurations.update(arguments or {})
     runner.visit([LaunchDescription([IncludeLaunchDescription(str(path.resolve()))])])
     return runner
+
+
+def run_file(
+    path: Path, arguments: dict[str, str], url: str | None, workspace: str | None, start_lab: Callable[[], Any] | None
+) -> int:
+    """`hri-lab launch x.launch.py|.yaml`: `run` against the lab at `url`, or against one that
+    `start_lab` starts (stopped after the launch, as the XML runner does)."""
+    stopping = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stopping.set())
+    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
+    server = None
+    if url is None:
+        if start_lab is None:
+            print("error: no lab: give its address with --url", file=sys.stderr)
+            return 2
+        print("starting the lab (hri-lab serve) ...", flush=True)
+        server = start_lab()
+        url = server.url
+        print(f"the lab: {url}", flush=True)
+    try:
+        return run(path, arguments, url, workspace, stopping)
+    finally:
+        if server is not None:
+            server.stop()

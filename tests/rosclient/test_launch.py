@@ -76,7 +76,7 @@ def test_includes_that_include_each_other_and_deep_chains_are_refused(tmp_path):
 def test_hri_lab_launch_prints_the_refusal_not_a_traceback(tmp_path, capsys):
     path = _write(tmp_path, "bad.launch", '<launch>\n<param name="n" type="int" value="abc"/>\n</launch>\n')
     args = argparse.Namespace(file=str(path), args=[], url=None, workspace=None)
-    assert launch.run(args) == 2
+    assert launch.run(args, path, {}) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"error: {path}, line 2:")
     assert "Traceback" not in err

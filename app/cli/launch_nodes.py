@@ -7,8 +7,8 @@ from __future__ import annotations
 import argparse
 
 from app.cli.launch import ServerProcess
-from app.rosclient import launch
+from app.rosclient import launch, pylaunch
 
 
 def run(args: argparse.Namespace) -> int:
-    return launch.run(args, start_lab=lambda: ServerProcess("--view", "none", own_session=True))
+    return launch.run(args, start_lab=lambda: ServerProcess("--view", "none", own_session=True), python=pylaunch.main)

@@ -448,9 +448,14 @@ class LabServer(Protocol):
     def stop(self) -> None: ...
 
 
-def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = None) -> int:
+def run(
+    args: argparse.Namespace,
+    start_lab: Callable[[], LabServer] | None = None,
+    python: Callable[[Path, dict[str, str], argparse.Namespace, Callable[[], LabServer] | None], int] | None = None,
+) -> int:
     """`hri-lab launch`: the launch file's nodes against the lab at args.url, or against one that
-    `start_lab` starts (stopped after the nodes, as roslaunch's roscore)."""
+    `start_lab` starts (stopped after the nodes, as roslaunch's roscore); a Python launch file is
+    `python`'s (app/rosclient/pylaunch.py's main, handed in by app/cli/launch_nodes.py)."""
     path = Path(args.file)
     items = list(args.args)
     if not path.is_file() and items and ":=" not in items[0]:  # `hri-lab launch PKG FILE`, as ros2 launch / roslaunch
@@ -469,7 +474,10 @@ def run(args: argparse.Namespace, start_lab: Callable[[], LabServer] | None = No
     if args.workspace:  # $(find pkg) and <node pkg=...> resolve in it, as the nodes' imports do
         os.environ["HRI_LAB_WORKSPACE"] = str(Path(args.workspace).resolve())
     if path.suffix == ".py":
-        return _python_launch(path, launch_args, args, start_lab)
+        if python is None:
+            print(f"error: {path}: a Python launch file, and no runner for it was given", file=sys.stderr)
+            return 2
+        return python(path, launch_args, args, start_lab)
     try:
         launch = read(path, launch_args)
     except LaunchError as exc:
@@ -550,31 +558,6 @@ def launch_file_of(package: str, name: str, workspace: str | None) -> Path | str
     if not files:
         return f"file '{name}' was not found in the share directory of package '{package}' at '{where[0]}'"
     return (launch_folder or files)[0]
-
-
-def _python_launch(
-    path: Path, arguments: dict[str, str], args: argparse.Namespace, start_lab: Callable[[], LabServer] | None
-) -> int:
-    from app.rosclient import pylaunch
-
-    stopping = threading.Event()
-    signal.signal(signal.SIGINT, lambda *_: stopping.set())
-    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
-    server: LabServer | None = None
-    url = args.url
-    if url is None:
-        if start_lab is None:
-            print("error: no lab: give its address with --url", file=sys.stderr)
-            return 2
-        print("starting the lab (hri-lab serve) ...", flush=True)
-        server = start_lab()
-        url = server.url
-        print(f"the lab: {url}", flush=True)
-    try:
-        return pylaunch.run(path, arguments, url, args.workspace, stopping)
-    finally:
-        if server is not None:
-            server.stop()
 
 
 def set_params(url: str, params: dict[str, Any]) -> None:

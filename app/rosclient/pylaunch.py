@@ -16,6 +16,7 @@ lines prefixed `[talker-1] ` when its output is 'screen' or 'both' (every line g
 
 from __future__ import annotations
 
+import argparse
 import heapq
 import itertools
 import os
@@ -27,6 +28,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -396,3 +398,31 @@ def evaluate(path: Path, arguments: dict[str, str] | None = None, workspace: str
     runner.context.launch_configurations.update(arguments or {})
     runner.visit([LaunchDescription([IncludeLaunchDescription(str(path.resolve()))])])
     return runner
+
+
+def main(
+    path: Path,
+    arguments: dict[str, str],
+    args: argparse.Namespace,
+    start_lab: Callable[[], xml_launch.LabServer] | None,
+) -> int:
+    """`hri-lab launch x.launch.py` (app/rosclient/launch.py hands it over): the lab at --url, or
+    one `start_lab` starts and stops after the launch, as the XML launcher does."""
+    stopping = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stopping.set())
+    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
+    server: xml_launch.LabServer | None = None
+    url = args.url
+    if url is None:
+        if start_lab is None:
+            print("error: no lab: give its address with --url", file=sys.stderr)
+            return 2
+        print("starting the lab (hri-lab serve) ...", flush=True)
+        server = start_lab()
+        url = server.url
+        print(f"the lab: {url}", flush=True)
+    try:
+        return run(path, arguments, url, args.workspace, stopping)
+    finally:
+        if server is not None:
+            server.stop()

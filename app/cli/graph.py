@@ -98,9 +98,9 @@ def interface_text(type_name: str) -> str:
 
     parts = type_name.strip("/").split("/")
     if len(parts) == 3 and parts[1] in KINDS:
-        package, kinds, name = parts[0], (parts[1],), parts[2]
+        package, kinds, name = parts[0], [parts[1]], parts[2]
     elif len(parts) == 2:
-        package, kinds, name = parts[0], KINDS, parts[1]
+        package, kinds, name = parts[0], list(KINDS), parts[1]
     else:
         raise LookupError(f"Invalid name '{type_name}': a type is pkg/msg/Name, pkg/srv/Name or pkg/action/Name")
     interfaces = Interfaces([])

@@ -353,6 +353,33 @@ def action(args) -> int:
     return 0 if view["status"] == "succeeded" else 1
 
 
+def node(args) -> int:
+    """`ros2 node list|info NAME`: the graph's nodes, the programs' and the lab's."""
+    from app.cli import graph
+
+    try:
+        if args.action == "list":
+            print("\n".join(graph.node_list(args.url)))
+        else:
+            print(graph.node_info(args.url, args.name))
+    except LookupError as exc:
+        raise CliError(str(exc)) from None
+    except (OSError, WebSocketException, TimeoutError) as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+    return 0
+
+
+def interface(args) -> int:
+    """`ros2 interface show TYPE`: a definition (the shipped packages')."""
+    from app.cli import graph
+
+    try:
+        print(graph.interface_text(args.type))
+    except LookupError as exc:
+        raise CliError(str(exc)) from None
+    return 0
+
+
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     url = arguments.url_parent()
 
@@ -408,6 +435,19 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     goal.add_argument("values", nargs="?", default="", help="goal as YAML, e.g. '{count: 3}'")
     goal.add_argument("-f", "--feedback", action="store_true", help="print the feedback")
     act.set_defaults(func=action)
+
+    nod = sub.add_parser("node", help="the graph's nodes (like ros2 node)")
+    nod_sub = nod.add_subparsers(dest="action", required=True)
+    nod_sub.add_parser("list", parents=[url])
+    nod_sub.add_parser("info", parents=[url]).add_argument("name")
+    nod.set_defaults(func=node)
+
+    itf = sub.add_parser("interface", help="interface definitions (like ros2 interface)")
+    itf_sub = itf.add_subparsers(dest="action", required=True)
+    itf_sub.add_parser("show", parents=[url]).add_argument(
+        "type", help="e.g. std_msgs/msg/String, example_interfaces/srv/AddTwoInts"
+    )
+    itf.set_defaults(func=interface)
 
 
 def run(func, args) -> int:

@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 from collections.abc import Iterator
 from typing import Any
 
 from websockets.sync.client import connect
 
 _ids = itertools.count(1)
+HIDDEN = f"/_hri_lab_cli_{os.getpid()}"  # this command's own node: a hidden name (a leading _), as ROS 2 hides them
 TIMEOUT_S = 10.0  # s to wait for rosapi's answer (a bound for a loaded machine)
 
 
@@ -24,6 +26,7 @@ def call(url: str, service: str, args: dict[str, Any] | None = None) -> dict[str
     """One rosbridge call_service; its values (an empty dict when it failed)."""
     ident = f"hri-lab-cli-{next(_ids)}"
     with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
+        ws.send(json.dumps({"op": "node", "name": HIDDEN}))  # hidden, as ros2cli's own node is
         ws.send(json.dumps({"op": "call_service", "id": ident, "service": service, "args": args or {}}))
         while True:
             message = json.loads(ws.recv(timeout=TIMEOUT_S))
@@ -45,3 +48,64 @@ def messages(url: str, topic: str, type_name: str) -> Iterator[dict[str, Any]]:
             message = json.loads(ws.recv())
             if message.get("op") == "publish" and message.get("topic") == topic:
                 yield message.get("msg", {})
+
+
+# --- `hri-lab node list|info`, `hri-lab interface show` ---------------------------------------------------
+def ros2_type(type_name: str, kind: str) -> str:
+    """`pkg/Name` as ROS 2 names it: `pkg/msg/Name` (srv, action); a ROS 2 name stays."""
+    parts = type_name.split("/")
+    return f"{parts[0]}/{kind}/{parts[1]}" if len(parts) == 2 else type_name
+
+
+def node_list(url: str) -> list[str]:
+    names = {"/" + n.strip("/") for n in call(url, "/rosapi/nodes").get("nodes", [])}
+    return sorted(n for n in names if not n.rsplit("/", 1)[-1].startswith("_"))  # hidden ones, as ros2 node list
+
+
+def node_info(url: str, name: str) -> str:
+    """What `ros2 node info NAME` prints (the lab's graph knows no clients)."""
+    name = "/" + name.strip("/")
+    if name not in node_list(url):
+        raise LookupError(f"Unable to find node '{name}'")
+    details = call(url, "/rosapi/node_details", {"node": name})
+    types = topics(url)
+
+    def section(title: str, lines: list[str]) -> list[str]:
+        return [f"  {title}:", *(f"    {line}" for line in lines)]
+
+    def topic_lines(field: str) -> list[str]:
+        return [f"{t}: {ros2_type(types.get(t, ''), 'msg')}" for t in sorted(details.get(field, []))]
+
+    services = []
+    for service in sorted(details.get("services", [])):
+        kind = call(url, "/rosapi/service_type", {"service": service}).get("type", "")
+        services.append(f"{service}: {ros2_type(kind, 'srv')}")
+    lines = [
+        name,
+        *section("Subscribers", topic_lines("subscribing")),
+        *section("Publishers", topic_lines("publishing")),
+        *section("Service Servers", services),
+        *section("Service Clients", []),
+        *section("Action Servers", []),
+        *section("Action Clients", []),
+    ]
+    return "\n".join(lines)
+
+
+def interface_text(type_name: str) -> str:
+    """The definition of `pkg/msg/Name` (or srv, action; `pkg/Name` any of them), as its file has it."""
+    from interfaces.packages import KINDS, Interfaces
+
+    parts = type_name.strip("/").split("/")
+    if len(parts) == 3 and parts[1] in KINDS:
+        package, kinds, name = parts[0], [parts[1]], parts[2]
+    elif len(parts) == 2:
+        package, kinds, name = parts[0], list(KINDS), parts[1]
+    else:
+        raise LookupError(f"Invalid name '{type_name}': a type is pkg/msg/Name, pkg/srv/Name or pkg/action/Name")
+    interfaces = Interfaces([])
+    for kind in kinds:
+        path = interfaces.find(package, kind, name)
+        if path is not None:
+            return path.read_text(encoding="utf-8").rstrip("\n")
+    raise LookupError(f"Unknown interface '{type_name}'")

@@ -110,6 +110,12 @@ def test_the_ros2_cli_sees_a_programs_topic_and_calls_with_a_type(lab):
         call = _cli(lab, "service", "call", "/add_two_ints", "example_interfaces/srv/AddTwoInts", "{a: 1, b: 2}")
         assert call.returncode == 0, call.stderr
         assert "AddTwoInts_Response(sum=3)" in call.stdout
+        nodes = _cli(lab, "node", "list").stdout.splitlines()
+        assert {"/hri_lab", "/minimal_publisher", "/my_server"} <= set(nodes)
+        assert nodes == sorted(nodes) and not any("_hri_lab_cli" in n for n in nodes)  # its own node hidden
+        info = _cli(lab, "node", "info", "/minimal_publisher").stdout
+        assert "  Publishers:\n    /rosout: rcl_interfaces/msg/Log\n    /topic: std_msgs/msg/String\n" in info
+        assert "/minimal_publisher/get_parameters: rcl_interfaces/srv/GetParameters" in info
         wrong = _cli(lab, "service", "call", "/add_two_ints", "std_srvs/srv/Empty", "{}")
         assert wrong.returncode == 1
         assert "the type 'std_srvs/srv/Empty' is not the srv's: example_interfaces/srv/AddTwoInts" in wrong.stderr
@@ -146,3 +152,11 @@ def test_a_lifecycle_node_is_driven_through_its_change_state_and_get_state_servi
         assert state() == {"id": 1, "label": "unconfigured"}
     finally:
         talker.interrupt()
+
+
+def test_interface_show_prints_a_definition_as_its_file_has_it(lab):
+    shown = _cli(lab, "interface", "show", "example_interfaces/srv/AddTwoInts")
+    assert shown.stdout == "int64 a\nint64 b\n---\nint64 sum\n"
+    unknown = _cli(lab, "interface", "show", "std_msgs/msg/Nope")
+    assert unknown.returncode == 1
+    assert "Unknown interface 'std_msgs/msg/Nope'" in unknown.stderr

@@ -7,8 +7,8 @@ import roslib
 
 roslib.load_manifest("beginner_tutorials")
 import rospy  # noqa: E402 - after load_manifest, as those scripts are written
-from roslib.message import get_message_class  # noqa: E402
-from tf.msg import tfMessage  # noqa: E402
+from roslib.message import get_message_class  # noqa: E402 - after load_manifest, as those scripts are written
+from tf.msg import tfMessage  # noqa: E402 - after load_manifest, as those scripts are written
 
 print("class", get_message_class("std_msgs/String")._type, get_message_class("nope/Nope"))
 print("tf", tfMessage._type, tfMessage().transforms)

@@ -31,6 +31,7 @@ def program(code: int | None = None, lines=()) -> Program:
     found = Program.__new__(Program)  # not started: judge reads only its process's status and lines
     found.proc = SimpleNamespace(poll=lambda: code, returncode=code)
     found.lines = deque(lines, maxlen=wall_trial.OUTPUT_LINES)
+    found.group = None  # no cgroup: nothing it ran into
     return found
 
 

@@ -166,7 +166,9 @@ class Program:
         hits = self.group.hit() if self.group is not None else []
         tail = " | ".join(self.lines)
         return (
-            f"the program ended (exit status {code}" + "".join(f"; {h}" for h in hits) + ")"
+            f"the program ended (exit status {code}"
+            + "".join(f"; {h}" for h in hits)
+            + ")"
             + (f"; its last lines: {tail}" if tail else "")
         )
 

@@ -41,7 +41,9 @@ def reached(port):
 
 
 def http(method, path, body=None):
-    request = urllib.request.Request(URL + path, method=method, data=None if body is None else json.dumps(body).encode())
+    request = urllib.request.Request(
+        URL + path, method=method, data=None if body is None else json.dumps(body).encode()
+    )
     request.add_header("Content-Type", "application/json")
     try:
         with urllib.request.urlopen(request, timeout=10) as answer:
@@ -79,5 +81,7 @@ with connect(URL.replace("http", "ws", 1) + "/", open_timeout=10) as ws:
             recording = "called" if message.get("result") else "failed"
         elif message.get("op") == "status" and "/start_recording" in message.get("msg", ""):
             recording = "refused: " + message["msg"][:90]
-print(f"ground truth messages: {counts['/ground_truth_pose']}; monitor messages: {counts['/wall_following']}", flush=True)
+print(
+    f"ground truth messages: {counts['/ground_truth_pose']}; monitor messages: {counts['/wall_following']}", flush=True
+)
 print(f"start_recording over rosbridge: {recording}", flush=True)

@@ -87,7 +87,7 @@ def _v1_bases() -> tuple[dict[str, Path] | None, str]:
 def cgroup_kind() -> tuple[str | None, str]:
     """("cgroup v2" | "cgroup v1" | None, why not the stronger ones): tried once per process by
     making a group and removing it."""
-    reasons = []
+    reasons: list[str] = []
     for kind in ("cgroup v2", "cgroup v1"):
         try:
             probe = TrialGroup(f"probe-{os.getpid()}", GroupLimits(64 * MIB, 8, 0.5), kind)

@@ -83,8 +83,11 @@ LAB_GROWTH_BYTES = 512 * MIB  # the lab's growth in a trial (this process: its s
 LAB_CODE = str(Path(__file__).resolve().parents[1])  # the `app` package `hri-lab run` imports (not its checkout)
 
 
+UNSANDBOXED = "none: run --unsandboxed (no jail, the grader's privileges, the host's network)"
+
+
 def limits_of(group: TrialGroup | None, why: str) -> str:
-    """What held the program in a trial, in a report's words (the weaker limits named when no cgroup could be made)."""
+    """What held a jailed program in a trial, in a report's words (the weaker limits named when no cgroup could be made)."""
     if group is not None:
         return group.statement()
     return (
@@ -108,7 +111,7 @@ class Program:
         url = f"http://127.0.0.1:{port}"
         run = [sys.executable, "-m", "app.cli", "run", "--url", url, str(path)]
         command = [sys.executable, "-m", "app.cli.trial_link", str(lab_socket), str(port), "--", *run]
-        why = "run --unsandboxed"
+        why = ""
         if jailed:
             folder = str(path.parent)
             command = bwrap_command(command, readable=(LAB_CODE, folder), network=False, workdir=folder)
@@ -118,7 +121,7 @@ class Program:
                 self.group = TrialGroup(f"{name}-{os.getpid()}-{secrets.token_hex(4)}", PROGRAM_LIMITS, kind)
         else:
             env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_TOKEN")}
-        self.limits = limits_of(self.group, why)
+        self.limits = limits_of(self.group, why) if jailed else UNSANDBOXED
         group = self.group
 
         def limits() -> None:

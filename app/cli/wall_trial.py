@@ -114,7 +114,7 @@ class Program:
         why = ""
         if jailed:
             folder = str(path.parent)
-            command = bwrap_command(command, readable=(LAB_CODE, folder), network=False, workdir=folder)
+            command = bwrap_command(command, readable=(LAB_CODE, folder), workdir=folder)
             env = dict(CHILD_ENV)
             kind, why = cgroup_kind()
             if kind is not None:

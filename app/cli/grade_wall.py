@@ -66,7 +66,12 @@ def run(args: argparse.Namespace) -> int:
         text = data.decode("utf-8", errors="replace")
         for index, config in enumerate(configs):
             jobs.append(
-                Job(report, run_trial, (path.name, text, config, index, jailed), lost=partial(lost_item, index, config))
+                Job(
+                    report,
+                    run_trial,
+                    (path.name, text, config, index, args.seed, jailed),
+                    lost=partial(lost_item, index, config, args.seed),
+                )
             )
     out = Path(args.out) if args.out else None
     results: dict[int, Item] = {}

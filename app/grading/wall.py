@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from sim.mobile.world import MobileConfig, seeded_config
 
-from app.grading.report import Item, Report
+from app.grading.report import PUBLIC_SEED, Item, Report
 
 KIND = "wall following"
 SECTION = "trials"
@@ -49,15 +49,17 @@ class TrialOutcome:
     verdict: str
 
 
-def trial_item(index: int, config: MobileConfig, outcome: TrialOutcome) -> Item:
-    return Item(
-        SECTION,
-        f"trial {index + 1}: {describe(config)}",
-        1.0 if outcome.passed else 0.0,
-        1.0,
-        outcome.verdict,
-    )
+def trial_name(index: int, config: MobileConfig, seed: int) -> str:
+    """A trial's name in its report: its world described under the public seed (every student can
+    draw it at home); under a course's private seed its number alone (what it drew stays the course's)."""
+    if seed != PUBLIC_SEED:
+        return f"trial {index + 1} (its arena drawn from the private seed)"
+    return f"trial {index + 1}: {describe(config)}"
 
 
-def lost_item(index: int, config: MobileConfig, why: str) -> Item:
-    return Item(SECTION, f"trial {index + 1}: {describe(config)}", 0.0, 1.0, f"{LOST}{why}")
+def trial_item(index: int, config: MobileConfig, seed: int, outcome: TrialOutcome) -> Item:
+    return Item(SECTION, trial_name(index, config, seed), 1.0 if outcome.passed else 0.0, 1.0, outcome.verdict)
+
+
+def lost_item(index: int, config: MobileConfig, seed: int, why: str) -> Item:
+    return Item(SECTION, trial_name(index, config, seed), 0.0, 1.0, f"{LOST}{why}")

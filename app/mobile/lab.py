@@ -12,6 +12,7 @@ from concurrent.futures import Future
 from contextlib import AbstractContextManager
 from typing import TypeVar
 
+from sim.mobile.messages import GRADER_TOPICS
 from sim.mobile.urdf import burger_urdf
 from sim.mobile.world import MobileConfig, MobileSnapshot, MobileWorld
 
@@ -38,7 +39,7 @@ class MobileLab:
     command_topic = COMMAND_TOPIC  # a node's geometry_msgs/Twist on it drives the base
     command = staticmethod(commands.drive)
 
-    def __init__(self, config: MobileConfig | None = None, realtime: bool = True) -> None:
+    def __init__(self, config: MobileConfig | None = None, realtime: bool = True, graded: bool = False) -> None:
         self.runtime = SimulationProcess(MobileWorld(config), realtime=realtime)  # type: ignore[arg-type]  # a world as the loop needs one
         self.rosout = Rosout()
         self.params = ParameterServer([], self)  # nodes' parameters only (rosbridge sets `remote`)
@@ -48,7 +49,11 @@ class MobileLab:
         self.recordings_dir = DEFAULT_DIR
         self.figures_dir = DEFAULT_DIR.parent / "figures"
         self.recorder: MobileRecorder | None = None  # the live recording (app/mobile/services.py), one at a time
-        self.graded = False  # a graded trial (app/grading/wall_trial.py): nothing may reset its world
+        # a graded trial (app/grading/wall_trial.py): nothing may reset its world, and its program sees what a
+        # node on the robot sees: the grader's topics (the ground truth, the monitor) and the arena are not served
+        self.graded = graded
+        if graded:
+            self.topics = [t for t in TOPICS if t.name not in GRADER_TOPICS]
 
     @property
     def world(self) -> MobileWorld:

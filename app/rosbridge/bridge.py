@@ -70,6 +70,10 @@ class Bridge:
         replay: bool = False,
     ) -> None:
         self.lab, self.nodes, self.actions, self.token = lab, nodes, actions, token
+        # a graded trial's lab (app/grading/wall_trial.py): a client without the token is the graded program, a node
+        # as on a robot (it publishes, advertises, provides and calls its nodes' services); the lab's own services
+        # stay the token's (app/rosbridge/session.py, capabilities/call_service.py)
+        self.graded = bool(getattr(lab, "graded", False))
         self.node_actions = node_actions  # actions nodes provide, in the same ActionServer
         self.service_table: ServiceTableLike = ServiceTable(nodes)  # every service a client may call
         # the lab's topics, sampled from its snapshot, and the one a node's Twists drive its robot

@@ -116,6 +116,7 @@ class BridgeLike(Protocol):
     actions: ActionServer
     node_actions: NodeActions
     token: str | None
+    graded: bool  # a graded trial's lab: a client without the token may act as a node, never as the lab's admin
     topics: dict[str, Topic]
     frames: FramesLike
     min_period_s: dict[str, float]

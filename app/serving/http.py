@@ -17,13 +17,17 @@ WS_PING_TIMEOUT_S = 60.0  # a rosbridge client's pong may wait behind its backlo
 SHUTDOWN_S = 3
 
 
-def server_config(app, host: str, port: int, read_timeout_s: float = READ_TIMEOUT_S) -> uvicorn.Config:
-    """uvicorn's configuration with the server's limits (see the module's docstring)."""
+def server_config(
+    app, host: str, port: int, read_timeout_s: float = READ_TIMEOUT_S, uds: str | None = None
+) -> uvicorn.Config:
+    """uvicorn's configuration with the server's limits (see the module's docstring); uds: served
+    on that Unix socket instead of host:port (a graded trial's lab: app/grading/wall_trial.py)."""
     protocol = type("TimedProtocol", (TimedHttpProtocol,), {"read_timeout_s": read_timeout_s})
     return uvicorn.Config(
         app,
         host=host,
         port=port,
+        uds=uds,
         log_level="warning",
         access_log=False,
         http=protocol,

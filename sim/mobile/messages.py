@@ -155,6 +155,9 @@ def wall_following(s: MobileSnapshot) -> dict:
     }
 
 
+# Gazebo's ground truth and the grader's monitor: a graded trial serves neither to its program
+# (app/mobile/lab.py), which gets what a node on the real robot gets; the grader reads them in-process
+GRADER_TOPICS = ("/ground_truth_pose", "/wall_following")
 TOPICS = [
     Topic(SCAN, "sensor_msgs/LaserScan", laser_scan),
     Topic(ODOM_TOPIC, "nav_msgs/Odometry", odometry),

@@ -44,18 +44,17 @@ def bwrap_command(
     child: list[str],
     tmp_bytes: int = SandboxBudget.tmp_bytes,
     readable: tuple[str, ...] = (),
-    network: bool = False,
     workdir: str = "/tmp",
 ) -> list[str]:
     """bwrap's command line for `child`; the jail's /tmp holds at most tmp_bytes (a tmpfs is memory:
     RLIMIT_AS does not count it, nor RLIMIT_FSIZE beyond one file). `readable`: more folders it sees,
-    read-only (a student's ROS program's own folder, the lab's code its `hri-lab run` imports);
-    `network`: the host's network (a ROS program reaches its trial's lab over loopback TCP), else none."""
+    read-only (a student's ROS program's own folder, the lab's code its `hri-lab run` imports). No
+    network but a loopback of the jail's own (a ROS program reaches its trial's lab through a Unix
+    socket in its folder: app/cli/trial_link.py)."""
     bwrap = shutil.which("bwrap") or "bwrap"
     argv = [
         bwrap,
         "--unshare-all",
-        *(["--share-net"] if network else []),
         "--die-with-parent",
         "--new-session",
         "--cap-drop",

@@ -31,6 +31,7 @@ def program(code: int | None = None, lines=()) -> Program:
     found = Program.__new__(Program)  # not started: judge reads only its process's status and lines
     found.proc = SimpleNamespace(poll=lambda: code, returncode=code)
     found.lines = deque(lines, maxlen=wall_trial.OUTPUT_LINES)
+    found.group = None  # no cgroup: nothing it ran into
     return found
 
 
@@ -70,3 +71,29 @@ def test_a_simulation_that_falls_behind_is_ended(monkeypatch):
 def test_what_an_ended_program_says(lines):
     said = program(2, lines).ended()
     assert said == "the program ended (exit status 2)" + ("; its last lines: only" if lines else "")
+
+
+class GrowingLab(Lab):
+    """A lab that holds more memory at each look, as one serving a program's hundred large services does."""
+
+    def __init__(self) -> None:
+        super().__init__(WallState(elapsed=1.0))
+        self.held: list[bytearray] = []
+
+    def snapshot(self):
+        if len(self.held) < 32:  # at most 256 MiB
+            self.held.append(bytearray(b"1") * (8 << 20))  # written: really resident
+        return super().snapshot()
+
+
+def test_a_program_that_makes_the_lab_grow_past_its_cap_ends_the_trial(monkeypatch):
+    """What the program makes the lab hold counts against it: the trial ends saying how much it grew."""
+    monkeypatch.setattr(wall_trial, "LAB_GROWTH_BYTES", 64 << 20)
+    config = MobileConfig()
+    monkeypatch.setattr(wall_trial, "BEHIND_S", 10.0 - config.rules.time_limit)  # else: ended 10 s after its start
+    lab = GrowingLab()
+    outcome = judge(lab, program(), config)
+    assert not outcome.passed
+    assert outcome.verdict.startswith("program: the lab's memory grew by "), outcome
+    assert "(its cap: 64 MiB; what it advertised or sent the lab counts against it)" in outcome.verdict
+    assert len(lab.held) * 8 >= 64  # it ended once the growth passed the cap, not before

@@ -93,3 +93,34 @@ def test_a_graded_trials_world_cannot_be_reset(client):
         assert "cannot be reset" in refused.text
     finally:
         lab.graded = False
+
+
+TRIAL_TOKEN = "a-trials-own-token-0123456789"
+
+
+def test_a_graded_trials_lab_gives_its_program_a_nodes_access_and_nothing_more():
+    """A graded trial (app/grading/wall_trial.py): the client without the trial's token (its program) drives
+    on /cmd_vel and reads what a robot's node reads; the arena, the ground truth and the monitor are
+    not served, and the lab's recording service and the API's driving are refused to it."""
+    with TestClient(create_app(MobileLab(MobileConfig(), graded=True), token=TRIAL_TOKEN)) as graded:
+        assert graded.get("/mobile/arena").status_code == 403
+        names = {t["name"] for t in graded.get("/topics").json()}
+        assert "/scan" in names and "/odom" in names
+        assert not names & {"/ground_truth_pose", "/wall_following"}
+        assert graded.post("/services/start_recording", json={"name": "stolen"}).status_code == 401
+        assert graded.post("/mobile/drive", json={"linear_x": 0.1, "angular_z": 0.0}).status_code == 401
+        with graded.websocket_connect("/") as ws:
+            ws.send_json({"op": "call_service", "service": "/rosapi/topics", "id": "t"})
+            topics = ws.receive_json()["values"]["topics"]
+            assert "/cmd_vel" in topics and "/ground_truth_pose" not in topics
+            ws.send_json({"op": "call_service", "service": "/start_recording", "args": {"name": "x"}, "id": "r"})
+            refused = ws.receive_json()
+            assert refused["op"] == "status" and "refused to a graded program" in refused["msg"], refused
+            ws.send_json({"op": "advertise", "topic": "/cmd_vel", "type": "geometry_msgs/Twist"})
+
+            def turning():
+                twist = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 1.0}}
+                ws.send_json({"op": "publish", "topic": "/cmd_vel", "msg": twist})
+                return graded.get("/topics/odom").json()["twist"]["twist"]["angular"]["z"] == 1.0
+
+            wait_for(turning)

@@ -303,7 +303,8 @@ def _publishers(bridge: BridgeLike, args: dict) -> dict:
 
 def _subscribers(bridge: BridgeLike, args: dict) -> dict:
     topic = _topic_arg(args)
-    lab = [LAB_NODE] if topic in bridge.tf_republisher.inputs else []  # tf2_web_republisher's goal, cancel
+    # the command topic the lab follows; tf2_web_republisher's goal, cancel
+    lab = [LAB_NODE] if topic == bridge.command_topic or topic in bridge.tf_republisher.inputs else []
     return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.details()["subscribing"]]}
 
 

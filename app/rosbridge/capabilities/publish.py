@@ -45,7 +45,8 @@ class Publish(Capability):
             if self.commands is None:
                 self.commands = Commands(self.session)
             self.commands.offer(twist_values(msg, topic))
-            return
+            if topic in bridge.topics or topic not in advertised.publishing:
+                return  # a command topic the lab publishes itself, or a Twist sent without advertising
         if topic == rosout.TOPIC:
             if topic not in advertised.publishing:
                 raise BadFrame(f"publish: advertise {topic} first (op advertise with type {rosout.TYPE})")

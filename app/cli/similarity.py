@@ -4,7 +4,9 @@ sandbox watches, sim/controllers/sandbox/child.py's REFERENCE_MODULES), by copyd
 (MOSS's method: fingerprints of every 25-token stretch, names and literals abstracted), written
 beside the reports as `similarity.csv` (every pair) and `similarity.html` (copydetect's report of
 the pairs at or above the threshold, their shared code highlighted). A pair is flagged when either
-file has at least `threshold` of its tokens in the other.
+file has at least `threshold` of its tokens in the other. The controller template (`hri-lab
+template`, sim/controllers/template.py) is copydetect's boilerplate: what every file built on it
+shares by design is never counted, only what its author wrote.
 
 copydetect fingerprints k-grams with Python's `hash()`, which every process salts differently: the
 comparison runs in a child process with PYTHONHASHSEED=0, so a batch's report is the same wherever
@@ -23,6 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from sim.controllers.sandbox.child import REFERENCE_MODULES
+
+from app.cli.templates import controller_template
 
 NOISE_TOKENS = 25  # copydetect's k: a shared stretch shorter than this is never counted
 GUARANTEE_TOKENS = 30  # a shared stretch this long is always found (winnowing's window: 30 - 25 + 1)
@@ -93,6 +97,7 @@ def _compare_here(files: list[Path], out: Path, threshold: float) -> list[Pair]:
         detector.add_file(str(path), "testref")
     for path in references:
         detector.add_file(str(path), "ref")
+    detector.add_file(str(controller_template()), "boilerplate")
     pairs: list[Pair] = []
     html = ""
     if files:

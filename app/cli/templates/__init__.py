@@ -39,13 +39,18 @@ def _params_block(indent: str) -> str:
     return "\n".join(lines + [f"{indent}}}"])
 
 
+def controller_template() -> Path:
+    """The controller plug-in's starting file (sim/controllers/template.py)."""
+    spec = importlib.util.find_spec("sim.controllers.template")
+    assert spec is not None
+    assert spec.origin is not None
+    return Path(spec.origin)
+
+
 def render(kind: str, api: str = "rospy") -> str:
     """The text `hri-lab template KIND --api API` prints."""
     if kind == "controller":
-        spec = importlib.util.find_spec("sim.controllers.template")
-        assert spec is not None
-        assert spec.origin is not None
-        return Path(spec.origin).read_text(encoding="utf-8")
+        return controller_template().read_text(encoding="utf-8")
     text = (Path(__file__).parent / FILES[kind, api]).read_text(encoding="utf-8")
     out = []
     for line in text.splitlines(keepends=True):

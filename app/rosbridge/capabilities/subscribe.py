@@ -15,7 +15,6 @@ from functools import partial
 from typing import Any
 
 from sim.messages import F_EXT, Topic, wrench_stamped_at
-from sim.sampling import due
 
 from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
@@ -127,24 +126,23 @@ async def sample(
     (rosbridge's minimum gap; the topic's own min_period_s when longer), paced by the wall clock;
     behind, it skips, it never queues up. A latched topic is sent again only when it changed."""
     loop = asyncio.get_running_loop()
-    wake, last, sent = loop.time(), None, None
+    due, last, sent = loop.time(), None, None
     with Need(lab) as need:
         while True:
             snapshot = lab.snapshot()
             period = max(stream.period, min_period_s)
             need.every(period)
-            if due(last, snapshot.time, period):
+            if last is None or snapshot.time - last >= period - 0.0005:
                 last = snapshot.time
                 shared = stream.session.bridge.shared  # built once for every client's stream of the topic
-                key = (shared.trial(snapshot.time), snapshot.time)
-                message = shared.built(topic.name, key, partial(topic.build, snapshot))
+                message = shared.built(topic.name, snapshot.time, partial(topic.build, snapshot))
                 if topic.name not in latched or message != sent:
                     stream.offer(message)
                 sent = message
-                wake = max(wake + period, loop.time())
+                due = max(due + period, loop.time())
             else:  # early (the wall clock ran ahead of the simulation): wait for the rest
-                wake = loop.time() + period - (snapshot.time - last)
-            await asyncio.sleep(wake - loop.time())
+                due = loop.time() + period - (snapshot.time - last)
+            await asyncio.sleep(due - loop.time())
 
 
 POLL_S = 0.001  # s, the control period: a stream this eager reads each sample as its step writes it
@@ -173,15 +171,15 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
             need.every(period)
             rows, seen, _ = lab.wrench_samples(seen)
             turns = HANDOFF_TURNS
-            for index, row in enumerate(rows, seen - len(rows)):  # index: the sample's number in the ring
-                if due(last, row[0], period):
+            for row in rows:
+                if last is None or row[0] - last >= period - 0.0005:
                     last = row[0]
                     time_s = float(row[0])
                     while turns and stream.queue.maxlen is not None and len(stream.queue) >= stream.queue.maxlen:
                         turns -= 1
                         await asyncio.sleep(0)  # the sender's turn: it takes the one before
                     shared = stream.session.bridge.shared  # each step's sample built once for every client
-                    stream.offer(shared.built(F_EXT, index, partial(wrench_stamped_at, time_s, row[1:])))
+                    stream.offer(shared.built(F_EXT, time_s, partial(wrench_stamped_at, time_s, row[1:])))
             if period <= POLL_S:  # every step's: the next as it is written
                 await new_samples.next()
             else:  # no oftener than it may send (its share of the lab's rate), on a schedule
@@ -203,7 +201,7 @@ async def sample_images(lab: Any, stream: Stream) -> None:
                 held.enter_context(camera.wants(period))
             if camera.number != seen:
                 frame = camera.latest()
-                if frame is not None and due(last, frame.time, period):
+                if frame is not None and (last is None or frame.time - last >= period - 0.0005):
                     seen, last = frame.number, frame.time
                     stream.offer(image_message(frame))
             await asyncio.sleep(IMAGE_POLL_S)

@@ -1,45 +1,31 @@
 """What the streams of one topic share, however many clients subscribe: a lab topic's message built
-once per sample (per topic and sample: a snapshot's trial and simulation time, a step's number in
-the F_ext ring) and a message's publish frame encoded once (per
+once per sample (per topic and simulation time) and a message's publish frame encoded once (per
 message object). Twenty clients at throttle_rate 0 then cost the event loop one build and one
 encoding of each message, and twenty sends, not twenty of each (issue 33: HTTP kept responsive)."""
 
 from __future__ import annotations
 
 import json
-import math
 from collections import OrderedDict
-from collections.abc import Callable, Hashable
+from collections.abc import Callable
 
 from sim.messages import Base64Text
 
-KEEP_BUILT = 64  # messages kept per topic, newest samples: streams a few samples apart still share
+KEEP_BUILT = 64  # messages kept per topic by simulation time: streams a few samples apart still share
 KEEP_FRAMES = 8  # encoded frames kept per topic (an image's is a few MB)
 
 
 class SharedMessages:
     def __init__(self) -> None:
-        self._built: dict[str, OrderedDict[Hashable, dict]] = {}
+        self._built: dict[str, OrderedDict[float, dict]] = {}
         self._frames: dict[str, OrderedDict[tuple[int, int], tuple[dict, str]]] = {}
-        self._trial, self._newest_s = 0, -math.inf
 
-    def trial(self, time_s: float) -> int:
-        """The trial a snapshot at simulated time `time_s` (s) belongs to, counted from 0: a time
-        earlier than the newest one seen starts the next (the world was reset: sim/sampling.py). The
-        streams read the lab's snapshots in this one event loop, each newer than the last but
-        across a reset, so two trials' snapshots at the same time never share a message."""
-        if time_s < self._newest_s:
-            self._trial += 1
-        self._newest_s = time_s
-        return self._trial
-
-    def built(self, topic: str, key: Hashable, make: Callable[[], dict]) -> dict:
-        """The topic's message for the sample `key` (a snapshot's (trial, time), a step's number in
-        the F_ext ring: never the same for two samples): made once, the same object for every stream."""
+    def built(self, topic: str, time_s: float, make: Callable[[], dict]) -> dict:
+        """The topic's message at `time_s`: made once, the same object for every stream."""
         kept = self._built.setdefault(topic, OrderedDict())
-        message = kept.get(key)
+        message = kept.get(time_s)
         if message is None:
-            message = kept[key] = make()
+            message = kept[time_s] = make()
             if len(kept) > KEEP_BUILT:
                 kept.popitem(last=False)
         return message

@@ -4,10 +4,10 @@ import json
 
 from sim.controllers.interface import LiftingParams
 
-from app.rosbridge import rosapi
-from app.rosbridge.capabilities.call_service import CallService
 from app.cli.compose import build as parts_of
 from app.mobile.lab import MobileLab
+from app.rosbridge import rosapi
+from app.rosbridge.capabilities.call_service import CallService
 from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 

@@ -58,7 +58,11 @@ def test_honest_fills_of_the_template_are_not_flagged_and_a_copied_fill_is(tmp_p
     pairs = compare(sorted(batch.glob("*.py")), tmp_path / "reports", threshold=0.5)
     flagged = {frozenset(Path(name).name for name in (p.file, p.other)) for p in pairs if p.flagged}
     assert flagged == {frozenset(("erin.py", "hugo.py"))}, [p for p in pairs if p.flagged]
-    honest = {frozenset(("alice.py", "erin.py")), frozenset(("frank.py", "gina.py")), frozenset(("alice.py", "gina.py"))}
+    honest = {
+        frozenset(("alice.py", "erin.py")),
+        frozenset(("frank.py", "gina.py")),
+        frozenset(("alice.py", "gina.py")),
+    }
     for pair in pairs:
         if frozenset((Path(pair.file).name, Path(pair.other).name)) in honest:
             assert max(pair.share_of_file, pair.share_of_other) < 0.25, pair  # half the threshold

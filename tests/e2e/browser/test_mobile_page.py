@@ -125,7 +125,9 @@ def test_a_verdict_shows_pass_or_fail_and_the_layout_holds(lab, browser, width, 
         assert wall["verdict"] in trial.text_content()
         assert f"{wall['elapsed']:.1f} s" in trial.text_content()
         # the simulated time, as the lifting page's header shows it, and it runs on
-        page.wait_for_function("/simulation \\d+ Hz, t = \\d+\\.\\d s/.test(document.getElementById('health').textContent)")
+        page.wait_for_function(
+            "/simulation \\d+ Hz, t = \\d+\\.\\d s/.test(document.getElementById('health').textContent)"
+        )
         shown = float(page.locator("#health").text_content().split("t = ")[1].removesuffix(" s"))
         assert 0 < shown <= http.get(f"{lab.url}/health").json()["sim_time"] + 1e-9
         SCREENSHOTS.mkdir(parents=True, exist_ok=True)

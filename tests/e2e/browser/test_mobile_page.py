@@ -16,7 +16,7 @@ from tests.http_client import http
 from tests.waiting import wait_for
 
 SCREENSHOTS = Path(__file__).resolve().parents[3] / "build" / "screenshots"
-CIRCLE_M = 0.85  # the circuit's radius about the standard arena's obstacle (a 0.4 m cylinder at 0, 0)
+CIRCLE_M = 0.7  # the circuit's radius about the standard arena's obstacle (a 0.4 m cylinder at 0, 0)
 
 
 @pytest.fixture(scope="module")
@@ -90,7 +90,7 @@ def around_the_obstacle(pose: dict) -> tuple[float, float]:
     bearing = math.atan2(pose["y"], pose["x"])
     heading = bearing + math.pi / 2 + max(-0.8, min(0.8, 2.0 * (math.hypot(pose["x"], pose["y"]) - CIRCLE_M)))
     error = math.remainder(heading - pose["theta"], 2 * math.pi)
-    return (0.2 if abs(error) < 0.4 else 0.03), max(-2.5, min(2.5, 3.0 * error))
+    return (0.22 if abs(error) < 0.4 else 0.03), max(-2.5, min(2.5, 3.0 * error))
 
 
 def into_the_obstacle(pose: dict) -> tuple[float, float]:

@@ -123,7 +123,40 @@ function showFigures() {
   if (wall) {
     document.getElementById("f-obstacle").textContent = `obstacle ${wall.distance.toFixed(2)} m`;
     document.getElementById("f-circuit").textContent = `around it ${Math.abs(wall.circuit_deg).toFixed(0)} deg`;
-    document.getElementById("f-verdict").textContent = wall.verdict;
+    showTrial(wall);
+  }
+}
+
+// The wall-following trial as the grader judges it (/wall_following): PASS or FAIL with the
+// monitor's reason once it is done; running with its clock before (the clock starts at the first
+// command).
+function showTrial(wall) {
+  const el = document.getElementById("f-trial");
+  const state = !wall.done ? (wall.elapsed > 0 ? "running" : "none") : wall.passed ? "succeeded" : "failed";
+  const head = { none: "no trial yet", running: "trial running", succeeded: "PASS", failed: "FAIL" }[state];
+  const said = `${head} ${wall.verdict}`;
+  if (el.dataset.state === state && el.dataset.said === said) return;
+  el.className = `result trial-${state}`;
+  el.dataset.state = state;
+  el.dataset.said = said;
+  el.textContent = "";
+  const bold = document.createElement("b");
+  bold.textContent = head;
+  el.append(bold, state === "none" ? ": its clock starts at the first command" : ` · ${wall.elapsed.toFixed(1)} s`);
+  if (wall.verdict) {
+    const reason = document.createElement("div");
+    reason.textContent = wall.verdict;
+    el.append(reason);
+  }
+}
+
+// The simulated time and the loop's rate, as the lifting page's header shows them (GET /health).
+async function pollHealth() {
+  try {
+    const h = await get("/health");
+    document.getElementById("health").textContent = h.loop_alive ? `simulation ${h.rate_hz.toFixed(0)} Hz, t = ${h.sim_time.toFixed(1)} s` : "simulation stopped";
+  } catch (error) {
+    document.getElementById("health").textContent = `no answer: ${error.message}`;
   }
 }
 
@@ -139,7 +172,6 @@ async function poll() {
     if (state.trail.length > 3000) state.trail.shift();
     showFigures();
     drawArena();
-    document.getElementById("health").textContent = `t ${wall.elapsed.toFixed(1)} s`;
   } catch (error) {
     document.getElementById("health").textContent = `no answer: ${error.message}`;
   }
@@ -201,6 +233,8 @@ async function start() {
   setInterval(() => state.held && post("/mobile/drive", twistOf(state.held)), 100);
   setInterval(poll, 100);
   setInterval(pollScan, 200);
+  pollHealth();
+  setInterval(pollHealth, 1000);
 }
 
 start();

@@ -77,6 +77,7 @@ LONG_FILES_FIRST = (
     "e2e/test_ros_lifting_node.py",
     "e2e/test_tf_programs.py",
     "e2e/test_mobile_world.py",
+    "e2e/browser/test_mobile_page.py",  # a wall-following circuit in real time (23 s of trial)
     "e2e/test_law_checks.py",
     "e2e/test_sandbox.py",
     "e2e/test_rosbridge_roslibpy.py",

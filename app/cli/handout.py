@@ -2,11 +2,14 @@
 "What students get"): what runs the lab and what they read — the lab's packages (LAB), the page,
 the examples, the docs site, the Makefile and pyproject.toml (`make run` works in it) — and none of
 what grades them: no tests/ (the reference plug-in, the templates filled in, the filled nodes and
-programs), no bench/. The autograder bundle carries the same lab (`lab_files`, one list)."""
+programs), no bench/. The autograder bundle carries the same lab (`lab_files`, one list). Its
+README.md is the project's without the part about a checkout (`make test`, tests/README.md): the
+README's `checkout` section (`handout_readme`)."""
 
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import zipfile
 from pathlib import Path
@@ -25,6 +28,7 @@ LAB_FILES = ("pyproject.toml", "README.md")
 COURSE = ("examples", "docs")  # what a student reads and runs beside the lab
 COURSE_FILES = ("Makefile", "mkdocs.yml", "CHANGELOG.md")
 NEVER = ("tests", "bench", ".ci")  # what grades the students, or measures the lab
+CHECKOUT = re.compile(r"<!-- --8<-- \[start:checkout\] -->\n.*?<!-- --8<-- \[end:checkout\] -->\n", re.S)
 
 
 def lab_files(course: bool = False) -> list[tuple[Path, str]]:
@@ -39,6 +43,16 @@ def lab_files(course: bool = False) -> list[tuple[Path, str]]:
     return files
 
 
+def handout_readme() -> str:
+    """The project's README without its `checkout` section (the tests, the linters: what the
+    handout does not hold)."""
+    text = (TOP / "README.md").read_text(encoding="utf-8")
+    kept = CHECKOUT.sub("", text)
+    if kept == text:
+        raise RuntimeError("README.md has no checkout section (<!-- --8<-- [start:checkout] -->)")
+    return kept
+
+
 def run(args: argparse.Namespace) -> int:
     files = lab_files(course=True)
     if not files[0][0].is_file():
@@ -46,6 +60,9 @@ def run(args: argparse.Namespace) -> int:
         return 2
     with zipfile.ZipFile(args.output, "w", zipfile.ZIP_DEFLATED) as bundle:
         for path, name in files:
-            bundle.write(path, f"{args.folder}/{name}")
+            if name == "README.md":
+                bundle.writestr(f"{args.folder}/{name}", handout_readme())
+            else:
+                bundle.write(path, f"{args.folder}/{name}")
     print(f"{args.output}: the lab for students in {args.folder}/ ({len(files)} files; no tests/, no bench/)")
     return 0

@@ -1,7 +1,11 @@
 """`hri-lab serve`: the lab's server on 127.0.0.1 (embedded defaults; optional parameter file),
-with the HTTP server's limits (app/serving/http.py)."""
+with the HTTP server's limits (app/serving/http.py).
+
+One lab per port: a port already taken (`make run`'s lab on 8000, say) stops the start at once with
+what to do, the lab's other port to take (`port_taken`), before anything is built."""
 
 import argparse
+import socket
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -28,6 +32,36 @@ def load_parameter_file(lab: Lab | MobileLab, path: str) -> None:
     failed = [r for r in results if not r["successful"]]
     if failed:
         raise ParameterRefused("; ".join(f"/{r['node']}/{r['name']}: {r['reason']}" for r in failed))
+
+
+def _bindable(host: str, port: int) -> bool:
+    """A listening socket could be bound there now (as uvicorn binds it: SO_REUSEADDR)."""
+    try:
+        family = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0][0]
+        with socket.socket(family, socket.SOCK_STREAM) as probe:
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            probe.bind((host, port))
+        return True
+    except OSError:
+        return False
+
+
+def port_taken(host: str, port: int) -> str | None:
+    """What to do when `host:port` is taken (None when it is free): stop the lab there, or start
+    this one beside it on the next free port, its clients pointed at it."""
+    if _bindable(host, port):
+        return None
+    spare = next((p for p in range(port + 1, min(port + 100, 65536)) if _bindable(host, p)), None)
+    beside = (
+        f"or start this one beside it with --port {spare} (its clients: --url http://{host}:{spare}, "
+        f"or HRI_LAB_URL=http://{host}:{spare})"
+        if spare is not None
+        else "or give this one a free port with --port"
+    )
+    return (
+        f"hri-lab serve: {host}:{port} is in use, most likely by a lab already running (`make run` starts "
+        f"one on 8000). One lab per port: stop that one first (Ctrl+C in its terminal), {beside}."
+    )
 
 
 def serve(
@@ -96,7 +130,12 @@ class AnnouncingServer(uvicorn.Server):
 
 def run(args: argparse.Namespace) -> int:
     """`hri-lab serve`: the controller chosen (a plug-in file loaded once now, then started in the
-    simulation process at its first step), then the server until Ctrl+C."""
+    simulation process at its first step), then the server until Ctrl+C; nothing when the port is
+    taken (`port_taken`: what to do instead)."""
+    taken = port_taken(args.host, args.port)
+    if taken:
+        print(taken, file=sys.stderr)
+        return 1
     factory = loaded_factory(args.controller)
     if isinstance(factory, PluginFactory):
         factory = replace(factory, eager=False)

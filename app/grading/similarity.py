@@ -4,7 +4,9 @@ sandbox watches, sim/controllers/sandbox/child.py's REFERENCE_MODULES), by copyd
 (MOSS's method: fingerprints of every 25-token stretch, names and literals abstracted), written
 beside the reports as `similarity.csv` (every pair) and `similarity.html` (copydetect's report of
 the pairs at or above the threshold, their shared code highlighted). A pair is flagged when either
-file has at least `threshold` of its tokens in the other.
+file has at least `threshold` of its tokens in the other. The controller template (`hri-lab
+template`, sim/controllers/template.py) is copydetect's boilerplate: what every file built on it
+shares by design is never counted, only what its author wrote.
 
 copydetect fingerprints k-grams with Python's `hash()`, which every process salts differently: the
 comparison runs in a child process with PYTHONHASHSEED=0, so a batch's report is the same wherever
@@ -22,6 +24,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+from sim.controllers.plugin import template_path
 from sim.controllers.sandbox.child import REFERENCE_MODULES
 
 NOISE_TOKENS = 25  # copydetect's k: a shared stretch shorter than this is never counted
@@ -93,6 +96,7 @@ def _compare_here(files: list[Path], out: Path, threshold: float) -> list[Pair]:
         detector.add_file(str(path), "testref")
     for path in references:
         detector.add_file(str(path), "ref")
+    detector.add_file(str(template_path()), "boilerplate")
     pairs: list[Pair] = []
     html = ""
     if files:

@@ -303,8 +303,8 @@ def _publishers(bridge: BridgeLike, args: dict) -> dict:
 
 def _subscribers(bridge: BridgeLike, args: dict) -> dict:
     topic = _topic_arg(args)
-    # the lab's own: its command topic (a teleop node waiting for a subscriber to /cmd_vel counts it, as
-    # rospy's get_num_connections counts every subscriber), tf2_web_republisher's goal and cancel
+    # the lab's own: the command topic it follows (a teleop node waiting for a subscriber to /cmd_vel counts
+    # it, as rospy's get_num_connections counts every subscriber), tf2_web_republisher's goal and cancel
     lab = [LAB_NODE] if topic == bridge.command_topic or topic in bridge.tf_republisher.inputs else []
     return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.details()["subscribing"]]}
 

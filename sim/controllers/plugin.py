@@ -100,3 +100,9 @@ class PluginFactory:
             except ControllerFault as fault:
                 raise PluginError(str(fault)) from None
         return controller
+
+
+def template_path() -> Path:
+    """The controller plug-in's starting file (sim/controllers/template.py): what `hri-lab template`
+    prints, and the boilerplate of the similarity report (every student's file is built on it)."""
+    return Path(__file__).with_name("template.py")

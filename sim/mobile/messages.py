@@ -1,8 +1,10 @@
 """The mobile world's topics as ROS messages of a MobileSnapshot (as TurtleBot3's bringup and its
 Gazebo world publish them): /scan, /odom, /tf (odom -> base_footprint), /tf_static
 (base_footprint -> base_link -> base_scan, the wheels' links), /joint_states of the wheels,
-/cmd_vel (the twist the base was last commanded), /clock; and Gazebo's ground truth
-(/ground_truth_pose) and the grader's monitor (/wall_following). The live server serves them (app/mobile/) and
+/clock; and Gazebo's ground truth (/ground_truth_pose), the twist the base follows
+(/cmd_vel_followed) and the grader's monitor (/wall_following). The lab subscribes to /cmd_vel
+and never publishes it (as Gazebo's diff-drive plugin): `topic info /cmd_vel` names only the nodes
+that drive the base. The live server serves them (app/mobile/) and
 recordings store them.
 
 The frames: `odom` is the arena's frame, where the odometry starts at the robot's true start pose;
@@ -24,6 +26,7 @@ WHEEL_LINKS = ("wheel_left_link", "wheel_right_link")
 BASE_LINK_HEIGHT = 0.010  # m, base_link above base_footprint (turtlebot3_burger.urdf)
 WHEEL_Z = 0.023  # m, the wheels' axle above base_link
 SCAN, ODOM_TOPIC, CMD_VEL = "/scan", "/odom", "/cmd_vel"
+FOLLOWED = "/cmd_vel_followed"  # the twist the base follows: the lab's, beside the nodes' /cmd_vel
 
 _BASE, _LIDAR = BaseSpec(), LidarSpec()
 
@@ -121,8 +124,9 @@ def joint_state(s: MobileSnapshot) -> dict:
     }
 
 
-def cmd_vel(s: MobileSnapshot) -> dict:
-    """The twist the base follows now (0 once the watchdog stopped it)."""
+def followed_twist(s: MobileSnapshot) -> dict:
+    """The twist the base follows now, of the last /cmd_vel within its limits (0 once the watchdog
+    stopped it)."""
     return {
         "linear": {"x": float(s.command[0]), "y": 0.0, "z": 0.0},
         "angular": {"x": 0.0, "y": 0.0, "z": float(s.command[1])},
@@ -162,7 +166,7 @@ TOPICS = [
     Topic(SCAN, "sensor_msgs/LaserScan", laser_scan),
     Topic(ODOM_TOPIC, "nav_msgs/Odometry", odometry),
     Topic("/joint_states", "sensor_msgs/JointState", joint_state),
-    Topic(CMD_VEL, "geometry_msgs/Twist", cmd_vel),
+    Topic(FOLLOWED, "geometry_msgs/Twist", followed_twist),
     Topic("/tf", "tf2_msgs/TFMessage", tf),
     Topic("/tf_static", "tf2_msgs/TFMessage", tf_static),
     Topic("/ground_truth_pose", "geometry_msgs/Pose2D", pose_2d),

@@ -7,7 +7,7 @@ Channels (JSON-encoded; JSON schemas), stamped with the simulated time:
                                       base_footprint -> base_scan, at every sample
   /scene     foxglove.SceneUpdate     the arena (walls, obstacle) in odom and the base's body, once
   the world's topics (sim/mobile/messages.py and the served ones), laid out as ROS has them, every
-  `state_period`: /odom, /joint_states, /cmd_vel, /ground_truth_pose, /wall_following.
+  `state_period`: /odom, /joint_states, /cmd_vel_followed, /ground_truth_pose, /wall_following.
 The metadata record "hri_lab" says `world: mobile` and the arena (what a replay draws).
 """
 

@@ -9,7 +9,9 @@ status 0 unless its comment states `exit status N`.
 
 What the runner does that a reader does without thinking:
 - after starting a lab in the background it waits until the lab answers (/health); starting a lab
-  stops the page's earlier one first (Ctrl+C in its terminal: one lab per port);
+  stops the page's earlier one first (Ctrl+C in its terminal: one lab per port, as the pages say),
+  after starting it once beside the earlier one, as a reader who forgot to: it must end at once
+  (exit status 1) and say what to do, the `--port` for a second lab included;
 - after starting any other program in the background it waits for its first line of output (a
   node's "node ready", a server's "Ready to ...", a launch's "the lab: ...") and then until the
   lab's list of services has settled (a node's advertise reaches the lab after its ready line);
@@ -162,8 +164,31 @@ class PageRun:
         )
         assert "Traceback (most recent call last)" not in done.stderr, self.story(f"`{command.line}` crashed")
 
+    def _beside(self, command: Command, text: str) -> None:
+        """The lab started while the page's earlier one holds the port (the reader forgot Ctrl+C):
+        it ends at once, saying to stop the other or to take the next free port."""
+        done = subprocess.run(
+            ["bash", "-c", f"exec {text}"],
+            cwd=self.folder,
+            env=self.env,
+            capture_output=True,
+            text=True,
+            timeout=READY_TIMEOUT,
+            stdin=subprocess.DEVNULL,
+        )
+        said = done.stdout + done.stderr
+        self.transcript.append(f"$ {text} &   # beside the running lab\n{said[-3000:]}")
+        assert done.returncode == 1, self.story(
+            f"`{command.line}` beside the running lab: exit status {done.returncode}"
+        )
+        assert "One lab per port" in said and "Ctrl+C" in said, self.story(f"`{command.line}` beside a lab: {said}")
+        assert re.search(rf"--port (?!{self.port}\b)\d+ \(its clients: --url", said), self.story(said)
+        assert "Traceback (most recent call last)" not in said, self.story(f"`{command.line}` crashed")
+
     def _start(self, command: Command, text: str) -> None:
         lab = is_lab(text)
+        if lab and self.lab_running() and f"--port {self.port}" in text:
+            self._beside(command, text)
         if lab:  # Ctrl+C in the terminal of the page's earlier lab: its programs go with it
             for earlier in self.background:
                 if earlier.with_lab and not earlier.stopped:

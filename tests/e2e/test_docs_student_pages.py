@@ -1,7 +1,7 @@
 """The students' pages run as written (tests/e2e/docs_commands.py): docs/students.md and
 docs/ros-programs-client.md, every command in order against a real lab."""
 
-from tests.e2e.docs_commands import page_commands, run_page, split_comment
+from tests.e2e.docs_commands import DOCS, page_commands, run_page, split_comment
 
 
 def test_the_convention_is_read_as_the_pages_state_it():
@@ -18,6 +18,8 @@ def test_the_convention_is_read_as_the_pages_state_it():
         ".venv/bin/hri-lab run lifting_node.py",
     ]
     assert {c.exit_status for c in commands} == {0, 1}
+    for page in ("students.md", "ros-programs-client.md", "mobile-lab.md"):  # one lab per port, said where labs start
+        assert "(getting-started.md#one-lab-per-port)" in (DOCS / page).read_text(), page
     for page in ("students.md", "ros-programs-client.md", "instructors.md", "course-scale.md"):
         for command in page_commands(page):
             assert command.run or command.comment.split("(not run by the docs test:")[1].strip(" )"), command.line
@@ -26,6 +28,7 @@ def test_the_convention_is_read_as_the_pages_state_it():
 def test_the_students_page(tmp_path):
     run = run_page("students.md", tmp_path / "students")
     said = "\n".join(run.transcript)
+    assert said.count("# beside the running lab") == 2  # each lab after the first, started beside the one before
     assert "score: 15/130" in said  # the unfilled controller template, as the page states
     assert "seed 0, the public default" in said
     assert "score: 1/15" in said  # the unfilled services node: the done example only

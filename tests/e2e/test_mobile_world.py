@@ -34,7 +34,8 @@ def test_the_topics_are_turtlebot3s(lab):
     topics = {t["name"]: t["type"] for t in http.get(f"{lab.url}/topics").json()}
     assert topics["/scan"] == "sensor_msgs/LaserScan"
     assert topics["/odom"] == "nav_msgs/Odometry"
-    assert topics["/cmd_vel"] == "geometry_msgs/Twist"
+    assert topics["/cmd_vel_followed"] == "geometry_msgs/Twist"
+    assert "/cmd_vel" not in topics  # the nodes' topic: the lab follows it, never publishes it
     assert topics["/joint_states"] == "sensor_msgs/JointState"
     scan = latest(lab, "scan")
     assert len(scan["ranges"]) == 360
@@ -79,7 +80,7 @@ def test_cmd_vel_drives_the_base_and_the_watchdog_stops_it(lab, ros):
         listener.unsubscribe()
     # nobody commands: the base stops after the watchdog's 0.5 s (and its deceleration)
     wait_for(lambda: latest(lab, "odom")["twist"]["twist"]["angular"]["z"] == 0.0, 60)
-    assert latest(lab, "cmd_vel")["angular"]["z"] == 0.0
+    assert latest(lab, "cmd_vel_followed")["angular"]["z"] == 0.0
     stamps = [stamp(s) for s in scans]
     assert len(stamps) >= 2
     assert all(b - a >= 0.2 - 1e-6 for a, b in itertools.pairwise(stamps))
@@ -93,7 +94,7 @@ def test_a_twist_with_a_bad_field_is_refused(lab, ros):
     publisher.publish(roslibpy.Message({"linear": {"x": "fast"}}))
     publisher.publish(roslibpy.Message({"linear": {"x": 0.1}, "angular": {"z": 1e400}}))
     time.sleep(0.3)
-    assert latest(lab, "cmd_vel")["linear"]["x"] == 0.0
+    assert latest(lab, "cmd_vel_followed")["linear"]["x"] == 0.0
     assert http.get(f"{lab.url}/health").json()["loop_alive"]
 
 

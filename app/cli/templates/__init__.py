@@ -12,6 +12,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from sim.controllers.interface import LiftingParams
+from sim.controllers.plugin import template_path
 
 FILES = {  # (kind, api) -> the file beside this one
     ("services", "roslibpy"): "services_node.py",
@@ -42,10 +43,7 @@ def _params_block(indent: str) -> str:
 def render(kind: str, api: str = "rospy") -> str:
     """The text `hri-lab template KIND --api API` prints."""
     if kind == "controller":
-        spec = importlib.util.find_spec("sim.controllers.template")
-        assert spec is not None
-        assert spec.origin is not None
-        return Path(spec.origin).read_text(encoding="utf-8")
+        return template_path().read_text(encoding="utf-8")
     text = (Path(__file__).parent / FILES[kind, api]).read_text(encoding="utf-8")
     out = []
     for line in text.splitlines(keepends=True):

@@ -75,7 +75,9 @@ class Advertise(Capability):
             raise BadFrame(f"advertise: topic {topic} is published by the lab")
         if known is not None and known != type_name:
             raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
-        if topic not in TF_TOPICS and topic != bridge.command_topic:  # tf: shared with the lab (node_frames.py)
+        # tf: shared with the lab (node_frames.py); a command topic the lab publishes too (the lifting
+        # world's) is the lab's, one it only follows (the mobile world's /cmd_vel) is the nodes'
+        if topic not in TF_TOPICS and (topic != bridge.command_topic or topic not in bridge.topics):
             entry = bridge.node_topic(topic, type_name)
             entry.publishers.add(self.session)
             definition = message.get("definition")  # hri-lab's programs carry their type's full text

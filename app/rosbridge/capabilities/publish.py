@@ -41,10 +41,7 @@ class Publish(Capability):
         topic = name_field(message, "topic")
         msg = field(message, "msg", dict)
         bridge, advertised = self.bridge, self.session.capability(Advertise)
-        if topic == bridge.command_topic:
-            if self.commands is None:
-                self.commands = Commands(self.session)
-            self.commands.offer(twist_values(msg, topic))
+        if topic == bridge.command_topic and self._command(topic, msg, advertised.publishing):
             return
         if topic == rosout.TOPIC:
             if topic not in advertised.publishing:
@@ -80,6 +77,15 @@ class Publish(Capability):
         header = advertised.connection_header(topic)  # for the streams that asked (capabilities/subscribe.py)
         for stream in list(entry.subscriptions):
             stream.offer(msg, header)
+
+    def _command(self, topic: str, msg: dict, publishing: set[str]) -> bool:
+        """A Twist on the command topic, handed to the simulation; True when that is all (a topic
+        the lab publishes itself, the lifting world's, or a Twist sent without advertising), False
+        when the topic's subscribers get it too (the mobile world's /cmd_vel, the nodes' own)."""
+        if self.commands is None:
+            self.commands = Commands(self.session)
+        self.commands.offer(twist_values(msg, topic))
+        return topic in self.bridge.topics or topic not in publishing
 
     def finish(self) -> None:
         self.bridge.frames.drop(self.session)  # its frames leave the lab's tree

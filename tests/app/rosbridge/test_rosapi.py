@@ -4,9 +4,11 @@ import json
 
 from sim.controllers.interface import LiftingParams
 
+from app.mobile.lab import MobileLab
 from app.rosbridge import rosapi
 from app.rosbridge.capabilities.call_service import CallService
-from tests.app.rosbridge.clients import connect, op, parts, run
+from app.serving.compose import build as parts_of
+from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 
 def test_the_table_names_each_service_once_and_only_parameters_change_the_lab():
@@ -77,5 +79,43 @@ def test_parameters_by_rosapis_two_kinds_of_names():
         ok, reason = await table.call(caller, "/rosapi/delete_param", {"name": "/cooperative_lifting:alpha"})
         assert not ok
         assert "declared by its node" in reason
+
+    run(check())
+
+
+def test_the_mobile_worlds_cmd_vel_is_published_by_the_nodes_alone():
+    """The lab follows /cmd_vel and never publishes it (as Gazebo's diff drive): `rostopic info`
+    names the nodes that drive the base, a leftover one as a second publisher; what the base follows
+    is the lab's own /cmd_vel_followed."""
+
+    async def check() -> None:
+        lab = parts_of(MobileLab(realtime=False))
+        follower, leftover, listener = [await connect(lab) for _ in range(3)]
+        for session, name in ((follower, "/follower"), (leftover, "/leftover"), (listener, "/listener")):
+            await op(session, op="node", name=name)
+        caller = listener.capability(CallService)
+
+        async def values(name: str, **args: object) -> dict:
+            ok, answer = await lab.bridge.service_table.call(caller, name, args)
+            assert ok, answer
+            return answer
+
+        assert (await values("/rosapi/publishers", topic="/cmd_vel"))["publishers"] == []
+        assert (await values("/rosapi/subscribers", topic="/cmd_vel"))["subscribers"] == ["/hri_lab"]
+        topics = await values("/rosapi/topics")
+        assert "/cmd_vel" not in topics["topics"]
+        assert dict(zip(topics["topics"], topics["types"]))["/cmd_vel_followed"] == "geometry_msgs/Twist"
+        assert (await values("/rosapi/publishers", topic="/cmd_vel_followed"))["publishers"] == ["/hri_lab"]
+        assert "/cmd_vel" not in (await values("/rosapi/node_details", node="/hri_lab"))["publishing"]
+        await op(listener, op="subscribe", topic="/cmd_vel", type="geometry_msgs/Twist")
+        for session in (follower, leftover):
+            await op(session, op="advertise", topic="/cmd_vel", type="geometry_msgs/Twist")
+        assert (await values("/rosapi/publishers", topic="/cmd_vel"))["publishers"] == ["/follower", "/leftover"]
+        await op(follower, op="publish", topic="/cmd_vel", msg={"linear": {"x": 0.1}, "angular": {"z": 0.5}})
+        await until(lambda: sent(listener, "publish"), "the follower's twist at /cmd_vel's subscriber")
+        assert sent(listener, "publish")[0]["msg"]["angular"]["z"] == 0.5
+        await until(lambda: lab.bridge.lab.world.command[1] == 0.5, "the twist followed by the base")
+        await op(leftover, op="unadvertise", topic="/cmd_vel")
+        assert (await values("/rosapi/publishers", topic="/cmd_vel"))["publishers"] == ["/follower"]
 
     run(check())

@@ -21,6 +21,7 @@ def main() -> None:
         print("usage: python -m app.rosclient.boot FILE.py [ARGS...]", file=sys.stderr)
         raise SystemExit(2)
     program = Path(sys.argv[1])
+    from app.interfaces.parser import DefinitionError
     from app.rosclient import interfaces, packages, process, windows
 
     windows.install()  # cv2.imshow / waitKey show on the lab's dashboard (app/rosclient/windows.py)
@@ -32,8 +33,8 @@ def main() -> None:
     sys.argv = [str(program), *sys.argv[2:]]
     try:
         runpy.run_path(str(program), run_name="__main__")
-    except ConnectionError as exc:  # the lab cannot be reached: say so, as rospy says it of a master
-        print(f"[FATAL] {exc}", file=sys.stderr)
+    except (ConnectionError, DefinitionError) as exc:  # the lab cannot be reached, as rospy says it of a
+        print(f"[FATAL] {exc}", file=sys.stderr)  # master; a .msg/.srv/.action that cannot be read: its file and line
         raise SystemExit(1) from None
     finally:
         process.close()

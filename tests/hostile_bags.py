@@ -141,9 +141,7 @@ def billion_laughs(folder: Path, levels: int = 9) -> Path:
     """A rosbag2 folder whose metadata.yaml's storage is 10^levels strings through YAML aliases (a
     few hundred bytes; expanded, gigabytes)."""
     folder.mkdir()
-    lines = ['a0: &a0 "lol"'] + [
-        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, levels + 1)
-    ]
+    lines = ['a0: &a0 "lol"'] + [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, levels + 1)]
     lines += ["rosbag2_bagfile_information:", f"  storage_identifier: *a{levels}"]
     (folder / "metadata.yaml").write_text("\n".join(lines) + "\n")
     return folder

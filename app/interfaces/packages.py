@@ -19,11 +19,11 @@ from typing import Any
 
 from app.interfaces.messages import Message, Stamp
 from app.interfaces.parser import (
+    FIELD_LINE,
     MAX_DEFAULT_VALUES,
     MAX_DEFINITION_CHARS,
     MAX_DEFINITION_FIELDS,
     PRIMITIVES,
-    FIELD_LINE,
     DefinitionError,
     parse_fields,
     read_definition,

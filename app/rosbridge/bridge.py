@@ -30,8 +30,8 @@ from app.rosbridge.ports import (
 )
 from app.rosbridge.protocol import MAX_TOPICS, BadFrame
 from app.rosbridge.services import ServiceTable
-from app.tokens import Throttle
 from app.rosbridge.tf_republisher import TFSubscriptionServer
+from app.tokens import Throttle
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 

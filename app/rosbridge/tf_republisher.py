@@ -229,7 +229,9 @@ class TFSubscriptionServer:
         self._seq = itertools.count(1)
         self._status_task: asyncio.Task | None = None
         self.owners: dict[str, Any] = {}  # a /republish_tfs topic -> the session that asked for it
-        self._tree: tuple[Any, int, dict[str, tuple[np.ndarray, str]]] | None = None  # (snapshot, frames' version, poses)
+        self._tree: tuple[Any, int, dict[str, tuple[np.ndarray, str]]] | None = (
+            None  # (snapshot, frames' version, poses)
+        )
 
     def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[np.ndarray, str]]]:
         """(the snapshot it was built at, tree_poses) for every goal and republished topic: built once

@@ -103,69 +103,84 @@ def register(store: Typestore, name: str, text: str) -> None:
 def check_types(name: str, found: dict[str, Any], store: Typestore) -> None:
     """The lab's definition caps (sim/definition_limits.py) on the types a bag's text brings, before
     the store makes classes of them: a fixed array's length, the values a message's default holds
-    (nested messages and fixed arrays counted: rosbags builds them whole), the fields, and no type
-    that holds itself (ROS refuses one; rosbags' hash of it recurses forever). RecordingError names it."""
-    where = f"the definition of {name[:100]}"
+    (nested messages and fixed arrays counted: rosbags builds them whole), the fields, no type that
+    holds itself (ROS refuses one; rosbags' hash of it recurses forever) and no variable-length array
+    of a message of no bytes (four bytes of length would make billions). RecordingError names it."""
     fields = sum(len(fielddefs[1]) for fielddefs in found.values())
     if fields > MAX_DEFINITION_FIELDS:
-        raise RecordingError(f"{where}: {fields} fields, over the cap of {MAX_DEFINITION_FIELDS}")
-    values: dict[str, int] = {}  # type -> the values its default holds (as app/interfaces/packages.py counts them)
-    making: list[str] = []
+        raise RecordingError(
+            f"the definition of {name[:100]}: {fields} fields, over the cap of {MAX_DEFINITION_FIELDS}"
+        )
+    check = _TypeCheck(f"the definition of {name[:100]}", found, store)
+    for msgtype in found:
+        check.held(msgtype)
 
-    def count(kind: Nodetype, desc: Any) -> int:
+
+class _TypeCheck:
+    """check_types' walk: each type's default values counted once (as app/interfaces/packages.py
+    counts them), the types being counted kept to find a loop."""
+
+    def __init__(self, where: str, found: dict[str, Any], store: Typestore) -> None:
+        self.where, self.found, self.store = where, found, store
+        self.values: dict[str, int] = {}  # type -> the values its default holds
+        self.making: list[str] = []
+
+    def fielddefs(self, msgtype: str) -> Any:
+        fielddefs = self.found.get(msgtype) or self.store.fielddefs.get(msgtype)
+        if fielddefs is None:
+            raise RecordingError(f"{self.where}: type {msgtype} is not defined")
+        return fielddefs
+
+    def held(self, msgtype: str) -> int:
+        if msgtype in self.values:
+            return self.values[msgtype]
+        if msgtype in self.making:
+            loop = " -> ".join([*self.making[self.making.index(msgtype) :], msgtype])
+            raise RecordingError(f"{self.where}: type {msgtype} holds itself ({loop}): a recursive type")
+        self.making.append(msgtype)
+        total = 0
+        for field_name, (kind, desc) in self.fielddefs(msgtype)[1]:
+            total += self.count(kind, desc)
+            if total > MAX_DEFAULT_VALUES:
+                raise RecordingError(
+                    f"{self.where}: the default of {msgtype} would hold more than {MAX_DEFAULT_VALUES} values "
+                    f"(field '{field_name}')"
+                )
+        self.making.pop()
+        self.values[msgtype] = max(total, 1)  # an empty message is an object all the same
+        return self.values[msgtype]
+
+    def count(self, kind: Nodetype, desc: Any) -> int:
+        """The values a field's default holds."""
         if kind == Nodetype.BASE:
             return 1
         if kind == Nodetype.NAME:
-            return held(desc)
+            return self.held(desc)
         (inner_kind, inner_desc), length = desc
         if kind == Nodetype.SEQUENCE:
-            count(inner_kind, inner_desc)  # its type checked; its default is empty
-            if inner_kind == Nodetype.NAME and not wire_bytes(inner_desc):
+            self.count(inner_kind, inner_desc)  # its type checked; its default is empty
+            if inner_kind == Nodetype.NAME and not self.takes_bytes(inner_desc):
                 raise RecordingError(
-                    f"{where}: a variable-length array of {inner_desc}, a message of no bytes: four bytes of its "
-                    "length would make billions of them (refused)"
+                    f"{self.where}: a variable-length array of {inner_desc}, a message of no bytes: four bytes of "
+                    "its length would make billions of them (refused)"
                 )
             return 0
         if length > MAX_FIXED_ARRAY:
-            raise RecordingError(f"{where}: a fixed-size array of {length} items, over the cap of {MAX_FIXED_ARRAY}")
-        return length * count(inner_kind, inner_desc)
+            raise RecordingError(
+                f"{self.where}: a fixed-size array of {length} items, over the cap of {MAX_FIXED_ARRAY}"
+            )
+        return length * self.count(inner_kind, inner_desc)
 
-    def held(msgtype: str) -> int:
-        if msgtype in values:
-            return values[msgtype]
-        if msgtype in making:
-            loop = " -> ".join([*making[making.index(msgtype) :], msgtype])
-            raise RecordingError(f"{where}: type {msgtype} holds itself ({loop}): a recursive type")
-        fielddefs = found.get(msgtype) or store.fielddefs.get(msgtype)
-        if fielddefs is None:
-            raise RecordingError(f"{where}: type {msgtype} is not defined")
-        making.append(msgtype)
-        total = 0
-        for field_name, (kind, desc) in fielddefs[1]:
-            total += count(kind, desc)
-            if total > MAX_DEFAULT_VALUES:
-                raise RecordingError(
-                    f"{where}: the default of {msgtype} would hold more than {MAX_DEFAULT_VALUES} values "
-                    f"(field '{field_name}')"
-                )
-        making.pop()
-        values[msgtype] = max(total, 1)  # an empty message is an object all the same
-        return values[msgtype]
-
-    def wire_bytes(msgtype: str) -> bool:
-        """Whether a message of `msgtype` takes any bytes when serialized (checked acyclic by held)."""
-        fielddefs = found.get(msgtype) or store.fielddefs.get(msgtype) or ((), ())
-        for _, (kind, desc) in fielddefs[1]:
-            if kind in (Nodetype.BASE, Nodetype.SEQUENCE):
+    def takes_bytes(self, msgtype: str) -> bool:
+        """Whether a message of `msgtype` takes any bytes serialized (its type checked acyclic first)."""
+        for _, (kind, desc) in self.fielddefs(msgtype)[1]:
+            if kind in (Nodetype.BASE, Nodetype.SEQUENCE) or (kind == Nodetype.NAME and self.takes_bytes(desc)):
                 return True
-            if kind == Nodetype.NAME and wire_bytes(desc):
-                return True
-            if kind == Nodetype.ARRAY and desc[1] > 0 and (desc[0][0] != Nodetype.NAME or wire_bytes(desc[0][1])):
-                return True
+            if kind == Nodetype.ARRAY and desc[1] > 0:
+                inner_kind, inner_desc = desc[0]
+                if inner_kind != Nodetype.NAME or self.takes_bytes(inner_desc):
+                    return True
         return False
-
-    for msgtype in found:
-        held(msgtype)
 
 
 # --- JSON <-> rosbags' messages -----------------------------------------------------------------

@@ -37,9 +37,7 @@ def test_a_client_advertises_at_most_its_cap_of_topics_and_all_together_at_most_
         for i in range(protocol.MAX_CLIENT_TOPICS):
             assert await op(first, op="advertise", topic=f"/a/{i}", type="std_msgs/String") == [], i
         refused = errors(await op(first, op="advertise", topic="/a/one_more", type="std_msgs/String"))
-        assert refused == [
-            f"advertise: at most {protocol.MAX_CLIENT_TOPICS} topics per client (unadvertise one first)"
-        ]
+        assert refused == [f"advertise: at most {protocol.MAX_CLIENT_TOPICS} topics per client (unadvertise one first)"]
         others = [await connect(lab) for _ in range(protocol.MAX_TOPICS // protocol.MAX_CLIENT_TOPICS)]
         said: list[str] = []
         for n, other in enumerate(others):
@@ -125,7 +123,10 @@ def test_a_definitions_models_are_built_off_the_event_loop_and_go_with_the_clien
         await asyncio.sleep(0)
         before = ticks[0]
         definition = fields_definition(MAX_DEFINITION_FIELDS - 1)
-        assert errors(await op(session, op="advertise_service", service="/at_cap", type="p/AtCap", definition=definition)) == []
+        assert (
+            errors(await op(session, op="advertise_service", service="/at_cap", type="p/AtCap", definition=definition))
+            == []
+        )
         assert ticks[0] > before  # the loop ran other tasks while the models were built
         task.cancel()
         model = weakref.ref(lab.bridge.services.get("/at_cap").request)
@@ -246,7 +247,12 @@ def test_the_tf_tree_is_built_once_a_period_for_every_goal_and_republished_topic
 
         bridge.topics["/tf"] = Topic("/tf", tf_topic.type, counted)
         client = await connect(lab)
-        await op(client, op="advertise", topic="/tf2_web_republisher/goal", type="tf2_web_republisher/TFSubscriptionActionGoal")
+        await op(
+            client,
+            op="advertise",
+            topic="/tf2_web_republisher/goal",
+            type="tf2_web_republisher/TFSubscriptionActionGoal",
+        )
         await op(client, op="subscribe", topic="/tf2_web_republisher/feedback")
         for n in range(4):
             body = {"source_frames": ["plate"], "target_frame": "world", "rate": 100.0}

@@ -17,6 +17,7 @@ from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeServices
 from app.ros.services import ServiceRegistry
+from app.rosbridge.internal import message_conversion
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
 from app.rosbridge.internal.shared import SharedMessages
 from app.rosbridge.ports import (
@@ -181,3 +182,4 @@ class Bridge:
         if not entry.publishers and not entry.subscriptions and not entry.lab:
             del self.node_topics[topic]
             self.shared.forget(topic)
+            message_conversion.forget(entry.type, entry.definition)  # what its publisher's definition made

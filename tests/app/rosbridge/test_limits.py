@@ -19,6 +19,7 @@ from app.interfaces.parser import MAX_DEFINITION_FIELDS
 from app.mobile.lab import MobileLab
 from app.rosbridge import protocol
 from app.rosbridge.capabilities import connection
+from app.rosbridge.internal import message_conversion
 from app.rosbridge.internal.node_frames import NodeFrames
 from app.rosbridge.session import Session
 from tests.app.rosbridge.clients import Socket, connect, op, parts, run, sent, until
@@ -274,5 +275,21 @@ def test_programs_cannot_publish_the_mobile_worlds_own_frames(frame):
         assert refused == [
             f"publish /tf: refused frame {frame} is the lab's: a program cannot move it (publish frames of your own, below it)"
         ]
+
+    run(check())
+
+
+def test_the_converter_of_a_definition_a_client_brought_goes_with_it():
+    async def check() -> None:
+        lab = parts(replay=True)
+        talker, listener = await connect(lab), await connect(lab)
+        definition = "string name\nint32 age\n"
+        await op(listener, op="subscribe", topic="/student", type="student_pkg/Info")
+        await op(talker, op="advertise", topic="/student", type="student_pkg/Info", definition=definition)
+        assert errors(await op(talker, op="publish", topic="/student", msg={"name": "ada"})) == []
+        made = weakref.ref(message_conversion.converter("student_pkg/Info", definition))
+        await talker.close()
+        await listener.close()
+        await until(lambda: gc.collect() >= 0 and made() is None, "the client's converter let go")
 
     run(check())

@@ -137,7 +137,7 @@ def _wide(fields: int) -> str:
 
 
 def wide_services() -> None:
-    with running_server("--view", "none") as server, httpx.Client(timeout=120.0) as http:  # noqa: SIM117 - nested on purpose: the clients go before the server
+    with running_server("--view", "none") as server, httpx.Client(timeout=120.0) as http:
         url = f"ws://127.0.0.1:{server.port}/"
         with connect(url, max_size=None) as ws:
             ws.send(json.dumps({"op": "advertise_service", "service": "/w", "type": "p/W", "definition": _wide(4600)}))

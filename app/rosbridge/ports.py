@@ -171,6 +171,7 @@ class SessionLike(Protocol):
     loop: asyncio.AbstractEventLoop | None
     authorized: bool
     address: str  # the client's address (its wrong tokens are slowed by it)
+    closed: bool  # the client went (what it still sends is dropped)
     level: str
     in_flight: int  # its service calls and goals being served (capabilities/call_service.py)
 

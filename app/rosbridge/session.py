@@ -51,8 +51,11 @@ class Session:
         await self.ws.accept()
         if len(self.bridge.sessions) >= MAX_CONNECTIONS:  # told why, then closed: "try again later"
             self.closed = True
-            await self.ws.send_text(json.dumps(status("error", TOO_MANY)))
-            await self.ws.close(code=1013, reason="too many rosbridge connections")
+            try:
+                await self.ws.send_text(json.dumps(status("error", TOO_MANY)))
+                await self.ws.close(code=1013, reason="too many rosbridge connections")
+            except Exception:  # noqa: BLE001 - the client went away already
+                pass
             return
         self.loop = asyncio.get_running_loop()
         self.bridge.sessions.append(self)

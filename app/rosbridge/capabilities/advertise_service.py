@@ -45,6 +45,8 @@ class AdvertiseService(Capability):
         self._room_for(name)
         try:  # the models of a carried text are built in a worker thread: the event loop goes on
             models = None if text is None else await asyncio.to_thread(models_of, type_name, text)
+            if session.closed:  # the client went while they were built: nothing of it is kept
+                return
             self._room_for(name)  # another op may have taken the last place meanwhile
             replaces = bridge.nodes.answers_itself(name)
             warning = bridge.nodes.advertise(name, type_name, session, text, models)

@@ -293,3 +293,18 @@ def test_the_converter_of_a_definition_a_client_brought_goes_with_it():
         await until(lambda: gc.collect() >= 0 and made() is None, "the client's converter let go")
 
     run(check())
+
+
+def test_a_client_that_goes_while_its_models_are_built_leaves_no_service():
+    async def check() -> None:
+        lab = parts(replay=True)
+        session = await connect(lab)
+        frame = {"op": "advertise_service", "service": "/late", "type": "p/Late", "definition": fields_definition(400)}
+        advertising = asyncio.ensure_future(op(session, **frame))
+        await asyncio.sleep(0)  # the op is waiting for its models' thread
+        await session.close()
+        await advertising
+        assert lab.bridge.services.get("/late") is None
+        assert lab.bridge.nodes.providers == {}
+
+    run(check())

@@ -7,7 +7,11 @@ frame of tests/ costs and how long it takes to its verdict, on this machine.
    first step to the fault, and the reason;
 3. the 2-byte call (`{"i":{}}`) of a client's service whose request nests a fixed-size array at the
    cap (interfaces/parser.py, MAX_DEFAULT_VALUES): the server's peak resident memory
-   (VmHWM) before and after, and the call's wall time; and the refusal of 30 million items.
+   (VmHWM) before and after, and the call's wall time; and the refusal of 30 million items;
+4. wide services (issue 44): one advertise_service of 4,600 fields (refused: the field cap), then
+   clients advertising services of MAX_DEFINITION_FIELDS - 1 fields up to the lab's cap of services
+   (app/rosbridge/protocol.py): the longest GET /health meanwhile, the server's resident memory
+   (VmRSS) before, with them and after their clients left.
 
     .venv/bin/python -m bench.attack_figures
 """
@@ -27,7 +31,8 @@ from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginFactory
 
 from app.serving.launch import running_server
-from interfaces.parser import MAX_DEFAULT_VALUES
+from interfaces.parser import MAX_DEFAULT_VALUES, MAX_DEFINITION_FIELDS
+from app.rosbridge.protocol import MAX_CLIENT_SERVICES, MAX_SERVICES
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "tests" / "controllers"
 
@@ -122,10 +127,65 @@ def two_byte_call() -> None:
     )
 
 
+def _rss(pid: int) -> int:
+    with open(f"/proc/{pid}/status") as handle:
+        return next(int(line.split()[1]) << 10 for line in handle if line.startswith("VmRSS:"))
+
+
+def _wide(fields: int) -> str:
+    return "\n".join(f"int64 f{i}" for i in range(fields)) + "\n---\nbool ok\n"
+
+
+def wide_services() -> None:
+    with running_server("--view", "none") as server, httpx.Client(timeout=120.0) as http:
+        url = f"ws://127.0.0.1:{server.port}/"
+        with connect(url, max_size=None) as ws:
+            ws.send(json.dumps({"op": "advertise_service", "service": "/w", "type": "p/W", "definition": _wide(4600)}))
+            refusal = json.loads(ws.recv(timeout=60))
+        print(f"4,600 fields: {refusal['level']}: {refusal['msg'][:160]}")
+        longest, done = [0.0], threading.Event()
+
+        def probe() -> None:
+            while not done.is_set():
+                started = time.perf_counter()
+                http.get(f"{server.url}/health")
+                longest[0] = max(longest[0], time.perf_counter() - started)
+                time.sleep(0.05)
+
+        before = _rss(server.proc.pid)
+        prober = threading.Thread(target=probe)
+        prober.start()
+        clients = [connect(url, max_size=None) for _ in range(MAX_SERVICES // MAX_CLIENT_SERVICES)]
+        started = time.perf_counter()
+        for n, ws in enumerate(clients):
+            for i in range(MAX_CLIENT_SERVICES):
+                frame = {"op": "advertise_service", "service": f"/w{n}_{i}", "type": "p/W"}
+                ws.send(json.dumps({**frame, "definition": _wide(MAX_DEFINITION_FIELDS - 1)}))
+        while len([s for s in http.get(f"{server.url}/services").json() if s["name"].startswith("/w")]) < MAX_SERVICES:
+            time.sleep(0.2)
+        took = time.perf_counter() - started
+        held = _rss(server.proc.pid)
+        for ws in clients:
+            ws.close()
+        while any(s["name"].startswith("/w") for s in http.get(f"{server.url}/services").json()):
+            time.sleep(0.2)
+        time.sleep(1.0)
+        done.set()
+        prober.join()
+        after = _rss(server.proc.pid)
+    print(
+        f"{MAX_SERVICES} services of {MAX_DEFINITION_FIELDS} fields from {len(clients)} clients: advertised in "
+        f"{took:.1f} s, the longest GET /health meanwhile {longest[0] * 1e3:.0f} ms; the server's resident memory "
+        f"{before / 2**20:.0f} MiB before, {held / 2**20:.0f} MiB with them, {after / 2**20:.0f} MiB after their "
+        "clients left"
+    )
+
+
 def main() -> None:
     fills_disk()
     sleeper()
     two_byte_call()
+    wide_services()
 
 
 if __name__ == "__main__":

@@ -19,8 +19,10 @@ from typing import Any
 
 from interfaces.messages import Message, Stamp
 from interfaces.parser import (
+    FIELD_LINE,
     MAX_DEFAULT_VALUES,
     MAX_DEFINITION_CHARS,
+    MAX_DEFINITION_FIELDS,
     PRIMITIVES,
     DefinitionError,
     parse_fields,
@@ -277,6 +279,17 @@ def full_text(interface: Any) -> str:
     return text
 
 
+def field_count(text: str) -> int:
+    """The fields of a carried text (`full_text`'s: each type once): its lines that declare a field
+    (not a constant, a comment, a blank line, a section's `---` or a `MSG:` line), without parsing it."""
+    count = 0
+    for raw in text.splitlines():
+        match = FIELD_LINE.match(raw.strip())
+        if match is not None and not match[6] and not raw.lstrip().startswith("MSG:"):
+            count += 1
+    return count
+
+
 def carried(type_name: str, kind: str, text: str) -> tuple[Interfaces, tuple[str, str]]:
     """Interfaces that know a client's carried `text` (from `full_text`) for `type_name` of `kind`,
     and (package, name) of the type: `.get(package, kind, name)` makes its classes."""
@@ -284,6 +297,12 @@ def carried(type_name: str, kind: str, text: str) -> tuple[Interfaces, tuple[str
     if len(parts) not in (2, 3) or not all(re.fullmatch(r"[A-Za-z]\w*", p) for p in parts):
         raise DefinitionError(f"not a type name: {type_name!r} (expected PACKAGE/Name or PACKAGE/{kind}/Name)")
     package, name = parts[0], parts[-1]
+    count = field_count(text)
+    if count > MAX_DEFINITION_FIELDS:  # counted before any class or model is made of it
+        raise DefinitionError(
+            f"it has {count} fields, over the cap of {MAX_DEFINITION_FIELDS} (its types' fields counted once each)",
+            name=type_name,
+        )
     pieces = _MSG_HEADER.split(text)
     texts = {(package, kind, name): pieces[0]}
     for nested, body in zip(pieces[1::2], pieces[2::2]):

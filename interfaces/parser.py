@@ -13,6 +13,11 @@ import re
 from pathlib import Path
 from typing import Any
 
+from sim.definition_limits import MAX_DEFAULT_VALUES as MAX_DEFAULT_VALUES  # the caps: one source for the
+from sim.definition_limits import MAX_DEFINITION_CHARS as MAX_DEFINITION_CHARS  # lab's parser and the bags'
+from sim.definition_limits import MAX_DEFINITION_FIELDS as MAX_DEFINITION_FIELDS
+from sim.definition_limits import MAX_FIXED_ARRAY as MAX_FIXED_ARRAY
+
 INTEGERS = {
     "byte": (0, 255),
     "char": (0, 255),
@@ -33,10 +38,7 @@ BUILTIN_ALIASES = {
     "Header": "std_msgs/Header",
 }
 BYTES = ("uint8", "byte", "char")  # arrays of these travel as base64 text in rosbridge's JSON
-MAX_DEFINITION_CHARS = 65_536  # characters of one definition's text (a file, or a type a client carries)
-MAX_FIXED_ARRAY = 65_536  # items of a fixed-size array (T[N]); a bound (T[<=N], string<=N) has at most 9 digits
-MAX_DEFAULT_VALUES = 65_536  # values a message's default holds, nested messages' and fixed arrays' items counted
-_FIELD = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
+FIELD_LINE = re.compile(r"^([A-Za-z][\w/]*(?:<=\d+)?)(\[(<=)?(\d*)\])?\s+([A-Za-z]\w*)\s*(=)?\s*(.*)$")
 
 
 Constant = int | float | bool | str  # a constant's or a default's value (a default may be a list of them)
@@ -99,7 +101,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         is_string = line.split()[0] in ("string", "wstring") or line.split()[0].startswith(("string<=", "wstring<="))
         if not (is_string and "=" in line):
             line = line.split("#", 1)[0].strip()
-        m = _FIELD.match(line)
+        m = FIELD_LINE.match(line)
         if m is None:
             raise DefinitionError(
                 f"{where}: expected 'TYPE NAME', 'TYPE NAME DEFAULT' or 'TYPE NAME=VALUE' "

@@ -33,6 +33,7 @@ def main() -> None:
         print("usage: python -m rosclient.boot [--entry MODULE:FUNCTION] FILE.py [ARGS...]", file=sys.stderr)
         raise SystemExit(2)
     program = Path(sys.argv[1])
+    from interfaces.parser import DefinitionError
     from rosclient import executables, interfaces, packages, process, windows
 
     windows.install()  # cv2.imshow / waitKey show on the lab's dashboard (rosclient/windows.py)
@@ -67,8 +68,8 @@ def main() -> None:
                 file=sys.stderr,
             )
             raise SystemExit(1)
-    except ConnectionError as exc:  # the lab cannot be reached: say so, as rospy says it of a master
-        print(f"[FATAL] {exc}", file=sys.stderr)
+    except (ConnectionError, DefinitionError) as exc:  # the lab cannot be reached, as rospy says it of a
+        print(f"[FATAL] {exc}", file=sys.stderr)  # master; a .msg/.srv/.action that cannot be read: its file and line
         raise SystemExit(1) from None
     finally:
         process.close()

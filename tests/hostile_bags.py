@@ -119,6 +119,56 @@ def rosbag1_bomb(path: Path, stated: int | None = None, uncompressed: int = 3 * 
     return path
 
 
+def rosbag1_with_definition(path: Path, msgtype: str, definition: str, data: bytes = b"") -> Path:
+    """A rosbag1 of one message (`data`, its ROS 1 bytes) on /evil whose connection carries
+    `definition` as its type's text, as the bag states it (rosbags' writer copies the text as given:
+    nothing of it is checked)."""
+    from rosbags.rosbag1 import Writer
+
+    with Writer(path) as writer:
+        connection = writer.add_connection("/evil", msgtype, msgdef=definition, md5sum="0" * 32)
+        writer.write(connection, 1, data)
+    return path
+
+
+# a 4.9 KB-class bag: one fixed array of 100 million empty messages (rosbags builds every one)
+FIXED_ARRAY = "evil/Empty[100000000] items\n" + "=" * 80 + "\nMSG: evil/Empty\n"
+EMPTY_SEQUENCE = "evil/Empty[] items\n" + "=" * 80 + "\nMSG: evil/Empty\n"  # 4 bytes: 4 billion items
+SELF_HOLDING = "evil/Loop[] next\nint32 value\n"  # a type that holds itself
+
+
+def billion_laughs(folder: Path, levels: int = 9) -> Path:
+    """A rosbag2 folder whose metadata.yaml's storage is 10^levels strings through YAML aliases (a
+    few hundred bytes; expanded, gigabytes)."""
+    folder.mkdir()
+    lines = ['a0: &a0 "lol"'] + [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, levels + 1)]
+    lines += ["rosbag2_bagfile_information:", f"  storage_identifier: *a{levels}"]
+    (folder / "metadata.yaml").write_text("\n".join(lines) + "\n")
+    return folder
+
+
+def sqlite_view(folder: Path) -> Path:
+    """A rosbag2 SQLite folder whose `messages` is a recursive VIEW (a query of it never ends)."""
+    import sqlite3
+
+    folder.mkdir()
+    (folder / "metadata.yaml").write_text("rosbag2_bagfile_information: {storage_identifier: sqlite3}\n")
+    connection = sqlite3.connect(folder / "evil.db3")
+    connection.executescript(
+        """
+        CREATE TABLE topics (id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT,
+                             offered_qos_profiles TEXT);
+        CREATE VIEW messages AS
+            WITH RECURSIVE n(id, topic_id, timestamp, data) AS (
+                SELECT 1, 1, 1, x'00' UNION ALL SELECT id + 1, 1, timestamp + 1, data FROM n
+            )
+            SELECT * FROM n;
+        """
+    )
+    connection.close()
+    return folder
+
+
 # `python -c MEASURE hri-lab-arguments...`: the command run in this process, then its peak resident
 # memory (maxrss, KiB) on stderr as `maxrss_kib N` (the tests' and bench/bags.py's memory bound)
 MEASURE = """

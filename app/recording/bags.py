@@ -12,7 +12,10 @@ the CDR and ROS 1 serialization; nothing here serializes by hand).
 
 Untrusted files: an MCAP is read through sim/recording/bounded.py (every chunk within its cap);
 a rosbag1's chunks are checked the same way before `rosbags` decompresses them (`check_rosbag1`);
-a rosbag2 SQLite's largest message and compression are checked before it is read.
+a rosbag2 SQLite's tables (plain tables: no view, virtual table or generated column), then its
+largest message and compression are checked before it is read; a metadata.yaml is read without
+YAML aliases; every definition a bag carries is held to the lab's caps (sim/definition_limits.py:
+a fixed array's length, a default's values, the fields, no recursive type: `check_types`).
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from rosbags.rosbag2 import Writer as Rosbag2Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
+from sim.definition_limits import MAX_DEFAULT_VALUES, MAX_DEFINITION_CHARS, MAX_DEFINITION_FIELDS, MAX_FIXED_ARRAY
 from sim.recording import bounded, reader
 from sim.recording.reader import BagInfo, RecordingError, TopicInfo
 
@@ -83,13 +87,100 @@ def register(store: Typestore, name: str, text: str) -> None:
     """Add a type (and the nested types it brings that the store lacks: a standard type the store
     has keeps its own definition, e.g. ROS 1's Header with its seq in a ROS 1 store) from its
     definition text; a definition that does not parse is refused by name."""
+    if len(text) > MAX_DEFINITION_CHARS:
+        raise RecordingError(f"the definition of {name[:100]}: {len(text)} characters, at most {MAX_DEFINITION_CHARS}")
     try:
         found = get_types_from_msg(text, ros2_type(name))
-        store.register({k: v for k, v in found.items() if k not in store.fielddefs})
+        new = {k: v for k, v in found.items() if k not in store.fielddefs}
+        check_types(name, new, store)
+        store.register(new)
     except RecordingError:
         raise
     except (Exception, RecursionError) as exc:  # noqa: BLE001 - rosbags' parser errors have several types
         raise RecordingError(f"the definition of {name[:100]} does not parse: {str(exc)[:200]}") from None
+
+
+def check_types(name: str, found: dict[str, Any], store: Typestore) -> None:
+    """The lab's definition caps (sim/definition_limits.py) on the types a bag's text brings, before
+    the store makes classes of them: a fixed array's length, the values a message's default holds
+    (nested messages and fixed arrays counted: rosbags builds them whole), the fields, no type that
+    holds itself (ROS refuses one; rosbags' hash of it recurses forever) and no variable-length array
+    of a message of no bytes (four bytes of length would make billions). RecordingError names it."""
+    fields = sum(len(fielddefs[1]) for fielddefs in found.values())
+    if fields > MAX_DEFINITION_FIELDS:
+        raise RecordingError(
+            f"the definition of {name[:100]}: {fields} fields, over the cap of {MAX_DEFINITION_FIELDS}"
+        )
+    check = _TypeCheck(f"the definition of {name[:100]}", found, store)
+    for msgtype in found:
+        check.held(msgtype)
+
+
+class _TypeCheck:
+    """check_types' walk: each type's default values counted once (as interfaces/packages.py
+    counts them), the types being counted kept to find a loop."""
+
+    def __init__(self, where: str, found: dict[str, Any], store: Typestore) -> None:
+        self.where, self.found, self.store = where, found, store
+        self.values: dict[str, int] = {}  # type -> the values its default holds
+        self.making: list[str] = []
+
+    def fielddefs(self, msgtype: str) -> Any:
+        fielddefs = self.found.get(msgtype) or self.store.fielddefs.get(msgtype)
+        if fielddefs is None:
+            raise RecordingError(f"{self.where}: type {msgtype} is not defined")
+        return fielddefs
+
+    def held(self, msgtype: str) -> int:
+        if msgtype in self.values:
+            return self.values[msgtype]
+        if msgtype in self.making:
+            loop = " -> ".join([*self.making[self.making.index(msgtype) :], msgtype])
+            raise RecordingError(f"{self.where}: type {msgtype} holds itself ({loop}): a recursive type")
+        self.making.append(msgtype)
+        total = 0
+        for field_name, (kind, desc) in self.fielddefs(msgtype)[1]:
+            total += self.count(kind, desc)
+            if total > MAX_DEFAULT_VALUES:
+                raise RecordingError(
+                    f"{self.where}: the default of {msgtype} would hold more than {MAX_DEFAULT_VALUES} values "
+                    f"(field '{field_name}')"
+                )
+        self.making.pop()
+        self.values[msgtype] = max(total, 1)  # an empty message is an object all the same
+        return self.values[msgtype]
+
+    def count(self, kind: Nodetype, desc: Any) -> int:
+        """The values a field's default holds."""
+        if kind == Nodetype.BASE:
+            return 1
+        if kind == Nodetype.NAME:
+            return self.held(desc)
+        (inner_kind, inner_desc), length = desc
+        if kind == Nodetype.SEQUENCE:
+            self.count(inner_kind, inner_desc)  # its type checked; its default is empty
+            if inner_kind == Nodetype.NAME and not self.takes_bytes(inner_desc):
+                raise RecordingError(
+                    f"{self.where}: a variable-length array of {inner_desc}, a message of no bytes: four bytes of "
+                    "its length would make billions of them (refused)"
+                )
+            return 0
+        if length > MAX_FIXED_ARRAY:
+            raise RecordingError(
+                f"{self.where}: a fixed-size array of {length} items, over the cap of {MAX_FIXED_ARRAY}"
+            )
+        return length * self.count(inner_kind, inner_desc)
+
+    def takes_bytes(self, msgtype: str) -> bool:
+        """Whether a message of `msgtype` takes any bytes serialized (its type checked acyclic first)."""
+        for _, (kind, desc) in self.fielddefs(msgtype)[1]:
+            if kind in (Nodetype.BASE, Nodetype.SEQUENCE) or (kind == Nodetype.NAME and self.takes_bytes(desc)):
+                return True
+            if kind == Nodetype.ARRAY and desc[1] > 0:
+                inner_kind, inner_desc = desc[0]
+                if inner_kind != Nodetype.NAME or self.takes_bytes(inner_desc):
+                    return True
+        return False
 
 
 # --- JSON <-> rosbags' messages -----------------------------------------------------------------
@@ -205,7 +296,10 @@ class BagWriter:
                     f"{topic}: no definition of {type_name} (the program that publishes it carries it)"
                 )
             register(self.store, msgtype, definition)
-        self._connections[topic] = self._writer.add_connection(topic, msgtype, typestore=self.store)
+        try:  # its type's hash (RIHS01) and definition for the bag's metadata
+            self._connections[topic] = self._writer.add_connection(topic, msgtype, typestore=self.store)
+        except (Exception, RecursionError) as exc:  # noqa: BLE001 - rosbags' errors have several types
+            raise RecordingError(f"{topic}: type {type_name} cannot be hashed for the bag: {str(exc)[:200]}") from None
         self._types[topic] = msgtype
         self.counts[topic] = 0
 
@@ -327,11 +421,32 @@ def open_bag(path: str | Path) -> Bag:
     return _open_mcap(path, "rosbag2-mcap" if _is_rosbag2_mcap(path) else "hri-lab")
 
 
+MAX_METADATA_BYTES = 1 << 20  # a rosbag2's metadata.yaml (ROS 2 writes a few KiB)
+SQLITE_TABLES = ("messages", "topics")  # a rosbag2 SQLite's tables rosbags needs; `schema` and
+SQLITE_OPTIONAL = ("schema", "message_definitions", "metadata")  # these it reads when they exist
+
+
+def _metadata(meta: Path) -> Any:
+    """metadata.yaml as data: at most MAX_METADATA_BYTES, and no YAML alias (`*name`: a few bytes of
+    aliases expand to gigabytes, a "billion laughs") — refused from the events, before any is expanded."""
+    with open(meta, "rb") as handle:
+        raw = handle.read(MAX_METADATA_BYTES + 1)
+    if len(raw) > MAX_METADATA_BYTES:
+        raise RecordingError(f"{meta}: over {MAX_METADATA_BYTES >> 10} KiB: not a rosbag2 metadata.yaml")
+    text = raw.decode("utf-8")
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, yaml.AliasEvent):
+            raise RecordingError(f"{meta}: YAML aliases (*{str(event.anchor)[:40]}) are not read in a metadata.yaml")
+    return yaml.safe_load(text)
+
+
 def _rosbag2_storage(meta: Path) -> str:
     try:
-        data = yaml.safe_load(meta.read_text(encoding="utf-8"))["rosbag2_bagfile_information"]
+        data = _metadata(meta)["rosbag2_bagfile_information"]
         storage = str(data["storage_identifier"])
         compression = str(data.get("compression_mode") or "")
+    except RecordingError:
+        raise
     except Exception as exc:  # noqa: BLE001 - any malformed metadata.yaml
         raise RecordingError(f"{meta}: not a rosbag2 metadata.yaml ({type(exc).__name__}: {str(exc)[:100]})") from None
     if compression and compression.upper() != "NONE":
@@ -425,10 +540,33 @@ def _open_rosbag1(path: Path) -> Bag:
     return Bag(path, "rosbag1", store, types, definitions, info)
 
 
+def _check_tables(db: Path, connection: sqlite3.Connection) -> None:
+    """The tables rosbags queries are plain tables (read from sqlite_master, itself a table), before
+    any of them is queried: a view (a recursive one never ends), a virtual table or a generated
+    column (computed at each read) is refused by name."""
+    kinds = dict(
+        connection.execute(
+            "SELECT name, CASE WHEN sql LIKE 'CREATE VIRTUAL%' THEN 'virtual table' ELSE type END "
+            "FROM sqlite_master WHERE name IN (?, ?, ?, ?, ?)",
+            (*SQLITE_TABLES, *SQLITE_OPTIONAL),
+        ).fetchall()
+    )
+    for name in SQLITE_TABLES:
+        if name not in kinds:
+            raise RecordingError(f"{db}: no table '{name}': not a rosbag2 SQLite file")
+    for name, kind in kinds.items():
+        if kind != "table":
+            raise RecordingError(f"{db}: '{name}' is a {kind}, not a table: not a rosbag2 SQLite file")
+        generated = [c[1] for c in connection.execute(f"PRAGMA table_xinfo({name})") if c[6] in (2, 3)]
+        if generated:
+            raise RecordingError(f"{db}: '{name}' has generated columns ({', '.join(generated)[:80]}): refused")
+
+
 def _open_sqlite(path: Path) -> Bag:
     for db in path.glob("*.db3"):
         try:
             with sqlite3.connect(f"file:{db}?mode=ro", uri=True) as connection:
+                _check_tables(db, connection)
                 (largest,) = connection.execute("SELECT max(length(data)) FROM messages").fetchone()
         except sqlite3.Error as exc:
             raise RecordingError(f"{db}: not a rosbag2 SQLite file ({exc})") from None

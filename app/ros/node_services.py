@@ -156,16 +156,19 @@ class NodeServices:
 
         return logged
 
-    def advertise(self, name: str, type_name: str, session: NodeClient, text: str | None = None) -> str | None:
+    def advertise(
+        self,
+        name: str,
+        type_name: str,
+        session: NodeClient,
+        text: str | None = None,
+        models: tuple[type[RosMessage], type[RosMessage]] | None = None,
+    ) -> str | None:
         """A node provides `name`, typed by its carried .srv `text` when it sent one (else by the
-        type's name); raises ServiceFailure with the reason it cannot. Returns a warning for the
-        node, or None."""
-        models = None
-        if text is not None:
-            try:
-                models = service_models(type_name, text)
-            except BadDefinition as exc:
-                raise ServiceFailure(f"the definition of {type_name} cannot be read: {exc}") from None
+        type's name; `models`, the text's, when the caller built them already: `models_of`); raises
+        ServiceFailure with the reason it cannot. Returns a warning for the node, or None."""
+        if text is not None and models is None:
+            models = models_of(type_name, text)
         with self._lock:
             current = self.providers.get(name)
             if current is not None and current.session is not session:
@@ -367,6 +370,15 @@ class NodeServices:
         effect = self.effects.get(name)
         if effect is not None:
             effect(self.lab, request)
+
+
+def models_of(type_name: str, text: str) -> tuple[type[RosMessage], type[RosMessage]]:
+    """(request, response) models of a node's carried .srv text; ServiceFailure with the reason it
+    cannot be read (a rosbridge session builds them in a worker thread, off its event loop)."""
+    try:
+        return service_models(type_name, text)
+    except BadDefinition as exc:
+        raise ServiceFailure(f"the definition of {type_name} cannot be read: {exc}") from None
 
 
 def _lines(text: str) -> list[str]:

@@ -17,6 +17,7 @@ from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeServices
 from app.ros.services import ServiceRegistry
+from app.rosbridge.internal import message_conversion
 from app.rosbridge.internal.node_frames import TF_TOPICS, NodeFrames
 from app.rosbridge.internal.shared import SharedMessages
 from app.rosbridge.ports import (
@@ -28,8 +29,10 @@ from app.rosbridge.ports import (
     StreamLike,
     TFRepublisherLike,
 )
+from app.rosbridge.protocol import MAX_TOPICS, BadFrame
 from app.rosbridge.services import ServiceTable
 from app.rosbridge.tf_republisher import TFSubscriptionServer
+from app.tokens import Throttle
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 
@@ -57,6 +60,15 @@ def _with_programs_frames(topic: Topic, frames: NodeFrames, static: bool) -> Top
     return Topic(topic.name, topic.type, build)
 
 
+def _frames_of(topics: list[Topic], snapshot: Any) -> set[str]:
+    """Every frame the lab's own /tf and /tf_static name (parents and children)."""
+    frames = set()
+    for topic in topics:
+        for t in topic.build(snapshot)["transforms"]:
+            frames |= {t["header"]["frame_id"].strip("/"), t["child_frame_id"].strip("/")}
+    return frames
+
+
 class Bridge:
     """What every session shares: the lab, its registries, the node-provided services and topics."""
 
@@ -80,9 +92,10 @@ class Bridge:
         # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
         # lab started to replay bags (`serve --replay`): a player publishes them as a node would
         self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
-        self.frames: FramesLike = (
-            NodeFrames()
-        )  # the frames programs publish: /tf and /tf_static carry them with the lab's
+        own_tf = [self.topics[name] for name in TF_TOPICS if name in self.topics]
+        # the frames programs publish: /tf and /tf_static carry them with the lab's, whose own frames
+        # (the served world's) no program may publish
+        self.frames: FramesLike = NodeFrames(lambda: _frames_of(own_tf, lab.snapshot())) if own_tf else NodeFrames()
         for name, static in TF_TOPICS.items():
             if name in self.topics:
                 self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
@@ -98,6 +111,7 @@ class Bridge:
         )  # its action's topics are node topics of the lab's
         self.windows: dict[str, dict] = {}  # a program's cv2.imshow window (topic) -> its newest image
         self.sessions: list[SessionLike] = []
+        self.auth_throttle = Throttle()  # wrong tokens of the auth op, per client address (HTTP's rule)
         self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
         self._counter = 0
         if "/franka_state_controller/franka_states" in self.topics:
@@ -148,6 +162,13 @@ class Bridge:
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 
+    def room_for_topic(self, topic: str, op: str) -> None:
+        """BadFrame naming the cap when a new node topic `topic` would be one too many (MAX_TOPICS)."""
+        if topic in self.node_topics or topic in self.topics:
+            return
+        if sum(1 for entry in self.node_topics.values() if not entry.lab) >= MAX_TOPICS:
+            raise BadFrame(f"{op}: at most {MAX_TOPICS} topics exist already (the lab's limit, all clients together)")
+
     def node_topic(self, topic: str, type_name: str) -> NodeTopicLike:
         """The node topic `topic`, made (of `type_name`) when nobody is on it yet."""
         return self.node_topics.setdefault(topic, NodeTopic(type_name))
@@ -165,3 +186,4 @@ class Bridge:
         if not entry.publishers and not entry.subscriptions and not entry.lab:
             del self.node_topics[topic]
             self.shared.forget(topic)
+            message_conversion.forget(entry.type, entry.definition)  # what its publisher's definition made

@@ -16,6 +16,7 @@ from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
 from app.rosbridge.protocol import Id
+from app.tokens import Throttle
 
 C = TypeVar("C")
 
@@ -40,6 +41,9 @@ class FramesLike(Protocol):
     def names(self) -> set[str]: ...
 
     def lab_frames(self) -> set[str]: ...
+
+    @property
+    def version(self) -> int: ...  # changes with every frame taken or dropped
 
 
 class NodeTopicLike(Protocol):
@@ -77,6 +81,10 @@ class TFRepublisherLike(Protocol):
     def start(self) -> None: ...
 
     def subscriptions(self) -> int: ...
+
+    def held_by(self, session: SessionLike) -> int: ...
+
+    def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[Any, str]]]: ...
 
 
 class ServiceEntryLike(Protocol):
@@ -125,6 +133,7 @@ class BridgeLike(Protocol):
     node_topics: dict[str, NodeTopicLike]
     windows: dict[str, dict]
     sessions: list[SessionLike]
+    auth_throttle: Throttle
     streams: int
     service_table: ServiceTableLike
     tf_republisher: TFRepublisherLike
@@ -142,6 +151,8 @@ class BridgeLike(Protocol):
     def remove_topic(self, name: str) -> None: ...
 
     def topic_types(self) -> dict[str, str]: ...
+
+    def room_for_topic(self, topic: str, op: str) -> None: ...
 
     def node_topic(self, topic: str, type_name: str) -> NodeTopicLike: ...
 
@@ -162,6 +173,8 @@ class SessionLike(Protocol):
     node_names: list[str]
     loop: asyncio.AbstractEventLoop | None
     authorized: bool
+    address: str  # the client's address (its wrong tokens are slowed by it)
+    closed: bool  # the client went (what it still sends is dropped)
     level: str
     in_flight: int  # its service calls and goals being served (capabilities/call_service.py)
 

@@ -20,6 +20,15 @@ MAX_HEADER_KEY = 64  # characters of a header field's name
 MAX_HEADER_VALUE = 1024  # characters of a header field's value
 LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself and the ones after it
 
+# What one client, and all of them together, may hold open (a refusal names the cap; docs/reference/rosbridge.md,
+# "Limits"). rosbridge_suite bounds a frame (max_message_size) and fragments; these bound what frames build.
+MAX_CONNECTIONS = 128  # rosbridge clients at once; one more is closed with 1013 (try again later)
+MAX_CLIENT_TOPICS = 256  # topics one client advertises
+MAX_TOPICS = 1024  # topics nodes publish or subscribe, all clients together (node topics)
+MAX_CLIENT_SERVICES = 32  # services one client provides
+MAX_SERVICES = 128  # services nodes provide, all clients together
+MAX_CLIENT_TF_REPUBLISHED = 8  # /republish_tfs topics and tf2_web_republisher goals one client holds
+
 
 class BadFrame(Exception):
     """A frame refused; the message names the op and the field."""

@@ -18,10 +18,11 @@ from fastapi import WebSocket
 from app.rosbridge.capabilities.capability import Capability
 from app.rosbridge.ops import CAPABILITIES, OPS
 from app.rosbridge.ports import BridgeLike, C, Id
-from app.rosbridge.protocol import LEVELS, MAX_FRAME, BadFrame, parse, status
+from app.rosbridge.protocol import LEVELS, MAX_CONNECTIONS, MAX_FRAME, BadFrame, parse, status
 from app.tokens import presented_token, token_matches
 
 DETAILS = ("subscribing", "publishing", "services")  # rosapi's node_details, in its order
+TOO_MANY = f"this lab serves at most {MAX_CONNECTIONS} rosbridge connections at once: try again later"
 
 
 class Session:
@@ -31,6 +32,7 @@ class Session:
         self.node_names: list[str] = []  # the nodes it runs, in the order it named them
         self.loop: asyncio.AbstractEventLoop | None = None
         token = bridge.token
+        self.address = str((websocket.scope.get("client") or ("?", 0))[0])  # its wrong tokens are slowed by it
         self.authorized = token is None or token_matches(presented_token(websocket.scope["headers"]), token)
         self.level = "error"
         self.tasks: set[asyncio.Task] = set()
@@ -47,6 +49,14 @@ class Session:
     # --- connection -------------------------------------------------------------------------
     async def run(self) -> None:
         await self.ws.accept()
+        if len(self.bridge.sessions) >= MAX_CONNECTIONS:  # told why, then closed: "try again later"
+            self.closed = True
+            try:
+                await self.ws.send_text(json.dumps(status("error", TOO_MANY)))
+                await self.ws.close(code=1013, reason="too many rosbridge connections")
+            except Exception:  # noqa: BLE001 - the client went away already
+                pass
+            return
         self.loop = asyncio.get_running_loop()
         self.bridge.sessions.append(self)
         self.bridge.tf_republisher.start()

@@ -34,7 +34,7 @@ from sim.messages import Topic
 from app.lab import tf
 from app.ros.services import ServiceFailure
 from app.rosbridge.internal.node_frames import TF_TOPICS, transform_matrix
-from app.rosbridge.protocol import BadFrame
+from app.rosbridge.protocol import MAX_CLIENT_TF_REPUBLISHED, BadFrame
 
 SERVICE = "/republish_tfs"
 TYPE = "tf2_web_republisher/RepublishTFs"
@@ -42,7 +42,7 @@ ARRAY_TYPE = "tf2_web_republisher/TFArray"
 ACTION = "/tf2_web_republisher"  # upstream's node name, which its action server takes
 ACTION_TYPE = "tf2_web_republisher/TFSubscriptionAction"
 MAX_RATE_HZ = 100.0
-MAX_SUBSCRIPTIONS = 64  # republished topics and goals at once (over all clients)
+MAX_SUBSCRIPTIONS = 64  # republished topics and goals at once (over all clients; one client's: protocol.py)
 MAX_SOURCES = 100  # source frames of one request or goal
 STATUS_PERIOD_S = 0.2  # actionlib's status_frequency (5 Hz)
 ENDED_KEPT_S = 5.0  # actionlib's status_list_timeout: an ended goal stays in the status array so long
@@ -64,12 +64,15 @@ def tree_poses(bridge: Any, snapshot: Any) -> dict[str, tuple[np.ndarray, str]]:
                 transform_matrix(t["transform"]),
             )
     placed: dict[str, tuple[np.ndarray, str]] = {}
+    unplaced: set[str] = set()  # frames in a loop or below one (each walked once: linear in the frames)
     for start in edges:
-        chain, frame = [], start
-        while frame not in placed and frame in edges and frame not in chain:
+        chain, on_chain, frame = [], set(), start
+        while frame not in placed and frame in edges and frame not in on_chain and frame not in unplaced:
             chain.append(frame)
+            on_chain.add(frame)
             frame = edges[frame][0]
-        if frame in chain:
+        if frame in on_chain or frame in unplaced:
+            unplaced |= on_chain
             continue  # a loop
         pose, root = placed.setdefault(frame, (np.eye(4), frame))  # known, or a root
         for child in reversed(chain):
@@ -114,23 +117,35 @@ def republish(caller: Any, args: dict) -> dict:
         sources, target, rate = _request(args)
     except ValueError as bad:
         raise ServiceFailure(f"republish_tfs: {bad}") from None
-    known = tree_poses(bridge, bridge.lab.snapshot())
+    known = bridge.tf_republisher.tree(bridge.lab.snapshot())[1]
     for name in [*sources, target]:
         if name not in known:
             raise ServiceFailure(
                 f"republish_tfs: frame '{name[:80]}' does not exist (frames: {', '.join(sorted(known))})"
             )
-    if bridge.tf_republisher.subscriptions() >= MAX_SUBSCRIPTIONS:
+    server = bridge.tf_republisher
+    if server.subscriptions() >= MAX_SUBSCRIPTIONS:
         raise ServiceFailure(f"republish_tfs: {MAX_SUBSCRIPTIONS} republished topics and goals exist already")
+    if server.held_by(caller.session) >= MAX_CLIENT_TF_REPUBLISHED:
+        raise ServiceFailure(
+            f"republish_tfs: this client holds {MAX_CLIENT_TF_REPUBLISHED} republished topics and goals already "
+            "(the limit per client)"
+        )
 
     def build(snapshot: Any) -> dict:
-        poses = tree_poses(bridge, snapshot)  # a frame whose program went: left out
+        at, poses = server.tree(snapshot)  # a frame whose program went: left out
         found = ((source, relative(poses, target, source)) for source in sources)
-        return {"transforms": [tf.relative_stamped(snapshot, target, s, pose) for s, pose in found if pose is not None]}
+        return {"transforms": [tf.relative_stamped(at, target, s, pose) for s, pose in found if pose is not None]}
 
     name = f"/tf_repub_{next(_NUMBERS)}"
     bridge.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / rate)
-    caller.on_close.append(lambda: bridge.remove_topic(name))
+    server.owners[name] = caller.session
+
+    def close() -> None:
+        bridge.remove_topic(name)
+        server.owners.pop(name, None)
+
+    caller.on_close.append(close)
     return {"topic_name": name}
 
 
@@ -213,6 +228,28 @@ class TFSubscriptionServer:
             bridge.add_lab_node_topic(name, types[key])
         self._seq = itertools.count(1)
         self._status_task: asyncio.Task | None = None
+        self.owners: dict[str, Any] = {}  # a /republish_tfs topic -> the session that asked for it
+        self._tree: tuple[Any, int, dict[str, tuple[np.ndarray, str]]] | None = (
+            None  # (snapshot, frames' version, poses)
+        )
+
+    def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[np.ndarray, str]]]:
+        """(the snapshot it was built at, tree_poses) for every goal and republished topic: built once
+        a period (1 / MAX_RATE_HZ of simulated time, either way: a reset sends it back) while the
+        programs' frames stay, not once per request or goal."""
+        kept, version = self._tree, self.bridge.frames.version
+        if (
+            kept is None
+            or kept[1] != version
+            or not (kept[0] is snapshot or abs(snapshot.time - kept[0].time) < 1.0 / MAX_RATE_HZ)
+        ):
+            kept = self._tree = (snapshot, version, tree_poses(self.bridge, snapshot))
+        return kept[0], kept[2]
+
+    def held_by(self, session: Any) -> int:
+        """Republished topics and active goals `session` holds (MAX_CLIENT_TF_REPUBLISHED)."""
+        goals = sum(1 for g in self.goals.values() if g.session is session and g.status == ACTIVE)
+        return goals + sum(1 for owner in self.owners.values() if owner is session)
 
     @property
     def inputs(self) -> tuple[str, str]:
@@ -252,6 +289,11 @@ class TFSubscriptionServer:
                 raise ValueError("'trans_thres' (m) and 'angular_thres' (rad) must be numbers >= 0")
             if self.subscriptions() >= MAX_SUBSCRIPTIONS:
                 raise ValueError(f"{MAX_SUBSCRIPTIONS} republished topics and goals exist already")
+            if self.held_by(session) >= MAX_CLIENT_TF_REPUBLISHED:
+                raise ValueError(
+                    f"this client holds {MAX_CLIENT_TF_REPUBLISHED} republished topics and goals already "
+                    "(the limit per client)"
+                )
         except ValueError as bad:
             self._end(Goal(goal_id, session, "", [], 0.0, 0.0, 1.0), REJECTED, str(bad))
             raise BadFrame(f"publish {self.topics['goal']}: goal rejected: {bad}") from None
@@ -319,8 +361,7 @@ class TFSubscriptionServer:
         loop = asyncio.get_running_loop()
         due = loop.time()
         while goal.status == ACTIVE:
-            snapshot = self.bridge.lab.snapshot()
-            poses = tree_poses(self.bridge, snapshot)
+            snapshot, poses = self.tree(self.bridge.lab.snapshot())
             transforms = []
             for pair in goal.pairs:
                 now = relative(poses, goal.target, pair.source)

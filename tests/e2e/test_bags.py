@@ -218,6 +218,35 @@ def test_a_bomb_is_refused_with_its_reason_within_the_memory_bound(tmp_path, com
 BASELINE_BYTES = 384 << 20  # the command's own (Python, numpy, viser, uvicorn, rosbags) before reading
 
 
+def _fixed_array(tmp_path: Path) -> Path:
+    return hostile_bags.rosbag1_with_definition(tmp_path / "evil.bag", "evil/msg/Big", hostile_bags.FIXED_ARRAY)
+
+
+@pytest.mark.parametrize(
+    ("make", "command", "reason"),
+    [
+        (_fixed_array, ("bag", "convert"), "a fixed-size array of 100000000 items, over the cap of 65536"),
+        (_fixed_array, ("bag", "play", "--url", "http://127.0.0.1:9"), "a fixed-size array of 100000000 items"),
+        (lambda tmp: hostile_bags.billion_laughs(tmp / "laughs"), ("bag", "info"), "YAML aliases (*a0) are not read"),
+        (lambda tmp: hostile_bags.sqlite_view(tmp / "view"), ("bag", "info"), "'messages' is a view, not a table"),
+    ],
+)
+def test_a_hostile_definition_metadata_or_database_is_refused_within_the_memory_bound(tmp_path, make, command, reason):
+    path = make(tmp_path)
+    extra = [str(tmp_path / "out.bag")] if command == ("bag", "convert") else []
+    done = subprocess.run(
+        [sys.executable, "-c", hostile_bags.MEASURE, *command, str(path), *extra],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
+    assert done.returncode == 1, done.stderr
+    assert reason in done.stderr, done.stderr
+    rss = int(done.stderr.split("maxrss_kib")[1].split()[0]) * 1024
+    assert rss < BASELINE_BYTES + bounded.MEMORY_BOUND_BYTES, f"{rss / 2**20:.0f} MiB"
+
+
 def test_json_of_the_bag_info_names_the_storage(tmp_path):
     writer = bags.BagWriter(tmp_path / "b", max_bytes=1 << 20)
     writer.add_topic("/chatter", "std_msgs/String", None)

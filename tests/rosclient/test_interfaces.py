@@ -1,6 +1,10 @@
 """The import finder of a program's process (rosclient/interfaces.py): `<pkg>.msg|srv|action`
 modules with genpy's names, and cv_bridge over the classes it makes."""
 
+import subprocess
+import sys
+from pathlib import Path
+
 import pytest
 
 from interfaces.packages import Interfaces
@@ -101,3 +105,24 @@ def test_point_cloud2_packs_and_reads_points_as_ros1s_module():
         sys.meta_path.remove(finder)
         for name in [m for m in sys.modules if m.split(".")[0] in ("sensor_msgs", "std_msgs", "builtin_interfaces")]:
             del sys.modules[name]
+
+
+def test_a_broken_msg_stops_the_program_with_one_line_naming_the_file_and_line(tmp_path):
+    """`hri-lab run` of a program that imports a broken .msg: one line, not a 25-line traceback."""
+    msg = tmp_path / "my_pkg" / "msg"
+    msg.mkdir(parents=True)
+    (msg / "Bad.msg").write_text("int32 a\nint32[ broken b\n")
+    (tmp_path / "my_pkg" / "package.xml").write_text("<package><name>my_pkg</name></package>\n")
+    (tmp_path / "prog.py").write_text("from my_pkg.msg import Bad\nprint(Bad())\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "rosclient.boot", str(tmp_path / "prog.py")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=Path(__file__).resolve().parents[3],
+    )
+    assert done.returncode == 1
+    assert done.stderr.splitlines() == [
+        f"[FATAL] {msg / 'Bad.msg'}, line 2: expected 'TYPE NAME', 'TYPE NAME DEFAULT' or 'TYPE NAME=VALUE' "
+        "(e.g. 'int64 a'), got 'int32[ broken b'"
+    ]

@@ -14,12 +14,14 @@ publisher's node name as `callerid`, to the subscribers that ask for connection 
 
 from __future__ import annotations
 
+from interfaces.packages import field_count
+from interfaces.parser import MAX_DEFINITION_FIELDS
 from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.ports import Id, SessionLike
-from app.rosbridge.protocol import BadFrame, field, headers_field, name_field
+from app.rosbridge.protocol import MAX_CLIENT_TOPICS, BadFrame, field, headers_field, name_field
 
 MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
 
@@ -75,12 +77,20 @@ class Advertise(Capability):
             raise BadFrame(f"advertise: topic {topic} is published by the lab")
         if known is not None and known != type_name:
             raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
+        if topic not in self.ids and len(self.ids) >= MAX_CLIENT_TOPICS:
+            raise BadFrame(f"advertise: at most {MAX_CLIENT_TOPICS} topics per client (unadvertise one first)")
+        definition = message.get("definition")  # hri-lab's programs carry their type's full text
+        if isinstance(definition, str) and field_count(definition) > MAX_DEFINITION_FIELDS:
+            raise BadFrame(
+                f"advertise: the definition of {type_name} has {field_count(definition)} fields, over the cap of "
+                f"{MAX_DEFINITION_FIELDS} (its types' fields counted once each)"
+            )
         # tf: shared with the lab (node_frames.py); a command topic the lab publishes too (the lifting
         # world's) is the lab's, one it only follows (the mobile world's /cmd_vel) is the nodes'
         if topic not in TF_TOPICS and (topic != bridge.command_topic or topic not in bridge.topics):
+            bridge.room_for_topic(topic, "advertise")
             entry = bridge.node_topic(topic, type_name)
             entry.publishers.add(self.session)
-            definition = message.get("definition")  # hri-lab's programs carry their type's full text
             if isinstance(definition, str) and not entry.definition and len(definition) <= MAX_DEFINITION:
                 entry.definition = definition
         if headers is not None:

@@ -7,12 +7,15 @@ warning is on /rosout (the page's console): its answers replace the lab's until 
 
 from __future__ import annotations
 
+import asyncio
+
 from app.ros.names import node_name
 from app.ros.node_params import SERVICES as PARAMETER_SERVICES
+from app.ros.node_services import models_of
 from app.ros.services import ServiceFailure
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.ports import Id, SessionLike
-from app.rosbridge.protocol import BadFrame, field, name_field, status
+from app.rosbridge.protocol import MAX_CLIENT_SERVICES, MAX_SERVICES, BadFrame, field, name_field, status
 
 
 class AdvertiseService(Capability):
@@ -39,9 +42,14 @@ class AdvertiseService(Capability):
         node, _, service = name.rpartition("/")
         if service in PARAMETER_SERVICES and node_name(node) in {n for n, _ in bridge.lab.params.declarations}:
             raise BadFrame(f"advertise_service: {name} is a parameter service of the lab's own node /{node_name(node)}")
-        replaces = bridge.nodes.answers_itself(name)
-        try:
-            warning = bridge.nodes.advertise(name, type_name, session, text)
+        self._room_for(name)
+        try:  # the models of a carried text are built in a worker thread: the event loop goes on
+            models = None if text is None else await asyncio.to_thread(models_of, type_name, text)
+            if session.closed:  # the client went while they were built: nothing of it is kept
+                return
+            self._room_for(name)  # another op may have taken the last place meanwhile
+            replaces = bridge.nodes.answers_itself(name)
+            warning = bridge.nodes.advertise(name, type_name, session, text, models)
         except ServiceFailure as failure:
             raise BadFrame(f"advertise_service: {failure}") from None
         self.services.add(name)
@@ -52,6 +60,20 @@ class AdvertiseService(Capability):
             note = replaced_warning(name, session.name)
             bridge.lab.rosout.log("service", note, "WARN")
             await session.send(status("warning", f"advertise_service: {note}", id_))
+
+    def _room_for(self, name: str) -> None:
+        """BadFrame naming the cap when `name` would be one service too many (protocol.py's caps)."""
+        if name in self.services:
+            return
+        if len(self.services) >= MAX_CLIENT_SERVICES:
+            raise BadFrame(
+                f"advertise_service: at most {MAX_CLIENT_SERVICES} services per client (unadvertise one first)"
+            )
+        if name not in self.bridge.nodes.providers and len(self.bridge.nodes.providers) >= MAX_SERVICES:
+            raise BadFrame(
+                f"advertise_service: at most {MAX_SERVICES} services are provided by nodes already "
+                "(the lab's limit, all clients together)"
+            )
 
     async def unadvertise_service(self, message: dict, id_: Id) -> None:
         name = name_field(message, "service")

@@ -1,7 +1,10 @@
-"""The connection's own ops: auth (rosauth's, with the lab's token as the mac), set_level; the
+"""The connection's own ops: auth (rosauth's, with the lab's token as the mac; a wrong one answered
+after the HTTP API's doubling delay, app/tokens.py's Throttle, per client address), set_level; the
 ops this lab does not support (fragment, png) refused with the reason."""
 
 from __future__ import annotations
+
+import asyncio
 
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.ports import Id
@@ -16,9 +19,14 @@ class Connection(Capability):
         token = self.bridge.token
         if token is None:
             return
+        throttle, client = self.bridge.auth_throttle, self.session.address
         self.session.authorized = token_matches(field(message, "mac", str), token)
-        if not self.session.authorized:
-            raise BadFrame("auth: wrong token")
+        if self.session.authorized:
+            throttle.succeed(client)
+            return
+        async with throttle.lock(client):  # one wrong guess at a time per client address, as HTTP's
+            await asyncio.sleep(throttle.fail(client))
+        raise BadFrame("auth: wrong token")
 
     async def set_level(self, message: dict, id_: Id) -> None:
         level = field(message, "level", str)

@@ -64,6 +64,8 @@ class Subscribe(Capability):
         stream = self.streams.get(topic)
         if stream is None and len(self.streams) >= MAX_TOPICS:
             raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
+        if stream is None and topic != rosout.TOPIC:
+            bridge.room_for_topic(topic, "subscribe")
         if stream is not None:
             stream.connection_header |= wants_header
             stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))

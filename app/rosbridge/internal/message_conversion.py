@@ -21,8 +21,8 @@ result is shared by every subscriber's stream (app/rosbridge/internal/shared.py 
 from __future__ import annotations
 
 from array import array
+from collections import OrderedDict
 from collections.abc import Callable
-from functools import lru_cache
 from typing import Any
 
 from interfaces.json_value import JSON
@@ -81,11 +81,31 @@ _SHIPPED = Interfaces([])  # the lab's shipped definitions (interfaces/share)
 _SHIPPED_ROS1 = Interfaces([SHARE_ROS1])  # the same with ROS 1's versions first (std_msgs/Header with seq)
 
 
-@lru_cache(maxsize=MAX_TYPES)
+_CONVERTERS: OrderedDict[tuple[str, str], Convert | None] = OrderedDict()  # the newest MAX_TYPES, last used last
+
+
 def converter(type_name: str, definition: str = "") -> Convert | None:
     """The converter of messages of `type_name` ('pkg/Name' or 'pkg/msg/Name'), read from the
     definition its publisher carried, else from the lab's shipped ones; None: a type the lab does
-    not know (its messages are relayed as they come)."""
+    not know (its messages are relayed as they come). Made once, kept among the MAX_TYPES last used
+    until `forget` (the topic whose publisher brought the definition is gone)."""
+    key = (type_name, definition)
+    if key in _CONVERTERS:
+        _CONVERTERS.move_to_end(key)
+        return _CONVERTERS[key]
+    made = _CONVERTERS[key] = _converter(type_name, definition)
+    if len(_CONVERTERS) > MAX_TYPES:
+        _CONVERTERS.popitem(last=False)
+    return made
+
+
+def forget(type_name: str, definition: str) -> None:
+    """A definition a client brought is no longer any topic's: its converter goes (its memory with it)."""
+    if definition:
+        _CONVERTERS.pop((type_name, definition), None)
+
+
+def _converter(type_name: str, definition: str) -> Convert | None:
     try:
         if definition:
             interfaces, (package, name) = carried(type_name, "msg", definition)

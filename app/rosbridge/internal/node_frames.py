@@ -2,8 +2,10 @@
 (app/lab/tf.py), as tf2 joins every broadcaster's frames.
 
 A program's transform names its parent and child; it is taken when its numbers are finite and its
-child is neither one of the lab's frames nor a frame another program publishes: a program cannot
-move the lab's frames (the robot's links, the box, the palm, the camera) nor another program's. A
+child is neither one of the served world's frames nor a frame another program publishes, and its
+parent does not hang below it (a loop is refused): a program cannot move the lab's frames (the
+lifting world's links, box, palm and camera; the mobile world's odom, base and wheels) nor another
+program's. A
 refused transform is reported to the program that sent it (a status error naming the frame and why);
 the message's other transforms are taken. The newest transform of each frame is kept while its
 program is connected: the lab's /tf and /tf_static carry them with its own (the static ones latched,
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import math
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -63,14 +66,23 @@ def transform_matrix(transform: dict) -> np.ndarray:
     return matrix
 
 
+def lifting_frames() -> set[str]:
+    """The lifting world's frames (app/lab/tf.py's tree)."""
+    return {child for _, child, _ in tf.tree()} | {tf.WORLD}
+
+
 class NodeFrames:
-    def __init__(self) -> None:
+    def __init__(self, lab_frames: Callable[[], set[str]] = lifting_frames) -> None:
         self._frames: dict[str, Published] = {}  # child -> its newest transform
         self._lock = threading.Lock()
+        self._lab_frames = lab_frames  # the served world's own frames, asked once (the first offer)
+        self._lab: set[str] | None = None
+        self.version = 0  # changes with every frame taken or dropped (the tf tree is rebuilt then)
 
-    @staticmethod
-    def lab_frames() -> set[str]:
-        return {child for _, child, _ in tf.tree()} | {tf.WORLD}
+    def lab_frames(self) -> set[str]:
+        if self._lab is None:
+            self._lab = set(self._lab_frames())
+        return self._lab
 
     def offer(self, session: NodeClient, message: dict, static: bool) -> list[str]:
         """Take a TFMessage's transforms from `session`; the reasons of those refused."""
@@ -106,14 +118,33 @@ class NodeFrames:
                 return f"frame {child[:80]} is published by node {current.session.name}"
             if current is None and len(self._frames) >= MAX_FRAMES:
                 return f"frame {child[:80]}: {MAX_FRAMES} frames are published already"
+            if self._below(parent, child):
+                return (
+                    f"frame {child[:80]}: its parent {parent[:80]} hangs below it: the transform would close a "
+                    "loop in the tree"
+                )
             self._frames[child] = Published(parent, child, dict(item, child_frame_id=child), static, session)
+            self.version += 1
         return ""
+
+    def _below(self, frame: str, ancestor: str) -> bool:
+        """`frame` hangs below `ancestor` through the programs' frames (the lab's tree has no loop and
+        no program's frame above its own: a walk of at most MAX_FRAMES steps)."""
+        for _ in range(MAX_FRAMES + 1):
+            if frame == ancestor:
+                return True
+            published = self._frames.get(frame)
+            if published is None:
+                return False
+            frame = published.parent
+        return True  # a loop already (none is taken): refused all the same
 
     def drop(self, session: NodeClient) -> None:
         """A program disconnected: its frames go with it."""
         with self._lock:
             for child in [c for c, p in self._frames.items() if p.session is session]:
                 del self._frames[child]
+                self.version += 1
 
     def transforms(self, static: bool) -> list[dict]:
         with self._lock:

@@ -224,3 +224,48 @@ def test_a_programs_type_with_a_header_converts_to_ros1s_header(tmp_path):
     assert bags.to_rosbag1(tmp_path / "b", tmp_path / "b.bag") == 1
     (message,) = bags.open_bag(tmp_path / "b.bag").messages()
     assert message.data == {"header": {"seq": 0, "stamp": {"sec": 3, "nanosec": 4}, "frame_id": "f"}, "value": 9}
+
+
+# --- bags as untrusted files: the lab's definition caps, YAML without aliases, SQLite tables first ---
+def test_a_rosbag1_whose_definition_holds_a_fixed_array_over_the_cap_is_refused_naming_it(tmp_path):
+    path = hostile_bags.rosbag1_with_definition(tmp_path / "evil.bag", "evil/msg/Big", hostile_bags.FIXED_ARRAY)
+    with pytest.raises(
+        RecordingError, match=r"the definition of evil/msg/Big: a fixed-size array of 100000000 items, over the cap"
+    ):
+        bags.open_bag(path)
+
+
+def test_a_variable_length_array_of_messages_of_no_bytes_is_refused(tmp_path):
+    data = b"\xff\xff\xff\xff"  # 4 billion empty messages in four bytes
+    path = hostile_bags.rosbag1_with_definition(tmp_path / "e.bag", "evil/msg/Seq", hostile_bags.EMPTY_SEQUENCE, data)
+    with pytest.raises(RecordingError, match=r"a variable-length array of evil/msg/Empty, a message of no bytes"):
+        bags.open_bag(path)
+
+
+def test_a_default_over_the_cap_of_values_is_refused_naming_the_field(tmp_path):
+    text = "evil/Wide[60000] a\nevil/Wide[60000] b\n" + "=" * 80 + "\nMSG: evil/Wide\nint8 x\nint8 y\n"
+    path = hostile_bags.rosbag1_with_definition(tmp_path / "wide.bag", "evil/msg/Twice", text)
+    with pytest.raises(RecordingError, match=r"the default of evil/msg/Twice would hold more than 65536 values"):
+        bags.open_bag(path)
+
+
+def test_a_type_that_holds_itself_is_refused_and_record_skips_it_with_the_reason(tmp_path):
+    path = hostile_bags.rosbag1_with_definition(tmp_path / "loop.bag", "evil/msg/Loop", hostile_bags.SELF_HOLDING)
+    with pytest.raises(RecordingError, match=r"type evil/msg/Loop holds itself \(evil/msg/Loop -> evil/msg/Loop\)"):
+        bags.open_bag(path)
+    writer = bags.BagWriter(tmp_path / "rec", max_bytes=1 << 20)
+    with pytest.raises(RecordingError, match="a recursive type"):
+        writer.add_topic("/loop", "evil/Loop", hostile_bags.SELF_HOLDING)
+    writer.add_topic("/chatter", "std_msgs/String", None)  # the recording goes on
+    assert writer.write("/chatter", 1, {"data": "still here"})
+    writer.close()
+
+
+def test_a_metadata_yaml_with_aliases_is_refused_before_it_is_expanded(tmp_path):
+    with pytest.raises(RecordingError, match=r"metadata.yaml: YAML aliases \(\*a0\) are not read"):
+        bags.open_bag(hostile_bags.billion_laughs(tmp_path / "laughs", levels=4))
+
+
+def test_a_sqlite_bag_whose_messages_is_a_view_is_refused_before_any_query_of_it(tmp_path):
+    with pytest.raises(RecordingError, match=r"evil.db3: 'messages' is a view, not a table"):
+        bags.open_bag(hostile_bags.sqlite_view(tmp_path / "view"))

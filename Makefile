@@ -60,7 +60,7 @@ lint: $(DEV) $(VENV)/.kernels
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
-	cd rosclient/site && $(CURDIR)/$(BIN)/mypy --config-file $(CURDIR)/pyproject.toml -p rospy -p actionlib -p genpy -p rostest -p sensor_msgs
+	cd rosclient/site && $(CURDIR)/$(BIN)/mypy --config-file $(CURDIR)/pyproject.toml -p rospy -p actionlib -p cv_bridge -p genpy -p rostest -p sensor_msgs
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 experiment: $(STAMP) $(VENV)/.kernels bubblewrap

@@ -79,6 +79,10 @@ class LiveRecorder:
     def running(self) -> bool:
         return self._thread.is_alive()
 
+    @property
+    def size(self) -> int:
+        return self.recording.size
+
     def stop(self) -> str:
         """Stop and finish the file; why it had stopped before, if it had."""
         self._stop.set()

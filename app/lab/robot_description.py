@@ -23,16 +23,16 @@ def robot_description() -> dict:
     joints = []
     for joint in root.findall("joint"):
         limit = joint.find("limit")
-        entry = {
+        entry: dict[str, str | float | None] = {
             "name": joint.get("name"),
             "type": joint.get("type"),
-            "parent": joint.find("parent").get("link"),
-            "child": joint.find("child").get("link"),
+            "parent": _link(joint, "parent"),
+            "child": _link(joint, "child"),
         }
         if limit is not None:
             for key in ("lower", "upper", "velocity", "effort"):
-                if limit.get(key) is not None:
-                    entry[key] = float(limit.get(key))
+                if (value := limit.get(key)) is not None:
+                    entry[key] = float(value)
         joints.append(entry)
     children = {j["child"] for j in joints}
     links = [link.get("name") for link in root.findall("link")]
@@ -43,3 +43,12 @@ def robot_description() -> dict:
         "joints": joints,
         "end_effector": "panda_link8",
     }
+
+
+def _link(joint: ElementTree.Element, end: str) -> str:
+    """The link a joint's <parent> or <child> names (a URDF's joint has both: urdf_check's rule)."""
+    element = joint.find(end)
+    link = element.get("link") if element is not None else None
+    if link is None:
+        raise ValueError(f"joint {joint.get('name')!r} of the lab's URDF has no <{end} link=...>")
+    return link

@@ -1,7 +1,5 @@
 """The lab's services (docs/design.md, "Services"), one declaration each: request, response, handler."""
 
-import time
-from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -15,6 +13,7 @@ from sim.robot import planar_arm
 from app.lab import commands as cmd
 from app.lab.params import F_N_MIN_RANGE
 from app.lab.recorder import LiveRecorder
+from app.recording import services as recording
 from app.ros.messages import (
     INT64_MAX,
     INT64_MIN,
@@ -232,61 +231,6 @@ def reset_simulation(lab, request: Empty) -> Trigger:
     )
 
 
-# --- recording (app/lab/recorder.py) ---------------------------------------------------------
-class StartRecordingRequest(RosMessage):
-    name: Annotated[
-        str,
-        Field(pattern=r"^([A-Za-z0-9_-][A-Za-z0-9_.-]{0,63})?$"),
-        RosType("string", "file name in the server's recordings folder; '' = hri-lab_<date>_<time>"),
-    ] = ""
-    max_mb: Annotated[
-        float,
-        Field(gt=0.0, le=10240.0, allow_inf_nan=False),
-        RosType("float64", "size cap (MiB): the recording stops there"),
-    ] = 1024.0
-
-
-class RecordingResponse(RosMessage):
-    success: Bool
-    message: String
-    path: String  # on the server; download: GET /recordings/NAME
-    messages: Int64
-    bytes: Int64
-
-
-def start_recording(lab, request: StartRecordingRequest) -> RecordingResponse:
-    """Record the live lab to MCAP (topics 100 Hz, /tf and /scene 25 Hz) until /stop_recording."""
-
-    if lab.recorder is not None and lab.recorder.running:
-        raise ServiceFailure(f"already recording to {lab.recorder.path}: call /stop_recording first")
-    name = request.name or time.strftime("hri-lab_%Y%m%d_%H%M%S")
-    path = Path(lab.recordings_dir) / (name if name.endswith(".mcap") else name + ".mcap")
-    if path.exists():
-        raise ServiceFailure(f"{path} exists: choose another name")
-    try:
-        lab.recorder = LiveRecorder(lab, path, int(request.max_mb * 2**20))
-    except OSError as exc:
-        raise ServiceFailure(f"cannot write {path}: {exc.strerror or exc}") from None
-    lab.info("recorder", f"recording to {path}")
-    return RecordingResponse(success=True, message=f"recording to {path}", path=str(path), messages=0, bytes=0)
-
-
-def stop_recording(lab, request: Empty) -> RecordingResponse:
-    recorder = lab.recorder
-    if recorder is None:
-        raise ServiceFailure("not recording: call /start_recording first")
-    early = recorder.stop()
-    lab.recorder = None
-    size = recorder.recording.size
-    message = (f"{early}; " if early else "") + (
-        f"recorded {recorder.recording.messages} messages, {size / 2**20:.2f} MiB to {recorder.path}"
-    )
-    lab.info("recorder", message)
-    return RecordingResponse(
-        success=not early, message=message, path=str(recorder.path), messages=recorder.recording.messages, bytes=size
-    )
-
-
 SERVICES = ServiceRegistry(
     [
         Service(
@@ -361,21 +305,10 @@ SERVICES = ServiceRegistry(
             reset_simulation,
             "Reset the world: lifting stopped, robot at the start pose, box held by the person in front of the plate.",
         ),
-        Service(
-            "/start_recording",
-            "hri_lab/StartRecording",
-            StartRecordingRequest,
-            RecordingResponse,
-            start_recording,
-            "Record the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it.",
-        ),
-        Service(
-            "/stop_recording",
-            "hri_lab/StopRecording",
-            Empty,
-            RecordingResponse,
-            stop_recording,
-            "Stop the recording and finish the file (index, summary); download it with GET /recordings/NAME.",
+        *recording.services(  # topics 100 Hz, /tf and /scene 25 Hz, until /stop_recording (app/lab/recorder.py)
+            LiveRecorder,
+            "the live lab to an MCAP file (like ros2 bag record): Foxglove opens it; hri-lab play replays it.",
+            " (index, summary)",
         ),
     ]
 )

@@ -1,1 +1,2 @@
-"""Recordings in the formats of ROS: rosbag1 and rosbag2 read and written (`hri-lab bag`)."""
+"""Recordings: the services every world serves alike to record it live, and ROS's formats: rosbag1
+and rosbag2 read and written (`hri-lab bag`)."""

@@ -76,7 +76,7 @@ def test_the_bundle_holds_what_gradescope_runs(bundle):
         config = json.loads(z.read("hri-lab-autograder.json"))
         setup = z.read("setup.sh").decode()
         assert z.getinfo("run_autograder").external_attr >> 16 & 0o111
-    assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/grading/battery.py"} <= names
+    assert {"setup.sh", "run_autograder", "hri-lab/pyproject.toml", "hri-lab/app/grading/battery.py"} <= names
     assert config["seed"] == 5
     assert config["hide_until_due"] is True
     assert "bubblewrap" in setup

@@ -28,8 +28,8 @@ class CvBridge:
         encoding = img_msg.encoding
         if encoding not in ENCODINGS:
             raise CvBridgeError(f"Unrecognized image encoding [{encoding}]")
-        dtype, channels = ENCODINGS[encoding]
-        dtype = np.dtype(dtype).newbyteorder(">" if img_msg.is_bigendian else "<")
+        scalar, channels = ENCODINGS[encoding]
+        dtype = np.dtype(scalar).newbyteorder(">" if img_msg.is_bigendian else "<")
         row = img_msg.width * channels * dtype.itemsize
         if img_msg.step < row or len(img_msg.data) < img_msg.step * img_msg.height:
             raise CvBridgeError(f"image data of {len(img_msg.data)} bytes is too short for {img_msg.height} rows of "

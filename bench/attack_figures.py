@@ -30,9 +30,9 @@ from websockets.sync.client import connect
 from sim.controllers.interface import ControllerFault, LiftingParams
 from sim.controllers.plugin import PluginFactory
 
+from app.rosbridge.protocol import MAX_CLIENT_SERVICES, MAX_SERVICES
 from app.serving.launch import running_server
 from interfaces.parser import MAX_DEFAULT_VALUES, MAX_DEFINITION_FIELDS
-from app.rosbridge.protocol import MAX_CLIENT_SERVICES, MAX_SERVICES
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "tests" / "controllers"
 

@@ -14,14 +14,14 @@ publisher's node name as `callerid`, to the subscribers that ask for connection 
 
 from __future__ import annotations
 
-from interfaces.packages import field_count
-from interfaces.parser import MAX_DEFINITION_FIELDS
 from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.node_frames import TF_TOPICS
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import MAX_CLIENT_TOPICS, BadFrame, field, headers_field, name_field
+from interfaces.packages import field_count
+from interfaces.parser import MAX_DEFINITION_FIELDS
 
 MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
 

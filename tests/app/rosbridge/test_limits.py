@@ -14,14 +14,14 @@ import pytest
 
 from sim.messages import Topic
 
-from app.serving.compose import build
-from interfaces.parser import MAX_DEFINITION_FIELDS
 from app.mobile.lab import MobileLab
 from app.rosbridge import protocol
 from app.rosbridge.capabilities import connection
 from app.rosbridge.internal import message_conversion
 from app.rosbridge.internal.node_frames import NodeFrames
 from app.rosbridge.session import Session
+from app.serving.compose import build
+from interfaces.parser import MAX_DEFINITION_FIELDS
 from tests.app.rosbridge.clients import Socket, connect, op, parts, run, sent, until
 
 TOKEN = "s3cret-0123456789abcdef"

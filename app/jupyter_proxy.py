@@ -26,6 +26,7 @@ from app.cli.arguments import URL_ENV
 from app.security import PROXY_HEADER, PROXY_SECRET_ENV
 
 ICON = Path(__file__).resolve().parents[1] / "static" / "favicon.svg"
+VIEW_ENV = "HRI_LAB_VIEW"  # the 3D view's meshes, set in the students' environment: full (default), light, none
 START_TIMEOUT_S = 120  # a first start on a busy node loads the compiled kernels and the meshes
 _SECRET = secrets.token_urlsafe(32)  # one per Jupyter server: the processes it starts and the headers it adds
 
@@ -34,7 +35,8 @@ def _server(name: str, title: str, world: str) -> dict:
     """jupyter-server-proxy's dict for one lab: `hri-lab serve` on {port}, prefix stripped (the lab's
     pages use relative URLs), the proxy's secret in its environment and in every proxied request."""
     return {
-        "command": [sys.executable, "-m", "app.cli", "serve", "--port", "{port}", "--world", world],
+        "command": [sys.executable, "-m", "app.cli", "serve", "--port", "{port}", "--world", world]
+        + ["--view", os.environ.get(VIEW_ENV, "full")],
         "environment": {PROXY_SECRET_ENV: _SECRET},
         "request_headers_override": {PROXY_HEADER: _SECRET},
         "absolute_url": False,

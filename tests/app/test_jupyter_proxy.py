@@ -18,9 +18,12 @@ def test_a_lab_is_served_on_the_proxys_port_with_its_secret(monkeypatch):
     monkeypatch.setenv("HRI_LAB_URL", "")  # recorded, so that what lab() sets is undone after the test
     monkeypatch.delenv("HRI_LAB_URL")
     monkeypatch.delenv("JUPYTERHUB_SERVICE_URL", raising=False)
+    monkeypatch.delenv("HRI_LAB_VIEW", raising=False)
     lab, mobile = jupyter_proxy.lab(), jupyter_proxy.mobile()
-    assert lab["command"][-5:] == ["serve", "--port", "{port}", "--world", "lifting"]
-    assert mobile["command"][-1] == "mobile"
+    assert lab["command"][-7:] == ["serve", "--port", "{port}", "--world", "lifting", "--view", "full"]
+    assert mobile["command"][-3] == "mobile"
+    monkeypatch.setenv("HRI_LAB_VIEW", "light")  # an instructor's choice for the students' laptops
+    assert jupyter_proxy.lab()["command"][-1] == "light"
     assert lab["launcher_entry"]["title"] == "hri-lab"
     assert mobile["launcher_entry"]["title"] == "hri-lab mobile"
     assert not lab["absolute_url"]  # the prefix stripped: the lab's pages are relative

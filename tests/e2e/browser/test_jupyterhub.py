@@ -7,12 +7,14 @@ her server leaves no lab process."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import signal
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import httpx
@@ -51,6 +53,7 @@ def _config(tmp: Path, port: int) -> str:
         c.SimpleLocalProcessSpawner.home_dir_template = "{tmp}/home/{{username}}"
         c.Spawner.cmd = [{str(BIN / "jupyterhub-singleuser")!r}]
         c.Spawner.args = ["--ServerApp.allow_root=True"]  # the test machine runs as root
+        c.Spawner.environment = {{"HRI_LAB_VIEW": "light"}}  # Chromium renders the view in software here
         c.Spawner.start_timeout = 180
         c.Spawner.http_timeout = 180
         c.JupyterHub.cleanup_servers = True
@@ -218,10 +221,9 @@ def test_her_lab_live_in_chromium(hub, browser):
         context.close()
 
 
-def test_her_terminal_reaches_her_lab(hub):
-    """What her JupyterLab terminal has (her server's environment: $JUPYTERHUB_API_TOKEN ...; and
-    $HRI_LAB_URL, which the entry point sets): roslibpy subscribes to F_ext through the hub, and
-    `hri-lab topic echo` needs no flag."""
+def test_roslibpy_with_her_environment(hub):
+    """A roslibpy client with what her terminal has (her server's environment: its prefix and her hub
+    token) subscribes to F_ext through the hub."""
     env = _environment(_server_pid("ada"))
     prefix, token = env["JUPYTERHUB_SERVICE_PREFIX"], env["JUPYTERHUB_API_TOKEN"]
     lab = f"{hub.url}{prefix}hri-lab/"
@@ -237,17 +239,30 @@ def test_her_terminal_reaches_her_lab(hub):
     finally:
         ros.terminate()
 
-    # the CLI as her terminal runs it: $HRI_LAB_URL through her own server (JUPYTERHUB_SERVICE_URL)
-    terminal = {**env, "HRI_LAB_URL": env["JUPYTERHUB_SERVICE_URL"].rstrip("/") + "/hri-lab/"}
-    echo = subprocess.run(
-        [str(BIN / "hri-lab"), "topic", "echo", F_EXT, "--count", "1"],
-        env=terminal,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert echo.returncode == 0, echo.stderr
-    assert "force" in echo.stdout
+
+def test_her_jupyterlab_terminal_needs_no_flag(hub):
+    """In a terminal of her JupyterLab (the terminals API JupyterLab's own uses), `hri-lab topic echo`
+    reaches her lab through her server: $HRI_LAB_URL and her hub token come from the server."""
+    token = hub.token("ada")
+    headers = {"Authorization": f"token {token}"}
+    answer = httpx.post(f"{hub.url}/user/ada/api/terminals", headers=headers, timeout=60)
+    assert answer.status_code == 200, answer.text
+    name = answer.json()["name"]
+    socket = f"{hub.url.replace('http://', 'ws://')}/user/ada/terminals/websocket/{name}"
+    # the quotes keep the echoed command line from matching what the command prints
+    command = f'echo LA""B=$HRI_LAB_URL; {BIN}/hri-lab topic echo {F_EXT} --count 1; echo EX""IT=$?\r'
+    output = ""
+    with connect(socket, additional_headers=headers, open_timeout=60) as terminal:
+        terminal.send(json.dumps(["stdin", command]))
+        end = time.monotonic() + 120
+        while "EXIT=" not in output and time.monotonic() < end:
+            kind, *data = json.loads(terminal.recv(timeout=120))
+            if kind == "stdout":
+                output += data[0]
+    assert re.search(r"LAB=http://127\.0\.0\.1:\d+/user/ada/hri-lab/", output), output
+    assert "EXIT=0" in output, output
+    assert "force" in output, output
+    httpx.delete(f"{hub.url}/user/ada/api/terminals/{name}", headers=headers, timeout=60)
 
 
 def test_another_student_gets_403_everywhere(hub, browser):

@@ -49,6 +49,7 @@ def _config(tmp: Path, port: int) -> str:
         c.JupyterHub.authenticator_class = "dummy"
         c.DummyAuthenticator.password = {PASSWORD!r}
         c.Authenticator.allowed_users = {{"ada", "bob"}}
+        c.Authenticator.admin_users = {{"instructor"}}
         c.JupyterHub.spawner_class = "simple"
         c.SimpleLocalProcessSpawner.home_dir_template = "{tmp}/home/{{username}}"
         c.Spawner.cmd = [{str(BIN / "jupyterhub-singleuser")!r}]
@@ -267,7 +268,7 @@ def test_her_jupyterlab_terminal_needs_no_flag(hub):
 
 def test_another_student_gets_403_everywhere(hub, browser):
     """Bob, signed in, gets a 403 on ada's lab: its page in his browser; its API, rosbridge and the
-    3D view's WebSocket with his token. Ada's lab still answers her."""
+    3D view's WebSocket with his token. Ada's lab still answers her, and the hub's admin."""
     context, page = _login(browser, hub, "bob")
     try:
         answer = page.goto(f"{hub.url}/user/ada/hri-lab/")
@@ -286,6 +287,8 @@ def test_another_student_gets_403_everywhere(hub, browser):
         assert refused.value.response.status_code == 403, path
     ada = {"Authorization": f"token {hub.token('ada')}"}
     assert httpx.get(lab + "/health", headers=ada, timeout=60).json()["loop_alive"]
+    instructor = {"Authorization": f"token {hub.token('instructor')}"}  # the hub's admin (docs/hosting.md)
+    assert httpx.get(lab + "/health", headers=instructor, timeout=60).json()["loop_alive"]
 
 
 def test_the_lab_refuses_what_the_hub_did_not_proxy(hub):

@@ -12,6 +12,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
+# JupyterHub's proxy (npm's configurable-http-proxy), beside the venv, for the hub test (tests/e2e/test_jupyterhub.py)
+CHP := $(VENV)/chp/node_modules/.bin/configurable-http-proxy
+$(CHP):
+	npm install --silent --no-audit --no-fund --prefix $(VENV)/chp configurable-http-proxy@5.3.0
+
 # the documentation site's and the linters' tools (pyproject's docs and lint groups), for make docs / make lint
 DEV := $(VENV)/.dev
 $(DEV): $(STAMP)
@@ -44,7 +49,7 @@ bubblewrap:
 ros1:
 	@{ command -v roscore >/dev/null && /usr/bin/python3 -c 'import rospy' 2>/dev/null; } || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq ros-core python3-rospy >/dev/null; }
 
-test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl ros1
+test: $(STAMP) $(VENV)/.kernels $(CHP) chromium bubblewrap egl ros1
 	$(BIN)/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder
 
 # the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything

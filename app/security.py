@@ -17,12 +17,21 @@ A page on another site the student has open must not drive the lab, token or not
 
 `host_refusal` and `origin_refusal` are the same checks for servers that are not ASGI apps (the 3D
 views' viser servers: app/view/scene.py's `guarded_websocket_server`).
+
+Behind a JupyterHub (app/jupyter_proxy.py: the lab started by jupyter-server-proxy in a student's
+server), the lab is started with a secret in $HRI_LAB_PROXY_SECRET that the student's server adds to
+every request it proxies (PROXY_HEADER), after the hub authenticated the student: then a request
+without it is a 403 (another local user, or a page, reaching the lab's port directly), and one with it
+names the hub in its Host (not checked: the proxy checked it) while its Origin, when sent, must still
+be the page's own (the hub's).
 """
 
 from __future__ import annotations
 
+import hmac
 import ipaddress
 import json
+import os
 import socket
 from urllib.parse import urlsplit
 
@@ -34,6 +43,8 @@ JSON_TYPES = ("application/json",)
 YAML_TYPES = ("application/yaml", "application/x-yaml", "text/yaml")
 BODY_TYPES = {"/params/load": YAML_TYPES}  # path -> accepted content types (default: JSON_TYPES)
 LOCAL_NAMES = ("localhost", "127.0.0.1", "::1")
+PROXY_SECRET_ENV = "HRI_LAB_PROXY_SECRET"  # set by app/jupyter_proxy.py for the lab it starts
+PROXY_HEADER = "x-hri-lab-proxy"  # the secret, added by the student's Jupyter server to what it proxies
 
 
 class BodyTooLarge(HTTPException):
@@ -120,13 +131,26 @@ def _short(text: str, limit: int = 80) -> str:
     return text if len(text) <= limit else text[:limit] + "..."
 
 
+def proxy_secret() -> str | None:
+    """The secret of the Jupyter server that started this lab (None: not started behind one)."""
+    return os.environ.get(PROXY_SECRET_ENV) or None
+
+
+def proxy_refusal(presented: str | None, secret: str) -> str | None:
+    """Why a request did not come through the student's Jupyter server (None: it did)."""
+    if presented is not None and hmac.compare_digest(presented.encode("utf-8", "surrogateescape"), secret.encode()):
+        return None
+    return "this lab answers only through its owner's Jupyter server (JupyterHub): open it from there"
+
+
 class SiteGuard:
     """The ASGI middleware (see the module's docstring). bound_host: the address the server was
     started on."""
 
-    def __init__(self, app, bound_host: str = "127.0.0.1") -> None:
+    def __init__(self, app, bound_host: str = "127.0.0.1", secret: str | None = None) -> None:
         self.app = app
         self.names = local_names(bound_host)
+        self.secret = secret if secret is not None else proxy_secret()
 
     async def __call__(self, scope, receive, send) -> None:
         if scope["type"] not in ("http", "websocket"):
@@ -135,7 +159,10 @@ class SiteGuard:
         for key, value in scope["headers"]:
             headers.setdefault(key.decode("latin-1"), value.decode("latin-1"))
         host = headers.get("host")
-        refusal = host_refusal(host, self.names, scope.get("server"), scope.get("scheme", "http"))
+        if self.secret:  # behind the hub: only what the student's server proxied, naming the hub
+            refusal = proxy_refusal(headers.get(PROXY_HEADER), self.secret)
+        else:
+            refusal = host_refusal(host, self.names, scope.get("server"), scope.get("scheme", "http"))
         if refusal is None and (scope["type"] == "websocket" or scope["method"] in MUTATING):
             refusal = origin_refusal(headers.get("origin"), headers.get("referer"), host)
         if refusal is not None:

@@ -25,6 +25,8 @@ import orjson
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
+from rosclient.headers import lab_headers
+
 DEFAULT_URL = "http://127.0.0.1:8000"
 
 # rosbridge's queue_length a program's subscription asks of the lab unless it says: 0, every message
@@ -97,7 +99,7 @@ class Connection:
     def __init__(self, url: str | None = None, token: str | None = None) -> None:
         self.url = url or os.environ.get("HRI_LAB_URL", DEFAULT_URL)
         token = token if token is not None else os.environ.get("HRI_LAB_TOKEN")
-        headers = {"Authorization": f"Bearer {token}"} if token else None
+        headers = lab_headers(self.url, token) or None
         try:
             self.ws = connect(
                 websocket_url(self.url),

@@ -15,6 +15,10 @@ const $ = (tag, attrs = {}, ...children) => {
   return el;
 };
 const byId = (id) => document.getElementById(id);
+// A path of the lab ("/services") as a URL relative to this page, so that the page works wherever it
+// is served: at / on a laptop, or under a prefix behind a JupyterHub (/user/NAME/hri-lab/).
+const here = (path) => new URL(path.replace(/^\//, ""), document.baseURI).href;
+const socketUrl = (path) => here(path).replace(/^http/, "ws");
 // body: an object (sent as JSON), or a ready JSON text ({json: "..."}: numbers exactly as typed);
 // raw: body is a YAML text
 const api = async (method, path, body, raw) => {
@@ -24,7 +28,7 @@ const api = async (method, path, body, raw) => {
     else init.body = typeof body === "object" && "json" in body ? body.json : JSON.stringify(body);
     init.headers["content-type"] = raw ? "application/yaml" : "application/json";
   }
-  const response = await fetch(path, init);
+  const response = await fetch(here(path), init);
   const text = await response.text();
   let data;
   try { data = JSON.parse(text); } catch { data = text; }
@@ -32,7 +36,7 @@ const api = async (method, path, body, raw) => {
 };
 const show = (value) => (typeof value === "string" ? value : JSON.stringify(value, null, 1));
 const stream = (name, rate, onMessage) => {
-  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/topics${name}/stream?rate=${rate}`);
+  const ws = new WebSocket(socketUrl(`/topics${name}/stream?rate=${rate}`));
   ws.onmessage = (e) => onMessage(JSON.parse(e.data));
   ws.onclose = () => setTimeout(() => stream(name, rate, onMessage), 2000);  // server restarted: reconnect
   return ws;
@@ -266,7 +270,7 @@ function goalBlock(name, goalId, onResult) {
       if (GOAL_ENDS.includes(r.data.status)) end(r.data); else label.textContent = r.data.status;
     }
   };
-  const ws = new WebSocket(`${location.origin.replace("http", "ws")}/actions${name}/goals/${goalId}/stream`);
+  const ws = new WebSocket(socketUrl(`/actions${name}/goals/${goalId}/stream`));
   label.textContent = "active";
   ws.onmessage = (e) => {
     const m = JSON.parse(e.data);
@@ -338,8 +342,8 @@ function figureStrip(urls) {
   const strip = $("div", { class: "figures" });
   for (const png of urls) {
     const name = png.split("/").pop().replace(/\.png$/, "");
-    strip.append($("a", { href: png.replace(/\.png$/, ".svg"), target: "_blank", rel: "noopener", title: `${name} (full size)` },
-      $("img", { src: png, alt: name })));
+    strip.append($("a", { href: here(png.replace(/\.png$/, ".svg")), target: "_blank", rel: "noopener", title: `${name} (full size)` },
+      $("img", { src: here(png), alt: name })));
   }
   return strip;
 }
@@ -522,9 +526,10 @@ async function renderView() {
   if (!info.url) { off.hidden = false; byId("view-off-reason").textContent = "The 3D view is off (server started with --view none)."; byId("view-embed").hidden = true; byId("view-window").hidden = true; return; }
   // The view on the other name of this machine (127.0.0.1 <-> localhost): another site, so the
   // browser gives it a process of its own (site isolation) and its rendering never blocks this page.
-  const url = new URL(info.url);
+  // Behind a JupyterHub the view comes through this page's own server (info.relay: only its port is proxied).
+  const url = new URL(info.relay ? here(info.relay) : info.url);
   const loopback = { "127.0.0.1": "localhost", localhost: "127.0.0.1" };
-  if (url.hostname === location.hostname && loopback[url.hostname]) url.hostname = loopback[url.hostname];
+  if (!info.relay && url.hostname === location.hostname && loopback[url.hostname]) url.hostname = loopback[url.hostname];
   byId("view-window").href = url;
   const embed = () => { off.hidden = true; frame.hidden = false; frame.src = url; };
   byId("view-embed").onclick = embed;
@@ -577,7 +582,7 @@ function renderConsole() {
 // the camera (GET /camera/image.jpg while "live" is on: the lab renders while it is asked) and
 // the windows programs open with cv2.imshow (GET /camera/windows), each a figure with its newest image
 function refreshing(img, url, pause, keepGoing) {
-  const next = () => { if (keepGoing()) img.src = `${url()}${url().includes("?") ? "&" : "?"}t=${Date.now()}`; };
+  const next = () => { if (keepGoing()) img.src = here(`${url()}${url().includes("?") ? "&" : "?"}t=${Date.now()}`); };
   img.onload = () => setTimeout(next, pause);
   img.onerror = () => setTimeout(next, 1000);
   next();

@@ -6,14 +6,17 @@
 
 const state = { arena: null, scan: null, pose: null, odom: null, wall: null, trail: [], held: null };
 
+// a path of the lab as a URL relative to this page: served at / or under a JupyterHub's prefix
+const here = (path) => new URL(path.replace(/^\//, ""), document.baseURI).href;
+
 async function get(path) {
-  const response = await fetch(path);
+  const response = await fetch(here(path));
   if (!response.ok) throw new Error(`${path}: ${response.status}`);
   return response.json();
 }
 
 async function post(path, body) {
-  const response = await fetch(path, {
+  const response = await fetch(here(path), {
     method: "POST",
     headers: { "content-type": "application/json" },
     body: JSON.stringify(body || {}),
@@ -212,7 +215,7 @@ async function start() {
   const view = await get("/view").catch(() => ({ url: null }));
   if (view.url) {
     const link = document.getElementById("view-link");
-    link.href = view.url;
+    link.href = view.relay ? here(view.relay) : view.url;  // behind a JupyterHub: through this server
     link.hidden = false;
   }
   document.querySelectorAll("[data-key]").forEach((button) => {

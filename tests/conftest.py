@@ -61,6 +61,7 @@ LONG_FILES_FIRST = (
     "e2e/test_gradescope.py",
     "e2e/test_docs_student_pages.py",
     "e2e/browser/test_page.py",
+    "e2e/browser/test_jupyterhub.py",
     "e2e/test_docs_instructor_pages.py",
     "e2e/test_ros_programs.py",
     "e2e/test_ros1_oracle.py",

@@ -27,6 +27,7 @@ from app.api import services as services_api
 from app.api import system as system_api
 from app.api import teleop as teleop_api
 from app.api import topics as topics_api
+from app.api import view_relay
 from app.api.access import TokenMiddleware
 from app.api.docs import add_offline_docs
 from app.api.openapi import document
@@ -130,6 +131,7 @@ def create_api(
         app.include_router(robot_api.router)
         app.include_router(camera_api.router)
     app.include_router(files_api.router)
+    app.include_router(view_relay.router)  # the 3D view through the lab's port (behind a JupyterHub)
     for router in routers:
         app.include_router(router)
     app.mount("/static", StaticFiles(directory=system_api.STATIC), name="static")

@@ -11,6 +11,9 @@ from fastapi.staticfiles import StaticFiles
 
 ASSETS = Path(fastapi_offline.__file__).resolve().parent / "static"
 ASSETS_URL = "/docs-assets"
+# the pages name the schema and their assets relative to themselves (/docs -> openapi.json): they work at
+# / and under a JupyterHub's prefix (/user/NAME/hri-lab/docs)
+RELATIVE_ASSETS = ASSETS_URL.lstrip("/")
 REDOC_LOGO = "https://cdn.redoc.ly/redoc/logo-mini.svg"  # ReDoc's side-menu logo: from the server instead
 
 
@@ -22,11 +25,11 @@ def add_offline_docs(app: FastAPI) -> None:
     @app.get("/docs", include_in_schema=False)
     def swagger() -> HTMLResponse:
         return get_swagger_ui_html(
-            openapi_url=str(app.openapi_url),
+            openapi_url=str(app.openapi_url).lstrip("/"),
             title=f"{app.title} - API docs",
-            swagger_js_url=f"{ASSETS_URL}/swagger-ui-bundle.js",
-            swagger_css_url=f"{ASSETS_URL}/swagger-ui.css",
-            swagger_favicon_url=f"{ASSETS_URL}/favicon.png",
+            swagger_js_url=f"{RELATIVE_ASSETS}/swagger-ui-bundle.js",
+            swagger_css_url=f"{RELATIVE_ASSETS}/swagger-ui.css",
+            swagger_favicon_url=f"{RELATIVE_ASSETS}/favicon.png",
         )
 
     redoc_js = (
@@ -40,9 +43,9 @@ def add_offline_docs(app: FastAPI) -> None:
     @app.get("/redoc", include_in_schema=False)
     def redoc() -> HTMLResponse:
         return get_redoc_html(
-            openapi_url=str(app.openapi_url),
+            openapi_url=str(app.openapi_url).lstrip("/"),
             title=f"{app.title} - API reference",
-            redoc_js_url="/redoc.js",
-            redoc_favicon_url=f"{ASSETS_URL}/favicon.png",
+            redoc_js_url="redoc.js",
+            redoc_favicon_url=f"{RELATIVE_ASSETS}/favicon.png",
             with_google_fonts=False,
         )

@@ -7,7 +7,9 @@ from fastapi import APIRouter, Query, Request
 from fastapi.responses import FileResponse
 
 from app.api.deps import LabDep
+from app.api.view_relay import PATH as VIEW_RELAY
 from app.ros.rosout import LEVELS
+from app.security import proxy_secret
 
 STATIC = Path(__file__).resolve().parents[2] / "static"
 
@@ -49,10 +51,12 @@ def health(lab: LabDep) -> dict:
 
 @router.get("/view", summary="Where the 3D view is served (viser)")
 def view_info(request: Request) -> dict:
+    """url: the viser server's own address; relay: the same view through this server's port, which the
+    page embeds behind a JupyterHub (app/api/view_relay.py), where only that port is proxied."""
     view = request.app.state.view
     if view is None:
-        return {"url": None, "light": False}
-    return {"url": view.url, "light": view.light}
+        return {"url": None, "light": False, "relay": None}
+    return {"url": view.url, "light": view.light, "relay": VIEW_RELAY.lstrip("/") if proxy_secret() else None}
 
 
 @router.get(

@@ -13,15 +13,20 @@ from websockets.sync.client import connect
 from app.cli import arguments
 from app.ros.names import absolute, node_name
 from app.ros.params import ParameterRefused, read_parameter_file
+from rosclient.headers import lab_headers
 
 
 class CliError(Exception):
     pass
 
 
+def _headers(args) -> dict[str, str]:
+    """The lab's token ($HRI_LAB_TOKEN) and, behind a JupyterHub, the student's hub token (app/tokens.py)."""
+    return lab_headers(args.url, os.environ.get("HRI_LAB_TOKEN"))
+
+
 def _client(args) -> httpx.Client:
-    token = os.environ.get("HRI_LAB_TOKEN")
-    headers = {"Authorization": f"Bearer {token}"} if token else {}
+    headers = _headers(args)
     return httpx.Client(base_url=args.url, timeout=10.0, headers=headers)
 
 
@@ -203,7 +208,7 @@ def _ros1_param(args, name: str) -> int:
     ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://").rstrip("/") + "/"
     request = {"op": "call_service", "id": "param_get", "service": "/rosapi/get_param", "args": {"name": name}}
     try:
-        with connect(ws_url, open_timeout=10, max_size=2**24) as ws:
+        with connect(ws_url, open_timeout=10, max_size=2**24, additional_headers=_headers(args)) as ws:
             ws.send(json.dumps(request))
             while True:
                 answer = json.loads(ws.recv(timeout=10))
@@ -279,11 +284,12 @@ def topic(args) -> int:
         return 0
 
     ws_url = (
-        args.url.replace("http://", "ws://").replace("https://", "wss://") + f"/topics{name}/stream?rate={args.rate}"
+        args.url.replace("http://", "ws://").replace("https://", "wss://").rstrip("/")
+        + f"/topics{name}/stream?rate={args.rate}"
     )
     received = 0
     try:
-        with connect(ws_url) as ws:
+        with connect(ws_url, additional_headers=_headers(args)) as ws:
             while args.count is None or received < args.count:
                 _print_message(json.loads(ws.recv()))
                 received += 1

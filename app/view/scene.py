@@ -26,7 +26,7 @@ from sim.recording.scene import ARROW_COLOURS, PALM_COLOUR, PLATE_COLOUR
 from sim.robot.assets import mesh_cache, panda_urdf, robot_data_share
 from sim.robot.panda import PandaModel
 
-from app.security import host_refusal, local_names, origin_refusal
+from app.security import PROXY_HEADER, host_refusal, local_names, origin_refusal, proxy_refusal, proxy_secret
 
 NOT_SHOWN = ("panda_hand", "panda_leftfinger", "panda_rightfinger")  # the lab's EE is the plate, no gripper
 
@@ -39,15 +39,20 @@ def guarded_websocket_server(bound_host: str):
     """While viser starts its server (it has no option for it), every HTTP request and WebSocket
     upgrade it gets passes the API's cross-site checks first: Host names this server, and an
     Origin, when sent, is the view's own page; else 403 (a forged gizmo message from another site
-    never arrives)."""
+    never arrives). Behind a JupyterHub, only what the lab's own relay sends (app/api/view_relay.py:
+    the proxy's secret, app/security.py)."""
     original = websockets.asyncio.server.serve
     names = local_names(bound_host)
+    secret = proxy_secret()
 
     def serve(handler, *args, process_request=None, **kwargs):
         def check(connection, request):
             host = request.headers.get("Host")
             local = connection.local_address
-            refusal = host_refusal(host, names, (local[0], local[1]) if local else None, "http")
+            if secret:
+                refusal = proxy_refusal(request.headers.get(PROXY_HEADER), secret)
+            else:
+                refusal = host_refusal(host, names, (local[0], local[1]) if local else None, "http")
             if refusal is None and request.headers.get("Upgrade", "").lower() == "websocket":
                 refusal = origin_refusal(request.headers.get("Origin"), None, host)
             if refusal is not None:

@@ -138,3 +138,25 @@ def test_a_body_sent_in_chunks_is_stopped_at_the_limit():
     sent, reached = call(guard, scope(content_type="application/json", transfer_encoding="chunked"), b"x" * 1000, 4)
     assert reached
     assert sent[0]["status"] == 200
+
+
+def test_behind_a_jupyterhub_only_what_the_students_server_proxied():
+    """A lab started by jupyter-server-proxy (app/jupyter_proxy.py) answers only requests carrying its
+    server's secret; those name the hub in their Host, and a page's Origin must still be the hub's."""
+    guard = SiteGuard(None, secret="s3cret-of-the-server")
+    hub = {"host": "hub.example.edu"}
+    sent, reached = call(guard, scope("GET", **hub))  # another local user, straight to the port
+    assert not reached
+    assert sent[0]["status"] == 403
+    assert b"Jupyter server" in sent[1]["body"]
+    sent, reached = call(guard, scope("GET", "websocket", **hub, x_hri_lab_proxy="a-guess"))
+    assert not reached
+    assert sent[0]["type"] == "websocket.close"
+    proxied = {**hub, "x_hri_lab_proxy": "s3cret-of-the-server"}
+    sent, reached = call(guard, scope("GET", **proxied))
+    assert reached
+    sent, reached = call(guard, scope(**proxied, origin="https://hub.example.edu"))  # the page's POST
+    assert reached
+    sent, reached = call(guard, scope(**proxied, origin="https://evil.example"))
+    assert not reached
+    assert sent[0]["status"] == 403

@@ -8,8 +8,18 @@ writes results/results.json. Nothing of this checkout's venv is used after setup
 submissions are graded by the bundle's own install. The only change from Gradescope's layout: the
 root is a temporary folder ($HRI_LAB_GRADESCOPE_ROOT) instead of /autograder.
 
-Graded here: a controller file, a roslibpy services node and a rospy services node (each with
-the other part missing or broken, so every report's shape is seen)."""
+What setup.sh reuses here, as a machine that built the image before would: uv's and pip's caches
+of the downloaded packages, and numba's compiled kernels of this checkout when the bundle's sim/ is
+byte for byte this checkout's (`sim.kernel_cache.sources_hash`): they are put where numba keeps
+them beside the bundle's sources, with their stamp, before setup.sh runs, and numba itself decides
+whether they fit (each kernel's source hash, numba's version, the CPU); its warm-up compiles what
+does not. Compiling them from scratch is what `make .venv/.kernels` does with the same warm-up
+(sim/warm_up.py). Everything else setup.sh does, it does from scratch: the venv, the install.
+
+Graded here: a controller file (the lab's own SP, which the course's bundle flags: the one passing
+grade through a bundle, tests/e2e/test_autograder.py runs the rest with this checkout's Python), a
+roslibpy services node and a rospy services node (each with the other part missing or broken, so
+every report's shape is seen)."""
 
 import json
 import os
@@ -21,7 +31,10 @@ from pathlib import Path
 
 import pytest
 
+from sim.kernel_cache import sources_hash
+
 TESTS = Path(__file__).resolve().parents[1]
+SIM = TESTS.parent / "sim"
 SETUP_TIMEOUT = 2400.0  # s: a fresh venv from the package cache and the kernels compiled, on a loaded machine
 RUN_TIMEOUT = 1200.0  # s: a whole battery, and a lab started for the services
 
@@ -39,7 +52,8 @@ def autograder(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("gradescope") / "autograder"
     bundle = root.parent / "autograder.zip"
     made = subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(bundle), "--seed", "31", "--services"],
+        [sys.executable, "-m", "app.cli", "autograder", "-o", str(bundle), "--seed", "31", "--services"]
+        + ["--hide-until-due", "--reference", "flag"],
         capture_output=True,
         text=True,
         timeout=120,
@@ -50,6 +64,8 @@ def autograder(tmp_path_factory) -> Path:
     for name in ("setup.sh", "run_autograder"):  # Gradescope copies them to /autograder, executable
         shutil.copy(root / "source" / name, root / name)
         (root / name).chmod(0o755)
+    bundled_sim = root / "source" / "hri-lab" / "sim"
+    reuse_kernels(SIM, bundled_sim)
     setup = subprocess.run(
         [str(root / "setup.sh")],
         capture_output=True,
@@ -62,6 +78,19 @@ def autograder(tmp_path_factory) -> Path:
     assert "setup.sh: Python 3." in setup.stdout
     assert (root / "hri-lab" / "bin" / "python").exists()
     return root
+
+
+def reuse_kernels(checkout: Path, bundled: Path) -> int:
+    """This checkout's compiled kernels (numba's index and data files) and their stamp
+    (sim/kernel_cache.py) copied beside the bundle's sources when the two sim/ are byte-identical;
+    how many files were copied (0 if not)."""
+    if sources_hash(checkout) != sources_hash(bundled):
+        return 0
+    files = [*checkout.rglob("__pycache__/*.nb[ic]"), checkout / "__pycache__" / "kernels.sha256"]
+    for path in files:
+        (bundled / path.relative_to(checkout)).parent.mkdir(exist_ok=True)
+        shutil.copy(path, bundled / path.relative_to(checkout))
+    return len(files)
 
 
 def submit(root: Path, files: dict[str, str]) -> dict:
@@ -93,14 +122,28 @@ def by_section(results: dict) -> dict[str, list[dict]]:
 
 
 def test_a_controller_file(autograder):
-    results = submit(autograder, {"cooperative_lifting.py": (TESTS / "controllers" / "template_filled.py").read_text()})
+    """The lab's own SP, flagged (--reference flag): graded as any file, the flag first and not
+    counted; every test hidden until the due date (--hide-until-due), the score shown."""
+    results = submit(autograder, {"cooperative_lifting.py": (TESTS / "controllers" / "reference_sp.py").read_text()})
+    for test in results["tests"]:  # Gradescope's results.json
+        assert set(test) == {"name", "score", "max_score", "output", "visibility"}
+        assert 0 <= test["score"] <= test["max_score"]
+    flag = results["tests"][0]
+    assert flag["max_score"] == 0
+    assert "FLAGGED" in flag["output"]
+    assert "imports sim.controllers.sp" in flag["output"]
     sections = by_section(results)
     controller = sections["probe"] + sections["experiment"] + sections["robustness"]
+    assert len(controller) == 13 + 9 + 2
     assert sum(t["score"] for t in controller) == sum(t["max_score"] for t in controller) == 130.0
     # no services_node.py: 0 of the services' 15 points, one test saying why
     assert [(t["score"], t["max_score"]) for t in sections["services"]] == [(0.0, 15.0)]
     assert results["score"] == 130.0
+    assert "PASS" in results["output"]
     assert "seed 31, a private seed" in results["output"]
+    assert "bubblewrap cannot run" not in results["output"]
+    assert {t["visibility"] for t in results["tests"]} == {"after_due_date"}
+    assert results["visibility"] == "visible"
 
 
 def test_a_roslibpy_node(autograder):

@@ -3,13 +3,18 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+# pyproject's extras the venv gets (the container image: hub,nodes)
+EXTRAS ?= test
+# Debian's packages beside the venv (scripts/system-deps.sh): apt-get runs only when one is missing
+# and we are root; otherwise the script prints the `sudo apt-get install ...` line and stops.
+DEPS   := scripts/system-deps.sh
 
-.PHONY: run test test-fast experiment bench clean chromium bubblewrap egl docs lint
+.PHONY: run test test-fast experiment bench clean chromium bubblewrap egl docs lint system-deps setup
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[$(EXTRAS)]'
 	touch $(STAMP)
 
 # the documentation site's and the linters' tools (pyproject's docs and lint groups), for make docs / make lint
@@ -25,22 +30,29 @@ $(VENV)/.kernels: $(STAMP) $(KERNELS)
 	$(BIN)/python -c "from sim.warm_up import warm_up; warm_up()"
 	touch $@
 
-run: $(STAMP) $(VENV)/.kernels bubblewrap egl
-	$(BIN)/hri-lab serve
+# without bubblewrap the lab starts anyway, unsandboxed (the script says what that loses)
+run: egl $(STAMP) $(VENV)/.kernels
+	@$(DEPS) --optional bubblewrap
+	$(BIN)/hri-lab serve $(SERVE_ARGS)
 
 # the browser test drives Debian's chromium (playwright cannot download browsers here)
 chromium:
-	@command -v chromium >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
+	@$(DEPS) chromium
 
 # the camera renders offscreen with OpenGL through EGL (Mesa's software renderer, llvmpipe, without a GPU)
 egl:
-	@{ ldconfig -p | grep -q 'libEGL_mesa.so.0' && ldconfig -p | grep -q 'libGL.so.1'; } || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri >/dev/null; }
+	@$(DEPS) egl
 
 # students' controllers run sandboxed in bubblewrap (hri-lab grade, serve/experiment --controller FILE)
 bubblewrap:
-	@command -v bwrap >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq bubblewrap >/dev/null; }
+	@$(DEPS) bubblewrap
 
-test: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
+# everything `make run` needs, and the venv with its kernels: the container image's set-up (Containerfile)
+system-deps:
+	@$(DEPS) python make egl bubblewrap
+setup: $(STAMP) $(VENV)/.kernels
+
+test: chromium bubblewrap egl $(STAMP) $(VENV)/.kernels
 	$(BIN)/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder
 
 # the inner loop: no browser, no other programs (servers, nodes, sandboxed controllers); make test runs everything
@@ -63,7 +75,7 @@ experiment: $(STAMP) $(VENV)/.kernels bubblewrap
 	$(BIN)/hri-lab experiment
 
 bench: $(STAMP) $(VENV)/.kernels chromium bubblewrap egl
-	@command -v wrk >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq wrk >/dev/null; }
+	@$(DEPS) wrk
 	$(BIN)/python -m bench.sim_speed
 	$(BIN)/python -m bench.startup
 	$(BIN)/python -m bench.service_latency

@@ -9,6 +9,7 @@
 #   python      python3 with venv and pip (the set-up's venv; the container image)
 #   make        GNU make (the set-up's targets; the container image)
 #   egl         Mesa's EGL/GL: the camera renders offscreen (llvmpipe without a GPU)
+#   openmp      libgomp: the OpenMP runtime the compiled kernels' libraries load
 #   bubblewrap  bwrap: students' controllers and graded files run sandboxed
 #   chromium    Debian's chromium: the browser tests (playwright drives it)
 #   wrk         the HTTP load generator of `make bench`
@@ -21,6 +22,7 @@ packages() {
         python) echo "python3 python3-venv python3-pip" ;;
         make) echo "make" ;;
         egl) echo "libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri" ;;
+        openmp) echo "libgomp1" ;;
         bubblewrap) echo "bubblewrap" ;;
         chromium) echo "chromium" ;;
         wrk) echo "wrk" ;;
@@ -33,6 +35,7 @@ present() {
         python) command -v python3 >/dev/null && python3 -c "import ensurepip, venv" 2>/dev/null ;;
         make) command -v make >/dev/null ;;
         egl) ldconfig -p 2>/dev/null | grep -q 'libEGL_mesa.so.0' && ldconfig -p 2>/dev/null | grep -q 'libGL.so.1' ;;
+        openmp) ldconfig -p 2>/dev/null | grep -q 'libgomp.so.1' ;;
         bubblewrap) command -v bwrap >/dev/null ;;
         chromium) command -v chromium >/dev/null ;;
         wrk) command -v wrk >/dev/null ;;

@@ -234,13 +234,17 @@ class Dashboards:
 class Student:
     """One lab (as the hub starts it), its lifting, its dashboard and its F_ext node."""
 
-    def __init__(self, dashboards: Dashboards, node_seconds: float) -> None:
+    def __init__(self, dashboards: Dashboards) -> None:
         self.lab = ServerProcess("--world", "lifting", timeout=300.0, own_session=True)
         answer = httpx.post(f"{self.lab.url}/services/start_cooperative_lifting", json={"force": 10}, timeout=30)
         answer.raise_for_status()
         dashboards.open(self.lab.url)
+        self.node: subprocess.Popen | None = None
+
+    def start_node(self, seconds: float) -> None:
+        """The student's node, for `seconds` (started once every lab is up: it outlasts the span)."""
         self.node = subprocess.Popen(
-            [sys.executable, "-m", "app.cli", "run", "--url", self.lab.url, str(SUBSCRIBER), str(node_seconds)],
+            [sys.executable, "-m", "app.cli", "run", "--url", self.lab.url, str(SUBSCRIBER), str(seconds)],
             stdout=subprocess.PIPE,
             stderr=subprocess.DEVNULL,
             text=True,
@@ -252,6 +256,7 @@ class Student:
         return httpx.get(f"{self.lab.url}/health", timeout=30).json()
 
     def fext_handled(self, timeout_s: float) -> float | None:
+        assert self.node is not None  # started by start_node
         try:
             out, _ = self.node.communicate(timeout=timeout_s)
         except subprocess.TimeoutExpired:
@@ -263,7 +268,8 @@ class Student:
         return None
 
     def stop(self) -> None:
-        stop_group(self.node, 5.0)
+        if self.node is not None:
+            stop_group(self.node, 5.0)
         stop_group(self.lab.proc, 10.0)
         self.lab.stop()
 
@@ -273,9 +279,11 @@ def measure(n: int, warm_up_s: float, measure_s: float) -> list[LabFigures]:
     students: list[Student] = []
     try:
         for _ in range(n):
-            students.append(Student(dashboards, warm_up_s + measure_s + 5.0 * n))
+            students.append(Student(dashboards))
+        for s in students:
+            s.start_node(warm_up_s + measure_s + 5.0)
         time.sleep(warm_up_s)  # the nodes connect, the streams settle (a span, not a condition: a bench)
-        trees = [(process_tree(s.lab.proc.pid), process_tree(s.node.pid)) for s in students]
+        trees = [(process_tree(s.lab.proc.pid), process_tree(s.node.pid)) for s in students if s.node]
         start = [(s.health(), tree_ticks(lab), tree_ticks(node)) for s, (lab, node) in zip(students, trees)]
         t0 = time.monotonic()
         time.sleep(measure_s)

@@ -28,7 +28,7 @@ from app.grading.report import PUBLIC_SEED, seed_note
 
 CONFIG = "hri-lab-autograder.json"  # in the bundle: the seed and how results are shown
 SOURCE = "hri-lab"  # the lab's source in the bundle (uv installs it)
-UV = "uv==0.13.8"  # the installer setup.sh runs (pip installs it first, into the lab's venv)
+UV = "uv==0.13.9"  # the installer setup.sh and the Makefile run (pip installs it first, into the lab's venv)
 
 PYTHON_NEEDED = (3, 11)  # pyproject.toml's requires-python
 BASE_IMAGE = "Ubuntu 24.04"  # Gradescope's base image to pick: its python3 is 3.12 (22.04's, the default, is 3.10)

@@ -103,6 +103,12 @@ def _serve(sub: a.Subparsers) -> None:
         help="token that changes must carry (required to bind other than 127.0.0.1; default $HRI_LAB_TOKEN)",
     )
     srv.add_argument(
+        "--no-token",
+        action="store_true",
+        help="bind --host without a token: only inside a container whose port the host publishes on its own "
+        "loopback (docker run -p 127.0.0.1:8000:8000; the container image's default command)",
+    )
+    srv.add_argument(
         "--exercises",
         action="store_true",
         help="leave the handout's exercise services to the students' nodes (rosbridge): "

@@ -77,10 +77,13 @@ def serve(
     world: str = "lifting",
     arena_seed: int | None = None,
     replay: bool = False,
+    no_token: bool = False,
 ) -> int:
-    if not is_loopback(host) and not token:
+    if not is_loopback(host) and not token and not no_token:
         print(
-            f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV}", file=sys.stderr
+            f"hri-lab: binding {host} (not this machine only) needs a token: --token or ${TOKEN_ENV} "
+            "(inside a container whose port the host publishes on its loopback: --no-token)",
+            file=sys.stderr,
         )
         return 2
     if token and token_problem(token):
@@ -152,4 +155,5 @@ def run(args: argparse.Namespace) -> int:
         output_dir=args.output_dir,
         world=args.world,
         arena_seed=args.arena_seed,
+        no_token=args.no_token,
     )

@@ -9,7 +9,9 @@ from app.tokens import MIN_TOKEN_LENGTH, TOKEN_ENV
 def test_a_server_for_other_machines_needs_a_token(monkeypatch, capsys):
     monkeypatch.delenv(TOKEN_ENV, raising=False)
     assert main(["serve", "--host", "0.0.0.0", "--view", "none"]) == 2
-    assert f"binding 0.0.0.0 (not this machine only) needs a token: --token or ${TOKEN_ENV}" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert f"binding 0.0.0.0 (not this machine only) needs a token: --token or ${TOKEN_ENV}" in err
+    assert "inside a container whose port the host publishes on its loopback: --no-token" in err
 
 
 def test_a_short_token_is_refused(monkeypatch, capsys):

@@ -13,10 +13,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-from sim.definition_limits import MAX_DEFAULT_VALUES as MAX_DEFAULT_VALUES  # the caps: one source for the
-from sim.definition_limits import MAX_DEFINITION_CHARS as MAX_DEFINITION_CHARS  # lab's parser and the bags'
-from sim.definition_limits import MAX_DEFINITION_FIELDS as MAX_DEFINITION_FIELDS
-from sim.definition_limits import MAX_FIXED_ARRAY as MAX_FIXED_ARRAY
+from interfaces.definition_limits import MAX_DEFAULT_VALUES as MAX_DEFAULT_VALUES  # the caps: one source for the
+from interfaces.definition_limits import MAX_DEFINITION_CHARS as MAX_DEFINITION_CHARS  # lab's parser and the bags'
+from interfaces.definition_limits import MAX_DEFINITION_FIELDS as MAX_DEFINITION_FIELDS
+from interfaces.definition_limits import MAX_FIXED_ARRAY as MAX_FIXED_ARRAY
 
 INTEGERS = {
     "byte": (0, 255),

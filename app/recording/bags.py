@@ -14,7 +14,7 @@ Untrusted files: an MCAP is read through sim/recording/bounded.py (every chunk w
 a rosbag1's chunks are checked the same way before `rosbags` decompresses them (`check_rosbag1`);
 a rosbag2 SQLite's tables (plain tables: no view, virtual table or generated column), then its
 largest message and compression are checked before it is read; a metadata.yaml is read without
-YAML aliases; every definition a bag carries is held to the lab's caps (sim/definition_limits.py:
+YAML aliases; every definition a bag carries is held to the lab's caps (interfaces/definition_limits.py:
 a fixed array's length, a default's values, the fields, no recursive type: `check_types`).
 """
 
@@ -43,7 +43,7 @@ from rosbags.rosbag2 import Writer as Rosbag2Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
-from sim.definition_limits import MAX_DEFAULT_VALUES, MAX_DEFINITION_CHARS, MAX_DEFINITION_FIELDS, MAX_FIXED_ARRAY
+from interfaces.definition_limits import MAX_DEFAULT_VALUES, MAX_DEFINITION_CHARS, MAX_DEFINITION_FIELDS, MAX_FIXED_ARRAY
 from sim.recording import bounded, reader
 from sim.recording.reader import BagInfo, RecordingError, TopicInfo
 
@@ -101,7 +101,7 @@ def register(store: Typestore, name: str, text: str) -> None:
 
 
 def check_types(name: str, found: dict[str, Any], store: Typestore) -> None:
-    """The lab's definition caps (sim/definition_limits.py) on the types a bag's text brings, before
+    """The lab's definition caps (interfaces/definition_limits.py) on the types a bag's text brings, before
     the store makes classes of them: a fixed array's length, the values a message's default holds
     (nested messages and fixed arrays counted: rosbags builds them whole), the fields, no type that
     holds itself (ROS refuses one; rosbags' hash of it recurses forever) and no variable-length array

@@ -35,6 +35,7 @@ from app.rosbridge.tf_republisher import TFSubscriptionServer
 from app.tokens import Throttle
 
 COMMAND_TOPIC = "/cartesian_velocity_controller/command"
+COMMAND_TYPE = "geometry_msgs/Twist"  # what the lab follows on its command topic (either world's)
 
 
 class NodeTopic:
@@ -159,6 +160,7 @@ class Bridge:
     def topic_types(self) -> dict[str, str]:
         types = {t.name: t.type for t in self.topics.values()}
         types[rosout.TOPIC] = rosout.TYPE
+        types.setdefault(self.command_topic, COMMAND_TYPE)  # the lab subscribes to it: in the graph, as a base's /cmd_vel is
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 

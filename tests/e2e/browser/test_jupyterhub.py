@@ -89,7 +89,7 @@ def hub(tmp_path_factory):
     port = free_port()
     (tmp / "jupyterhub_config.py").write_text(_config(tmp, port))
     env = dict(os.environ, PATH=f"{BIN}:{os.environ.get('PATH', '')}")
-    log = open(tmp / "hub.log", "w")  # noqa: SIM115  # the hub's log, closed at teardown
+    log = open(tmp / "hub.log", "w")  # noqa: SIM115 - the hub's log, closed at teardown
     process = subprocess.Popen(
         [str(BIN / "jupyterhub"), "-f", str(tmp / "jupyterhub_config.py")],
         cwd=tmp,
@@ -228,7 +228,7 @@ def test_roslibpy_with_her_environment(hub):
     env = _environment(_server_pid("ada"))
     prefix, token = env["JUPYTERHUB_SERVICE_PREFIX"], env["JUPYTERHUB_API_TOKEN"]
     lab = f"{hub.url}{prefix}hri-lab/"
-    ros = roslibpy.Ros(lab.replace("http://", "ws://"), headers={"Authorization": f"token {token}"})
+    ros = roslibpy.Ros(lab.replace("http://", "ws://"), headers={"Authorization": f"token {token}"}, transport="asyncio")
     ros.run(timeout=60)
     try:
         received = []

@@ -5,6 +5,7 @@ import os
 import time
 from pathlib import Path
 
+import httpx
 import pytest
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
@@ -277,9 +278,14 @@ def the_3d_view_on_demand(server, page):
         "click"
     )  # the status above it changes height at 30 Hz
     wait_text(page, "#st-lifting", "ON, band [10, 15] N")
-    wait_for(  # the robot presses the box (what the screenshot shows), inside the band
-        lambda: http.get(f"{server}/topics/contact_state").json()["normal_force"] >= 10.0, timeout=120.0
-    )
+
+    def pressing() -> bool:  # the robot presses the box (what the screenshot shows), inside the band
+        try:
+            return http.get(f"{server}/topics/contact_state").json()["normal_force"] >= 10.0
+        except httpx.TimeoutException:  # a busy machine's slow answer (the software-WebGL view beside it): ask again
+            return False
+
+    wait_for(pressing, timeout=120.0)
     # viser's "software WebGL" notice (only there) closed, if still shown: the screenshot shows the scene
     view.locator("body").evaluate(
         "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())"

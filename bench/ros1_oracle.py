@@ -237,7 +237,9 @@ class Lab(Side):
         self.url = server.url
         self.env = {**os.environ, "PYTHONUNBUFFERED": "1"}
         self.env.pop("HRI_LAB_URL", None)
-        self.ros = roslibpy.Ros("127.0.0.1", server.port, transport="asyncio")  # as the tests' (one transport a process)
+        self.ros = roslibpy.Ros(
+            "127.0.0.1", server.port, transport="asyncio"
+        )  # as the tests' (one transport a process)
         self.ros.run(timeout=BOUND_S)
 
     def start(self, step: Step) -> Running:

@@ -43,9 +43,15 @@ from rosbags.rosbag2 import Writer as Rosbag2Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
-from interfaces.definition_limits import MAX_DEFAULT_VALUES, MAX_DEFINITION_CHARS, MAX_DEFINITION_FIELDS, MAX_FIXED_ARRAY
 from sim.recording import bounded, reader
 from sim.recording.reader import BagInfo, RecordingError, TopicInfo
+
+from interfaces.definition_limits import (
+    MAX_DEFAULT_VALUES,
+    MAX_DEFINITION_CHARS,
+    MAX_DEFINITION_FIELDS,
+    MAX_FIXED_ARRAY,
+)
 
 MAX_MESSAGE_BYTES = bounded.MAX_CHUNK_BYTES  # one message of any bag (a 640x480 rgb8 image is 0.9 MiB)
 ROS1_MAGIC = b"#ROSBAG V2.0\n"

@@ -160,7 +160,9 @@ class Bridge:
     def topic_types(self) -> dict[str, str]:
         types = {t.name: t.type for t in self.topics.values()}
         types[rosout.TOPIC] = rosout.TYPE
-        types.setdefault(self.command_topic, COMMAND_TYPE)  # the lab subscribes to it: in the graph, as a base's /cmd_vel is
+        types.setdefault(
+            self.command_topic, COMMAND_TYPE
+        )  # the lab subscribes to it: in the graph, as a base's /cmd_vel is
         types.update({name: t.type for name, t in self.node_topics.items() if name not in types})
         return types
 

@@ -228,7 +228,9 @@ def test_roslibpy_with_her_environment(hub):
     env = _environment(_server_pid("ada"))
     prefix, token = env["JUPYTERHUB_SERVICE_PREFIX"], env["JUPYTERHUB_API_TOKEN"]
     lab = f"{hub.url}{prefix}hri-lab/"
-    ros = roslibpy.Ros(lab.replace("http://", "ws://"), headers={"Authorization": f"token {token}"}, transport="asyncio")
+    ros = roslibpy.Ros(
+        lab.replace("http://", "ws://"), headers={"Authorization": f"token {token}"}, transport="asyncio"
+    )
     ros.run(timeout=60)
     try:
         received = []

@@ -25,14 +25,16 @@ class RecordingConnection:
         self.calls: list[WireFuture] = []
         self.with_header: set = set()
         self.queue_lengths: dict[str, int] = {}  # what each subscription asked the lab to hold for it
+        self.volatile: dict[str, bool] = {}  # whether each topic's newest subscription asked for no latched history
 
     def send(self, message: dict) -> None:
         self.sent.append(message)
 
     def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False,
-                  undecoded=False) -> str:  # an undecoded handler takes the message itself too (message_of)
+                  undecoded=False, volatile=False) -> str:  # an undecoded handler takes the message itself too
         self.topic_handlers.setdefault(topic, []).append(handler)
         self.queue_lengths[topic] = queue_length
+        self.volatile[topic] = volatile
         if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
             self.with_header.add(handler)
         return f"subscribe:{topic}"

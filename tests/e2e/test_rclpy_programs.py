@@ -52,7 +52,7 @@ def _cancel_run(lab, accept: bool) -> Program:
     finally:
         server.interrupt()
     assert "Goal accepted :)" in client.output
-    assert "Received feedback: [0, 1, 1" in client.output
+    assert "Received feedback: array('i', [0, 1, 1" in client.output  # rclpy's typed sequence
     return client
 
 

@@ -8,6 +8,7 @@ from concurrent.futures import Future as WireFuture
 
 import pytest
 
+from interfaces import sequences
 from rosclient import boot, process
 
 GENERATED = ("std_msgs", "example_interfaces", "rcl_interfaces", "builtin_interfaces", "geometry_msgs", "tf2_msgs", "sensor_msgs",
@@ -74,6 +75,7 @@ def site():
     try:
         yield
     finally:
+        sequences.typed[0] = False  # rclpy's typed arrays (its import turns them on)
         process._connection.clear()
         process.shutdown_event.clear()
         process.shutdown_reason.clear()

@@ -4,6 +4,8 @@ the logger service's levels, and a raw subscription's bytes."""
 
 import json
 
+import pytest
+
 
 def test_pre_set_callbacks_change_what_is_set_and_post_set_ones_hear_of_it(rclpy):
     from rclpy.parameter import Parameter
@@ -58,3 +60,33 @@ def test_a_raw_subscription_gets_the_message_as_it_travelled(rclpy):
     executor.add_node(node)
     executor.spin_once(timeout_sec=5)
     assert got == [json.dumps({"data": "hi"}).encode()]
+
+
+def test_numeric_sequences_are_typed_arrays_as_rclpy_gives_them(rclpy):
+    """rclpy's generated messages: a numeric sequence is an array.array of its type (a list given
+    is converted when set), a fixed-size numeric array a numpy array, a byte array bytes; rosbridge's
+    JSON both ways."""
+    import array
+
+    import numpy
+    from example_interfaces.action import Fibonacci
+    from geometry_msgs.msg import PoseWithCovariance
+    from sensor_msgs.msg import Image, JointState
+
+    result = Fibonacci.Result()
+    assert repr(result.sequence) == "array('i')"
+    result.sequence = [0, 1, 1]
+    result.sequence.append(2)
+    assert repr(result.sequence) == "array('i', [0, 1, 1, 2])"  # what a goal's result prints
+    assert result.to_json() == {"sequence": [0, 1, 1, 2]}
+    assert Fibonacci.Result.from_json({"sequence": [0, 1]}).sequence == array.array("i", [0, 1])
+    joints = JointState(position=[1.0, 2.0])
+    assert joints.position == array.array("d", [1.0, 2.0]) and joints.velocity == array.array("d")
+    assert JointState.from_json(joints.to_json()) == joints
+    pose = PoseWithCovariance()
+    assert isinstance(pose.covariance, numpy.ndarray) and pose.covariance.dtype == numpy.float64
+    assert pose == PoseWithCovariance() and pose.to_json()["covariance"] == [0.0] * 36
+    assert Image().data == b""  # uint8[] stays bytes (the lab's images)
+    result.sequence = ["not a number"]  # kept as given: publishing it names the field
+    with pytest.raises(TypeError, match="'example_interfaces/FibonacciResult.sequence' field must be of type 'int'"):
+        result.to_json()

@@ -105,7 +105,7 @@ def _typed(f: Field, value: object) -> object:
 def _same(a: object, b: object) -> bool:
     """Two field values equal (a numpy array's == is elementwise: equal when every element is)."""
     if hasattr(a, "shape") or hasattr(b, "shape"):
-        return type(a) is type(b) and bool(len(a) == len(b) and (a == b).all())  # type: ignore[arg-type,attr-defined,operator]
+        return type(a) is type(b) and bool(len(a) == len(b) and (a == b).all())  # type: ignore[arg-type,attr-defined]
     return a == b
 
 

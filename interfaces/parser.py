@@ -74,7 +74,8 @@ class Field:
         if typed is not None:
             if self.default is not None:
                 return as_typed(typed, self.default)
-            return as_typed(typed, [] if self.array is True or self.bound else [self._scalar_zero()] * int(self.array))
+            length = 0 if self.array is True or self.bound else int(self.array or 0)
+            return as_typed(typed, [self._scalar_zero()] * length)
         if self.default is not None:
             return list(self.default) if isinstance(self.default, list) else self.default
         if self.array is not None:

@@ -4,12 +4,13 @@ rospy) or by position (rospy, genpy), and rosbridge's JSON both ways (`to_json`,
 from __future__ import annotations
 
 import binascii
-from typing import cast
+from typing import ClassVar, cast
 
 import pybase64
 
 from interfaces.json_value import JSON
 from interfaces.parser import BYTES, FLOATS, INTEGERS, Field
+from interfaces.sequences import as_typed, typecode, typed
 
 
 class Message:
@@ -23,6 +24,9 @@ class Message:
     _fields: tuple[Field, ...] = ()
     _definition = ""
     _default_values = 0  # values its default holds (capped: parser.MAX_DEFAULT_VALUES)
+    _numeric: ClassVar[
+        dict[str, Field]
+    ] = {}  # attr -> its field, the numeric arrays (typed in rclpy: interfaces/sequences.py)
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         fields = self._fields
@@ -45,7 +49,17 @@ class Message:
                 value = None
             if value is None:  # genpy: None (by position or by name) is the field's default
                 value = f.zero()
+            elif typed[0] and f.attr in self._numeric:
+                value = _typed(f, value)
             object.__setattr__(self, f.attr, value)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        """As rclpy's setters: a numeric array given as a list is held as its typed array."""
+        if typed[0]:
+            f = self._numeric.get(name)
+            if f is not None:
+                value = _typed(f, value)
+        object.__setattr__(self, name, value)
 
     @classmethod
     def get_fields_and_field_types(cls) -> dict[str, str]:
@@ -56,7 +70,9 @@ class Message:
         return [f.type_text for f in self._fields]
 
     def __eq__(self, other: object) -> bool:
-        return type(other) is type(self) and all(getattr(self, f.attr) == getattr(other, f.attr) for f in self._fields)
+        return type(other) is type(self) and all(
+            _same(getattr(self, f.attr), getattr(other, f.attr)) for f in self._fields
+        )
 
     def __repr__(self) -> str:
         pkg, _, name = self._type.partition("/")
@@ -79,6 +95,18 @@ class Message:
             value = data.get(f.name)
             setter(out, f.attr, f.zero() if value is None else _from_json(f, value))
         return out
+
+
+def _typed(f: Field, value: object) -> object:
+    kind = typecode(f.base, f.array, f.bound)
+    return value if kind is None else as_typed(kind, value)
+
+
+def _same(a: object, b: object) -> bool:
+    """Two field values equal (a numpy array's == is elementwise: equal when every element is)."""
+    if hasattr(a, "shape") or hasattr(b, "shape"):
+        return type(a) is type(b) and bool(len(a) == len(b) and (a == b).all())  # type: ignore[arg-type,attr-defined]
+    return a == b
 
 
 def _to_json(owner: str, f: Field, value: object) -> JSON:
@@ -144,7 +172,9 @@ def _from_json(f: Field, value: JSON) -> object:
             if not all(isinstance(v, int) for v in value):
                 raise TypeError(f"The '{f.attr}' field must be a list of byte values ({f.type_text})")
             return bytes(cast("list[int]", value))
-        return [_scalar_from_json(f, v) for v in value]
+        values = [_scalar_from_json(f, v) for v in value]
+        kind = typecode(f.base, f.array, f.bound)
+        return values if kind is None else as_typed(kind, values)
     return _scalar_from_json(f, value)
 
 

@@ -29,6 +29,7 @@ from interfaces.parser import (
     read_definition,
     sections,
 )
+from interfaces.sequences import TYPECODES
 
 SHARE = Path(__file__).parent / "share"
 SHARE_ROS1 = Path(__file__).parent / "share_ros1"  # ROS 1's own versions (std_msgs/Header with seq), for rospy
@@ -241,6 +242,7 @@ class Interfaces:
             "_fields": tuple(fields),
             "_definition": text,
             "_default_values": values,
+            "_numeric": {f.attr: f for f in fields if f.array is not None and f.base in TYPECODES},
             "__slots__types": [f.type_text for f in fields],
             "__module__": f"{package}.msg",
         }

@@ -18,6 +18,8 @@ from interfaces.definition_limits import MAX_DEFINITION_CHARS as MAX_DEFINITION_
 from interfaces.definition_limits import MAX_DEFINITION_FIELDS as MAX_DEFINITION_FIELDS
 from interfaces.definition_limits import MAX_FIXED_ARRAY as MAX_FIXED_ARRAY
 
+from interfaces.sequences import as_typed, typecode
+
 INTEGERS = {
     "byte": (0, 255),
     "char": (0, 255),
@@ -68,6 +70,12 @@ class Field:
         return f"{base}[{'<=' if self.bound else ''}{self.array if self.array is not True else ''}]"
 
     def zero(self) -> object:
+        typed = typecode(self.base, self.array, self.bound)  # rclpy's typed numeric arrays (interfaces/sequences.py)
+        if typed is not None:
+            if self.default is not None:
+                return as_typed(typed, self.default)
+            length = 0 if self.array is True or self.bound else int(self.array or 0)
+            return as_typed(typed, [self._scalar_zero()] * length)
         if self.default is not None:
             return list(self.default) if isinstance(self.default, list) else self.default
         if self.array is not None:

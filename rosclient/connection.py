@@ -129,6 +129,7 @@ class Connection:
         self.header_handlers: dict[str, list[Callable[[dict, dict], None]]] = {}
         # handlers given each publish frame undecoded, its bytes (rclpy's subscriptions: `message_of`)
         self.frame_handlers: dict[str, list[Callable[[bytes | dict], None]]] = {}
+        self._subscriptions: dict[str, tuple[str, Callable[..., None]]] = {}  # subscribe id -> (topic, handler)
         self._with_header: set[str] = set()  # ids of calls answered with the server's connection header
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
@@ -168,20 +169,24 @@ class Connection:
         throttle_rate: int = 0,
         connection_header: bool = False,
         undecoded: bool = False,
+        volatile: bool = False,
     ) -> str:
         """Hand `topic`'s messages to `handler`; with `connection_header` (the lab's extension), as
         `handler(msg, header)`, the header of the publisher that sent it ({} when the lab sent none);
         `undecoded`: as the publish frame's bytes, left for the taker to decode (`message_of`): a
         subscription whose queue drops what its callback cannot take never decodes those (30 images a
-        second of 1.2 MB: the reader's JSON held the interpreter 1.6 ms each)."""
+        second of 1.2 MB: the reader's JSON held the interpreter 1.6 ms each). `volatile` (the lab's
+        extension, rclpy's VOLATILE durability): none of what latched publishers kept; without it
+        their history comes first, addressed to this subscription's id (_dispatch)."""
+        sid = self.next_id(f"subscribe:{topic}")
         with self._lock:
+            self._subscriptions[sid] = (topic, handler)
             if connection_header:
                 self.header_handlers.setdefault(topic, []).append(handler)
             elif undecoded:
                 self.frame_handlers.setdefault(topic, []).append(handler)
             else:
                 self.topic_handlers.setdefault(topic, []).append(handler)
-        sid = self.next_id(f"subscribe:{topic}")
         frame = {
             "op": "subscribe",
             "id": sid,
@@ -192,11 +197,14 @@ class Connection:
         }
         if connection_header:
             frame["connection_header"] = True
+        if volatile:
+            frame["durability"] = "volatile"
         self.send(frame)
         return sid
 
     def unsubscribe(self, topic: str, sid: str, handler: Callable[..., None]) -> None:
         with self._lock:
+            self._subscriptions.pop(sid, None)
             for table in (self.topic_handlers, self.header_handlers, self.frame_handlers):
                 handlers = table.get(topic, [])
                 if handler in handlers:
@@ -345,6 +353,10 @@ class Connection:
                 handlers = list(self.topic_handlers.get(topic, ()))
                 handlers += self.frame_handlers.get(topic, ())  # decoded already, for the topic's other handlers
                 with_header = list(self.header_handlers.get(topic, ()))
+                addressed = self._subscriptions.get(str(message.get("id"))) if "id" in message else None
+            if addressed is not None and addressed[0] == topic:  # a latched message for one subscription
+                handlers = [h for h in handlers if h is addressed[1]]
+                with_header = [h for h in with_header if h is addressed[1]]
             for handler in handlers:
                 handler(message.get("msg") or {})
             if with_header:

@@ -27,6 +27,7 @@ shutdown_event = threading.Event()
 shutdown_reason: list[str] = []
 _advertised: set[str] = set()
 _headers: dict[str, dict[str, str]] = {}  # topic -> its connection header's extra fields (rospy's)
+_latched: dict[str, int] = {}  # topic -> the history depth the lab keeps for late subscribers (advertise's latch)
 _publishers: dict[str, int] = {}  # topic -> the publisher objects of it in this program (rospy's and rclpy's)
 CALLBACK_GRACE_S = 2.0  # s a callback in progress gets to finish when the program ends
 _callbacks = [0]  # callbacks running now (rospy's subscriber threads)
@@ -79,28 +80,37 @@ def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
     return remaps.get(resolved, resolved)
 
 
-def advertise_once(topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None) -> None:
+def advertise_once(
+    topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None, latch: int = 0
+) -> None:
     """Advertise a topic once; with its message class, its full definition goes along (beyond
     rosbridge's fields, as ROS's connection header carries it): `hri-lab bag record` writes it into
     the bag's schema, so a program's own types are in the file. `headers`: fields of the topic's
     connection header (rospy's `Publisher(headers=...)`, the lab's extension), added to the ones
     earlier publishers of the topic gave (as rospy's publishers of a topic share one header): new
-    ones advertise the topic again."""
-    if not headers and topic in _advertised:  # every publish passes here
+    ones advertise the topic again. `latch`: the messages the lab keeps for a late subscriber (rclpy's
+    TRANSIENT_LOCAL depth, rospy's latch: 1; rosbridge's `latch` and `queue_size`), the deepest of
+    the topic's publishers' (a deeper one advertises the topic again)."""
+    if not headers and topic in _advertised and latch <= _latched.get(topic, 0):  # every publish passes here
         return
     with _lock:
         merged = {**_headers.get(topic, {}), **(headers or {})}
         fresh = topic not in _advertised
-        if not fresh and merged == _headers.get(topic, {}):
+        deeper = latch > _latched.get(topic, 0)
+        if not fresh and merged == _headers.get(topic, {}) and not deeper:
             return
         _advertised.add(topic)
         if merged:
             _headers[topic] = merged
+        if deeper:
+            _latched[topic] = latch
     frame: dict[str, Any] = {"op": "advertise", "topic": topic, "type": type_name}
     if fresh and msg_class is not None and hasattr(msg_class, "_fields"):
         frame["definition"] = full_text(msg_class)
     if merged:
         frame["headers"] = merged
+    if _latched.get(topic):
+        frame.update(latch=True, queue_size=_latched[topic])
     connection().send(frame)
 
 
@@ -109,15 +119,18 @@ def unadvertise(topic: str) -> None:
     if topic in _advertised:
         _advertised.discard(topic)
         _headers.pop(topic, None)
+        _latched.pop(topic, None)
         connection().send({"op": "unadvertise", "topic": topic})
 
 
-def add_publisher(topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None) -> None:
+def add_publisher(
+    topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None, latch: int = 0
+) -> None:
     """A publisher object of `topic` made: the program advertises the topic while it holds one (as
     rospy's publishers of one topic share its connection, counted)."""
     with _lock:
         _publishers[topic] = _publishers.get(topic, 0) + 1
-    advertise_once(topic, type_name, msg_class, headers)
+    advertise_once(topic, type_name, msg_class, headers, latch)
 
 
 def remove_publisher(topic: str) -> None:

@@ -4,6 +4,7 @@ import argparse
 import json
 import os
 import sys
+import time
 
 import httpx
 import yaml
@@ -68,10 +69,27 @@ def _detail(response: httpx.Response) -> str:
     return str(detail)
 
 
-def _print_list(args, path: str) -> int:
-    """`ros2 X list [-t]`: one name per line, with [type] when asked."""
+def _ros2_type(type_name: str, kind: str) -> str:
+    from app.cli import graph
+
+    return graph.ros2_type(type_name, kind)
+
+
+def _print_list(args, path: str, kind: str) -> int:
+    """`ros2 X list [-t]`: one name per line, with [type] when asked (ROS 2's name: pkg/srv/Name)."""
     for item in _request(args, "GET", path).json():
-        print(f"{item['name']} [{item['type']}]" if args.show_types else item["name"])
+        print(f"{item['name']} [{_ros2_type(item['type'], kind)}]" if args.show_types else item["name"])
+    return 0
+
+
+def _service_find(args) -> int:
+    """`ros2 service find TYPE [-c]`: the services of a type (`pkg/srv/Name`, or `pkg/Name`), by name."""
+    wanted = _ros2_type(args.type.strip("/"), "srv")
+    found = [i["name"] for i in _request(args, "GET", "/services").json() if _ros2_type(i["type"], "srv") == wanted]
+    if args.count_services:
+        print(len(found))
+    for name in [] if args.count_services else sorted(found):
+        print(name)
     return 0
 
 
@@ -87,11 +105,16 @@ def _lookup(args, kind: str) -> tuple[str, httpx.Response]:
 # --- service ----------------------------------------------------------------------------------
 def service(args) -> int:
     if args.action == "list":
-        return _print_list(args, "/services")
+        return _print_list(args, "/services", "srv")
+    if args.action == "find":
+        return _service_find(args)
     name, info = _lookup(args, "services")
     info = info.json()
     if args.action == "type":
-        print(info["type"])
+        print(_ros2_type(info["type"], "srv"))
+        return 0
+    if args.action == "info":  # the lab's graph knows a service's server, not its clients
+        print(f"Type: {_ros2_type(info['type'], 'srv')}\nClients count: 0\nServices count: 1")
         return 0
     if args.action == "show":
         print(info["srv"])
@@ -160,6 +183,8 @@ def param(args) -> int:
             return 0
         print(f"Setting parameter failed: {body.get('reason')}")
         return 1
+    if args.action == "delete":
+        return _param_delete(args, node)
     if args.action == "describe":
         response = _request(args, "GET", f"/params/{node}/{args.name}/describe")
         if response.status_code != 200:
@@ -202,6 +227,34 @@ def param(args) -> int:
     raise CliError(f"unknown param action {args.action}")
 
 
+def _param_delete(args, node: str) -> int:
+    """`ros2 param delete NODE NAME`: the node's set_parameters with the value PARAMETER_NOT_SET (the
+    lab's nodes and the programs', as `param set` reaches them), its answer as ros2 prints it."""
+    response = _request(args, "PUT", f"/params/{node}/{args.name}", json={"value": None})
+    if response.status_code == 404 and not _node_known(args, node):
+        print("Node not found", file=sys.stderr)
+        return 1
+    body = response.json()
+    reason = str(body.get("reason") or "")
+    if body.get("successful"):
+        print("Deleted parameter successfully" + (f": {reason}" if reason else ""))
+        return 0
+    print("Deleting parameter failed" + (f": {reason}" if reason else ""), file=sys.stderr)
+    return 1
+
+
+def _node_known(args, node: str) -> bool:
+    """A node of the lab's parameters or of the graph."""
+    from app.cli import graph
+
+    if any(p["node"] == node for p in _request(args, "GET", "/params").json()):
+        return True
+    try:
+        return "/" + node.strip("/") in graph.node_list(args.url)
+    except (OSError, WebSocketException, TimeoutError):
+        return False
+
+
 def _ros1_param(args, name: str) -> int:
     """`rosparam get NAME`: the value of a ROS 1 parameter (e.g. /robot_description), asked of the
     lab's rosapi over its rosbridge endpoint, as rospy's get_param does; a string printed as is."""
@@ -241,12 +294,12 @@ def _graph_topics(args) -> dict[str, str]:
 
 
 def _topic_list(args) -> int:
-    """`ros2 topic list [-t]`: the lab's topics and the programs', sorted as ros2 sorts them."""
+    """`ros2 topic list [-t]`: the lab's topics and the programs', sorted as ros2 sorts them (types as ROS 2 names them)."""
     listed = {item["name"]: item["type"] for item in _request(args, "GET", "/topics").json()}
     for name, type_name in _graph_topics(args).items():
         listed.setdefault(name, type_name)
     for name in sorted(listed):
-        print(f"{name} [{listed[name]}]" if args.show_types else name)
+        print(f"{name} [{_ros2_type(listed[name], 'msg')}]" if args.show_types else name)
     return 0
 
 
@@ -270,10 +323,109 @@ def _program_topic_echo(args, name: str, failure: httpx.Response) -> int:
     return 0
 
 
+def _graph_type(args, name: str) -> str:
+    """The type of a topic of the graph (the lab's or a program's), or 'Unknown topic' as ros2 says it."""
+    type_name = _graph_topics(args).get(name)
+    if type_name is None:
+        type_name = next((i["type"] for i in _request(args, "GET", "/topics").json() if i["name"] == name), None)
+    if type_name is None:
+        raise CliError(f"Unknown topic '{name}'")
+    return type_name
+
+
+def _topic_info(args, name: str) -> int:
+    """`ros2 topic info NAME`: its type (ROS 2's name) and how many publish and subscribe to it."""
+    from app.cli import graph
+
+    type_name = _graph_type(args, name)
+    publishers, subscriptions = graph.counts(args.url, name)
+    print(f"Type: {_ros2_type(type_name, 'msg')}\nPublisher count: {publishers}\nSubscription count: {subscriptions}")
+    return 0
+
+
+def _topic_pub(args, name: str) -> int:
+    """`ros2 topic pub NAME TYPE [VALUES] [-1 | -t N] [-r HZ] [-w N]`: the message made of the YAML
+    values (a field it does not have refused), published as ros2 publishes and prints it."""
+    from app.cli import graph
+    from interfaces.packages import Interfaces
+
+    try:
+        message_class = Interfaces([]).message(args.type)
+    except ImportError:
+        raise CliError("The passed message type is invalid") from None
+    values = _yaml_arg(args.values)
+    unknown = sorted(set(values) - {f.name for f in message_class._fields})
+    if unknown:
+        raise CliError(f"Failed to populate field: {message_class._type} has no field '{unknown[0]}'")
+    try:
+        message = message_class.from_json(values)
+        wire = message.to_json()
+    except (TypeError, ValueError) as exc:
+        raise CliError(f"Failed to populate field: {exc}") from None
+    times = 1 if args.once else args.times
+    wait_for = args.wait_matching_subscriptions if args.wait_matching_subscriptions is not None else int(times != 0)
+
+    def published():
+        count = 0
+        while times == 0 or count < times:
+            count += 1
+            if count == 1:
+                print("publisher: beginning loop")
+            if args.print and count % args.print == 0:
+                print(f"publishing #{count}: {message!r}\n", flush=True)
+            yield wire
+
+    def waiting() -> None:
+        print(f"Waiting for at least {wait_for} matching subscription(s)...", flush=True)
+
+    try:
+        graph.publish(args.url, name, message_class._type, published(), 1.0 / args.rate, wait_for, waiting)
+    except graph.Refused as refused:
+        raise CliError(str(refused)) from None
+    except KeyboardInterrupt:
+        pass
+    except (OSError, WebSocketException, TimeoutError) as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+    return 0
+
+
+def _topic_watch(args, name: str) -> int:
+    """`ros2 topic hz NAME [-w N]` and `ros2 topic bw NAME [-w N]`: printed once a second while messages come."""
+    from app.cli import graph, topic_stats
+
+    type_name = _graph_type(args, name)
+    rate = topic_stats.Rate(args.window or topic_stats.HZ_WINDOW)
+    bandwidth = topic_stats.Bandwidth(args.window or topic_stats.BW_WINDOW)
+    if args.action == "bw":
+        print(f"Subscribed to [{name}]", flush=True)
+    printed = time.monotonic()
+    try:
+        for _, size in graph.frames(args.url, name, type_name):
+            now = time.monotonic()
+            rate.arrived(now)
+            bandwidth.arrived(now, size)
+            if now - printed >= REPORT_PERIOD_S:
+                printed = now
+                lines = rate.report() if args.action == "hz" else bandwidth.report(now)
+                if lines:
+                    print(lines, flush=True)
+    except KeyboardInterrupt:
+        pass
+    except (OSError, WebSocketException, TimeoutError) as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+    return 0
+
+
+REPORT_PERIOD_S = 1.0  # s between the lines of topic hz and bw (ros2's timer)
+TOPIC_VERBS = {"info": _topic_info, "pub": _topic_pub, "hz": _topic_watch, "bw": _topic_watch}
+
+
 def topic(args) -> int:
     if args.action == "list":
         return _topic_list(args)
     name = absolute(args.name)
+    if args.action in TOPIC_VERBS:
+        return TOPIC_VERBS[args.action](args, name)
     response = _request(args, "GET", f"/topics{name}")
     if response.status_code == 404:
         return _program_topic_echo(args, name, response)
@@ -325,7 +477,7 @@ def _indented(values: dict | None) -> str:
 
 def action(args) -> int:
     if args.action == "list":
-        return _print_list(args, "/actions")
+        return _print_list(args, "/actions", "action")
     name, info = _lookup(args, "actions")
     if args.action == "info":
         info = info.json()
@@ -392,8 +544,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
     srv_sub = srv.add_subparsers(dest="action", required=True)
     srv_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
-    for verb in ("type", "show"):
+    for verb in ("type", "show", "info"):
         srv_sub.add_parser(verb, parents=[url]).add_argument("name")
+    find = srv_sub.add_parser(
+        "find", parents=[url], help="the services of a type, e.g. example_interfaces/srv/AddTwoInts"
+    )
+    find.add_argument("type")
+    find.add_argument("-c", "--count-services", action="store_true", help="only their number")
     call = srv_sub.add_parser("call", parents=[url])
     call.add_argument("name")
     call.add_argument(
@@ -413,6 +570,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p = prm_sub.add_parser("describe", parents=[url])
     p.add_argument("node")
     p.add_argument("name")
+    p = prm_sub.add_parser("delete", parents=[url], help="undeclare a node's parameter (ros2 param delete NODE NAME)")
+    p.add_argument("node")
+    p.add_argument("name")
     p = prm_sub.add_parser("set", parents=[url])
     p.add_argument("node")
     p.add_argument("name")
@@ -429,6 +589,27 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     echo.add_argument("--once", action="store_true", help="print one message and exit")
     echo.add_argument("--rate", type=float, default=10.0, help="messages per second (default 10)")
     echo.add_argument("--count", "-n", type=int, help="exit after this many messages (rostopic echo -n N)")
+    top_sub.add_parser("info", parents=[url], help="its type, publisher and subscription counts").add_argument("name")
+    pub = top_sub.add_parser("pub", parents=[url], help="publish a message (ros2 topic pub NAME TYPE VALUES)")
+    pub.add_argument("name")
+    pub.add_argument("type", help="e.g. std_msgs/msg/String")
+    pub.add_argument("values", nargs="?", default="{}", help="the message as YAML, e.g. '{data: hello}'")
+    pub.add_argument("-r", "--rate", type=_positive_float, default=1.0, help="publishing rate in Hz (default: 1)")
+    pub.add_argument("-p", "--print", type=int, default=1, help="only print every N-th message (default: 1)")
+    once = pub.add_mutually_exclusive_group()
+    once.add_argument("-1", "--once", action="store_true", help="publish one message and exit")
+    once.add_argument("-t", "--times", type=arguments.positive_int, default=0, help="publish N times and exit")
+    pub.add_argument(
+        "-w",
+        "--wait-matching-subscriptions",
+        type=int,
+        default=None,
+        help="wait for N subscriptions first (default: 1 with --once/--times, else 0)",
+    )
+    for verb, what in (("hz", "its average publishing rate"), ("bw", "the bandwidth it uses")):
+        watch = top_sub.add_parser(verb, parents=[url], help=f"{what}, printed each second")
+        watch.add_argument("name")
+        watch.add_argument("-w", "--window", type=arguments.positive_int, help="the window, in messages")
     top.set_defaults(func=topic)
 
     act = sub.add_parser("action", help="actions (like ros2 action)")
@@ -454,6 +635,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         "type", help="e.g. std_msgs/msg/String, example_interfaces/srv/AddTwoInts"
     )
     itf.set_defaults(func=interface)
+
+
+def _positive_float(text: str) -> float:
+    value = float(text)
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
+    return value
 
 
 def run(func, args) -> int:

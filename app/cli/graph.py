@@ -1,14 +1,15 @@
-"""The graph as the programs make it, for `hri-lab topic list|echo`: the programs' own topics (a
-running talker's /chatter) are not the lab's HTTP topics, so these commands also ask the lab's
-rosbridge endpoint (`ws://HOST:PORT/`, rosbridge protocol v2: rosapi's topics, a subscribe), as
-ros2cli asks the ROS graph."""
+"""The graph as the programs make it, for `hri-lab topic list|echo|info|pub|hz|bw`, `node`, `param
+delete`: the programs' own topics (a running talker's /chatter) are not the lab's HTTP topics, so
+these commands also ask the lab's rosbridge endpoint (`ws://HOST:PORT/`, rosbridge protocol v2:
+rosapi's topics, a subscribe, an advertise and its publishes), as ros2cli asks the ROS graph."""
 
 from __future__ import annotations
 
 import itertools
 import json
 import os
-from collections.abc import Iterator
+import time
+from collections.abc import Callable, Iterator
 from typing import Any
 
 from websockets.sync.client import connect
@@ -42,12 +43,82 @@ def topics(url: str) -> dict[str, str]:
 
 def messages(url: str, topic: str, type_name: str) -> Iterator[dict[str, Any]]:
     """The messages published on `topic` from now on (rosbridge's subscribe)."""
+    for message, _ in frames(url, topic, type_name):
+        yield message
+
+
+def frames(url: str, topic: str, type_name: str) -> Iterator[tuple[dict[str, Any], int]]:
+    """The messages published on `topic` from now on, each with its frame's size (bytes of its JSON
+    text, what `topic bw` counts where ros2 counts the CDR bytes)."""
     with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
         ws.send(json.dumps({"op": "subscribe", "id": f"hri-lab-cli-{next(_ids)}", "topic": topic, "type": type_name}))
         while True:
-            message = json.loads(ws.recv())
+            text = ws.recv()
+            message = json.loads(text)
             if message.get("op") == "publish" and message.get("topic") == topic:
-                yield message.get("msg", {})
+                yield message.get("msg", {}), len(text.encode() if isinstance(text, str) else text)
+
+
+def counts(url: str, topic: str) -> tuple[int, int]:
+    """(publishers, subscriptions) of `topic`: the clients rosapi lists on it, the lab's node as one."""
+    publishers = call(url, "/rosapi/publishers", {"topic": topic}).get("publishers", [])
+    subscribers = call(url, "/rosapi/subscribers", {"topic": topic}).get("subscribers", [])
+    return len(publishers), len(subscribers)
+
+
+class Refused(Exception):
+    """The lab refused a frame of this command (its status message)."""
+
+
+def publish(
+    url: str,
+    topic: str,
+    type_name: str,
+    messages: Iterator[dict[str, Any]],
+    period_s: float,
+    wait_for: int,
+    waiting: Callable[[], None],
+) -> None:
+    """`topic pub`: advertise `topic`, wait until `wait_for` subscriptions are on it (`waiting()` told
+    once when it must wait), then publish each of `messages` every `period_s` s (the first at once);
+    Refused with the lab's reason."""
+    with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
+        link = _Link(ws)
+        ws.send(json.dumps({"op": "node", "name": HIDDEN}))
+        ws.send(json.dumps({"op": "advertise", "id": "pub", "topic": topic, "type": type_name}))
+        link.call("/rosapi/get_time")  # the advertise handled: refused or not
+        told = False
+        while len(link.call("/rosapi/subscribers", {"topic": topic}).get("subscribers", [])) < wait_for:
+            if not told:
+                told = True
+                waiting()
+            time.sleep(WAIT_STEP_S)
+        due = time.monotonic()
+        for message in messages:
+            time.sleep(max(0.0, due - time.monotonic()))
+            ws.send(json.dumps({"op": "publish", "id": "pub", "topic": topic, "msg": message}))
+            link.call("/rosapi/get_time")  # handled before the next (and before the socket closes)
+            due += period_s
+
+
+WAIT_STEP_S = 0.1  # s between looks for a matching subscription (ros2 topic pub's)
+
+
+class _Link:
+    """One rosbridge connection's calls, answered in order; a refusal of an earlier frame raises."""
+
+    def __init__(self, ws: Any) -> None:
+        self.ws = ws
+
+    def call(self, service: str, args: dict[str, Any] | None = None) -> dict[str, Any]:
+        ident = f"hri-lab-cli-{next(_ids)}"
+        self.ws.send(json.dumps({"op": "call_service", "id": ident, "service": service, "args": args or {}}))
+        while True:
+            message = json.loads(self.ws.recv(timeout=TIMEOUT_S))
+            if message.get("op") == "status" and message.get("level") == "error":
+                raise Refused(str(message.get("msg")))
+            if message.get("op") == "service_response" and message.get("id") == ident:
+                return dict(message.get("values") or {})
 
 
 # --- `hri-lab node list|info`, `hri-lab interface show` ---------------------------------------------------

@@ -63,7 +63,10 @@ def to_json(value: Any) -> Any:
 
 def from_json(value: Any, kind: int | None = None) -> dict:
     """A JSON value -> rcl_interfaces/ParameterValue; `kind`: the parameter's declared type (an
-    integer is sent as a double to a double parameter: JSON has one number type)."""
+    integer is sent as a double to a double parameter: JSON has one number type); None: not set
+    (`ros2 param delete`'s value)."""
+    if value is None:
+        return {"type": NOT_SET}
     if isinstance(value, bool):
         code = BOOL
     elif isinstance(value, int):

@@ -43,8 +43,8 @@ def test_params_file_loaded_at_start(server):
 def test_service_cli(server):
     url, _ = server
     out = cli(url, "service", "list", "-t").stdout
-    assert "/add_two_ints [hri_lab/AddTwoInts]" in out
-    assert cli(url, "service", "type", "/divide_ints").stdout.strip() == "hri_lab/DivideInts"
+    assert "/add_two_ints [hri_lab/srv/AddTwoInts]" in out
+    assert cli(url, "service", "type", "/divide_ints").stdout.strip() == "hri_lab/srv/DivideInts"
     call = cli(url, "service", "call", "/divide_ints", "{a: 1, b: 0}")
     assert call.returncode == 0
     assert "response:\nhri_lab.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
@@ -96,7 +96,7 @@ def test_param_get_of_a_ros1_name_is_rosparam_get(server):
 
 def test_topic_cli(server):
     url, _ = server
-    assert "/franka_state_controller/F_ext [geometry_msgs/WrenchStamped]" in cli(url, "topic", "list", "-t").stdout
+    assert "/franka_state_controller/F_ext [geometry_msgs/msg/WrenchStamped]" in cli(url, "topic", "list", "-t").stdout
     echo = cli(url, "topic", "echo", "/lifting_state", "--once").stdout
     assert "started: false" in echo
     assert echo.rstrip().endswith("---")
@@ -166,7 +166,7 @@ def test_a_client_that_never_reads_does_not_stall_the_loop(server):
 
 def test_action_cli(server):
     url, _ = server
-    assert "/count [hri_lab/Count]" in cli(url, "action", "list", "-t").stdout
+    assert "/count [hri_lab/action/Count]" in cli(url, "action", "list", "-t").stdout
     out = cli(url, "action", "send_goal", "/count", "{count: 2}", "--feedback")
     assert out.returncode == 0, out.stderr
     assert "Goal accepted with ID:" in out.stdout

@@ -52,7 +52,7 @@ def _cancel_run(lab, accept: bool) -> Program:
     finally:
         server.interrupt()
     assert "Goal accepted :)" in client.output
-    assert "Received feedback: [0, 1, 1" in client.output
+    assert "Received feedback: array('i', [0, 1, 1" in client.output  # rclpy's typed sequence
     return client
 
 
@@ -260,3 +260,16 @@ def test_service_introspection_publishes_each_step_of_a_call(lab, ros):
     assert steps[1]["request"] == []
     assert steps[2]["response"] == []
     assert len(b64decode(steps[0]["info"]["client_gid"])) == 16  # char[16], base64 as rosbridge sends it
+
+
+def test_a_late_transient_local_subscription_hears_all_a_publisher_kept_and_a_volatile_one_none(lab):
+    talker = run(lab.url, "transient_talker_rclpy.py")
+    try:
+        talker.wait_for_line("published 10")
+        listener = run(lab.url, "transient_listener_rclpy.py")
+        assert listener.wait(timeout=120) == 0, listener.output
+    finally:
+        talker.interrupt()
+    heard = ", ".join(f"message {i}" for i in range(10))
+    assert f"transient_local heard: {heard}" in listener.output
+    assert "volatile heard 0" in listener.output

@@ -102,7 +102,7 @@ def test_the_ros2_cli_sees_a_programs_topic_and_calls_with_a_type(lab):
         talker.wait_for_line("Publishing")
         server.wait_for_line("myServer ready")
         listed = _cli(lab, "topic", "list", "-t").stdout.splitlines()
-        assert "/topic [std_msgs/String]" in listed
+        assert "/topic [std_msgs/msg/String]" in listed
         assert listed == sorted(listed)  # as ros2 topic list sorts them
         echo = _cli(lab, "topic", "echo", "/topic", "-n", "1")  # rostopic's -n
         assert echo.returncode == 0, echo.stderr

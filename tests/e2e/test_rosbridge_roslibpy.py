@@ -104,7 +104,7 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
     }
     assert http.post(f"{lab.url}/services/toggle", json={"data": 1}).status_code == 422
     assert http.get(f"{lab.url}/services/toggle").json()["srv"] == "bool data\n---\nbool success\nstring message"
-    assert "/toggle [std_srvs/SetBool]" in cli(lab.url, "service", "list", "-t").stdout
+    assert "/toggle [std_srvs/srv/SetBool]" in cli(lab.url, "service", "list", "-t").stdout
     out = cli(lab.url, "service", "call", "/toggle", "{data: false}")
     assert "response:\nstd_srvs.SetBool_Response(success=False, message='toggled')" in out.stdout, out.stderr
     for service in services:

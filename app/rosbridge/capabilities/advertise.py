@@ -10,9 +10,17 @@ The lab's extension `headers` ({str: str}, bounded: protocol.headers_field) is a
 connection header's extra fields (rospy's `Publisher(headers=...)`): the relay hands them, with the
 publisher's node name as `callerid`, to the subscribers that ask for connection headers
 (capabilities/subscribe.py). An advertise that carries them replaces the topic's earlier ones.
+
+rosbridge's `latch` (with `queue_size`, the history depth, 100 when absent as in rosbridge_suite)
+makes the publisher a ROS 2 TRANSIENT_LOCAL one (ROS 1's latched: depth 1): the relay keeps its last
+`queue_size` messages (at most MAX_LATCHED) while it publishes the topic, and a later subscription
+gets them first (capabilities/subscribe.py). An advertise with `latch` may deepen the history,
+never undo it (a program's publishers of a topic share one advertise).
 """
 
 from __future__ import annotations
+
+from collections import deque
 
 from app.ros import rosout
 from app.ros.node_services import normalise_type
@@ -24,6 +32,8 @@ from interfaces.packages import field_count
 from interfaces.parser import MAX_DEFINITION_FIELDS
 
 MAX_DEFINITION = 64_000  # characters of a carried message definition kept for recorders
+MAX_LATCHED = 100  # messages a latched publisher's history keeps per topic at most (an image's is a few MB)
+DEFAULT_QUEUE_SIZE = 100  # rosbridge_suite's advertise default
 
 
 class Advertise(Capability):
@@ -38,6 +48,7 @@ class Advertise(Capability):
         self.rosout_type = rosout.TYPE
         self.headers: dict[str, dict[str, str]] = {}  # topic -> the connection header's extra fields
         self._connection_headers: dict[str, tuple[str, dict[str, str]]] = {}  # topic -> (node name, header)
+        self.latched: dict[str, deque[tuple[dict, dict]]] = {}  # topic -> its last (message, header)s kept
 
     @property
     def publishing(self) -> set[str]:
@@ -64,6 +75,10 @@ class Advertise(Capability):
         topic = name_field(message, "topic")
         type_name = normalise_type(field(message, "type", str))
         headers = headers_field(message)
+        latch = field(message, "latch", bool, False)
+        queue_size = field(message, "queue_size", int, DEFAULT_QUEUE_SIZE)
+        if queue_size < 0:
+            raise BadFrame("advertise: 'queue_size' must be >= 0")
         known = bridge.topic_types().get(topic)
         if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
             if type_name not in rosout.TYPES:
@@ -96,7 +111,20 @@ class Advertise(Capability):
         if headers is not None:
             self.headers[topic] = headers
             self._connection_headers.pop(topic, None)
+        if latch and topic not in TF_TOPICS:
+            self._latch(topic, min(max(queue_size, 1), MAX_LATCHED))
         self._hold(topic, id_)
+
+    def _latch(self, topic: str, depth: int) -> None:
+        kept = self.latched.get(topic)
+        if kept is None or (kept.maxlen or 0) < depth:
+            self.latched[topic] = deque(kept or (), maxlen=depth)
+
+    def keep(self, topic: str, message: dict, header: dict) -> None:
+        """A message this client published on `topic`: kept if its publisher is latched."""
+        kept = self.latched.get(topic)
+        if kept is not None:
+            kept.append((message, header))
 
     async def unadvertise(self, message: dict, id_: Id) -> None:
         topic = name_field(message, "topic")
@@ -115,6 +143,7 @@ class Advertise(Capability):
         if ids:  # another of its advertise ops still holds the publisher
             return
         del self.ids[topic]
+        self.latched.pop(topic, None)
         self.headers.pop(topic, None)
         self._connection_headers.pop(topic, None)
         self.bridge.leave(topic, publisher=self.session)
@@ -123,6 +152,7 @@ class Advertise(Capability):
         for topic in self.ids:
             self.bridge.leave(topic, publisher=self.session)
         self.ids.clear()
+        self.latched.clear()
 
 
 OPS: Ops = {

@@ -75,6 +75,7 @@ class Publish(Capability):
         if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
             bridge.windows[topic] = msg
         header = advertised.connection_header(topic)  # for the streams that asked (capabilities/subscribe.py)
+        advertised.keep(topic, msg, header)  # a latched publisher's history (capabilities/advertise.py)
         for stream in list(entry.subscriptions):
             stream.offer(msg, header)
 

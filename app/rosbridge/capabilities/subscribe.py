@@ -4,7 +4,12 @@ are sampled from its snapshot (newest first; what a slow client cannot take is d
 simulation never waits); node topics are relayed from their publishers; /rosout carries each
 log line as it comes, as rcl_interfaces/Log or (asked for) rosgraph_msgs/Log. The lab's extension
 `connection_header: true` (rospy's subscribers) asks that a node topic's messages come with their
-publisher's connection header (capabilities/advertise.py); a lab topic's never do."""
+publisher's connection header (capabilities/advertise.py); a lab topic's never do.
+
+A subscription of a node topic gets first what its latched publishers kept (rosbridge_suite's ROS 2
+subscriber takes TRANSIENT_LOCAL when its publishers are; ROS 1's latched topics), each message
+addressed to it by its id; the lab's extension `durability: "volatile"` (an rclpy subscription
+of that durability) asks for none of it, as a DDS volatile reader gets none."""
 
 from __future__ import annotations
 
@@ -20,6 +25,7 @@ from sim.sampling import due
 from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.ros.node_services import normalise_type
+from app.rosbridge.capabilities.advertise import Advertise
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.streams import Stream
 from app.rosbridge.ports import Id, SessionLike
@@ -51,6 +57,7 @@ class Subscribe(Capability):
         if throttle < 0 or queue_length < 0:
             raise BadFrame("subscribe: 'throttle_rate' and 'queue_length' must be >= 0")
         wants_header = field(message, "connection_header", bool, False)  # the lab's extension (rospy's)
+        volatile = durability_field(message) == "volatile"
         compression = field(message, "compression", str, "none")
         if compression not in ("none", ""):
             raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
@@ -70,6 +77,7 @@ class Subscribe(Capability):
             stream.connection_header |= wants_header
             stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
             stream.configure()
+            self._latched(stream, id_, volatile)
             return
         stream = self.streams[topic] = self._open(topic, id_, throttle, queue_length)
         stream.connection_header = wants_header
@@ -88,6 +96,15 @@ class Subscribe(Capability):
             stream.tasks.append(asyncio.ensure_future(sample(lab, stream, lab_topic, min_period_s, bridge.latched)))
         else:
             bridge.node_topic(topic, normalise_type(type_name or known or "")).subscriptions.add(stream)
+            self._latched(stream, id_, volatile)
+
+    def _latched(self, stream: Stream, id_: Id, volatile: bool) -> None:
+        """What the node topic's latched publishers kept (capabilities/advertise.py), for subscription
+        `id_` (none for a volatile one; a lab topic has no entry: its latched ones are sampled)."""
+        entry = None if volatile else self.bridge.node_topics.get(stream.topic)
+        for publisher in list(entry.publishers) if entry is not None else ():
+            for message, header in list(publisher.capability(Advertise).latched.get(stream.topic, ())):
+                stream.offer(message, header, id_)
 
     def _open(self, topic: str, id_: Id, throttle: int, queue_length: int) -> Stream:
         """A new stream of `topic` for this client, sending from now on."""
@@ -120,6 +137,15 @@ class Subscribe(Capability):
         for stream in self.streams.values():
             self._close(stream)
         self.streams.clear()
+
+
+def durability_field(message: dict) -> str:
+    """The lab's extension `durability` (an rclpy subscription's): transient_local (the default, as
+    rosbridge_suite matches its publishers) or volatile."""
+    durability = field(message, "durability", str, "transient_local")
+    if durability not in ("transient_local", "volatile"):
+        raise BadFrame(f"subscribe: 'durability' must be transient_local or volatile, not {durability[:20]!r}")
+    return durability
 
 
 async def sample(

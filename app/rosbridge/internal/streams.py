@@ -21,7 +21,8 @@ class Stream:
     def __init__(self, session: SessionLike, topic: str, paced: bool = False) -> None:
         self.session, self.topic, self.paced = session, topic, paced  # session: has `async send(dict)`
         self.options: dict[Id, tuple[int, int]] = {}  # subscription id -> (throttle_rate ms, queue_length)
-        self.queue: deque[tuple[dict, dict | None]] = deque(maxlen=1)  # (message, its connection header)
+        # (message, its connection header, the subscription it is addressed to: a latched one's history)
+        self.queue: deque[tuple[dict, dict | None, Id]] = deque(maxlen=1)
         self.connection_header = False  # asked for: a node topic's messages carry their publisher's header
         self.ready = asyncio.Event()
         self.last_sent = -math.inf  # s, loop time of the last message sent (paced streams)
@@ -55,10 +56,12 @@ class Stream:
         if length != self.queue.maxlen:
             self.queue = deque(self.queue, maxlen=length)
 
-    def offer(self, message: dict, header: dict | None = None) -> None:
+    def offer(self, message: dict, header: dict | None = None, to: Id = None) -> None:
         """Queue a message for the sender (full: the oldest is dropped); never refused. `header`:
-        its publisher's connection header (a node topic's), sent if this stream asked for it."""
-        self.queue.append((message, header if self.connection_header else None))
+        its publisher's connection header (a node topic's), sent if this stream asked for it. `to`:
+        the id of the one subscription it is for (a latched publisher's history, which a client's
+        other subscriptions of the topic had already: the frame carries that id)."""
+        self.queue.append((message, header if self.connection_header else None, to))
         self.ready.set()
 
     async def deliver(self) -> None:
@@ -73,8 +76,13 @@ class Stream:
                         await asyncio.sleep(wait)
                         continue
                     self.last_sent = loop.time()
-                message, header = self.queue.popleft()
-                if self.bridge is not None:  # encoded once for every client's stream of the topic
+                message, header, to = self.queue.popleft()
+                if to is not None:  # addressed: its own frame, never shared
+                    frame = {"op": "publish", "id": to, "topic": self.topic, "msg": message}
+                    if header is not None:
+                        frame["connection_header"] = header
+                    await self.session.send(frame)
+                elif self.bridge is not None:  # encoded once for every client's stream of the topic
                     await self.session.send_text(self.bridge.shared.frame(self.topic, message, header))
                 else:
                     frame = {"op": "publish", "topic": self.topic, "msg": message}

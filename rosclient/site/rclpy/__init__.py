@@ -16,6 +16,7 @@ import threading
 from types import FrameType
 from typing import TYPE_CHECKING, Any
 
+from interfaces.sequences import use_typed
 from rosclient import process
 from rclpy import _arguments, utilities
 from rclpy.context import Context, default_context
@@ -31,6 +32,7 @@ if TYPE_CHECKING:
     from rclpy.node import Node
 
 process.ensure_interfaces()
+use_typed()  # numeric arrays as rclpy's messages hold them: array.array, numpy (interfaces/sequences.py)
 
 from rclpy.parameter import Parameter  # noqa: E402 - rclpy's top level exports it (the parameters tutorial)
 

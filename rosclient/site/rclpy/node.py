@@ -10,7 +10,7 @@ the on-set callbacks) and served with the standard rcl_interfaces services (rclp
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from rosclient import process
@@ -82,6 +82,8 @@ class Node:
         self._logger = get_logger(self._name)
         self._clock = Clock()
         self._lock = threading.RLock()
+        self._parameter_event_publisher: Publisher | None = None
+        self._destroyed_parameter_events = False
         process.declare_node(self.get_fully_qualified_name())  # the name the lab shows (rosapi, errors, /rosout)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._overrides.items():
@@ -257,6 +259,7 @@ class Node:
         return True
 
     def destroy_node(self) -> None:
+        self._destroyed_parameter_events = True  # no parameter event makes its publisher again
         for timer in self.timers:
             timer.cancel()
         if process.connected() and not process.shutdown_event.is_set():
@@ -360,7 +363,28 @@ class Node:
             self._parameters[name] = parameter
             self._descriptors[name] = descriptor
             declared.append(parameter)
+        self._parameter_event(new=declared)
         return declared
+
+    def _parameter_event(self, new: Sequence[Parameter] = (), changed: Sequence[Parameter] = (),
+                         deleted: Sequence[Parameter] = ()) -> None:
+        """rcl_interfaces/ParameterEvent on /parameter_events, as rclpy publishes it when parameters are
+        declared, set or deleted (its publisher made with the node's first parameter, where rclpy
+        makes it with the node: a node without parameters adds nothing to the graph)."""
+        if not (new or changed or deleted) or self._destroyed_parameter_events:
+            return
+        from rcl_interfaces.msg import ParameterEvent
+
+        if self._parameter_event_publisher is None:
+            from rclpy.qos import qos_profile_parameter_events
+
+            self._parameter_event_publisher = self.create_publisher(
+                ParameterEvent, "/parameter_events", qos_profile_parameter_events)
+        self._parameter_event_publisher.publish(ParameterEvent(
+            stamp=self._clock.now().to_msg(), node=self.get_fully_qualified_name(),
+            new_parameters=[p.to_parameter_msg() for p in new],
+            changed_parameters=[p.to_parameter_msg() for p in changed],
+            deleted_parameters=[p.to_parameter_msg() for p in deleted]))
 
     def undeclare_parameter(self, name: str) -> None:
         if name not in self._parameters:
@@ -457,17 +481,21 @@ class Node:
             result = self._run_callbacks(parameters)
             if not result.successful:
                 return result
+            event: dict[str, list[Parameter]] = {"new": [], "changed": [], "deleted": []}
             for parameter in parameters:
                 if parameter.type_ == Parameter.Type.NOT_SET:
                     self._parameters.pop(parameter.name, None)
                     self._descriptors.pop(parameter.name, None)
+                    event["deleted"].append(parameter)
                     continue
+                event["changed" if parameter.name in self._parameters else "new"].append(parameter)
                 if parameter.name not in self._descriptors:
                     from rcl_interfaces.msg import ParameterDescriptor
 
                     self._descriptors[parameter.name] = ParameterDescriptor(name=parameter.name,
                                                                             type=parameter.type_.value)
                 self._parameters[parameter.name] = parameter
+            self._parameter_event(**event)
         for post in self._post_set_callbacks:
             post(parameters)
         return SetParametersResult(successful=True)

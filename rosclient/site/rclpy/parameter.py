@@ -1,6 +1,7 @@
 """rclpy.parameter.Parameter: a named, typed value (rcl_interfaces/ParameterType)."""
 from __future__ import annotations
 
+import array
 import math
 from enum import Enum
 from typing import Any
@@ -33,7 +34,7 @@ class Parameter:
                 return cls.STRING
             if isinstance(value, (bytes, bytearray)):
                 return cls.BYTE_ARRAY
-            if isinstance(value, (list, tuple)):
+            if isinstance(value, (list, tuple, array.array)):  # array.array: a ParameterValue's (rclpy's too)
                 if value and all(isinstance(v, bool) for v in value):
                     return cls.BOOL_ARRAY
                 if value and all(isinstance(v, int) and not isinstance(v, bool) for v in value):
@@ -102,7 +103,7 @@ def _matches(type_: Parameter.Type, value: Any) -> bool:
         found = Parameter.Type.from_parameter_value(value)
     except TypeError:
         return False
-    return found == type_ or (isinstance(value, (list, tuple)) and not value and type_.value >= 5)
+    return found == type_ or (isinstance(value, (list, tuple, array.array)) and not value and type_.value >= 5)
 
 
 def to_value_msg(type_: Parameter.Type, value: Any):

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from typing import TYPE_CHECKING, Any
 
 from rosclient import process
 from interfaces.messages import Message
 from rclpy import _graph
-from rclpy.qos import QoSProfile, profile
+from rclpy.qos import DurabilityPolicy, QoSProfile, profile
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -18,6 +19,14 @@ def type_name(cls: Any) -> str:
     return str(getattr(cls, "_ros2_type", "") or cls._type)
 
 
+def kept_for_late_joiners(qos: QoSProfile) -> int:
+    """The messages a TRANSIENT_LOCAL publisher keeps for a late subscription: its history depth
+    (KEEP_ALL: all, which the lab caps: app/rosbridge/capabilities/advertise.py); none for VOLATILE."""
+    if qos.durability != DurabilityPolicy.TRANSIENT_LOCAL:
+        return 0
+    return qos.queue_length or sys.maxsize
+
+
 class Publisher:
     def __init__(self, node: Node, msg_type: type, topic: str, qos: QoSProfile | int) -> None:
         if not (isinstance(msg_type, type) and issubclass(msg_type, Message)):
@@ -26,7 +35,7 @@ class Publisher:
         self.topic_name = node.resolve_topic_name(topic)
         self.type = type_name(msg_type)
         self._destroyed = False
-        _graph.add_publisher(self.topic_name, self.type, msg_type)
+        _graph.add_publisher(self.topic_name, self.type, msg_type, kept_for_late_joiners(self.qos_profile))
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
 
     @property

@@ -80,6 +80,7 @@ qos_profile_sensor_data = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST
 qos_profile_system_default = QoSProfile(depth=10)
 qos_profile_services_default = QoSProfile(depth=10)
 qos_profile_parameters = QoSProfile(depth=1000)
+qos_profile_parameter_events = QoSProfile(depth=1000)
 qos_profile_action_status_default = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
@@ -88,3 +89,4 @@ class QoSPresetProfiles:
     SYSTEM_DEFAULT = qos_profile_system_default
     SERVICES_DEFAULT = qos_profile_services_default
     PARAMETERS = qos_profile_parameters
+    PARAMETER_EVENTS = qos_profile_parameter_events

@@ -16,7 +16,7 @@ from rclpy import _graph, context
 from rclpy._entity import Call, Entity
 from rclpy.callback_groups import CallbackGroup
 from rclpy.publisher import type_name
-from rclpy.qos import QoSProfile, profile
+from rclpy.qos import DurabilityPolicy, QoSProfile, profile
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -36,8 +36,13 @@ class Subscription(Entity):
         self._queue: deque[bytes | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
         self._sid = process.connection().subscribe(
-            self.topic_name, type_name(msg_type), self._offer, undecoded=True
-        )  # every message (connection.LAB_QUEUE): the QoS depth is this subscription's own queue
+            self.topic_name,
+            type_name(msg_type),
+            self._offer,
+            undecoded=True,
+            volatile=self.qos_profile.durability != DurabilityPolicy.TRANSIENT_LOCAL,
+        )  # every message (connection.LAB_QUEUE): the QoS depth is this subscription's own queue; a
+        # TRANSIENT_LOCAL one gets first what the latched publishers kept (as many as its depth keeps)
         self._destroyed = False
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
         _graph.add_subscription(self.topic_name)

@@ -96,7 +96,7 @@ class Publisher(Topic):
         # (headers' keys and values written as text, as rospy's handshake writes `key=value`)
         extra = {"latching": "1"} if latch else {}
         extra.update({str(k): str(v) for k, v in (headers or {}).items()})
-        process.add_publisher(self.name, self.type, self.data_class, extra)
+        process.add_publisher(self.name, self.type, self.data_class, extra, latch=1 if latch else 0)
         if subscriber_listener is not None:
             threading.Thread(
                 target=self._watch_peers, args=(subscriber_listener,), daemon=True, name=f"rospy-peers{self.name}"

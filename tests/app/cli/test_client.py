@@ -8,12 +8,35 @@ import contextlib
 import pytest
 
 from app.cli import client as cli
+from app.cli import graph
+from app.cli.topic_stats import Bandwidth, Rate
+from tests.waiting import within
+
+
+class _Socket:
+    """The app's rosbridge endpoint through the TestClient, as websockets' sync client answers."""
+
+    def __init__(self, session) -> None:
+        self.session = session
+
+    def send(self, text: str) -> None:
+        self.session.send_text(text)
+
+    def recv(self, timeout: float | None = None) -> str:
+        return self.session.receive_text()
+
+
+@contextlib.contextmanager
+def _rosbridge(client):
+    with client.websocket_connect("/") as session:
+        yield _Socket(session)
 
 
 @pytest.fixture
 def hri_lab(client, monkeypatch):
     """`hri-lab ARGS...` -> (exit code, stdout, stderr), its requests answered by the test's app."""
     monkeypatch.setattr(cli, "_client", lambda args: contextlib.nullcontext(client))
+    monkeypatch.setattr(graph, "connect", lambda url, **options: _rosbridge(client))  # its rosbridge endpoint
     parser = argparse.ArgumentParser(prog="hri-lab")
     cli.add_parsers(parser.add_subparsers(dest="command", required=True))
 
@@ -26,9 +49,15 @@ def hri_lab(client, monkeypatch):
 
 def test_service_list_type_show_and_call(hri_lab, capsys):
     assert hri_lab("service", "list", "-t") == 0
-    assert "/add_two_ints [hri_lab/AddTwoInts]" in capsys.readouterr().out.splitlines()
+    assert "/add_two_ints [hri_lab/srv/AddTwoInts]" in capsys.readouterr().out.splitlines()  # ROS 2's names
     assert hri_lab("service", "type", "add_two_ints") == 0
-    assert capsys.readouterr().out == "hri_lab/AddTwoInts\n"
+    assert capsys.readouterr().out == "hri_lab/srv/AddTwoInts\n"
+    assert hri_lab("service", "info", "/add_two_ints") == 0
+    assert capsys.readouterr().out == "Type: hri_lab/srv/AddTwoInts\nClients count: 0\nServices count: 1\n"
+    assert hri_lab("service", "find", "hri_lab/srv/AddTwoInts") == 0
+    assert capsys.readouterr().out == "/add_two_ints\n"
+    assert hri_lab("service", "find", "hri_lab/AddTwoInts", "-c") == 0
+    assert capsys.readouterr().out == "1\n"
     assert hri_lab("service", "call", "/add_two_ints", "{a: 2, b: 40}") == 0
     out = capsys.readouterr().out
     assert "requester: making request: hri_lab.AddTwoInts_Request(a=2, b=40)" in out
@@ -80,3 +109,58 @@ def test_action_list_and_a_goal_to_its_end(hri_lab, capsys):
     assert "Goal accepted with ID: " in out
     assert out.count("Feedback:\n") >= 1
     assert out.endswith("Goal finished with status: SUCCEEDED\n")
+
+
+def test_topic_pub_info_as_ros2_prints_them_to_a_listener(hri_lab, client, capsys):
+    with client.websocket_connect("/") as listener:
+        listener.send_json({"op": "subscribe", "id": "l", "topic": "/cli_chatter", "type": "std_msgs/String"})
+        assert hri_lab("topic", "info", "/cli_chatter") == 0  # the listener's subscription made the topic
+        assert capsys.readouterr().out == "Type: std_msgs/msg/String\nPublisher count: 0\nSubscription count: 1\n"
+        assert hri_lab("topic", "pub", "/cli_chatter", "std_msgs/msg/String", "{data: hi}", "--once") == 0
+        assert capsys.readouterr().out == "publisher: beginning loop\npublishing #1: std_msgs.msg.String(data='hi')\n\n"
+        heard = within(listener.receive_json, 30, "the published message")
+        assert heard["topic"] == "/cli_chatter" and heard["msg"] == {"data": "hi"}
+        assert hri_lab("topic", "pub", "-t", "2", "-r", "50", "/cli_chatter", "std_msgs/String", "{data: two}") == 0
+        assert capsys.readouterr().out.count("std_msgs.msg.String(data='two')") == 2
+        for _ in range(2):
+            assert within(listener.receive_json, 30, "one of two")["msg"] == {"data": "two"}
+    assert hri_lab("topic", "pub", "-1", "/joint_states", "sensor_msgs/msg/JointState", "-w", "0") == 1
+    assert "advertise: topic /joint_states is published by the lab" in capsys.readouterr().err
+    assert hri_lab("topic", "pub", "/x", "std_msgs/msg/String", "{date: hi}") == 1
+    assert "Failed to populate field: std_msgs/String has no field 'date'" in capsys.readouterr().err
+    assert hri_lab("topic", "pub", "/x", "std_msgs/msg/Nothing") == 1
+    assert "The passed message type is invalid" in capsys.readouterr().err
+    assert hri_lab("topic", "info", "/no_such_topic") == 1
+    assert "Unknown topic '/no_such_topic'" in capsys.readouterr().err
+
+
+def test_param_delete_asks_the_node_and_says_what_it_answered(hri_lab, capsys):
+    assert hri_lab("param", "delete", "/cooperative_lifting", "mu") == 1  # statically typed: rclcpp's refusal
+    assert capsys.readouterr().err == (
+        "Deleting parameter failed: Wrong parameter type, parameter {mu} is of type {double}, "
+        "setting it to {not set} is not allowed.\n"
+    )
+    assert hri_lab("param", "delete", "/cooperative_lifting", "no_such") == 1
+    assert (
+        capsys.readouterr().err
+        == "Deleting parameter failed: parameter 'no_such' cannot be set because it was not declared\n"
+    )
+    assert hri_lab("param", "delete", "/no_such_node", "mu") == 1
+    assert capsys.readouterr().err == "Node not found\n"
+
+
+def test_topic_hz_and_bw_report_as_ros2topic_computes_them():
+    rate = Rate()
+    assert rate.report() is None  # no interval yet
+    for at_s in (10.0, 10.1, 10.2, 10.4):
+        rate.arrived(at_s)
+    assert rate.report() == "average rate: 7.500\n\tmin: 0.100s max: 0.200s std dev: 0.04714s window: 3"
+    assert rate.report() is None  # nothing new since
+    small = Bandwidth()
+    for at_s, size in ((0.0, 100), (0.5, 300)):
+        small.arrived(at_s, size)
+    assert small.report(1.0) == "400 B/s from 2 messages\n\tMessage size mean: 200 B min: 100 B max: 300 B"
+    big = Bandwidth(window=2)  # the first arrival leaves the window: 3 MB over the 2 s since the second
+    for at_s in (0.0, 1.0, 2.0):
+        big.arrived(at_s, 1_500_000)
+    assert big.report(3.0) == "1.50 MB/s from 2 messages\n\tMessage size mean: 1.50 MB min: 1.50 MB max: 1.50 MB"

@@ -8,6 +8,7 @@ from concurrent.futures import Future as WireFuture
 
 import pytest
 
+from interfaces import sequences
 from rosclient import boot, process
 
 GENERATED = ("std_msgs", "example_interfaces", "rcl_interfaces", "builtin_interfaces", "geometry_msgs", "tf2_msgs", "sensor_msgs",
@@ -25,14 +26,16 @@ class RecordingConnection:
         self.calls: list[WireFuture] = []
         self.with_header: set = set()
         self.queue_lengths: dict[str, int] = {}  # what each subscription asked the lab to hold for it
+        self.volatile: dict[str, bool] = {}  # whether each topic's newest subscription asked for no latched history
 
     def send(self, message: dict) -> None:
         self.sent.append(message)
 
     def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False,
-                  undecoded=False) -> str:  # an undecoded handler takes the message itself too (message_of)
+                  undecoded=False, volatile=False) -> str:  # an undecoded handler takes the message itself too
         self.topic_handlers.setdefault(topic, []).append(handler)
         self.queue_lengths[topic] = queue_length
+        self.volatile[topic] = volatile
         if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
             self.with_header.add(handler)
         return f"subscribe:{topic}"
@@ -72,6 +75,9 @@ def site():
     try:
         yield
     finally:
+        sequences.typed[0] = False  # rclpy's typed arrays (its import turns them on)
+        for advertised in (process._advertised, process._headers, process._latched, process._publishers):
+            advertised.clear()  # the topics it advertised: the next test's connection has none
         process._connection.clear()
         process.shutdown_event.clear()
         process.shutdown_reason.clear()

@@ -125,3 +125,36 @@ def test_headers_out_of_bounds_are_refused_naming_the_field(headers, reason):
         assert "/bounded" not in session.capability(Advertise).ids
 
     run(check())
+
+
+def test_a_latched_publishers_last_messages_reach_a_late_subscription_as_deep_as_it_asked():
+    """rosbridge's `latch` and `queue_size`: a TRANSIENT_LOCAL publisher of depth 10 (rclpy's), its
+    10 messages kept for a subscription made after them, addressed to its id; a volatile one
+    (the lab's extension) gets none; a publisher that is gone leaves nothing behind."""
+
+    async def check() -> None:
+        lab = parts(replay=True)
+        talker, plain, late, volatile, again = [await connect(lab) for _ in range(5)]
+        await op(talker, op="advertise", topic="/plain", type="std_msgs/String")  # not latched
+        assert await op(talker, op="advertise", topic="/kept", type="std_msgs/String", latch=True, queue_size=10) == []
+        for i in range(12):
+            for topic in ("/plain", "/kept"):
+                await op(talker, op="publish", topic=topic, msg={"data": str(i)})
+        await op(plain, op="subscribe", id="p", topic="/plain", type="std_msgs/String")
+        await op(late, op="subscribe", id="late:1", topic="/kept", type="std_msgs/String")
+        await op(volatile, op="subscribe", id="v", topic="/kept", type="std_msgs/String", durability="volatile")
+        heard = await until(lambda: sent(late, "publish")[9:] and sent(late, "publish"), "the kept messages")
+        assert [m["msg"]["data"] for m in heard] == [str(i) for i in range(2, 12)]  # the last 10, oldest first
+        assert {m["id"] for m in heard} == {"late:1"}
+        await op(talker, op="publish", topic="/kept", msg={"data": "live"})  # marks the end of what each got
+        for session in (late, volatile):
+            await until(lambda s=session: any(m["msg"]["data"] == "live" for m in sent(s, "publish")), "the live one")
+        assert [m["msg"]["data"] for m in sent(volatile, "publish")] == ["live"]
+        assert sent(plain, "publish") == []  # a volatile publisher keeps nothing
+        bad = await op(talker, op="advertise", topic="/x", type="std_msgs/String", latch=True, queue_size=-1)
+        assert bad[0]["msg"] == "advertise: 'queue_size' must be >= 0"
+        await op(talker, op="unadvertise", topic="/kept")
+        await op(again, op="subscribe", id="a", topic="/kept", type="std_msgs/String")
+        assert sent(again, "publish") == []
+
+    run(check())

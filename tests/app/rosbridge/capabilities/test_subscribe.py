@@ -120,7 +120,7 @@ async def _f_ext_through_a_queue_of_one(looks: list[int], ring: _Ring | None = N
     async def sender() -> None:
         while True:
             while stream.queue:
-                message, _ = stream.queue.popleft()
+                message, _, _ = stream.queue.popleft()
                 stamp = message["header"]["stamp"]
                 taken.append(round(stamp["sec"] + stamp["nanosec"] * 1e-9, 3))
             await asyncio.sleep(0)

@@ -4,6 +4,8 @@ the logger service's levels, and a raw subscription's bytes."""
 
 import json
 
+import pytest
+
 
 def test_pre_set_callbacks_change_what_is_set_and_post_set_ones_hear_of_it(rclpy):
     from rclpy.parameter import Parameter
@@ -58,3 +60,74 @@ def test_a_raw_subscription_gets_the_message_as_it_travelled(rclpy):
     executor.add_node(node)
     executor.spin_once(timeout_sec=5)
     assert got == [json.dumps({"data": "hi"}).encode()]
+
+
+def test_numeric_sequences_are_typed_arrays_as_rclpy_gives_them(rclpy):
+    """rclpy's generated messages: a numeric sequence is an array.array of its type (a list given
+    is converted when set), a fixed-size numeric array a numpy array, a byte array bytes; rosbridge's
+    JSON both ways."""
+    import array
+
+    import numpy
+    from example_interfaces.action import Fibonacci
+    from geometry_msgs.msg import PoseWithCovariance
+    from sensor_msgs.msg import Image, JointState
+
+    result = Fibonacci.Result()
+    assert repr(result.sequence) == "array('i')"
+    result.sequence = [0, 1, 1]
+    result.sequence.append(2)
+    assert repr(result.sequence) == "array('i', [0, 1, 1, 2])"  # what a goal's result prints
+    assert result.to_json() == {"sequence": [0, 1, 1, 2]}
+    assert Fibonacci.Result.from_json({"sequence": [0, 1]}).sequence == array.array("i", [0, 1])
+    joints = JointState(position=[1.0, 2.0])
+    assert joints.position == array.array("d", [1.0, 2.0]) and joints.velocity == array.array("d")
+    assert JointState.from_json(joints.to_json()) == joints
+    pose = PoseWithCovariance()
+    assert isinstance(pose.covariance, numpy.ndarray) and pose.covariance.dtype == numpy.float64
+    assert pose == PoseWithCovariance() and pose.to_json()["covariance"] == [0.0] * 36
+    assert Image().data == b""  # uint8[] stays bytes (the lab's images)
+    result.sequence = ["not a number"]  # kept as given: publishing it names the field
+    with pytest.raises(TypeError, match="'example_interfaces/FibonacciResult.sequence' field must be of type 'int'"):
+        result.to_json()
+
+
+def test_parameter_events_are_published_and_a_handler_calls_its_callbacks_newest_first(rclpy):
+    """ROS 2's "Monitoring for parameter changes" tutorial: a node's declared and set parameters go out
+    on /parameter_events (rclpy's ParameterEvent); a ParameterEventHandler's callbacks of that node's
+    parameter get its rcl_interfaces/Parameter, its event callbacks every event."""
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.parameter import Parameter, parameter_value_to_python
+    from rclpy.parameter_event_handler import ParameterEventHandler
+
+    node = rclpy.create_node("node_with_parameters", start_parameter_services=False)
+    connection = rclpy.connection
+    handler = ParameterEventHandler(node)
+    heard: list[tuple[str, str, object]] = []
+    first = handler.add_parameter_callback("an_int_param", "node_with_parameters", lambda p: heard.append(
+        ("first", p.name, parameter_value_to_python(p.value))))
+    handler.add_parameter_callback("an_int_param", "/node_with_parameters", lambda p: heard.append(
+        ("second", p.name, parameter_value_to_python(p.value))))
+    events: list[object] = []
+    handler.add_parameter_event_callback(events.append)
+    node.declare_parameter("an_int_param", 0)
+    node.set_parameters([Parameter("an_int_param", Parameter.Type.INTEGER, 43)])
+    node.set_parameters([Parameter("an_int_param", Parameter.Type.NOT_SET)])
+    advertised = [m for m in connection.sent if m["op"] == "advertise" and m["topic"] == "/parameter_events"]
+    assert advertised and advertised[0]["type"] == "rcl_interfaces/msg/ParameterEvent"
+    sent = [m["msg"] for m in connection.sent if m["op"] == "publish" and m["topic"] == "/parameter_events"]
+    assert [(e["node"], len(e["new_parameters"]), len(e["changed_parameters"]), len(e["deleted_parameters"]))
+            for e in sent] == [("/node_with_parameters", 1, 0, 0), ("/node_with_parameters", 0, 1, 0),
+                               ("/node_with_parameters", 0, 0, 1)]
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    for event in sent:  # as the lab relays them back to the program's subscription
+        connection.publish("/parameter_events", event)
+        executor.spin_once(timeout_sec=5)
+    assert heard == [("second", "an_int_param", 0), ("first", "an_int_param", 0),  # newest first
+                     ("second", "an_int_param", 43), ("first", "an_int_param", 43)]  # a deletion: none
+    assert len(events) == 3 and events[2].deleted_parameters[0].name == "an_int_param"
+    handler.remove_parameter_callback(first)
+    with pytest.raises(RuntimeError, match="Callback doesn't exist"):
+        handler.remove_parameter_callback(first)
+    handler.destroy()

@@ -17,7 +17,6 @@ from interfaces.definition_limits import MAX_DEFAULT_VALUES as MAX_DEFAULT_VALUE
 from interfaces.definition_limits import MAX_DEFINITION_CHARS as MAX_DEFINITION_CHARS  # lab's parser and the bags'
 from interfaces.definition_limits import MAX_DEFINITION_FIELDS as MAX_DEFINITION_FIELDS
 from interfaces.definition_limits import MAX_FIXED_ARRAY as MAX_FIXED_ARRAY
-
 from interfaces.sequences import as_typed, typecode
 
 INTEGERS = {

@@ -154,77 +154,98 @@ VALUE_WORDS = {"double": "Double", "integer": "Integer", "string": "String", "bo
 
 def param(args) -> int:
     node = node_name(getattr(args, "node", None) or "")
-    if args.action == "list":
-        current = None
-        for p in _request(args, "GET", "/params").json():
-            if node and p["node"] != node:
-                continue
-            if p["node"] != current:
-                current = p["node"]
-                print(f"/{current}:")
-            print(f"  {p['name']}")
-        return 0
     if args.action == "get" and args.name is None:  # one name: ROS 1's parameter server (rosparam get)
         return _ros1_param(args, args.node)
-    if args.action == "get":
-        response = _request(args, "GET", f"/params/{node}/{args.name}")
-        if response.status_code != 200:
-            print(response.json().get("reason", "Parameter not set."))
-            return 1
-        body = response.json()
-        print(f"{VALUE_WORDS.get(body['type'], 'Value')} value is: {body['value']}")
-        return 0
-    if args.action == "set":
-        value = yaml.safe_load(args.value)
-        response = _request(args, "PUT", f"/params/{node}/{args.name}", json={"value": value})
-        body = response.json()
-        if body.get("successful"):
-            print("Set parameter successful")
-            return 0
-        print(f"Setting parameter failed: {body.get('reason')}")
+    actions = {
+        "list": _param_list,
+        "get": _param_get,
+        "set": _param_set,
+        "delete": _param_delete,
+        "describe": _param_describe,
+        "dump": _param_dump,
+        "load": _param_load,
+    }
+    if args.action not in actions:
+        raise CliError(f"unknown param action {args.action}")
+    return actions[args.action](args, node)
+
+
+def _param_list(args, node: str) -> int:
+    current = None
+    for p in _request(args, "GET", "/params").json():
+        if node and p["node"] != node:
+            continue
+        if p["node"] != current:
+            current = p["node"]
+            print(f"/{current}:")
+        print(f"  {p['name']}")
+    return 0
+
+
+def _param_get(args, node: str) -> int:
+    response = _request(args, "GET", f"/params/{node}/{args.name}")
+    if response.status_code != 200:
+        print(response.json().get("reason", "Parameter not set."))
         return 1
-    if args.action == "delete":
-        return _param_delete(args, node)
-    if args.action == "describe":
-        response = _request(args, "GET", f"/params/{node}/{args.name}/describe")
-        if response.status_code != 200:
-            print("Parameter not set")
-            return 1
-        d = response.json()
-        print(f"Parameter name: {d['name']}\n  Type: {d['type']}\n  Description: {d['description']}")
-        constraints = []
-        if d.get("read_only"):
-            constraints.append("    Read only: true")
-        if "min_value" in d:
-            constraints += [f"    Min value: {d['min_value']}", f"    Max value: {d['max_value']}"]
-        if d.get("choices"):
-            constraints.append(f"    One of: {', '.join(d['choices'])}")
-        if constraints:
-            print("  Constraints:\n" + "\n".join(constraints))
+    body = response.json()
+    print(f"{VALUE_WORDS.get(body['type'], 'Value')} value is: {body['value']}")
+    return 0
+
+
+def _param_set(args, node: str) -> int:
+    value = yaml.safe_load(args.value)
+    response = _request(args, "PUT", f"/params/{node}/{args.name}", json={"value": value})
+    body = response.json()
+    if body.get("successful"):
+        print("Set parameter successful")
         return 0
-    if args.action == "dump":
-        print(_request(args, "GET", "/params/dump", params={"node": node} if node else None).text, end="")
-        return 0
-    if args.action == "load":
-        try:
-            text = read_parameter_file(args.file)
-        except ParameterRefused as exc:
-            raise CliError(f"{args.file}: {exc}") from None
-        response = _request(
-            args, "POST", "/params/load", content=text.encode("utf-8"), headers={"content-type": "application/yaml"}
+    print(f"Setting parameter failed: {body.get('reason')}")
+    return 1
+
+
+def _param_describe(args, node: str) -> int:
+    response = _request(args, "GET", f"/params/{node}/{args.name}/describe")
+    if response.status_code != 200:
+        print("Parameter not set")
+        return 1
+    d = response.json()
+    print(f"Parameter name: {d['name']}\n  Type: {d['type']}\n  Description: {d['description']}")
+    constraints = []
+    if d.get("read_only"):
+        constraints.append("    Read only: true")
+    if "min_value" in d:
+        constraints += [f"    Min value: {d['min_value']}", f"    Max value: {d['max_value']}"]
+    if d.get("choices"):
+        constraints.append(f"    One of: {', '.join(d['choices'])}")
+    if constraints:
+        print("  Constraints:\n" + "\n".join(constraints))
+    return 0
+
+
+def _param_dump(args, node: str) -> int:
+    print(_request(args, "GET", "/params/dump", params={"node": node} if node else None).text, end="")
+    return 0
+
+
+def _param_load(args, node: str) -> int:
+    try:
+        text = read_parameter_file(args.file)
+    except ParameterRefused as exc:
+        raise CliError(f"{args.file}: {exc}") from None
+    response = _request(
+        args, "POST", "/params/load", content=text.encode("utf-8"), headers={"content-type": "application/yaml"}
+    )
+    body = response.json()
+    if "results" not in body:
+        print(f"Loading parameters failed: {body.get('reason')}")
+        return 1
+    for r in body["results"]:
+        print(
+            f"Set parameter {r['name']} successful"
+            if r["successful"]
+            else f"Set parameter {r['name']} failed: {r['reason']}"
         )
-        body = response.json()
-        if "results" not in body:
-            print(f"Loading parameters failed: {body.get('reason')}")
-            return 1
-        for r in body["results"]:
-            print(
-                f"Set parameter {r['name']} successful"
-                if r["successful"]
-                else f"Set parameter {r['name']} failed: {r['reason']}"
-            )
-        return 0 if body["successful"] else 1
-    raise CliError(f"unknown param action {args.action}")
+    return 0 if body["successful"] else 1
 
 
 def _param_delete(args, node: str) -> int:

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import httpx
 
-from app.cli.launch import ServerProcess, stop_group
+from app.serving.launch import ServerProcess, stop_group
 
 ROOT = Path(__file__).resolve().parent.parent
 SUBSCRIBER = Path(__file__).resolve().parent / "ros_fext_subscriber.py"

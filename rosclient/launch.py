@@ -464,6 +464,28 @@ def target(args: argparse.Namespace) -> tuple[Path, dict[str, str]] | str:
     return path, dict(item.split(":=", 1) for item in items)
 
 
+def stopped_by_signals() -> threading.Event:
+    """Set by Ctrl+C (SIGINT) or SIGTERM: the launch then stops its nodes, as roslaunch does."""
+    stopping = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stopping.set())
+    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
+    return stopping
+
+
+def lab_to_use(url: str | None, start_lab: Callable[[], LabServer] | None) -> tuple[str, LabServer | None] | None:
+    """The lab a launch runs against: at `url`, or one that `start_lab` starts (the launch stops it
+    after its nodes, as roslaunch its roscore); None, said on stderr, when there is neither."""
+    if url is not None:
+        return url, None
+    if start_lab is None:
+        print("error: no lab: give its address with --url", file=sys.stderr)
+        return None
+    print("starting the lab (hri-lab serve) ...", flush=True)
+    server = start_lab()
+    print(f"the lab: {server.url}", flush=True)
+    return server.url, server
+
+
 def run(
     args: argparse.Namespace, path: Path, launch_args: dict[str, str], start_lab: Callable[[], LabServer] | None = None
 ) -> int:
@@ -474,19 +496,11 @@ def run(
     except LaunchError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    stopping = threading.Event()
-    signal.signal(signal.SIGINT, lambda *_: stopping.set())
-    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
-    server: LabServer | None = None
-    url = args.url
-    if url is None:
-        if start_lab is None:
-            print("error: no lab: give its address with --url", file=sys.stderr)
-            return 2
-        print("starting the lab (hri-lab serve) ...", flush=True)
-        server = start_lab()
-        url = server.url
-        print(f"the lab: {url}", flush=True)
+    stopping = stopped_by_signals()
+    found = lab_to_use(args.url, start_lab)
+    if found is None:
+        return 2
+    url, server = found
     logs = Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))
     running: list[Running] = []
     crashed = 0

@@ -402,22 +402,15 @@ def evaluate(path: Path, arguments: dict[str, str] | None = None, workspace: str
 def run_file(
     path: Path, arguments: dict[str, str], url: str | None, workspace: str | None, start_lab: Callable[[], Any] | None
 ) -> int:
-    """`hri-lab launch x.launch.py|.yaml`: `run` against the lab at `url`, or against one that
-    `start_lab` starts (stopped after the launch, as the XML runner does)."""
-    stopping = threading.Event()
-    signal.signal(signal.SIGINT, lambda *_: stopping.set())
-    signal.signal(signal.SIGTERM, lambda *_: stopping.set())
-    server = None
-    if url is None:
-        if start_lab is None:
-            print("error: no lab: give its address with --url", file=sys.stderr)
-            return 2
-        print("starting the lab (hri-lab serve) ...", flush=True)
-        server = start_lab()
-        url = server.url
-        print(f"the lab: {url}", flush=True)
+    """`hri-lab launch x.launch.py`: `run` against the lab at `url`, or against one that `start_lab`
+    starts (stopped after the launch, as the XML runner does: rosclient/launch.py's `lab_to_use`)."""
+    stopping = xml_launch.stopped_by_signals()
+    found = xml_launch.lab_to_use(url, start_lab)
+    if found is None:
+        return 2
+    lab_url, server = found
     try:
-        return run(path, arguments, url, workspace, stopping)
+        return run(path, arguments, lab_url, workspace, stopping)
     finally:
         if server is not None:
             server.stop()

@@ -54,6 +54,7 @@ for _ in range(40):
         break
     n += 1
 print(n, flush=True)
+time.sleep(60)  # the parent stays in the group with its children until the group is closed
 """
 
 

@@ -430,14 +430,7 @@ class Running:
         threading.Thread(target=self._relay, daemon=True).start()
 
     def _relay(self) -> None:
-        assert self.proc.stdout is not None  # started with stdout=PIPE
-        with open(self.log, "w", encoding="utf-8") as log:
-            for line in self.proc.stdout:
-                log.write(line)
-                log.flush()
-                if self.spec.output == "screen":
-                    sys.stdout.write(f"[{self.spec.name}] {line}")
-                    sys.stdout.flush()
+        relay_output(self.proc, self.log, self.spec.name if self.spec.output == "screen" else None)
 
 
 class LabServer(Protocol):
@@ -462,6 +455,19 @@ def target(args: argparse.Namespace) -> tuple[Path, dict[str, str]] | str:
     if bad:
         return f"launch arguments are NAME:=VALUE, got {bad[0]!r}"
     return path, dict(item.split(":=", 1) for item in items)
+
+
+def relay_output(proc: subprocess.Popen, log_path: Path, screen_label: str | None) -> None:
+    """A launched process's output, line by line, into its log file and, with a label, to the
+    screen as `[label] line` (a node's output="screen"), as roslaunch and ros2 launch relay it."""
+    assert proc.stdout is not None  # started with stdout=PIPE
+    with open(log_path, "w", encoding="utf-8") as log:
+        for line in proc.stdout:
+            log.write(line)
+            log.flush()
+            if screen_label is not None:
+                sys.stdout.write(f"[{screen_label}] {line}")
+                sys.stdout.flush()
 
 
 def stopped_by_signals() -> threading.Event:

@@ -68,14 +68,9 @@ class Process:
         self.reader.start()
 
     def _relay(self) -> None:
-        assert self.proc.stdout is not None  # started with stdout=PIPE
-        with open(self.log, "w", encoding="utf-8") as log:
-            for line in self.proc.stdout:
-                log.write(line)
-                log.flush()
-                if self.plan.output in ("screen", "both"):
-                    sys.stdout.write(f"[{self.plan.label}] {line}")
-                    sys.stdout.flush()
+        xml_launch.relay_output(
+            self.proc, self.log, self.plan.label if self.plan.output in ("screen", "both") else None
+        )
 
 
 class Runner:

@@ -25,16 +25,12 @@ import orjson
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
+from rosclient import delivery
+from rosclient.delivery import LAB_QUEUE
 from rosclient.headers import lab_headers
 
 DEFAULT_URL = "http://127.0.0.1:8000"
 
-# rosbridge's queue_length a program's subscription asks of the lab unless it says: 0, every message
-# sent on (the lab bounds what it holds for a reader that is behind; /image_raw at a few images). An
-# rclpy subscription's QoS depth is its own queue, on the program's side, as a DDS reader's history
-# is; a rospy subscriber asks for its queue_size (rospy/topics.py)
-LAB_QUEUE = 0
-READER_SWITCH_S = 0.0005  # s, the program's interpreter switch interval (Connection.__init__)
 
 EXIT_LAB_GONE = 1
 
@@ -137,11 +133,7 @@ class Connection:
         self.rosout_refused: Callable[[str], None] = lambda reason: (
             None
         )  # the lab refused a /rosout line (process.py keeps it)
-        # the interpreter passes between threads every READER_SWITCH_S while one wants it: the
-        # connection's readers (websockets' and ours) then get their turn while a callback computes,
-        # and read the lab's messages as they come; at Python's 5 ms, a callback that computes 2 ms
-        # per message of a 1 kHz topic left them behind, seconds of stale messages in the socket
-        sys.setswitchinterval(min(sys.getswitchinterval(), READER_SWITCH_S))
+        delivery.reader_turns()  # the readers read the lab's messages as they come, while a callback computes
         self._reader = threading.Thread(target=self._read, name="rosbridge-reader", daemon=True)
         self._reader.start()
 

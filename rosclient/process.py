@@ -18,6 +18,7 @@ from typing import Any
 
 from interfaces.packages import full_text
 from rosclient.connection import Connection
+from rosclient.delivery import Callbacks
 
 POLL = 0.1  # s between looks at the lab's registry while waiting for a service or an action server
 
@@ -29,9 +30,9 @@ _advertised: set[str] = set()
 _headers: dict[str, dict[str, str]] = {}  # topic -> its connection header's extra fields (rospy's)
 _latched: dict[str, int] = {}  # topic -> the history depth the lab keeps for late subscribers (advertise's latch)
 _publishers: dict[str, int] = {}  # topic -> the publisher objects of it in this program (rospy's and rclpy's)
-CALLBACK_GRACE_S = 2.0  # s a callback in progress gets to finish when the program ends
-_callbacks = [0]  # callbacks running now (rospy's subscriber threads)
-_callbacks_done = threading.Condition()
+# callbacks running now on the program's threads (rospy's subscribers, timers, services): `with callbacks:` around
+# one; the program's end waits for them (delivery.CALLBACK_GRACE_S)
+callbacks = Callbacks()
 
 
 def ensure_interfaces() -> None:
@@ -234,24 +235,9 @@ def shutdown(reason: str = "") -> None:
             hook()
 
 
-class running_callback:
-    """Around a callback run in a thread of the program's: the program's end waits for it (a
-    thread left inside native code, e.g. OpenCV, when the interpreter exits aborts the process)."""
-
-    def __enter__(self) -> None:
-        with _callbacks_done:
-            _callbacks[0] += 1
-
-    def __exit__(self, *exc: Any) -> None:
-        with _callbacks_done:
-            _callbacks[0] -= 1
-            _callbacks_done.notify_all()
-
-
 def close() -> None:
     shutdown("")
-    with _callbacks_done:
-        _callbacks_done.wait_for(lambda: _callbacks[0] == 0, timeout=CALLBACK_GRACE_S)
+    callbacks.wait()
     if _connection:
         _connection[0].close()
 

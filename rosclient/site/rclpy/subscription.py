@@ -9,7 +9,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from rosclient import process
+from rosclient import delivery, process
 from rosclient.connection import message_of
 from interfaces.messages import Message
 from rclpy import _graph, context
@@ -33,7 +33,7 @@ class Subscription(Entity):
         self.qos_profile = profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
         depth = self.qos_profile.queue_length
-        self._queue: deque[bytes | dict[str, Any]] = deque(maxlen=depth or None)  # frames, decoded when taken
+        self._queue: deque[bytes | dict[str, Any]] = delivery.bounded_queue(depth)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
         self._sid = process.connection().subscribe(
             self.topic_name,
@@ -41,7 +41,7 @@ class Subscription(Entity):
             self._offer,
             undecoded=True,
             volatile=self.qos_profile.durability != DurabilityPolicy.TRANSIENT_LOCAL,
-        )  # every message (connection.LAB_QUEUE): the QoS depth is this subscription's own queue; a
+        )  # every message (delivery.LAB_QUEUE): the QoS depth is this subscription's own queue; a
         # TRANSIENT_LOCAL one gets first what the latched publishers kept (as many as its depth keeps)
         self._destroyed = False
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py

@@ -67,7 +67,7 @@ class Timer(threading.Thread):
                 return
             now = Time.now()
             duration = None if last is None else now - last
-            with process.running_callback():
+            with process.callbacks:
                 self._callback(TimerEvent(last, last, expected, now, duration))
             last, expected = now, expected + self._period
             if self._oneshot:

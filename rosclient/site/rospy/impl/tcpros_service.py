@@ -125,7 +125,7 @@ class Service:
         threading.Thread(target=self._serve, args=(message,), daemon=True, name="rospy-service").start()
 
     def _serve(self, message: dict[str, Any]) -> None:
-        with process.running_callback():
+        with process.callbacks:
             self._answer(message)
 
     def _answer(self, message: dict[str, Any]) -> None:

@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from rosclient import process
+from rosclient import delivery, process
 from tests.rosclient.site.conftest import RecordingConnection
 from tests.waiting import wait_for
 
@@ -32,9 +32,8 @@ def wrench(k: int) -> dict:
 def test_a_callback_that_keeps_up_gets_every_message_offered_back_to_back(lab, monkeypatch):
     import rospy
     from geometry_msgs.msg import WrenchStamped
-    from rospy import topics
 
-    monkeypatch.setattr(topics, "HANDOFF_S", 60.0)  # a bound for a starved machine, not a speed figure
+    monkeypatch.setattr(delivery, "HANDOFF_S", 60.0)  # a bound for a starved machine, not a speed figure
     handled: list[int] = []
     subscriber = rospy.Subscriber(TOPIC, WrenchStamped, lambda msg: handled.append(msg.header.seq), queue_size=1)
     try:
@@ -90,9 +89,8 @@ def test_the_lab_holds_at_most_queue_size_messages_for_a_subscriber(lab):
 def test_a_callback_quicker_than_its_messages_gets_a_burst_in_order_though_it_is_running(lab, monkeypatch):
     import rospy
     from geometry_msgs.msg import WrenchStamped
-    from rospy import topics
 
-    monkeypatch.setattr(topics, "HANDOFF_S", 60.0)  # a bound for a starved machine, not a speed figure
+    monkeypatch.setattr(delivery, "HANDOFF_S", 60.0)  # a bound for a starved machine, not a speed figure
     handled: list[int] = []
 
     def callback(msg):  # some work: the next message of a burst comes while it runs
@@ -118,9 +116,8 @@ def test_a_callback_quicker_than_its_messages_gets_a_burst_in_order_though_it_is
 def test_a_callback_slower_than_its_messages_gets_the_newest_and_the_reader_goes_on(lab, monkeypatch):
     import rospy
     from geometry_msgs.msg import WrenchStamped
-    from rospy import topics
 
-    monkeypatch.setattr(topics, "HANDOFF_S", 60.0)  # a wait for this callback would hang the reader here
+    monkeypatch.setattr(delivery, "HANDOFF_S", 60.0)  # a wait for this callback would hang the reader here
     release, handled = threading.Event(), []
     blocking = threading.Event()
 

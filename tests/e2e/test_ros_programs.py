@@ -250,7 +250,7 @@ def test_ctrl_c_ends_an_rclpy_program_whose_parent_ignores_it(lab):
 
 def test_a_connected_program_passes_its_interpreter_between_threads_every_half_millisecond(lab, tmp_path):
     """The connection's reader threads get their turn while a callback computes (a callback of 2 ms
-    per 1 kHz message left them seconds behind at Python's 5 ms: rosclient/connection.py)."""
+    per 1 kHz message left them seconds behind at Python's 5 ms: rosclient/delivery.py)."""
     from rosclient.delivery import READER_SWITCH_S
 
     program = tmp_path / "switch_interval.py"

@@ -2,7 +2,8 @@
 help): the lab's URL, the processes and the cluster a batch runs on, the controller, a parameters
 file, the grading reports' options, the recordings and figures of trials; and the commands' own
 shape: a command's parser with its help and its examples (printed by `--help`, parsed by
-tests/app/cli/test_main.py), its code imported when it runs. app/cli/main.py declares the commands
+tests/app/cli/test_main.py; `declared` reads them from the docstring of the function that adds its
+arguments), its code imported when it runs. app/cli/main.py declares the commands
 with these; the ros2-like client commands (client.py, bag.py) take their --url from here too.
 """
 
@@ -10,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
 import os
 import re
 import sys
@@ -57,6 +59,23 @@ def command(sub: Subparsers, name: str, help: str, examples: tuple[str, ...], **
     return sub.add_parser(
         name, help=help, epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter, **kwargs
     )
+
+
+def declared(name: str) -> Callable[[Callable[[Parser], None]], Callable[[Subparsers], None]]:
+    """A command declared by the function that adds its arguments to its parser, as click and typer
+    read a command's help: the function's docstring gives the command's one-line help (its first
+    paragraph) and its examples (each line after, a whole command line: `command`)."""
+
+    def declare(add_arguments: Callable[[Parser], None]) -> Callable[[Subparsers], None]:
+        about, _, rest = inspect.cleandoc(add_arguments.__doc__ or "").partition("\n\n")
+        examples = tuple(line.strip() for line in rest.splitlines() if line.strip())
+
+        def add(sub: Subparsers) -> None:
+            add_arguments(command(sub, name, " ".join(about.split()), examples))
+
+        return add
+
+    return declare
 
 
 def runs(module: str) -> Callable[[argparse.Namespace], int]:

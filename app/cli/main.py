@@ -1,10 +1,10 @@
 """`hri-lab` command line: every command's arguments, and the dispatch.
 
-A command is declared by one small function here (its arguments, the shared ones from
-app/cli/arguments.py, each declared once, and its examples, which `--help` prints); its code is its
-own module (`app/cli/experiment.py`, `serve.py`, `grade.py`, ...), imported when that command runs
-(`arguments.runs`): the ros2-like client commands start without loading the simulation (numba,
-pinocchio) that `experiment`, `grade` and `serve` need.
+A command is declared by one small function here (`arguments.declared`: its arguments, the shared
+ones from app/cli/arguments.py, each declared once; its docstring, the command's help and its
+examples, which `--help` prints); its code is its own module (`app/cli/experiment.py`, `serve.py`,
+`grade.py`, ...), imported when that command runs (`arguments.runs`): the ros2-like client commands
+start without loading the simulation (numba, pinocchio) that `experiment`, `grade` and `serve` need.
 """
 
 from __future__ import annotations
@@ -26,17 +26,14 @@ from app.grading.report import PUBLIC_SEED
 SECTIONS = ("probe", "trial", "robustness")  # the parts of the grading battery (app/grading/battery.py)
 
 
-def _experiment(sub: a.Subparsers) -> None:
-    exp = a.command(
-        sub,
-        "experiment",
-        "run the lab's Table 1 trials headless (faster than real time)",
-        (
-            "hri-lab experiment                              # the nine trials, one table",
-            "hri-lab experiment --compare sp,patch --seed 3  # the same trials with each controller",
-            "hri-lab experiment --sweep alpha=0.3,0.5,0.8 --participant hasty --plots figures/",
-        ),
-    )
+@a.declared("experiment")
+def _experiment(exp: a.Parser) -> None:
+    """run the lab's Table 1 trials headless (faster than real time)
+
+    hri-lab experiment                              # the nine trials, one table
+    hri-lab experiment --compare sp,patch --seed 3  # the same trials with each controller
+    hri-lab experiment --sweep alpha=0.3,0.5,0.8 --participant hasty --plots figures/
+    """
     exp.add_argument(
         "--trials", type=a.positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)"
     )
@@ -67,17 +64,14 @@ def _experiment(sub: a.Subparsers) -> None:
     exp.set_defaults(func=a.runs("app.cli.experiment"))
 
 
-def _serve(sub: a.Subparsers) -> None:
-    srv = a.command(
-        sub,
-        "serve",
-        "start the lab's server (HTTP API on 127.0.0.1)",
-        (
-            "hri-lab serve                      # the lab at http://127.0.0.1:8000, its 3D view at :8080",
-            "hri-lab serve --exercises --view light",
-            "hri-lab serve --world mobile --arena-seed 7",
-        ),
-    )
+@a.declared("serve")
+def _serve(srv: a.Parser) -> None:
+    """start the lab's server (HTTP API on 127.0.0.1)
+
+    hri-lab serve                      # the lab at http://127.0.0.1:8000, its 3D view at :8080
+    hri-lab serve --exercises --view light
+    hri-lab serve --world mobile --arena-seed 7
+    """
     srv.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
     srv.add_argument("--port", type=int, default=8000)
     a.params_file(srv, "to load at start")
@@ -136,17 +130,14 @@ def _serve(sub: a.Subparsers) -> None:
     srv.set_defaults(func=a.runs("app.cli.serve"))
 
 
-def _template(sub: a.Subparsers) -> None:
-    tpl = a.command(
-        sub,
-        "template",
-        "print a starting file: the controller (default), a services node or the lifting node",
-        (
-            "hri-lab template > cooperative_lifting.py",
-            "hri-lab template services --api rclpy > services_rclpy.py",
-            "hri-lab template node --api roslibpy > lifting_node.py",
-        ),
-    )
+@a.declared("template")
+def _template(tpl: a.Parser) -> None:
+    """print a starting file: the controller (default), a services node or the lifting node
+
+    hri-lab template > cooperative_lifting.py
+    hri-lab template services --api rclpy > services_rclpy.py
+    hri-lab template node --api roslibpy > lifting_node.py
+    """
     tpl.add_argument(
         "kind",
         nargs="?",
@@ -165,17 +156,14 @@ def _template(sub: a.Subparsers) -> None:
     tpl.set_defaults(func=_print_template)
 
 
-def _grade(sub: a.Subparsers) -> None:
-    grd = a.command(
-        sub,
-        "grade",
-        "grade students' controller files (probes, the nine trials, robustness), sandboxed",
-        (
-            "hri-lab grade cooperative_lifting.py                 # one file, its report",
-            "hri-lab grade submissions/ --out reports/ --seed 4242 --format gradescope",
-            "hri-lab grade cooperative_lifting.py --only probe    # a quick check, not a grade",
-        ),
-    )
+@a.declared("grade")
+def _grade(grd: a.Parser) -> None:
+    """grade students' controller files (probes, the nine trials, robustness), sandboxed
+
+    hri-lab grade cooperative_lifting.py                 # one file, its report
+    hri-lab grade submissions/ --out reports/ --seed 4242 --format gradescope
+    hri-lab grade cooperative_lifting.py --only probe    # a quick check, not a grade
+    """
     grd.add_argument(
         "controllers", nargs="+", metavar="FILE.py[:Class]|DIR", help="files, or folders of .py files (a batch)"
     )
@@ -208,33 +196,27 @@ def _grade(sub: a.Subparsers) -> None:
     grd.set_defaults(func=a.runs("app.cli.grade"))
 
 
-def _grade_services(sub: a.Subparsers) -> None:
-    gsv = a.command(
-        sub,
-        "grade-services",
-        "grade the handout's exercise services a student's node provides "
-        "(a lab started with serve --exercises), over its HTTP API",
-        (
-            "hri-lab grade-services                                  # the lab at $HRI_LAB_URL",
-            "hri-lab grade-services --url http://127.0.0.1:8001 --seed 4242 --out reports/",
-        ),
-    )
+@a.declared("grade-services")
+def _grade_services(gsv: a.Parser) -> None:
+    """grade the handout's exercise services a student's node provides (a lab started with serve --exercises), over its
+    HTTP API
+
+    hri-lab grade-services                                  # the lab at $HRI_LAB_URL
+    hri-lab grade-services --url http://127.0.0.1:8001 --seed 4242 --out reports/
+    """
     a.url(gsv)
     a.reports(gsv, "cases")
     a.quiet(gsv, "no progress lines")
     gsv.set_defaults(func=a.runs("app.cli.grade_services"))
 
 
-def _grade_wall(sub: a.Subparsers) -> None:
-    gwl = a.command(
-        sub,
-        "grade-wall",
-        "grade wall followers (rospy/rclpy programs: /scan in, /cmd_vel out) in the mobile world's trials",
-        (
-            "hri-lab grade-wall follower.py --seed 4711 --trials 5",
-            "hri-lab grade-wall submissions/ --out reports/ --format gradescope",
-        ),
-    )
+@a.declared("grade-wall")
+def _grade_wall(gwl: a.Parser) -> None:
+    """grade wall followers (rospy/rclpy programs: /scan in, /cmd_vel out) in the mobile world's trials
+
+    hri-lab grade-wall follower.py --seed 4711 --trials 5
+    hri-lab grade-wall submissions/ --out reports/ --format gradescope
+    """
     gwl.add_argument("programs", nargs="+", metavar="FOLLOWER.py|DIR", help="files, or folders of .py files (a batch)")
     a.reports(gwl, "trials (obstacle, start pose, noise)")
     gwl.add_argument("--trials", type=a.positive_int, help="trials per file (default 3)")
@@ -245,16 +227,13 @@ def _grade_wall(sub: a.Subparsers) -> None:
     gwl.set_defaults(func=a.runs("app.cli.grade_wall"))
 
 
-def _autograder(sub: a.Subparsers) -> None:
-    agr = a.command(
-        sub,
-        "autograder",
-        "write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab",
-        (
-            "hri-lab autograder --seed 4242 -o autograder.zip",
-            "hri-lab autograder --public-seed --services       # a trial run, services graded too",
-        ),
-    )
+@a.declared("autograder")
+def _autograder(agr: a.Parser) -> None:
+    """write a Gradescope autograder bundle (setup.sh, run_autograder) that grades with this lab
+
+    hri-lab autograder --seed 4242 -o autograder.zip
+    hri-lab autograder --public-seed --services       # a trial run, services graded too
+    """
     a.zip_output(agr, "autograder.zip")
     a.grade_seed(
         agr,
@@ -280,31 +259,27 @@ def _autograder(sub: a.Subparsers) -> None:
     agr.set_defaults(func=a.runs("app.cli.autograder"))
 
 
-def _handout(sub: a.Subparsers) -> None:
-    hnd = a.command(
-        sub,
-        "handout",
-        "write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, "
-        "the reference) and no bench/",
-        ("hri-lab handout -o hri-lab-students.zip --folder hri-lab-2026",),
-    )
+@a.declared("handout")
+def _handout(hnd: a.Parser) -> None:
+    """write the lab as students get it: the lab, its examples and docs, no tests/ (the filled templates, the
+    reference) and no bench/
+
+    hri-lab handout -o hri-lab-students.zip --folder hri-lab-2026
+    """
     a.zip_output(hnd, "hri-lab-students.zip")
     hnd.add_argument("--folder", default="hri-lab", help="the folder in the zip (default %(default)s)")
     hnd.set_defaults(func=a.runs("app.cli.handout"))
 
 
-def _run(sub: a.Subparsers) -> None:
-    run = a.command(
-        sub,
-        "run",
-        "run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run",
-        (
-            "hri-lab run add_two_ints_client.py 20 22",
-            "hri-lab run learning_service service_adder_server     # a package's executable, as ros2 run",
-            "hri-lab run keys_to_twist.py w --ros-args -p linear_speed:=0.25",
-            "hri-lab run --workspace ~/catkin_ws/src calculator_server.py",
-        ),
-    )
+@a.declared("run")
+def _run(run: a.Parser) -> None:
+    """run a ROS program (rospy, rclpy) against the lab, like rosrun / ros2 run
+
+    hri-lab run add_two_ints_client.py 20 22
+    hri-lab run learning_service service_adder_server     # a package's executable, as ros2 run
+    hri-lab run keys_to_twist.py w --ros-args -p linear_speed:=0.25
+    hri-lab run --workspace ~/catkin_ws/src calculator_server.py
+    """
     a.url(run)
     a.workspace(run, "the program's")
     run.add_argument("program", metavar="FILE.py|PKG", help="a program file, or a package (then its executable EXE)")
@@ -312,17 +287,14 @@ def _run(sub: a.Subparsers) -> None:
     run.set_defaults(func=a.runs("rosclient.run"))
 
 
-def _launch(sub: a.Subparsers) -> None:
-    lch = a.command(
-        sub,
-        "launch",
-        "start the lab and the nodes of a launch file: roslaunch XML, ROS 2 XML, YAML or Python",
-        (
-            "hri-lab launch calculator.launch.xml                # its own lab and the nodes",
-            "hri-lab launch lab8 lab8.launch.py offset:=10       # a package's launch file, as ros2 launch",
-            "hri-lab launch --url http://127.0.0.1:8000 login_chain.launch user:=ada",
-        ),
-    )
+@a.declared("launch")
+def _launch(lch: a.Parser) -> None:
+    """start the lab and the nodes of a launch file: roslaunch XML, ROS 2 XML, YAML or Python
+
+    hri-lab launch calculator.launch.xml                # its own lab and the nodes
+    hri-lab launch lab8 lab8.launch.py offset:=10       # a package's launch file, as ros2 launch
+    hri-lab launch --url http://127.0.0.1:8000 login_chain.launch user:=ada
+    """
     a.url(lch, "a running lab (default: start one, like roslaunch starts roscore)", start_one=True)
     a.workspace(lch, "the programs'")
     lch.add_argument("file", metavar="FILE|PKG", help="a launch file, or a package (then its launch file's name)")

@@ -64,6 +64,25 @@ def test_the_commands_declared_here_are_hri_labs_and_each_shows_examples():
         assert len(examples(parsers[name])) >= 1
 
 
+def test_a_command_is_declared_by_its_functions_docstring_and_arguments():
+    @arguments.declared("greet")
+    def greet(parser: arguments.Parser) -> None:
+        """say hello to someone,
+        by name
+
+        hri-lab greet ada      # one name
+        hri-lab greet ada bob
+        """
+        parser.add_argument("names", nargs="+")
+
+    sub = argparse.ArgumentParser().add_subparsers()
+    greet(sub)
+    parser = sub.choices["greet"]
+    assert sub._choices_actions[0].help == "say hello to someone, by name"  # one line in the command list
+    assert parser.epilog == "examples:\n  hri-lab greet ada      # one name\n  hri-lab greet ada bob"
+    assert parser.parse_args(["ada", "bob"]).names == ["ada", "bob"]
+
+
 @pytest.mark.parametrize("name", declared_here())
 def test_each_example_parses_to_its_command(name):
     parser = build_parser()

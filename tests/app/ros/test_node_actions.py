@@ -5,6 +5,9 @@ withdraws, and its feedback and results checked against the type's models when t
 
 from __future__ import annotations
 
+import asyncio
+from concurrent.futures import Future
+
 import pytest
 
 from app.ros.actions import TERMINAL, Action, ActionServer, GoalStatus
@@ -94,19 +97,33 @@ def test_the_nodes_status_decides_the_goals_end(actions, loop, status, ok, value
     assert view["status"] == outcome.value and message in view["message"]
 
 
+class CountedFuture(Future):
+    """A goal's future that counts the goal thread's looks at it (each a wait of POLL_S)."""
+
+    looks = 0
+
+    def result(self, timeout=None):
+        self.looks += 1
+        return super().result(timeout)
+
+
 def test_a_cancel_is_sent_to_the_node_once_and_the_goal_preempting_until_it_answers(actions, loop):
     node = Node("/fib_server", loop)
     actions.advertise("/fibonacci", "my_pkg/Fibonacci", node)
     handle, sent = goal_at(node, actions, "/fibonacci", {"order": 30})
-    wait_for(lambda: handle.status == GoalStatus.ACTIVE)
+    counted = actions.pending[sent["id"]].result = CountedFuture()
+    wait_for(lambda: counted.looks > 0)  # the goal thread waits on it
     actions.server.cancel(handle)
     cancel = node.next("cancel_action_goal")
     assert (cancel["id"], cancel["action"]) == (sent["id"], "/fibonacci")
     assert handle.status == GoalStatus.PREEMPTING
+    looks = counted.looks
+    wait_for(lambda: counted.looks >= looks + 3)  # it looked again, and again, while the node took its time
+    asyncio.run_coroutine_threadsafe(asyncio.sleep(0), loop).result(30)  # what it sent the node has arrived
+    assert node.sent.empty()  # one cancel, however long the node takes
     actions.result(node, sent["id"], "/fibonacci", {"sequence": [0, 1]}, CANCELED, True)
     view = finished(handle)
     assert view["status"] == GoalStatus.PREEMPTED.value and view["result"] == {"sequence": [0, 1]}
-    assert node.sent.empty()  # one cancel, however long the node took
 
 
 def test_a_node_that_rejects_the_cancel_succeeds_its_goal(actions, loop):

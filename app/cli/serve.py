@@ -75,7 +75,7 @@ def serve(
     token: str | None = None,
     exercises: bool = False,
     output_dir: str = ".",
-    world: str = DEFAULT,
+    world: str | None = None,
     arena_seed: int | None = None,
     replay: bool = False,
     no_token: bool = False,
@@ -90,7 +90,7 @@ def serve(
     if token and token_problem(token):
         print(f"hri-lab: {token_problem(token)}", file=sys.stderr)
         return 2
-    served = WORLDS[world]
+    served = WORLDS[world or DEFAULT]
     lab = served.lab(LabOptions(controller=controller, arena_seed=arena_seed))
     lab.recordings_dir, lab.figures_dir = Path(output_dir) / "recordings", Path(output_dir) / "figures"
     if params_file:

@@ -1,7 +1,7 @@
 """One wall-following trial of a student's program (the grader's job: app/cli/grade_wall.py hands it to
 sim/procedures/runner.py): the trial's mobile world served on a Unix socket of the trial's own (the
 lab, its rosbridge endpoint; no port on the host's loopback), graded (its own admin token, which the
-program never gets; the arena, the ground truth and the monitor hidden: app/mobile/lab.py), the
+program never gets; the arena, the ground truth and the monitor hidden: app/mobile/world.py), the
 program started as `hri-lab run` starts it (its own process and session, in bubblewrap's jail with a
 network namespace of its own whose one way out is the lab's socket: app/cli/trial_link.py; one cgroup
 for it and all it starts: sim/controllers/sandbox/cgroup.py; it reaches the world only through

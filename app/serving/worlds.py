@@ -9,4 +9,4 @@ from app.mobile.world import MOBILE
 from app.worlds.contract import World
 
 WORLDS: dict[str, World] = {world.name: world for world in (LIFTING, MOBILE)}
-DEFAULT = LIFTING.name
+DEFAULT = next(iter(WORLDS))  # what `serve` serves unless --world names another: the first registered

@@ -119,6 +119,7 @@ def _serve(sub: a.Subparsers) -> None:
     srv.add_argument(
         "--world",
         choices=RegisteredWorlds(),
+        metavar="WORLD",  # argparse would read the choices to draw {a,b} as the parser is built
         default=None,
         help="the world served, one of %(choices)s (default: the first, the Panda and the box; "
         "the mobile one, a TurtleBot3-like base in an arena: docs/mobile-lab.md)",

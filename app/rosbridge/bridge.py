@@ -1,5 +1,6 @@
 """The bridge's shared state: the lab, its world's settings (its topics, their rates, the command
-topic: app/worlds/contract.py), its registries (handed in by the composition root, app/serving/compose.py), the service table, the topics nodes provide, the connected sessions. Every
+topic: app/worlds/contract.py), its registries (handed in by the composition root,
+app/serving/compose.py), the service table, the topics nodes provide, the connected sessions. Every
 session (app/rosbridge/session.py) reads and changes it; it imports no session (app/rosbridge/ports.py
 has the shapes both see)."""
 

@@ -9,7 +9,10 @@ by seeing nothing.
 The student-side client (rosclient/, its site/ of rospy, rclpy, ... included) is a package of its own: it
 imports the message vocabulary both sides share (interfaces/) and nothing of the lab's server, its
 grading or the simulation; the server (everything but the commands, app/cli/) never imports it, nor the client
-libraries a program imports (rospy, rclpy, ...)."""
+libraries a program imports (rospy, rclpy, ...).
+
+A world is a plug-in (app/worlds/contract.py): nothing outside a world's own package imports it but the
+registry (app/serving/worlds.py) and the commands named in WORLD_SPECIFIC."""
 
 from __future__ import annotations
 
@@ -29,6 +32,12 @@ COMMANDS = "app.cli"  # the composition of everything: `hri-lab run` starts the 
 # merges): left out of the package check so that any other package circle fails; one that is gone
 # fails too, so that this list stays true.
 KNOWN_UPWARD: dict[tuple[str, str], str] = {}  # an arrow up kept for now, with why (none left)
+WORLDS = ("app.lab", "app.mobile")  # the worlds' packages (app/serving/worlds.py registers them)
+REGISTRY = "app.serving.worlds"
+# modules outside a world's package that name it, each with why
+WORLD_SPECIFIC: dict[str, str] = {
+    "app.cli.experiment": "`hri-lab experiment`: the lifting world's headless trials with its parameter overrides",
+}
 
 
 def modules(root: Path, packages: tuple[str, ...], every: bool = False) -> dict[str, Path]:
@@ -170,6 +179,38 @@ def test_nothing_below_the_procedures_imports_them():
         if not name.startswith("sim.procedures")
     }
     assert {name: names for name, names in upward.items() if names} == {}
+
+
+def world_imports(root: Path, packages: tuple[str, ...], worlds: tuple[str, ...]) -> dict[str, list[str]]:
+    """The modules outside a world's own package that import one of the worlds' packages, with what."""
+    found = {}
+    for name, imports in import_graph(root, packages).items():
+        own = next((w for w in worlds if name == w or name.startswith(w + ".")), None)
+        named = sorted({w for n in imports for w in worlds if w != own and (n == w or n.startswith(w + "."))})
+        if named:
+            found[name] = named
+    return found
+
+
+def test_nothing_but_the_registry_names_a_world():
+    found = world_imports(ROOT, PACKAGES, WORLDS)
+    assert set(found) - {REGISTRY, *WORLD_SPECIFIC} == set()
+    assert found[REGISTRY] == sorted(WORLDS)  # every world registered
+    assert set(WORLD_SPECIFIC) <= set(found), "these no longer name a world: take them out of WORLD_SPECIFIC"
+
+
+def test_the_checker_finds_a_world_imported_from_outside(tmp_path):
+    for relative, text in {
+        "app/__init__.py": "",
+        "app/lab/__init__.py": "",
+        "app/lab/world.py": "from app.lab import topics\n",
+        "app/lab/topics.py": "",
+        "app/rosbridge/__init__.py": "",
+        "app/rosbridge/bridge.py": "def f():\n    from app.lab.topics import TOPICS\n",
+    }.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    assert world_imports(tmp_path, ("app",), ("app.lab",)) == {"app.rosbridge.bridge": ["app.lab"]}
 
 
 def test_no_import_circle_in_the_lab():

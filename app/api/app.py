@@ -1,13 +1,14 @@
-"""The FastAPI app: one router per resource (services, parameters, topics, actions, teleop, robot,
-system), around one Lab whose simulation runs while the app is served. It is handed what it serves
-(the lab, its registries, the other front ends' routes and what runs beside it) by the composition
-root, app/serving/compose.py; it builds none of them."""
+"""The FastAPI app: one router per resource (services, parameters, topics, actions, system, files),
+around one lab (any world's: app/worlds/port.py) whose simulation runs while the app is served, with
+its world's own routes (the lifting world's teleop, robot and camera; the mobile world's page). It is
+handed what it serves (the lab, its registries, its world's routes, the other front ends' routes and
+what runs beside it) by the composition root, app/serving/compose.py; it builds none of them."""
 
 from collections.abc import Sequence
 from concurrent.futures import TimeoutError as CallTimeout
 from contextlib import asynccontextmanager
 from importlib.metadata import version as package_version
-from typing import Protocol
+from typing import Any
 
 from fastapi import APIRouter, FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -17,54 +18,41 @@ from fastapi.staticfiles import StaticFiles
 from sim.messages import Topic
 
 from app.api import actions as actions_api
-from app.api import camera as camera_api
 from app.api import files as files_api
-from app.api import mobile as mobile_api
 from app.api import node_services as node_services_api
 from app.api import params as params_api
-from app.api import robot as robot_api
 from app.api import services as services_api
 from app.api import system as system_api
-from app.api import teleop as teleop_api
 from app.api import topics as topics_api
 from app.api import view_relay
 from app.api.access import TokenMiddleware
 from app.api.docs import add_offline_docs
 from app.api.openapi import document
 from app.api.responses import SafeJSONResponse, json_safe
-from app.lab.events import LAB_NODE
-from app.lab.lab import Lab
-from app.mobile.lab import MobileLab
 from app.ros.actions import Action, ActionServer
+from app.ros.names import LAB_NODE
 from app.ros.node_services import NodeServices
 from app.runtime.process import SimulationRestarting
 from app.security import SiteGuard
-
-
-class Running(Protocol):
-    """What runs while the app is served (the lab's simulation, the 3D view): started in order,
-    stopped in reverse."""
-
-    def start(self) -> None: ...
-
-    def stop(self) -> None: ...
+from app.worlds.contract import Running
+from app.worlds.port import LabPort
 
 
 def create_api(
-    lab: Lab | MobileLab,
+    lab: LabPort[Any],
     nodes: NodeServices,
     actions: ActionServer,
     actions_declared: list[Action],
     topics_declared: list[Topic],
     *,
-    lifting: bool,
+    world_routes: Sequence[APIRouter] = (),
     bound_host: str = "127.0.0.1",
     token: str | None = None,
     running: Sequence[Running] = (),
     routers: Sequence[APIRouter] = (),
 ) -> FastAPI:
     """The HTTP API of `lab` (app.state.lab) with its service registry `nodes` and its `actions`.
-    lifting: the lifting lab's routes (teleop, robot, camera), else the mobile world's page.
+    world_routes: its world's own routes (its page at /, before the lifting page, and its panels).
     bound_host: the address the server is bound to; requests must name it (app/security.py).
     token: when set, state-changing requests must carry it (app/api/access.py).
     running: what runs while the app is served (the lab first); routers: the other front ends'
@@ -118,18 +106,14 @@ def create_api(
             headers={"Retry-After": "1"},
         )
 
-    if not lifting:  # its page at / (before the lifting page's), its arena, the page's teleop
-        app.include_router(mobile_api.router)
+    for router in world_routes:  # first: a world's page at / comes before the lifting page
+        app.include_router(router)
     app.include_router(system_api.router)
     app.include_router(services_api.router(services, lambda name: nodes.node_of(name) or LAB_NODE))
     app.include_router(node_services_api.router(nodes))  # after the typed routes: names added at run time
     app.include_router(params_api.router)
     app.include_router(topics_api.router(topics_declared))
     app.include_router(actions_api.router(actions_declared))
-    if lifting:  # the arm's teleop, its model and its camera
-        app.include_router(teleop_api.router)
-        app.include_router(robot_api.router)
-        app.include_router(camera_api.router)
     app.include_router(files_api.router)
     app.include_router(view_relay.router)  # the 3D view through the lab's port (behind a JupyterHub)
     for router in routers:

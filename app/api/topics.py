@@ -17,9 +17,9 @@ from sim.sampling import due
 from app.api.camera import current_frame
 from app.api.deps import LabDep
 from app.api.responses import finite_or_null
-from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.ros.names import absolute
+from app.runtime.camera_process import IMAGE, image_message
 
 MIN_RATE_HZ, MAX_RATE_HZ = 0.1, 1000.0
 MAX_QUEUED = 1000  # /rosout lines waiting for a slow client
@@ -43,7 +43,7 @@ def router(topics: list[Topic]) -> APIRouter:
         topic = by_name.get(absolute(name))
         if topic is None:
             raise HTTPException(404, f"topic '{absolute(name)}' does not exist")
-        if topic.name == IMAGE:  # the camera's image of the current pose (app/api/camera.py)
+        if topic.name == IMAGE and lab.camera is not None:  # the camera's image of the current pose (app/api/camera.py)
             return image_message(current_frame(lab))
         return finite_or_null(topic.build(lab.snapshot()))
 
@@ -61,7 +61,7 @@ def router(topics: list[Topic]) -> APIRouter:
         period = 1.0 / rate
         gone = asyncio.ensure_future(client_gone(websocket))
         try:
-            if topic.name == IMAGE:
+            if topic.name == IMAGE and lab.camera is not None:
                 with lab.camera.wants(period):
                     await _send_each_new_image(websocket, lab, period, gone)
                 return

@@ -14,6 +14,8 @@ import multiprocessing
 import os
 import signal
 import sys
+from collections.abc import Sequence
+from typing import overload
 
 from sim.person.participants import PARTICIPANTS
 
@@ -110,9 +112,11 @@ def _serve(srv: a.Parser) -> None:
     )
     srv.add_argument(
         "--world",
-        choices=("lifting", "mobile"),
-        default="lifting",
-        help="lifting: the Panda and the box (default); mobile: a TurtleBot3-like base in an arena (docs/mobile-lab.md)",
+        choices=RegisteredWorlds(),
+        metavar="WORLD",  # argparse would read the choices to draw {a,b} as the parser is built
+        default=None,
+        help="the world served, one of %(choices)s (default: the first, the Panda and the box; "
+        "the mobile one, a TurtleBot3-like base in an arena: docs/mobile-lab.md)",
     )
     srv.add_argument(
         "--arena-seed",
@@ -303,6 +307,28 @@ def _launch(lch: a.Parser) -> None:
 
 
 COMMANDS = (_experiment, _serve, _template, _grade, _grade_services, _grade_wall, _autograder, _handout, _run, _launch)
+
+
+class RegisteredWorlds(Sequence[str]):
+    """`serve --world`'s choices: the registry's worlds (app/serving/worlds.py), read when argparse first
+    asks (a world's package is slow to import: not for every command)."""
+
+    def _names(self) -> list[str]:
+        from app.serving.worlds import WORLDS
+
+        return list(WORLDS)
+
+    @overload
+    def __getitem__(self, index: int) -> str: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> Sequence[str]: ...
+
+    def __getitem__(self, index: int | slice) -> str | Sequence[str]:
+        return self._names()[index]
+
+    def __len__(self) -> int:
+        return len(self._names())
 
 
 def build_parser() -> argparse.ArgumentParser:

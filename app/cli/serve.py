@@ -9,23 +9,24 @@ import socket
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import uvicorn
 
 from sim.controllers.plugin import PluginFactory
-from sim.mobile.world import seeded_config
 
 from app.api.access import is_loopback
 from app.cli.controllers import loaded_factory
-from app.lab.lab import Lab
-from app.mobile.lab import MobileLab
 from app.ros.params import ParameterRefused, read_parameter_file
 from app.serving.compose import create_app
 from app.serving.http import server_config
+from app.serving.worlds import DEFAULT, WORLDS
 from app.tokens import TOKEN_ENV, token_problem
+from app.worlds.contract import LabOptions
+from app.worlds.port import LabPort
 
 
-def load_parameter_file(lab: Lab | MobileLab, path: str) -> None:
+def load_parameter_file(lab: LabPort[Any], path: str) -> None:
     """Apply a `param dump` file at start (the seed's launch file); read-only ones too, as
     parameter overrides can at declaration. Any refusal stops the start with its reason."""
     results = lab.params.load(read_parameter_file(path), force=True)
@@ -74,7 +75,7 @@ def serve(
     token: str | None = None,
     exercises: bool = False,
     output_dir: str = ".",
-    world: str = "lifting",
+    world: str | None = None,
     arena_seed: int | None = None,
     replay: bool = False,
     no_token: bool = False,
@@ -89,11 +90,8 @@ def serve(
     if token and token_problem(token):
         print(f"hri-lab: {token_problem(token)}", file=sys.stderr)
         return 2
-    lab: Lab | MobileLab
-    if world == "mobile":
-        lab = MobileLab(seeded_config(arena_seed) if arena_seed is not None else None)
-    else:
-        lab = Lab(controller=controller)
+    served = WORLDS[world or DEFAULT]
+    lab = served.lab(LabOptions(controller=controller, arena_seed=arena_seed))
     lab.recordings_dir, lab.figures_dir = Path(output_dir) / "recordings", Path(output_dir) / "figures"
     if params_file:
         try:
@@ -102,7 +100,7 @@ def serve(
             print(f"hri-lab: cannot load parameters from {params_file}: {exc}", file=sys.stderr)
             return 2
     app = create_app(
-        lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay
+        served, lab, view=view, view_host=host, view_port=view_port, token=token, exercises=exercises, replay=replay
     )
     server = AnnouncingServer(server_config(app, host, port))
     try:

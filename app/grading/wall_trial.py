@@ -1,7 +1,7 @@
 """One wall-following trial of a student's program (the grader's job: app/cli/grade_wall.py hands it to
 sim/procedures/runner.py): the trial's mobile world served on a Unix socket of the trial's own (the
 lab, its rosbridge endpoint; no port on the host's loopback), graded (its own admin token, which the
-program never gets; the arena, the ground truth and the monitor hidden: app/mobile/lab.py), the
+program never gets; the arena, the ground truth and the monitor hidden: app/mobile/world.py), the
 program started as `hri-lab run` starts it (its own process and session, in bubblewrap's jail with a
 network namespace of its own whose one way out is the lab's socket: app/cli/trial_link.py; one cgroup
 for it and all it starts: sim/controllers/sandbox/cgroup.py; it reaches the world only through
@@ -32,14 +32,16 @@ import uvicorn
 
 from sim.controllers.sandbox.cgroup import MIB, GroupLimits, TrialGroup, cgroup_kind
 from sim.controllers.sandbox.jail import CHILD_ENV, bwrap_command
-from sim.mobile.world import MobileConfig
+from sim.mobile.world import MobileConfig, MobileSnapshot
 
 from app.grading.report import Item
 from app.grading.wall import TrialOutcome, trial_item
-from app.mobile.lab import MobileLab
 from app.serving.compose import create_app
 from app.serving.http import server_config
 from app.serving.launch import free_port, stop_group
+from app.serving.worlds import WORLDS
+from app.worlds.contract import LabOptions
+from app.worlds.port import LabPort
 
 FIRST_COMMAND_S = 90.0  # s of wall clock for the program to start and publish its first /cmd_vel
 BEHIND_S = 120.0  # s of wall clock beyond the time limit before a trial that falls behind is ended
@@ -47,19 +49,21 @@ POLL_S = 0.05
 OUTPUT_LINES = 5  # the program's last lines quoted when it ended on its own
 
 
+WORLD = "mobile"  # the world its programs are graded in (app/serving/worlds.py)
 LAB_SOCKET = "lab.sock"  # in the trial's folder, beside the program's copy
 JAIL_PORT = 9090  # where the jailed program finds its lab: rosbridge's default port, in the jail's own namespace
 
 
 @contextmanager
-def served(config: MobileConfig, folder: Path) -> Iterator[tuple[MobileLab, Path]]:
+def served(config: MobileConfig, folder: Path) -> Iterator[tuple[LabPort[MobileSnapshot], Path]]:
     """The trial's world as `hri-lab serve --world mobile --view none` serves it, in this process, on
     the Unix socket folder/lab.sock, graded: changes need the trial's own token, which only this
     process holds (the program may publish, advertise and call its own nodes' services, as a node on
     a robot does; the lab's own services, driving and resetting from the API are refused to it)."""
-    lab = MobileLab(config, graded=True)
+    world = WORLDS[WORLD]
+    lab = world.lab(LabOptions(config=config, graded=True))
     socket_path = folder / LAB_SOCKET
-    app = create_app(lab, view="none", token=secrets.token_hex(16))
+    app = create_app(world, lab, view="none", token=secrets.token_hex(16))
     server = uvicorn.Server(server_config(app, "127.0.0.1", 0, uds=str(socket_path)))
     thread = threading.Thread(target=server.run, name="wall-trial-server", daemon=True)
     thread.start()
@@ -183,7 +187,7 @@ def resident_bytes() -> int:
         return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
-def judge(lab: MobileLab, program: Program, config: MobileConfig) -> TrialOutcome:
+def judge(lab: LabPort[MobileSnapshot], program: Program, config: MobileConfig) -> TrialOutcome:
     """Wait for the monitor's verdict (or for the program's end, or its silence, or the lab's
     memory grown beyond LAB_GROWTH_BYTES serving it: what the program makes the lab hold counts
     against it, its own cgroup aside)."""

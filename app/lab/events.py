@@ -7,14 +7,13 @@ from __future__ import annotations
 import threading
 from typing import TYPE_CHECKING
 
-from app.ros.names import node_name
+from app.ros.names import LAB_NODE, node_name
 
 if TYPE_CHECKING:
     from sim.world import Snapshot
 
-    from app.lab.port import LabPort
+    from app.worlds.port import LabPort
 
-LAB_NODE = "/hri_lab"  # the lab as a ROS node (ros2 node list, rosapi, a service's node); its log lines carry node_name(LAB_NODE)
 PERIOD_S = 0.05
 
 

@@ -13,11 +13,12 @@ from sim.controllers.sp import SPController
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot, World, WorldConfig
 
-from app.lab.events import LAB_NODE, LabEvents
+from app.lab.events import LabEvents
 from app.lab.params import LAB_PARAMETERS
-from app.lab.recorder import DEFAULT_DIR, LiveRecorder
+from app.lab.recorder import LiveRecorder
 from app.lab.robot_description import ROBOT_DESCRIPTION, ROBOT_DESCRIPTION_WHY, robot_description_text
-from app.ros.names import node_name
+from app.recording.services import DEFAULT_DIR
+from app.ros.names import LAB_NODE, node_name
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
@@ -32,9 +33,10 @@ class Lab:
     def __init__(
         self, config: WorldConfig | None = None, realtime: bool = True, controller: Controller | None = None
     ) -> None:
-        self.runtime = SimulationProcess(
-            World(config or WorldConfig(), controller or SPController()), realtime=realtime
-        )
+        self.world = World(
+            config or WorldConfig(), controller or SPController()
+        )  # the pristine one each process starts from
+        self.runtime = SimulationProcess(self.world, realtime=realtime)
         self.camera = CameraProcess(self.runtime.snapshot, self._scene_sizes)  # /image_raw's renderer
         self.model = PandaModel()  # for computations on snapshots (not the simulation's pinocchio data)
         self.rosout = Rosout()  # /rosout: the lab's log lines and every node's
@@ -46,6 +48,7 @@ class Lab:
         self.recordings_dir = DEFAULT_DIR  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
         self.figures_dir = DEFAULT_DIR.parent / "figures"  # the actions' figures (DIR/figures)
         self.recorder: LiveRecorder | None = None  # the live recording (app/lab/recorder.py), one at a time
+        self.graded = False  # no trial of the lifting lab is graded live (its grading: app/grading/battery.py)
 
     def start(self) -> None:
         self.runtime.start()
@@ -62,7 +65,7 @@ class Lab:
 
     def _scene_sizes(self) -> SceneSizes:
         """What the camera draws that does not move, from the world's configuration (m)."""
-        cfg = self.runtime.world.config
+        cfg = self.world.config
         box, palm = cfg.box.size, cfg.palm_size
         return SceneSizes(
             (cfg.plate.width, cfg.plate.height, cfg.plate.offset), (box[0], box[1], box[2]), (palm[0], palm[1])

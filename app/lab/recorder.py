@@ -28,7 +28,6 @@ from sim.sampling import due
 from app.lab import commands
 
 POLL_PERIOD = 0.005  # s between two reads of the snapshot (every new 10 ms sample is seen)
-DEFAULT_DIR = Path("recordings")
 IMAGE_PERIOD = 0.1  # s of simulated time between two recorded images (10 Hz)
 JPEG_QUALITY = 85
 

@@ -17,13 +17,12 @@ import numpy as np
 import pinocchio as pin
 
 from sim import camera
-from sim.messages import header
 from sim.robot.panda import PandaModel
 from sim.world import Snapshot
 
 from app.lab.robot_description import robot_description
+from app.ros.tf_messages import WORLD, relative_stamped
 
-WORLD = "world"
 BASE = "panda_link0"
 PLATE, BOX, PALM = "plate", "box", "palm"
 CAMERA = camera.OPTICAL_FRAME
@@ -91,20 +90,6 @@ def tree() -> list[tuple[str, str, bool]]:
 def transform_stamped(s: Snapshot, parent: str, child: str, pose_parent: np.ndarray, pose_child: np.ndarray) -> dict:
     """geometry_msgs/TransformStamped: the child's pose in the parent's frame."""
     return relative_stamped(s, parent, child, np.linalg.solve(pose_parent, pose_child))
-
-
-def relative_stamped(s: Snapshot, parent: str, child: str, relative: np.ndarray) -> dict:
-    """geometry_msgs/TransformStamped of `relative`, the child's pose (4x4) in the parent's frame."""
-    x, y, z, w = pin.Quaternion(relative[:3, :3]).coeffs()
-    t = relative[:3, 3]
-    return {
-        "header": header(s, parent),
-        "child_frame_id": child,
-        "transform": {
-            "translation": {"x": float(t[0]), "y": float(t[1]), "z": float(t[2])},
-            "rotation": {"x": float(x), "y": float(y), "z": float(z), "w": float(w)},
-        },
-    }
 
 
 def _fixed_links() -> dict[tuple[str, str], np.ndarray]:

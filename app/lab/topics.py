@@ -17,9 +17,8 @@ from sim.robot.panda import PandaModel
 from sim.world import Snapshot
 
 from app.lab import tf
-from app.runtime.shared_frame import Frame
+from app.runtime.camera_process import IMAGE
 
-IMAGE = "/image_raw"
 CAMERA_INFO = "/camera_info"
 
 _MODEL_LOCK = threading.Lock()
@@ -57,8 +56,3 @@ TOPICS = [
 MIN_PERIOD_S = {"/tf": 0.01, "/tf_static": 0.1, CAMERA_INFO: 1 / 30}
 # sent again only when it changed (ROS's latched / transient-local topics)
 LATCHED = {"/tf_static"}
-
-
-def image_message(frame: Frame) -> dict:
-    """/image_raw's message of a rendered frame: stamped with the simulated time of the pose it shows."""
-    return image(frame.time, frame.image)

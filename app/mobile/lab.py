@@ -1,46 +1,46 @@
 """The mobile world's Lab (`hri-lab serve --world mobile`, docs/mobile-lab.md): the same runtime
 as the lifting lab's (its own process, the loop, the shared snapshot: app/runtime), the same
-ROS machinery (rosout, the node parameters, ROS 1's parameter tree), with the mobile world's
-declarations: its topics, its command topic (/cmd_vel), the Burger's URDF and its recording
-services (app/mobile/services.py). It declares no parameters or actions of its own: the nodes that
+ROS machinery (rosout, the node parameters, ROS 1's parameter tree) with the Burger's URDF; the
+world's declarations (its topics, its command topic /cmd_vel, its recording services) are its
+World's (app/mobile/world.py). It declares no parameters or actions of its own: the nodes that
 run against it bring theirs."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from contextlib import AbstractContextManager
 from typing import TypeVar
 
-from sim.mobile.messages import GRADER_TOPICS
+from sim.messages import Topic
 from sim.mobile.urdf import burger_urdf
 from sim.mobile.world import MobileConfig, MobileSnapshot, MobileWorld
 
-from app.lab.events import LAB_NODE
-from app.lab.recorder import DEFAULT_DIR
-from app.mobile import commands
 from app.mobile.services import MobileRecorder
-from app.mobile.topics import COMMAND_TOPIC, LATCHED, MIN_PERIOD_S, ROBOT_DESCRIPTION, TOPICS
-from app.ros.names import node_name
+from app.mobile.topics import ROBOT_DESCRIPTION, TOPICS
+from app.recording.services import DEFAULT_DIR
+from app.ros.names import LAB_NODE, node_name
 from app.ros.param_tree import ParameterTree
 from app.ros.params import ParameterServer
 from app.ros.rosout import Rosout
 from app.runtime.process import SimulationProcess
 
 T = TypeVar("T")
-WORLD = "mobile"
 
 
 class MobileLab:
-    world_name = WORLD
-    topics = TOPICS  # the world's topics, sampled from its snapshot (rosbridge, HTTP)
-    min_period_s = MIN_PERIOD_S
-    latched = LATCHED
-    command_topic = COMMAND_TOPIC  # a node's geometry_msgs/Twist on it drives the base
-    command = staticmethod(commands.drive)
-
-    def __init__(self, config: MobileConfig | None = None, realtime: bool = True, graded: bool = False) -> None:
-        self.runtime = SimulationProcess(MobileWorld(config), realtime=realtime)  # type: ignore[arg-type]  # a world as the loop needs one
+    def __init__(
+        self,
+        config: MobileConfig | None = None,
+        realtime: bool = True,
+        graded: bool = False,
+        topics: Sequence[Topic] = TOPICS,
+    ) -> None:
+        self.topics = list(topics)  # what it serves, and records (app/mobile/world.py: a graded trial's fewer)
+        self.world = MobileWorld(
+            config
+        )  # the pristine world each simulation process starts from (its arena, its figures)
+        self.runtime = SimulationProcess(self.world, realtime=realtime)
         self.rosout = Rosout()
         self.params = ParameterServer([], self)  # nodes' parameters only (rosbridge sets `remote`)
         self.param_tree = ParameterTree(
@@ -48,17 +48,11 @@ class MobileLab:
         )
         self.recordings_dir = DEFAULT_DIR
         self.figures_dir = DEFAULT_DIR.parent / "figures"
+        self.camera = None  # no camera: no /image_raw
         self.recorder: MobileRecorder | None = None  # the live recording (app/mobile/services.py), one at a time
         # a graded trial (app/grading/wall_trial.py): nothing may reset its world, and its program sees what a
         # node on the robot sees: the grader's topics (the ground truth, the monitor) and the arena are not served
         self.graded = graded
-        if graded:
-            self.topics = [t for t in TOPICS if t.name not in GRADER_TOPICS]
-
-    @property
-    def world(self) -> MobileWorld:
-        """The pristine world each simulation process starts from (its arena, its figures)."""
-        return self.runtime.world  # type: ignore[return-value]
 
     def start(self) -> None:
         self.runtime.start()
@@ -77,7 +71,7 @@ class MobileLab:
         return self.runtime.submit(fn, *args)
 
     def snapshot(self) -> MobileSnapshot:
-        return self.runtime.snapshot()  # type: ignore[return-value]
+        return self.runtime.snapshot()
 
     def needs(self, period: float, snapshots: bool = True) -> AbstractContextManager[None]:
         return self.runtime.needs(period, snapshots)

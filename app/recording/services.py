@@ -14,6 +14,8 @@ from pydantic import Field
 from app.ros.messages import Bool, Empty, Int64, RosMessage, RosType, String
 from app.ros.services import Service, ServiceFailure
 
+DEFAULT_DIR = Path("recordings")  # where /start_recording writes (serve --output-dir DIR: DIR/recordings)
+
 
 class StartRecordingRequest(RosMessage):
     name: Annotated[

@@ -1,4 +1,6 @@
-"""ROS names: the one helper that turns what a user typed into the absolute name."""
+"""ROS names: the one helper that turns what a user typed into the absolute name, and the lab's own node."""
+
+LAB_NODE = "/hri_lab"  # the lab as a ROS node (ros2 node list, rosapi, a service's node); its log lines carry node_name(LAB_NODE)
 
 
 def absolute(name: str) -> str:

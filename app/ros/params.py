@@ -99,7 +99,7 @@ class RemoteParameters(Protocol):
 
 
 class Simulation(Protocol):
-    """What the parameter server uses of the lab (app/lab/port.py's LabPort has it): a function
+    """What the parameter server uses of the lab (app/worlds/port.py's LabPort has it): a function
     run on the simulation's world between two steps (a parameter's apply and read)."""
 
     def call(self, fn: Callable[..., T], *args: object, timeout: float = 10.0) -> T: ...

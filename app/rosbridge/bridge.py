@@ -1,4 +1,5 @@
-"""The bridge's shared state: the lab, its registries (handed in by the composition root,
+"""The bridge's shared state: the lab, its world's settings (its topics, their rates, the command
+topic: app/worlds/contract.py), its registries (handed in by the composition root,
 app/serving/compose.py), the service table, the topics nodes provide, the connected sessions. Every
 session (app/rosbridge/session.py) reads and changes it; it imports no session (app/rosbridge/ports.py
 has the shapes both see)."""
@@ -7,11 +8,11 @@ from __future__ import annotations
 
 import math
 import threading
+from collections.abc import Iterable
 from typing import Any
 
 from sim.messages import Topic
 
-from app.lab.topics import LATCHED, MIN_PERIOD_S, TOPICS, franka_state
 from app.ros import rosout
 from app.ros.actions import ActionServer
 from app.ros.node_actions import NodeActions
@@ -33,8 +34,9 @@ from app.rosbridge.protocol import MAX_TOPICS, BadFrame
 from app.rosbridge.services import ServiceTable
 from app.rosbridge.tf_republisher import TFSubscriptionServer
 from app.tokens import Throttle
+from app.worlds.contract import Command, World
+from app.worlds.port import LabPort
 
-COMMAND_TOPIC = "/cartesian_velocity_controller/command"
 COMMAND_TYPE = "geometry_msgs/Twist"  # what the lab follows on its command topic (either world's)
 
 
@@ -75,7 +77,8 @@ class Bridge:
 
     def __init__(
         self,
-        lab: Any,
+        world: World,
+        lab: LabPort[Any],
         nodes: NodeServices,
         actions: ActionServer,
         node_actions: NodeActions,
@@ -86,23 +89,25 @@ class Bridge:
         # a graded trial's lab (app/grading/wall_trial.py): a client without the token is the graded program, a node
         # as on a robot (it publishes, advertises, provides and calls its nodes' services); the lab's own services
         # stay the token's (app/rosbridge/session.py, capabilities/call_service.py)
-        self.graded = bool(getattr(lab, "graded", False))
+        self.graded = lab.graded
         self.node_actions = node_actions  # actions nodes provide, in the same ActionServer
         self.service_table: ServiceTableLike = ServiceTable(nodes)  # every service a client may call
-        # the lab's topics, sampled from its snapshot, and the one a node's Twists drive its robot
-        # on: the world's own (the mobile world's: app/mobile/lab.py), else the lifting lab's; none in a
-        # lab started to replay bags (`serve --replay`): a player publishes them as a node would
-        self.topics = {} if replay else {t.name: t for t in getattr(lab, "topics", TOPICS)}
-        own_tf = [self.topics[name] for name in TF_TOPICS if name in self.topics]
+        # the lab's topics, sampled from its snapshot (its world's, those a graded trial's program may see), and
+        # the one a node's Twists drive its robot on; none in a lab started to replay bags (`serve --replay`): a
+        # player publishes them as a node would
+        self.world_topics = world.served_topics(lab.graded)
+        self.topics = {} if replay else {t.name: t for t in self.world_topics}
+        own_tf = [t for t in self.world_topics if t.name in TF_TOPICS]
         # the frames programs publish: /tf and /tf_static carry them with the lab's, whose own frames
         # (the served world's) no program may publish
         self.frames: FramesLike = NodeFrames(lambda: _frames_of(own_tf, lab.snapshot())) if own_tf else NodeFrames()
         for name, static in TF_TOPICS.items():
             if name in self.topics:
                 self.topics[name] = _with_programs_frames(self.topics[name], self.frames, static)
-        self.min_period_s = dict(getattr(lab, "min_period_s", MIN_PERIOD_S))  # a topic's own longest rate
-        self.command_topic = getattr(lab, "command_topic", COMMAND_TOPIC)
-        self.latched = getattr(lab, "latched", LATCHED)  # sent again only when the message changed
+        self.min_period_s = dict(world.min_period_s)  # a topic's own longest rate
+        self.command_topic = world.command_topic
+        self.command: Command = world.command  # what the lab runs with each Twist on command_topic
+        self.latched: Iterable[str] = world.latched  # sent again only when the message changed
         self.node_topics: dict[str, NodeTopicLike] = {}
         self.shared: SharedMessagesLike = (
             SharedMessages()
@@ -115,9 +120,9 @@ class Bridge:
         self.auth_throttle = Throttle()  # wrong tokens of the auth op, per client address (HTTP's rule)
         self.streams = 0  # the topic streams of every client (app/rosbridge/internal/streams.py)
         self._counter = 0
-        if "/franka_state_controller/franka_states" in self.topics:
-            # load franka_states' robot model now, not on the event loop when a node first subscribes
-            threading.Thread(target=franka_state, args=(lab.snapshot(),), name="rosbridge-warm-up", daemon=True).start()
+        if self.topics and world.warm_up is not None:
+            # what its topics need loaded now, not on the event loop when a node first subscribes
+            threading.Thread(target=world.warm_up, args=(lab,), name="rosbridge-warm-up", daemon=True).start()
 
     def fair_period(self) -> float:
         """s between two messages of one stream so that all of them together send at most

@@ -17,6 +17,8 @@ from app.ros.node_services import NodeClient, NodeServices
 from app.ros.services import Service
 from app.rosbridge.protocol import Id
 from app.tokens import Throttle
+from app.worlds.contract import Command
+from app.worlds.port import LabPort
 
 C = TypeVar("C")
 
@@ -119,7 +121,7 @@ class ServiceTableLike(Protocol):
 class BridgeLike(Protocol):
     """What every session shares: the lab, its registries, the node topics, the sessions."""
 
-    lab: Any  # the lifting lab (app/lab/lab.py) or the mobile world (app/mobile/lab.py)
+    lab: LabPort[Any]  # any world's lab (app/worlds/port.py)
     nodes: NodeServices
     actions: ActionServer
     node_actions: NodeActions
@@ -129,6 +131,8 @@ class BridgeLike(Protocol):
     frames: FramesLike
     min_period_s: dict[str, float]
     command_topic: str
+    command: Command  # what the lab runs with each Twist on command_topic (its world's)
+    world_topics: list[Topic]  # the topics its world serves (rosapi's; `topics` is empty when replaying bags)
     latched: Iterable[str]
     node_topics: dict[str, NodeTopicLike]
     windows: dict[str, dict]

@@ -10,10 +10,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.lab.events import LAB_NODE
-from app.lab.topics import TOPICS
 from app.ros import rosout
 from app.ros.messages import RosType
+from app.ros.names import LAB_NODE
 from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
@@ -209,8 +208,8 @@ _UNSET = object()
 
 
 def lab_topics(bridge: BridgeLike) -> list:
-    """The topics the lab's world publishes (the mobile world's its own: app/mobile/lab.py)."""
-    return getattr(bridge.lab, "topics", TOPICS)
+    """The topics the lab's world publishes (app/worlds/contract.py), even while bags replay."""
+    return bridge.world_topics
 
 
 def _samples(bridge: BridgeLike, snapshot: Any) -> dict[str, tuple[str, dict]]:

@@ -31,7 +31,7 @@ import numpy as np
 
 from sim.messages import Topic
 
-from app.lab import tf
+from app.ros import tf_messages as tf
 from app.ros.services import ServiceFailure
 from app.rosbridge.internal.node_frames import TF_TOPICS, transform_matrix
 from app.rosbridge.protocol import MAX_CLIENT_TF_REPUBLISHED, BadFrame

@@ -8,6 +8,7 @@ for it and the server's Python never renders.
 - While wanted it renders the latest snapshot (read from the simulation's shared memory, as every
   reader does) at the shortest period wanted, at most MAX_RATE_HZ, and publishes each image in
   shared memory (app/runtime/shared_frame.py) with the snapshot's simulated time.
+- Its images are /image_raw's (IMAGE; `image_message` of a frame), whichever world has the camera.
 - It runs at a lower priority (nice) than the server; should it die (a crash in the driver), the
   supervisor thread forks a new one. A renderer that cannot start (no EGL) says why in `error`.
 """
@@ -27,16 +28,23 @@ from multiprocessing.process import BaseProcess
 
 from sim import camera
 from sim.camera_render import SceneSizes
+from sim.messages import image
 from sim.world import Snapshot
 
 from app.runtime.shared_frame import Frame, SharedFrame
 
 _FORK = multiprocessing.get_context("fork")
+IMAGE = "/image_raw"  # the camera's topic (sensor_msgs/Image)
 MAX_RATE_HZ = 30.0  # images per second at most (a camera's usual rate)
 IDLE_S = 0.02  # s between two looks at the demand while nobody wants images
 LEASE_S = 2.0  # s an HTTP request for the latest image keeps the renderer going
 NICE = 5  # the renderer yields the CPU to the server (the loop runs real-time when it may)
 ERROR_BYTES = 1024
+
+
+def image_message(frame: Frame) -> dict:
+    """/image_raw's message of a rendered frame: stamped with the simulated time of the pose it shows."""
+    return image(frame.time, frame.image)
 
 
 class CameraProcess:

@@ -30,9 +30,9 @@ import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Generic, Protocol, TypeVar
 
-from sim.world import Snapshot, World
+from app.runtime.simulated import Simulated
 
 
 @dataclass
@@ -51,11 +51,14 @@ class LoopStats:
     fatal: str = ""  # why the loop ended (then the process exits)
 
 
+S = TypeVar("S")  # the world's snapshot type
+
+
 @dataclass
-class Published:
+class Published(Generic[S]):
     """What the loop publishes after every step: the world's snapshot and the loop's figures."""
 
-    snapshot: Snapshot
+    snapshot: S
     stats: LoopStats
 
 
@@ -68,7 +71,7 @@ class SharedSeconds(Protocol):
     value: float
 
 
-class SimulationLoop:
+class SimulationLoop(Generic[S]):
     max_behind = 0.05  # s; further behind than this, the loop drops the missed periods
     stats_every = 100  # ticks between two updates of the lateness percentiles
     batch_period = 0.02  # s between two wake-ups of an idle loop (< max_behind)
@@ -76,12 +79,12 @@ class SimulationLoop:
 
     def __init__(
         self,
-        world: World,
-        publish: Callable[[Published], None],
+        world: Simulated[S],
+        publish: Callable[[Published[S]], None],
         reply: Reply,
         realtime: bool = True,
         granularity: SharedSeconds | None = None,
-        sample: Callable[[World], None] | None = None,
+        sample: Callable[[Simulated[S]], None] | None = None,
         snapshot_spacing: SharedSeconds | None = None,
     ) -> None:
         """granularity: a shared value (.value, s) the server sets to the finest spacing of steps its

@@ -35,16 +35,16 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
-from typing import TypeVar
-
-from sim.world import Snapshot, World
+from typing import Any, Generic, TypeVar
 
 from app.runtime.loop import LoopStats, Published, SharedSeconds, SimulationLoop, raise_priority
 from app.runtime.sample_ring import SampleRing
 from app.runtime.shared_snapshot import SharedSnapshot
+from app.runtime.simulated import Simulated
 
 _FORK = multiprocessing.get_context("fork")
 T = TypeVar("T")
+S = TypeVar("S")  # the world's snapshot type
 
 
 class SimulationRestarting(RuntimeError):
@@ -61,16 +61,16 @@ class Health:
     last_death: str
 
 
-class SimulationProcess:
+class SimulationProcess(Generic[S]):
     watch_period = 0.2  # s between the supervisor's looks at the process
     stall_timeout = 10.0  # s without a tick before a live process is declared stuck
 
-    def __init__(self, world: World, realtime: bool = True) -> None:
+    def __init__(self, world: Simulated[S], realtime: bool = True) -> None:
         self.world = world  # the pristine world each (re)started process begins from
         self.realtime = realtime
         self.restarts = 0
         self.last_death = ""
-        self._shared = SharedSnapshot(Published(world.snapshot(), LoopStats()))
+        self._shared: SharedSnapshot[Published[S]] = SharedSnapshot(Published(world.snapshot(), LoopStats()))
         self._shared.write(Published(world.snapshot(), LoopStats()))
         self._ids = itertools.count()
         self._pending: dict[int, Future] = {}
@@ -217,7 +217,7 @@ class SimulationProcess:
         """fn(world, *args) run in the simulation between two steps; its result (or its exception)."""
         return self.submit(fn, *args).result(timeout=timeout)
 
-    def snapshot(self) -> Snapshot:
+    def snapshot(self) -> S:
         """The latest published snapshot."""
         return self._shared.read().snapshot
 
@@ -285,9 +285,9 @@ def close_inherited_sockets(keep: int) -> None:
 
 
 def _child_main(
-    world: World,
+    world: Simulated[Any],
     realtime: bool,
-    shared: SharedSnapshot,
+    shared: SharedSnapshot[Published[Any]],
     conn: Connection,
     parent_end: Connection,
     granularity: SharedSeconds,
@@ -317,7 +317,7 @@ def _child_main(
         with send_lock:
             conn.send_bytes(call_id.to_bytes(8, "little") + (b"\x01" if ok else b"\x00") + data)
 
-    def sample(stepped: World) -> None:
+    def sample(stepped: Any) -> None:  # a world with F_ext (the lifting world's)
         wrenches.append(stepped.time, stepped.wrench_ee)
 
     has_wrench = hasattr(world, "wrench_ee")  # the lifting world's F_ext; the mobile world has none

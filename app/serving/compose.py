@@ -1,11 +1,12 @@
-"""The composition root: the one place that builds the lab's parts and hands each what it needs.
+"""The composition root: the one place that builds the lab's parts and hands each what it needs,
+for any world (what a world is: app/worlds/contract.py; which there are: app/serving/worlds.py).
 
 `hri-lab serve` (app/cli/serve.py), `hri-lab wall-trial`, the docs' reference hook and the tests'
-fixtures build the app here. Made once and handed down, never reached for: the lab (its
+fixtures build the app here. Made once and handed down, never reached for: the world's lab (its
 simulation, parameters and logs), the service registry with the nodes' services
 (app/ros/node_services.py), the ActionServer with the nodes' actions (app/ros/node_actions.py),
 the nodes' parameters behind the lab's parameter server (app/ros/node_params.py), the rosbridge
-endpoint (app/rosbridge/endpoint.py), the HTTP API (app/api/app.py) and the 3D view (app/view/),
+endpoint (app/rosbridge/endpoint.py), the HTTP API (app/api/app.py) and the world's 3D view,
 which runs while the app is served.
 """
 
@@ -13,30 +14,29 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from fastapi import FastAPI
 from starlette.datastructures import State
 
 from sim.messages import Topic
 
-from app.api.app import Running, create_api
-from app.lab.actions import ACTIONS
-from app.lab.events import LAB_NODE
-from app.lab.lab import Lab
-from app.lab.services import EXERCISES, NODE_EFFECTS, SERVICES
-from app.lab.topics import TOPICS
-from app.mobile.lab import MobileLab
-from app.mobile.services import SERVICES as MOBILE_SERVICES
+from app.api.app import create_api
 from app.ros.actions import Action, ActionServer
+from app.ros.names import LAB_NODE
 from app.ros.node_actions import NodeActions
 from app.ros.node_params import NodeParameters
 from app.ros.node_services import NodeServices
 from app.rosbridge import endpoint as rosbridge
+from app.serving.worlds import DEFAULT, WORLDS
 from app.tokens import token_problem
+from app.worlds.contract import LabOptions, Running, ViewRequest, World
+from app.worlds.port import LabPort
 
 
 def create_app(
-    lab: Lab | MobileLab | None = None,
+    world: World | None = None,
+    lab: LabPort[Any] | None = None,
     view: str = "none",
     view_host: str = "127.0.0.1",
     view_port: int = 8080,
@@ -44,7 +44,8 @@ def create_app(
     exercises: bool = False,
     replay: bool = False,
 ) -> FastAPI:
-    """The app around `lab` (a new Lab if none); the simulation runs while the app is served.
+    """The app around `lab`, a lab of `world` (the registry's default world if none: app/serving/worlds.py; a
+    new lab if none); the simulation runs while the app is served.
     view: "full" (visual meshes), "light" (collision meshes, no shadows) or "none" (no 3D view).
     view_host: the address the server (API and view) is bound to; requests must name it
     (app/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
@@ -53,22 +54,26 @@ def create_app(
     (app/rosbridge/bridge.py, docs/recording.md)."""
     if token and token_problem(token):
         raise ValueError(token_problem(token))
-    parts = build(lab or Lab(), token, exercises, replay)
+    world = world or WORLDS[DEFAULT]
+    parts = build(world, lab or world.lab(LabOptions()), token, exercises, replay)
     lab = parts.lab
-    maker = _view_maker(lab, parts.actions, parts.nodes, view, view_host, view_port, token)
-    view_part = ViewPart(maker) if view != "none" else None
+    request = ViewRequest(
+        lab, parts.actions, parts.nodes.registry, view_host, view_port, view == "light", token is None
+    )
+    view_part = ViewPart(lambda: world.view(request)) if view != "none" else None
     app = create_api(
         lab,
         parts.nodes,
         parts.actions,
         parts.actions_declared,
         parts.topics_declared,
-        lifting=parts.lifting,
+        world_routes=world.routes,
         bound_host=view_host,
         token=token,
         running=[lab] if view_part is None else [lab, view_part],
         routers=[rosbridge.router(parts.bridge)],  # rosbridge v2: WebSocket at /
     )
+    app.state.world = world
     app.state.bridge = parts.bridge  # its programs' image windows: app/api/camera.py
     if view_part is not None:
         view_part.state = app.state
@@ -79,33 +84,31 @@ def create_app(
 class Parts:
     """The lab and what serves it, wired: what the API, rosbridge and the view are handed."""
 
-    lab: Lab | MobileLab
-    lifting: bool  # the lifting lab (else the mobile world: it declares topics only)
+    world: World
+    lab: LabPort[Any]
     nodes: NodeServices  # the declared services and the nodes'
     actions: ActionServer  # the declared actions and the nodes'
     actions_declared: list[Action]
-    topics_declared: list[Topic]
+    topics_declared: list[Topic]  # the topics its lab serves (a graded trial's fewer)
     bridge: rosbridge.Bridge  # what every rosbridge client shares
 
 
-def build(lab: Lab | MobileLab, token: str | None = None, exercises: bool = False, replay: bool = False) -> Parts:
+def build(
+    world: World, lab: LabPort[Any], token: str | None = None, exercises: bool = False, replay: bool = False
+) -> Parts:
     """The lab's registries, the nodes' parts of them and the rosbridge state, wired once."""
-    lifting = not isinstance(lab, MobileLab)
-    if isinstance(lab, MobileLab):
-        services_declared, actions_declared, topics_declared = MOBILE_SERVICES, [], lab.topics
-    else:
-        services_declared, actions_declared, topics_declared = SERVICES, ACTIONS, TOPICS
+    actions_declared, topics_declared = list(world.actions), world.served_topics(lab.graded)
     nodes = NodeServices(
-        services_declared,
+        world.services,
         lab,
-        EXERCISES if exercises and lifting else (),
-        effects=NODE_EFFECTS if lifting else None,
+        world.exercises if exercises else (),
+        effects=world.node_effects,
         caller=LAB_NODE,
     )
     actions = ActionServer(actions_declared, lab)
     lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
-    bridge = rosbridge.Bridge(lab, nodes, actions, NodeActions(actions), token, replay=replay)
-    return Parts(lab, lifting, nodes, actions, actions_declared, topics_declared, bridge)
+    bridge = rosbridge.Bridge(world, lab, nodes, actions, NodeActions(actions), token, replay=replay)
+    return Parts(world, lab, nodes, actions, actions_declared, topics_declared, bridge)
 
 
 class ViewPart:
@@ -128,31 +131,3 @@ class ViewPart:
             self.view.stop()
         if self.state is not None:
             self.state.view = None
-
-
-def _view_maker(
-    lab: Lab | MobileLab,
-    actions: ActionServer,
-    nodes: NodeServices,
-    view: str,
-    host: str,
-    port: int,
-    token: str | None,
-) -> Callable[[], Running]:
-    """How to make the lab's 3D view (viser is imported only when a view is asked for)."""
-    light = view == "light"
-    if isinstance(lab, MobileLab):
-
-        def mobile() -> Running:
-            from app.view.mobile_view import MobileView
-
-            return MobileView(lab, host, port, light=light)
-
-        return mobile
-
-    def lifting() -> Running:
-        from app.view.view3d import LabView
-
-        return LabView(lab, actions, nodes.registry, host, port, light=light, controls=token is None)
-
-    return lifting

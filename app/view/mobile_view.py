@@ -1,4 +1,4 @@
-"""The mobile world's 3D view (viser, as the lifting world's app/view/view3d.py: same process as the
+"""The mobile world's 3D view (viser, as the lifting world's app/lab/view.py: same process as the
 API, bound to the server's address, the same cross-site guard): the arena's walls, its obstacle, the
 base (where it truly is), the latest scan's points (from where the base truly was when it was
 taken) and the odometry's trail (where the odometry says the base went: it drifts from the truth).

@@ -1,4 +1,4 @@
-"""What every 3D view of the lab is built from (the live view, app/view/view3d.py; the replay,
+"""What every 3D view of the lab is built from (the live view, app/lab/view.py; the replay,
 replay.py; the mobile world's, mobile_view.py; a student's URDF, urdf_view.py): a viser server
 started behind the cross-site checks (`guarded_websocket_server`, app/security.py's), the camera's
 field of view and the docked panel's width, rotations as viser's wxyz, the lab's shapes

@@ -21,6 +21,7 @@ from sim.mobile.world import MobileConfig
 from sim.recording.reader import messages
 
 from app.mobile.lab import MobileLab
+from app.mobile.world import MOBILE
 from app.serving.compose import create_app
 from tests.waiting import wait_for
 
@@ -161,7 +162,7 @@ def test_every_stream_of_the_mobile_lab_goes_on_after_resets_at_random_moments()
     rng = random.Random()
     seed = rng.randrange(1 << 30)
     rng.seed(seed)
-    with TestClient(create_app(MobileLab(MobileConfig()))) as client, ExitStack() as stack:
+    with TestClient(create_app(MOBILE, MobileLab(MobileConfig()))) as client, ExitStack() as stack:
         lab = client.app.state.lab
         subscribers = [
             _rosbridge(client, stack, "/scan", 0),

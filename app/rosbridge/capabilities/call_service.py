@@ -9,7 +9,7 @@ The lab's extension `headers` ({str: str}, bounded: protocol.headers_field; rosp
 
 from __future__ import annotations
 
-from app.lab.events import LAB_NODE
+from app.ros.names import LAB_NODE
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.ports import Closing, Id, SessionLike
 from app.rosbridge.protocol import BadFrame, headers_field, name_field

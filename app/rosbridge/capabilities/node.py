@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from app.lab.events import LAB_NODE
+from app.ros.names import LAB_NODE
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.ports import Id
 from app.rosbridge.protocol import BadFrame, name_field

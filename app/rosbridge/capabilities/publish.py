@@ -14,7 +14,6 @@ import json
 import math
 from concurrent.futures import Future
 
-from app.lab import commands as cmd
 from app.ros import rosout
 from app.rosbridge.capabilities.advertise import Advertise
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
@@ -110,7 +109,7 @@ class Commands:
             self.session.spawn(self.forward())
 
     async def forward(self) -> None:
-        lab, loop = self.session.bridge.lab, asyncio.get_running_loop()  # the session's loop
+        bridge, loop = self.session.bridge, asyncio.get_running_loop()  # the session's loop
         try:
             while self.newest is not None:
                 if self.in_flight >= MAX_COMMANDS_IN_FLIGHT:
@@ -118,7 +117,7 @@ class Commands:
                     continue
                 twist, self.newest = self.newest, None
                 self.in_flight += 1
-                future = lab.submit(getattr(lab, "command", cmd.external_twist), twist)
+                future = bridge.lab.submit(bridge.command, twist)
                 future.add_done_callback(lambda f: loop.call_soon_threadsafe(self.done, f))
         finally:
             self.forwarding = False

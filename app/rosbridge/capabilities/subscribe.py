@@ -22,7 +22,6 @@ from typing import Any
 from sim.messages import F_EXT, Topic, wrench_stamped_at
 from sim.sampling import due
 
-from app.lab.topics import IMAGE, image_message
 from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.advertise import Advertise
@@ -30,6 +29,7 @@ from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.internal.streams import Stream
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
+from app.runtime.camera_process import IMAGE, image_message
 
 MAX_QUEUE = 1000  # queue_length cap
 MAX_TOPICS = 32  # topics one client may be subscribed to at once
@@ -83,10 +83,12 @@ class Subscribe(Capability):
         stream.connection_header = wants_header
         lab, lab_topic = bridge.lab, bridge.topics.get(topic)
         if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
-            loop = asyncio.get_running_loop()
-            stream.on_stop.append(
-                lab.rosout.listen(lambda line, kind=known: loop.call_soon_threadsafe(stream.offer, line.message(kind)))
-            )
+            loop, kind = asyncio.get_running_loop(), known or rosout.TYPE
+
+            def relay(line: rosout.LogLine) -> None:
+                loop.call_soon_threadsafe(stream.offer, line.message(kind))
+
+            stream.on_stop.append(lab.rosout.listen(relay))
         elif topic == F_EXT and lab_topic is not None:  # every step's sample, not only the newest when we look
             stream.tasks.append(asyncio.ensure_future(sample_every_step(lab, stream)))
         elif topic == IMAGE and lab_topic is not None:  # the camera's images, rendered while somebody subscribes

@@ -1,5 +1,5 @@
 """The frames programs publish on /tf and /tf_static (tf2_msgs/TFMessage), joined to the lab's tree
-(app/lab/tf.py), as tf2 joins every broadcaster's frames.
+(the served world's own /tf and /tf_static), as tf2 joins every broadcaster's frames.
 
 A program's transform names its parent and child; it is taken when its numbers are finite and its
 child is neither one of the served world's frames nor a frame another program publishes, and its
@@ -23,7 +23,6 @@ from typing import Any
 
 import numpy as np
 
-from app.lab import tf
 from app.ros.node_services import NodeClient
 
 MAX_FRAMES = 1000  # frames programs may publish, all together
@@ -66,13 +65,13 @@ def transform_matrix(transform: dict) -> np.ndarray:
     return matrix
 
 
-def lifting_frames() -> set[str]:
-    """The lifting world's frames (app/lab/tf.py's tree)."""
-    return {child for _, child, _ in tf.tree()} | {tf.WORLD}
+def no_frames() -> set[str]:
+    """A lab that publishes no frame of its own."""
+    return set()
 
 
 class NodeFrames:
-    def __init__(self, lab_frames: Callable[[], set[str]] = lifting_frames) -> None:
+    def __init__(self, lab_frames: Callable[[], set[str]] = no_frames) -> None:
         self._frames: dict[str, Published] = {}  # child -> its newest transform
         self._lock = threading.Lock()
         self._lab_frames = lab_frames  # the served world's own frames, asked once (the first offer)

@@ -4,8 +4,7 @@ listed and its logger's name on the lines the lab logs itself."""
 import re
 from pathlib import Path
 
-from app.lab.events import LAB_NODE
-from app.ros.names import node_name
+from app.ros.names import LAB_NODE, node_name
 
 APP = Path(__file__).resolve().parents[3] / "app"
 
@@ -17,7 +16,7 @@ def test_the_lab_node_is_named_once():
         for number, line in enumerate(path.read_text().splitlines(), 1)
         if re.match(r"\s*LAB_NODE\s*[:=]", line)
     ]
-    assert len(defined) == 1 and defined[0].startswith("app/lab/events.py:"), defined
+    assert len(defined) == 1 and defined[0].startswith("app/ros/names.py:"), defined
     assert LAB_NODE == "/hri_lab"
     assert node_name(LAB_NODE) == "hri_lab"
 

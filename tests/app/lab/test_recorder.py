@@ -12,6 +12,7 @@ from mcap.reader import make_reader
 from sim.recording import reader
 
 from app.lab.lab import Lab
+from app.lab.world import LIFTING
 from app.serving.compose import create_app
 
 
@@ -83,7 +84,7 @@ def test_file_routes_refuse_paths_out_of_their_folder(client):
 def test_a_recording_is_finished_on_shutdown(tmp_path):
     lab = Lab()
     lab.recordings_dir = tmp_path
-    with TestClient(create_app(lab)) as client:
+    with TestClient(create_app(LIFTING, lab)) as client:
         assert client.post("/services/start_recording", json={"name": "shutdown"}).status_code == 200
         wait_sim(client, 0.2)
     bag = reader.info(tmp_path / "shutdown.mcap")  # the server stopped without /stop_recording

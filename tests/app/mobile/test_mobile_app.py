@@ -12,13 +12,14 @@ from sim.mobile.world import MobileConfig
 from sim.recording import reader
 
 from app.mobile.lab import MobileLab
+from app.mobile.world import MOBILE
 from app.serving.compose import create_app
 from tests.waiting import wait_for
 
 
 @pytest.fixture(scope="module")
 def client():
-    with TestClient(create_app(MobileLab(MobileConfig()))) as c:
+    with TestClient(create_app(MOBILE, MobileLab(MobileConfig()))) as c:
         yield c
 
 
@@ -102,7 +103,7 @@ def test_a_graded_trials_lab_gives_its_program_a_nodes_access_and_nothing_more()
     """A graded trial (app/grading/wall_trial.py): the client without the trial's token (its program) drives
     on /cmd_vel and reads what a robot's node reads; the arena, the ground truth and the monitor are
     not served, and the lab's recording service and the API's driving are refused to it."""
-    with TestClient(create_app(MobileLab(MobileConfig(), graded=True), token=TRIAL_TOKEN)) as graded:
+    with TestClient(create_app(MOBILE, MobileLab(MobileConfig(), graded=True), token=TRIAL_TOKEN)) as graded:
         assert graded.get("/mobile/arena").status_code == 403
         names = {t["name"] for t in graded.get("/topics").json()}
         assert "/scan" in names and "/odom" in names

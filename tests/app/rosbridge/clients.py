@@ -10,6 +10,7 @@ import json
 from typing import Any
 
 from app.lab.lab import Lab
+from app.lab.world import LIFTING
 from app.rosbridge.session import Session
 from app.serving.compose import Parts, build
 
@@ -28,7 +29,7 @@ class Socket:
 def parts(token: str | None = None, replay: bool = False) -> Parts:
     """A lab's registries and rosbridge state, wired as `hri-lab serve` wires them (replay: no lab
     topics, so no snapshot is sampled)."""
-    return build(Lab(), token=token, replay=replay)
+    return build(LIFTING, Lab(), token=token, replay=replay)
 
 
 async def connect(parts: Parts, token: str | None = None) -> Session:

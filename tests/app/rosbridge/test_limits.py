@@ -15,6 +15,7 @@ import pytest
 from sim.messages import Topic
 
 from app.mobile.lab import MobileLab
+from app.mobile.world import MOBILE
 from app.rosbridge import protocol
 from app.rosbridge.capabilities import connection
 from app.rosbridge.internal import message_conversion
@@ -268,7 +269,7 @@ def test_the_tf_tree_is_built_once_a_period_for_every_goal_and_republished_topic
 @pytest.mark.parametrize("frame", ["base_footprint", "odom", "base_scan", "wheel_left_link"])
 def test_programs_cannot_publish_the_mobile_worlds_own_frames(frame):
     async def check() -> None:
-        lab = build(MobileLab())
+        lab = build(MOBILE, MobileLab())
         session = await connect(lab)
         await op(session, op="advertise", topic="/tf", type="tf2_msgs/TFMessage")
         refused = errors(await op(session, op="publish", topic="/tf", msg={"transforms": [stamped("map", frame)]}))

@@ -5,6 +5,7 @@ import json
 from sim.controllers.interface import LiftingParams
 
 from app.mobile.lab import MobileLab
+from app.mobile.world import MOBILE
 from app.rosbridge import rosapi
 from app.rosbridge.capabilities.call_service import CallService
 from app.serving.compose import build as parts_of
@@ -89,7 +90,7 @@ def test_the_mobile_worlds_cmd_vel_is_published_by_the_nodes_alone():
     is the lab's own /cmd_vel_followed."""
 
     async def check() -> None:
-        lab = parts_of(MobileLab(realtime=False))
+        lab = parts_of(MOBILE, MobileLab(realtime=False))
         follower, leftover, listener = [await connect(lab) for _ in range(3)]
         for session, name in ((follower, "/follower"), (leftover, "/leftover"), (listener, "/listener")):
             await op(session, op="node", name=name)

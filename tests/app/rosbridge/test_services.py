@@ -2,6 +2,7 @@
 rosapi's and /republish_tfs, each with one access flag, all called by one path."""
 
 from app.lab.lab import Lab
+from app.lab.world import LIFTING
 from app.rosbridge import rosapi
 from app.rosbridge.capabilities.call_service import CallService
 from app.rosbridge.services import ServiceTable
@@ -32,7 +33,7 @@ def test_every_service_has_one_entry_with_its_type_and_access():
 
 
 def test_the_names_are_the_labs_offered_services_then_rosapis_then_the_republisher():
-    lab = build(Lab(), exercises=True, replay=True)  # the exercises are left to the nodes: not offered yet
+    lab = build(LIFTING, Lab(), exercises=True, replay=True)  # the exercises are left to the nodes: not offered yet
     table: ServiceTable = lab.bridge.service_table  # type: ignore[assignment]
     names = table.names()
     rosapi_names = sorted(s.name for s in rosapi.SERVICES)

@@ -7,14 +7,16 @@ from fastapi.testclient import TestClient
 
 from app.lab.lab import Lab
 from app.lab.services import NODE_EFFECTS
+from app.lab.world import LIFTING
 from app.mobile.lab import MobileLab
+from app.mobile.world import MOBILE
 from app.ros.node_params import NodeParameters
 from app.serving.compose import build, create_app
 from tests.waiting import within
 
 
 def test_the_parts_share_one_registry_one_action_server_and_the_nodes_parameters():
-    parts = build(Lab(), token="s3cret-0123456789abcdef", replay=True)
+    parts = build(LIFTING, Lab(), token="s3cret-0123456789abcdef", replay=True)
     bridge = parts.bridge
     assert bridge.nodes is parts.nodes
     assert bridge.services is parts.nodes.registry
@@ -26,13 +28,13 @@ def test_the_parts_share_one_registry_one_action_server_and_the_nodes_parameters
     assert parts.nodes.lab is parts.lab
     assert bridge.token == "s3cret-0123456789abcdef"
     assert bridge.topics == {}
-    assert parts.lifting
+    assert parts.world is LIFTING
     assert "/count" in parts.actions.actions
 
 
 def test_the_mobile_world_has_its_own_declarations_and_no_lifting_effects():
-    parts = build(MobileLab())
-    assert not parts.lifting
+    parts = build(MOBILE, MobileLab())
+    assert parts.world is MOBILE
     assert parts.actions_declared == []
     assert not parts.nodes.effects
     assert parts.bridge.command_topic == "/cmd_vel"
@@ -40,7 +42,7 @@ def test_the_mobile_world_has_its_own_declarations_and_no_lifting_effects():
 
 
 def test_the_app_serves_the_parts_it_was_handed():
-    app = create_app(Lab())
+    app = create_app(LIFTING, Lab())
     assert app.state.bridge.lab is app.state.lab
     assert app.state.bridge.actions is app.state.actions
     assert app.state.view is None  # no view asked for
@@ -50,4 +52,4 @@ def test_the_app_serves_the_parts_it_was_handed():
         assert within(rosbridge.receive_json, 30, "the answer")["values"] == {"sum": 3}
     assert client.get("/services/add_two_ints").json()["type"] == "hri_lab/AddTwoInts"
     with pytest.raises(ValueError, match="token"):
-        create_app(Lab(), token="short")
+        create_app(LIFTING, Lab(), token="short")

@@ -9,8 +9,8 @@ from app.lab import commands
 from app.lab.actions import ACTIONS
 from app.lab.lab import Lab
 from app.lab.services import SERVICES
+from app.lab.view import FORCE_SCALE, LabView, state_of
 from app.ros.actions import ActionServer
-from app.view.view3d import FORCE_SCALE, LabView, state_of
 
 
 @pytest.fixture(scope="module")
@@ -81,7 +81,7 @@ def test_dragging_the_palm_gizmo_up_makes_the_robot_follow(view):
 
 
 def test_legend_names_every_colour_and_arrow():
-    from app.view.view3d import ARROWS, COLOURS, MEANING, legend_markdown
+    from app.lab.view import ARROWS, COLOURS, MEANING, legend_markdown
 
     legend = legend_markdown()
     assert set(MEANING) == set(COLOURS)  # the idle colour included
@@ -134,8 +134,8 @@ def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
     control panel leaves free in the dashboard's embedded view (872 x 414 px with a 1500 x 900
     window), through viser's pinhole camera (the view's position, look-at, vertical fov, +z up);
     the gizmo keeps a fixed on-screen size, clearly larger than a fingertip."""
+    from app.lab.view import GIZMO_SIZE
     from app.view.scene import PANEL_WIDTH
-    from app.view.view3d import GIZMO_SIZE
 
     camera = view.server.initial_camera
     forward = np.asarray(camera.look_at) - np.asarray(camera.position)

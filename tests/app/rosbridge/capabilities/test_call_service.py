@@ -5,7 +5,7 @@ are bounded; what a call left for the client (a republished tf topic) goes with 
 import asyncio
 import json
 
-from app.lab.events import LAB_NODE
+from app.ros.names import LAB_NODE
 from app.rosbridge.capabilities.call_service import MAX_CALLS_IN_FLIGHT, CallService
 from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 

@@ -46,7 +46,7 @@ def test_a_programs_frames_are_placed_in_the_world_through_their_parents():
 
 
 def test_the_labs_frames_and_another_programs_are_refused_the_rest_taken():
-    frames = NodeFrames()
+    frames = NodeFrames(lambda: {child for _, child, _ in tf.tree()} | {tf.WORLD})  # the lifting world's frames
     lab_child = next(child for _, child, _ in tf.tree() if child == tf.BOX)
     refused = frames.offer(
         ADA, {"transforms": [stamped("panda_link0", lab_child), stamped("plate", "marker", (0, 0, 0.05))]}, static=False

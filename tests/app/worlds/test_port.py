@@ -1,12 +1,12 @@
-"""app/lab/port.py: both labs, the lifting one and the mobile one, are what LabPort says a lab is
+"""app/worlds/port.py: both labs, the lifting one and the mobile one, are what LabPort says a lab is
 (mypy checks Lab where LabEvents takes it; this checks both at run time, attribute by attribute)."""
 
 import pytest
 
 from app.lab.lab import Lab
-from app.lab.port import LabPort
 from app.mobile.lab import MobileLab
 from app.ros.params import ParameterServer
+from app.worlds.port import LabPort
 
 
 @pytest.mark.parametrize("make", [lambda: Lab(realtime=False), lambda: MobileLab(realtime=False)])

@@ -272,7 +272,7 @@ class Node:
         for timer in self.timers:
             timer.cancel()
         if process.connected() and not process.shutdown_event.is_set():
-            sent: list[list[Any]] = [self.waitables, self.subscriptions, self.services, self.publishers]
+            sent: list[list[Any]] = [self.waitables, self.subscriptions, self.services, self.publishers, self.clients]
             for kind in sent:
                 for entity in list(kind):
                     self._removed(kind, entity)

@@ -36,7 +36,7 @@ class Publisher:
         self.topic_name = node.resolve_topic_name(topic)
         self.type = type_name(msg_type)
         self._destroyed = False
-        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, publisher=True)
+        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, True, node.get_fully_qualified_name())
         self._incompatible = _endpoints.add(self._endpoint)  # told once its handlers are made (node.py)
         _graph.add_publisher(self.topic_name, self.type, msg_type, kept_for_late_joiners(self.qos_profile),
                              self.qos_profile.lifespan.nanoseconds / 1e9)

@@ -32,7 +32,7 @@ class Subscription(Entity):
         callback_group.add_entity(self)
         self.qos_profile = profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
-        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, publisher=False)
+        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, False, node.get_fully_qualified_name())
         self._incompatible = _endpoints.add(self._endpoint)  # told once its handlers are made (node.py)
         self._deaf = (-1, False)  # (the endpoints' generation, whether it hears none of the program's publishers)
         depth = self.qos_profile.queue_length

@@ -201,3 +201,29 @@ def test_a_transient_local_publishers_lifespan_goes_to_the_lab_with_its_history(
     kept = advertised["/qos_lifespan_chatter"]
     assert (kept["latch"], kept["queue_size"], kept["lifespan"]) == (True, 10, 1.5)
     assert "lifespan" not in advertised["/forever"]
+
+
+def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy):
+    """What `topic info -v` and `service info` show of an rclpy program (the lab's `endpoints` op): each
+    publisher and subscription with its node and QoS, each service client; none left once destroyed."""
+    from example_interfaces.srv import AddTwoInts
+    from rclpy.duration import Duration
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    node = rclpy.create_node("talker", namespace="demo", start_parameter_services=False)
+    qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT, deadline=Duration(seconds=0.5))
+    publisher = node.create_publisher(String, "chatter", qos)
+    client = node.create_client(AddTwoInts, "/add_two_ints")
+
+    def told(kind: str, name: str) -> list:
+        frames = [m for m in rclpy.connection.sent if m["op"] == "endpoints" and (m["kind"], m["name"]) == (kind, name)]
+        return frames[-1]["entities"]
+
+    assert told("publisher", "/demo/chatter") == [{"node": "/demo/talker", "qos": {
+        "reliability": "BEST_EFFORT", "durability": "VOLATILE", "lifespan": 0, "deadline": 500_000_000,
+        "liveliness": "AUTOMATIC", "liveliness_lease_duration": 0}}]
+    assert told("client", "/add_two_ints") == [{"node": "/demo/talker", "qos": {}}]
+    node.destroy_publisher(publisher)
+    node.destroy_client(client)
+    assert told("publisher", "/demo/chatter") == [] and told("client", "/add_two_ints") == []

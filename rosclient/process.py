@@ -29,6 +29,7 @@ shutdown_reason: list[str] = []
 _advertised: set[str] = set()
 _headers: dict[str, dict[str, str]] = {}  # topic -> its connection header's extra fields (rospy's)
 _latched: dict[str, int] = {}  # topic -> the history depth the lab keeps for late subscribers (advertise's latch)
+_lifespans: dict[str, float] = {}  # topic -> s a kept message lives (rclpy's QoS lifespan; advertise's `lifespan`)
 _publishers: dict[str, int] = {}  # topic -> the publisher objects of it in this program (rospy's and rclpy's)
 # callbacks running now on the program's threads (rospy's subscribers, timers, services): `with callbacks:` around
 # one; the program's end waits for them (delivery.CALLBACK_GRACE_S)
@@ -82,7 +83,12 @@ def resolve(name: str, node_name: str = "", namespace: str = "/") -> str:
 
 
 def advertise_once(
-    topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None, latch: int = 0
+    topic: str,
+    type_name: str,
+    msg_class: Any = None,
+    headers: dict[str, str] | None = None,
+    latch: int = 0,
+    lifespan_s: float = 0.0,
 ) -> None:
     """Advertise a topic once; with its message class, its full definition goes along (beyond
     rosbridge's fields, as ROS's connection header carries it): `hri-lab bag record` writes it into
@@ -91,7 +97,8 @@ def advertise_once(
     earlier publishers of the topic gave (as rospy's publishers of a topic share one header): new
     ones advertise the topic again. `latch`: the messages the lab keeps for a late subscriber (rclpy's
     TRANSIENT_LOCAL depth, rospy's latch: 1; rosbridge's `latch` and `queue_size`), the deepest of
-    the topic's publishers' (a deeper one advertises the topic again)."""
+    the topic's publishers' (a deeper one advertises the topic again), each kept message living
+    `lifespan_s` (0: for ever; the lab's extension), as the deeper publisher's QoS says."""
     if not headers and topic in _advertised and latch <= _latched.get(topic, 0):  # every publish passes here
         return
     with _lock:
@@ -105,6 +112,8 @@ def advertise_once(
             _headers[topic] = merged
         if deeper:
             _latched[topic] = latch
+            if lifespan_s > 0:
+                _lifespans[topic] = lifespan_s
     frame: dict[str, Any] = {"op": "advertise", "topic": topic, "type": type_name}
     if fresh and msg_class is not None and hasattr(msg_class, "_fields"):
         frame["definition"] = full_text(msg_class)
@@ -112,6 +121,8 @@ def advertise_once(
         frame["headers"] = merged
     if _latched.get(topic):
         frame.update(latch=True, queue_size=_latched[topic])
+    if topic in _lifespans:
+        frame["lifespan"] = _lifespans[topic]
     connection().send(frame)
 
 
@@ -121,17 +132,23 @@ def unadvertise(topic: str) -> None:
         _advertised.discard(topic)
         _headers.pop(topic, None)
         _latched.pop(topic, None)
+        _lifespans.pop(topic, None)
         connection().send({"op": "unadvertise", "topic": topic})
 
 
 def add_publisher(
-    topic: str, type_name: str, msg_class: Any = None, headers: dict[str, str] | None = None, latch: int = 0
+    topic: str,
+    type_name: str,
+    msg_class: Any = None,
+    headers: dict[str, str] | None = None,
+    latch: int = 0,
+    lifespan_s: float = 0.0,
 ) -> None:
     """A publisher object of `topic` made: the program advertises the topic while it holds one (as
     rospy's publishers of one topic share its connection, counted)."""
     with _lock:
         _publishers[topic] = _publishers.get(topic, 0) + 1
-    advertise_once(topic, type_name, msg_class, headers, latch)
+    advertise_once(topic, type_name, msg_class, headers, latch, lifespan_s)
 
 
 def remove_publisher(topic: str) -> None:

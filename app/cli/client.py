@@ -113,8 +113,11 @@ def service(args) -> int:
     if args.action == "type":
         print(_ros2_type(info["type"], "srv"))
         return 0
-    if args.action == "info":  # the lab's graph knows a service's server, not its clients
-        print(f"Type: {_ros2_type(info['type'], 'srv')}\nClients count: 0\nServices count: 1")
+    if args.action == "info":  # its clients as the programs told the lab (rclpy's; rospy's proxies are not told)
+        from app.cli import graph
+
+        clients = len(graph.endpoints(args.url, "client", name))
+        print(f"Type: {_ros2_type(info['type'], 'srv')}\nClients count: {clients}\nServices count: 1")
         return 0
     if args.action == "show":
         print(info["srv"])
@@ -355,13 +358,48 @@ def _graph_type(args, name: str) -> str:
 
 
 def _topic_info(args, name: str) -> int:
-    """`ros2 topic info NAME`: its type (ROS 2's name) and how many publish and subscribe to it."""
+    """`ros2 topic info NAME [-v]`: its type (ROS 2's name) and its publishers and subscriptions,
+    counted as the entities the programs told the lab (a client that told none as one); with -v each
+    one's node, type and QoS as rclpy's TopicEndpointInfo prints it (app/cli/graph.py `endpoints`)."""
     from app.cli import graph
 
-    type_name = _graph_type(args, name)
-    publishers, subscriptions = graph.counts(args.url, name)
-    print(f"Type: {_ros2_type(type_name, 'msg')}\nPublisher count: {publishers}\nSubscription count: {subscriptions}")
+    type_name = _ros2_type(_graph_type(args, name), "msg")
+    end = "\n\n" if args.verbose else "\n"
+    print(f"Type: {type_name}", end=end)
+    for kind, title in (("publisher", "Publisher"), ("subscription", "Subscription")):
+        found = graph.endpoints(args.url, kind, name)
+        print(f"{title} count: {len(found)}", end=end)
+        for entity in found if args.verbose else []:
+            print(_endpoint_info(entity, type_name, kind), end=end)
     return 0
+
+
+def _endpoint_info(entity: dict, type_name: str, kind: str) -> str:
+    """One endpoint as rclpy's TopicEndpointInfo prints it, less the type hash and the GID the lab
+    has not got; a QoS the program did not tell is rmw's default for the policy (durations: Infinite)."""
+    namespace, _, node = str(entity.get("node", "")).rpartition("/")
+    qos = entity.get("qos") or {}
+
+    def duration(key: str) -> str:
+        nanoseconds = qos.get(key, 0)
+        return f"{int(nanoseconds)} nanoseconds" if nanoseconds else "Infinite"
+
+    return "\n".join(
+        [
+            f"Node name: {node}",
+            f"Node namespace: {namespace or '/'}",
+            f"Topic type: {type_name}",
+            f"Endpoint type: {kind.upper()}",
+            "QoS profile:",
+            f"  Reliability: {qos.get('reliability', 'RELIABLE')}",
+            "  History (Depth): UNKNOWN",  # not told over DDS's discovery either
+            f"  Durability: {qos.get('durability', 'VOLATILE')}",
+            f"  Lifespan: {duration('lifespan')}",
+            f"  Deadline: {duration('deadline')}",
+            f"  Liveliness: {qos.get('liveliness', 'AUTOMATIC')}",
+            f"  Liveliness lease duration: {duration('liveliness_lease_duration')}",
+        ]
+    )
 
 
 def _topic_pub(args, name: str) -> int:
@@ -374,7 +412,7 @@ def _topic_pub(args, name: str) -> int:
         message_class = Interfaces([]).message(args.type)
     except ImportError:
         raise CliError("The passed message type is invalid") from None
-    values = _yaml_arg(args.values)
+    values = _yaml_arg(sys.stdin.read() if args.stdin else args.values)  # --stdin: ros2's collect_stdin
     unknown = sorted(set(values) - {f.name for f in message_class._fields})
     if unknown:
         raise CliError(f"Failed to populate field: {message_class._type} has no field '{unknown[0]}'")
@@ -610,11 +648,15 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     echo.add_argument("--once", action="store_true", help="print one message and exit")
     echo.add_argument("--rate", type=float, default=10.0, help="messages per second (default 10)")
     echo.add_argument("--count", "-n", type=int, help="exit after this many messages (rostopic echo -n N)")
-    top_sub.add_parser("info", parents=[url], help="its type, publisher and subscription counts").add_argument("name")
+    info = top_sub.add_parser("info", parents=[url], help="its type, publisher and subscription counts")
+    info.add_argument("name")
+    info.add_argument("-v", "--verbose", action="store_true", help="each publisher's and subscription's node and QoS")
     pub = top_sub.add_parser("pub", parents=[url], help="publish a message (ros2 topic pub NAME TYPE VALUES)")
     pub.add_argument("name")
     pub.add_argument("type", help="e.g. std_msgs/msg/String")
-    pub.add_argument("values", nargs="?", default="{}", help="the message as YAML, e.g. '{data: hello}'")
+    given = pub.add_mutually_exclusive_group()
+    given.add_argument("values", nargs="?", default="{}", help="the message as YAML, e.g. '{data: hello}'")
+    given.add_argument("--stdin", action="store_true", help="read the message's YAML from standard input")
     pub.add_argument("-r", "--rate", type=_positive_float, default=1.0, help="publishing rate in Hz (default: 1)")
     pub.add_argument("-p", "--print", type=int, default=1, help="only print every N-th message (default: 1)")
     once = pub.add_mutually_exclusive_group()

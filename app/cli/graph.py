@@ -59,11 +59,11 @@ def frames(url: str, topic: str, type_name: str) -> Iterator[tuple[dict[str, Any
                 yield message.get("msg", {}), len(text.encode() if isinstance(text, str) else text)
 
 
-def counts(url: str, topic: str) -> tuple[int, int]:
-    """(publishers, subscriptions) of `topic`: the clients rosapi lists on it, the lab's node as one."""
-    publishers = call(url, "/rosapi/publishers", {"topic": topic}).get("publishers", [])
-    subscribers = call(url, "/rosapi/subscribers", {"topic": topic}).get("subscribers", [])
-    return len(publishers), len(subscribers)
+def endpoints(url: str, kind: str, name: str) -> list[dict[str, Any]]:
+    """The entities of `kind` (publisher, subscription, client) on `name`, each {"node", "qos"}: as
+    the programs told the lab (the lab's `/rosapi/endpoints`); a client that told none is one
+    entity of unknown QoS."""
+    return list(call(url, "/rosapi/endpoints", {"kind": kind, "name": name}).get("endpoints", []))
 
 
 class Refused(Exception):

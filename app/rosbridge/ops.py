@@ -10,6 +10,7 @@ from app.rosbridge.capabilities import (
     advertise_service,
     call_service,
     connection,
+    endpoints,
     node,
     publish,
     service_response,
@@ -20,6 +21,7 @@ from app.rosbridge.capabilities.capability import Capability, Ops
 MODULES = (
     connection,
     node,
+    endpoints,
     subscribe,
     advertise,
     publish,

@@ -197,6 +197,8 @@ class SessionLike(Protocol):
 
     def details(self) -> dict[str, list[str]]: ...
 
+    def endpoints(self, kind: str, name: str) -> list[dict]: ...
+
 
 Closing = Callable[[], None]  # what goes with a client (e.g. a republished tf topic)
 

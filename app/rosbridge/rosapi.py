@@ -17,6 +17,7 @@ from app.ros.param_tree import ParamError, canonical
 from app.ros.params import ParameterRefused
 from app.ros.services import ServiceFailure
 from app.rosbridge.ports import BridgeLike
+from app.rosbridge.protocol import ENDPOINT_KINDS
 
 Handler = Callable[["BridgeLike", dict], dict]  # (the bridge, the request's fields) -> the response's values
 
@@ -308,6 +309,28 @@ def _subscribers(bridge: BridgeLike, args: dict) -> dict:
     return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.details()["subscribing"]]}
 
 
+def _endpoints(bridge: BridgeLike, args: dict) -> dict:
+    """The lab's extension: the entities of `kind` (publisher, subscription, client) on `name`, each
+    with its node and QoS, as their clients told them (capabilities/endpoints.py); a client on the
+    topic that told none (roslibpy, rospy) and the lab's node count as one entity each, QoS unknown."""
+    kind, name = str(args.get("kind", "")), "/" + str(args.get("name", "")).strip("/")
+    if kind not in ENDPOINT_KINDS:
+        raise ServiceFailure(f"/rosapi/endpoints: 'kind' must be one of {', '.join(ENDPOINT_KINDS)}")
+    if kind == "publisher":
+        lab, detail = LAB_NODE in _publishers(bridge, {"topic": name})["publishers"], "publishing"
+    elif kind == "subscription":
+        lab, detail = LAB_NODE in _subscribers(bridge, {"topic": name})["subscribers"], "subscribing"
+    else:
+        lab, detail = False, ""
+    entities = [{"node": LAB_NODE, "qos": {}}] if lab else []
+    for session in bridge.sessions:
+        told = session.endpoints(kind, name)
+        entities += told or (
+            [{"node": session.name, "qos": {}}] if detail and name in session.details()[detail] else []
+        )
+    return {"endpoints": entities}
+
+
 def _nodes(bridge: BridgeLike, args: dict) -> dict:
     return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
 
@@ -381,6 +404,7 @@ SERVICES = (
     RosapiService("/rosapi/publishers", "rosapi/Publishers", _publishers),
     RosapiService("/rosapi/subscribers", "rosapi/Subscribers", _subscribers),
     RosapiService("/rosapi/action_servers", "rosapi/GetActionServers", _action_servers),
+    RosapiService("/rosapi/endpoints", "rosapi/Endpoints", _endpoints),
     RosapiService("/rosapi/get_time", "rosapi/GetTime", _get_time),
     RosapiService("/rosapi/get_param", "rosapi/GetParam", _parameters("get_param", _get_param)),
     RosapiService("/rosapi/has_param", "rosapi/HasParam", _parameters("has_param", _has_param)),

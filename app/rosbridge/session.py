@@ -16,6 +16,7 @@ from collections.abc import Awaitable
 from fastapi import WebSocket
 
 from app.rosbridge.capabilities.capability import Capability
+from app.rosbridge.capabilities.endpoints import Endpoints
 from app.rosbridge.ops import CAPABILITIES, OPS
 from app.rosbridge.ports import BridgeLike, C, Id
 from app.rosbridge.protocol import LEVELS, MAX_CONNECTIONS, MAX_FRAME, BadFrame, parse, status
@@ -119,6 +120,10 @@ class Session:
         if not isinstance(capability, kind):
             raise TypeError(f"{kind.__name__} is not a capability of this session")
         return capability
+
+    def endpoints(self, kind: str, name: str) -> list[dict]:
+        """What rosapi's extension `endpoints` shows of this client: its entities of `kind` on `name`."""
+        return self.capability(Endpoints).of(kind, name)
 
     def details(self) -> dict[str, list[str]]:
         """What rosapi's node_details shows of this client: the names its capabilities hold."""

@@ -273,3 +273,27 @@ def test_a_late_transient_local_subscription_hears_all_a_publisher_kept_and_a_vo
     heard = ", ".join(f"message {i}" for i in range(10))
     assert f"transient_local heard: {heard}" in listener.output
     assert "volatile heard 0" in listener.output
+
+
+def test_a_late_subscription_hears_only_messages_within_their_lifespan_and_topic_info_shows_the_qos(lab):
+    """The lifespan demo's behaviour through the real lab (its history and `lifespan`), and `hri-lab
+    topic info -v` of the running program: its publisher's node and QoS as ros2 prints them."""
+    import subprocess
+    import sys
+
+    program = run(lab.url, "lifespan_rclpy.py")
+    try:
+        program.wait_for_line("late subscriptions made")
+        program.wait_for_line("heard: long_lived 2")
+        info = subprocess.run(
+            [sys.executable, "-m", "app.cli", "topic", "info", "-v", "/long_lived", "--url", lab.url],
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+        assert info.returncode == 0, info.stderr
+    finally:
+        program.interrupt()
+    heard = [line for line in program.output.splitlines() if line.startswith("heard: ")]
+    assert heard == ["heard: long_lived 0", "heard: long_lived 1", "heard: long_lived 2"]
+    assert info.stdout.startswith("Type: std_msgs/msg/String\n\nPublisher count: 1\n\nNode name: lifespan_talker\n")
+    assert "  Durability: TRANSIENT_LOCAL\n  Lifespan: 3600000000000 nanoseconds\n" in info.stdout
+    assert "Subscription count: 1\n\nNode name: lifespan_talker\n" in info.stdout  # its late subscription

@@ -15,11 +15,15 @@ rosbridge's `latch` (with `queue_size`, the history depth, 100 when absent as in
 makes the publisher a ROS 2 TRANSIENT_LOCAL one (ROS 1's latched: depth 1): the relay keeps its last
 `queue_size` messages (at most MAX_LATCHED) while it publishes the topic, and a later subscription
 gets them first (capabilities/subscribe.py). An advertise with `latch` may deepen the history,
-never undo it (a program's publishers of a topic share one advertise).
+never undo it (a program's publishers of a topic share one advertise). The lab's extension
+`lifespan` (s, > 0: rclpy's QoS lifespan) drops a kept message that old from what a later
+subscription gets.
 """
 
 from __future__ import annotations
 
+import math
+import time
 from collections import deque
 
 from app.ros import rosout
@@ -48,7 +52,8 @@ class Advertise(Capability):
         self.rosout_type = rosout.TYPE
         self.headers: dict[str, dict[str, str]] = {}  # topic -> the connection header's extra fields
         self._connection_headers: dict[str, tuple[str, dict[str, str]]] = {}  # topic -> (node name, header)
-        self.latched: dict[str, deque[tuple[dict, dict]]] = {}  # topic -> its last (message, header)s kept
+        self.latched: dict[str, deque[tuple[dict, dict, float]]] = {}  # topic -> its last (message, header, expiry)s
+        self.lifespan_s: dict[str, float] = {}  # topic -> how long a kept message lives (none: for ever)
 
     @property
     def publishing(self) -> set[str]:
@@ -79,6 +84,9 @@ class Advertise(Capability):
         queue_size = field(message, "queue_size", int, DEFAULT_QUEUE_SIZE)
         if queue_size < 0:
             raise BadFrame("advertise: 'queue_size' must be >= 0")
+        lifespan_s = field(message, "lifespan", (int, float), None, allow_none=True)
+        if lifespan_s is not None and not (math.isfinite(lifespan_s) and lifespan_s > 0):
+            raise BadFrame("advertise: 'lifespan' must be a number of seconds > 0")
         known = bridge.topic_types().get(topic)
         if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
             if type_name not in rosout.TYPES:
@@ -113,6 +121,8 @@ class Advertise(Capability):
             self._connection_headers.pop(topic, None)
         if latch and topic not in TF_TOPICS:
             self._latch(topic, min(max(queue_size, 1), MAX_LATCHED))
+        if lifespan_s is not None:
+            self.lifespan_s[topic] = float(lifespan_s)
         self._hold(topic, id_)
 
     def _latch(self, topic: str, depth: int) -> None:
@@ -124,7 +134,12 @@ class Advertise(Capability):
         """A message this client published on `topic`: kept if its publisher is latched."""
         kept = self.latched.get(topic)
         if kept is not None:
-            kept.append((message, header))
+            kept.append((message, header, time.monotonic() + self.lifespan_s.get(topic, math.inf)))
+
+    def kept(self, topic: str) -> list[tuple[dict, dict]]:
+        """What this client's latched publisher of `topic` kept and still lives (its lifespan)."""
+        now = time.monotonic()
+        return [(message, header) for message, header, expiry in list(self.latched.get(topic, ())) if expiry > now]
 
     async def unadvertise(self, message: dict, id_: Id) -> None:
         topic = name_field(message, "topic")
@@ -144,6 +159,7 @@ class Advertise(Capability):
             return
         del self.ids[topic]
         self.latched.pop(topic, None)
+        self.lifespan_s.pop(topic, None)
         self.headers.pop(topic, None)
         self._connection_headers.pop(topic, None)
         self.bridge.leave(topic, publisher=self.session)

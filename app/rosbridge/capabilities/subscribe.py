@@ -105,7 +105,7 @@ class Subscribe(Capability):
         `id_` (none for a volatile one; a lab topic has no entry: its latched ones are sampled)."""
         entry = None if volatile else self.bridge.node_topics.get(stream.topic)
         for publisher in list(entry.publishers) if entry is not None else ():
-            for message, header in list(publisher.capability(Advertise).latched.get(stream.topic, ())):
+            for message, header in publisher.capability(Advertise).kept(stream.topic):
                 stream.offer(message, header, id_)
 
     def _open(self, topic: str, id_: Id, throttle: int, queue_length: int) -> Stream:

@@ -33,8 +33,8 @@ def remove_subscription(topic: str) -> None:
     CHANGED.set()
 
 
-def add_publisher(topic: str, type_name: str, msg_class: object, latch: int = 0) -> None:
-    process.add_publisher(topic, type_name, msg_class, latch=latch)
+def add_publisher(topic: str, type_name: str, msg_class: object, latch: int = 0, lifespan_s: float = 0.0) -> None:
+    process.add_publisher(topic, type_name, msg_class, latch=latch, lifespan_s=lifespan_s)
     CHANGED.set()
 
 

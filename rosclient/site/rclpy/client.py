@@ -10,7 +10,7 @@ from concurrent.futures import Future as WireFuture
 from typing import TYPE_CHECKING, Any
 
 from rosclient import process
-from rclpy import context
+from rclpy import _endpoints, context
 from rclpy._entity import Call, Entity
 from rclpy.callback_groups import CallbackGroup
 from rclpy.exceptions import ServiceCallFailed
@@ -38,6 +38,9 @@ class Client(Entity):
         self._responses: deque[tuple[Future, WireFuture[Any], int]] = deque()
         self._pending: set[Future] = set()
         self._introspection = Introspection(self.srv_name, srv_type, client_gid())
+        self._node_name = node.get_fully_qualified_name()
+        self._destroyed = False
+        _endpoints.add_client(self.srv_name, self._node_name)  # `service info` counts it
 
     def configure_introspection(self, clock: Any, service_event_qos_profile: Any,
                                 introspection_state: ServiceIntrospectionState | int) -> None:
@@ -118,3 +121,6 @@ class Client(Entity):
 
     def destroy(self) -> None:
         self._pending.clear()
+        if not self._destroyed:
+            self._destroyed = True
+            _endpoints.remove_client(self.srv_name, self._node_name)

@@ -190,7 +190,7 @@ class Executor:
     def _next_due(self, nodes: list[Node]) -> float:
         due = math.inf
         for node in nodes:
-            for entity in node.timers:
+            for entity in (*node.timers, *node.waitables):  # timers, and the QoS events' handlers
                 when = entity._due()
                 if when is not None and self.can_execute(entity):
                     due = min(due, when)

@@ -27,7 +27,13 @@ from rclpy.exceptions import (
     ParameterAlreadyDeclaredException,
     ParameterNotDeclaredException,
 )
-from rclpy.event_handler import publisher_handlers, subscription_handlers
+from rclpy.event_handler import (
+    PublisherEventCallbacks,
+    SubscriptionEventCallbacks,
+    publisher_handlers,
+    subscription_handlers,
+    tell_incompatible,
+)
 from rclpy.guard_condition import GuardCondition
 from rclpy.logging import RcutilsLogger, get_logger
 from rclpy.parameter import Parameter, range_refusal
@@ -173,10 +179,12 @@ class Node:
             _declare_qos_parameters("publisher", self, self.resolve_topic_name(topic), qos_profile, options)
         publisher = Publisher(self, msg_type, topic, qos_profile)
         self.publishers.append(publisher)
-        if event_callbacks is not None:
-            publisher.event_handlers = publisher_handlers(event_callbacks, self._group(callback_group), publisher.topic)
-            for handler in publisher.event_handlers:
-                self.add_waitable(handler)
+        publisher.event_handlers = publisher._endpoint.handlers = publisher_handlers(
+            event_callbacks or PublisherEventCallbacks(), self._group(callback_group), topic, publisher._endpoint,
+            self._logger.name)
+        for handler in publisher.event_handlers:
+            self.add_waitable(handler)
+        tell_incompatible(publisher._incompatible)
         return publisher
 
     def create_subscription(self, msg_type: type, topic: str, callback: Callable[..., Any],
@@ -192,10 +200,11 @@ class Node:
             _declare_qos_parameters("subscription", self, self.resolve_topic_name(topic), qos_profile, options)
         subscription = self._added(self.subscriptions, Subscription(self, msg_type, topic, callback, qos_profile,
                                                                     group, raw))
-        if event_callbacks is not None:
-            subscription.event_handlers = subscription_handlers(event_callbacks, group, subscription.topic)
-            for handler in subscription.event_handlers:
-                self.add_waitable(handler)
+        subscription.event_handlers = subscription._endpoint.handlers = subscription_handlers(
+            event_callbacks or SubscriptionEventCallbacks(), group, topic, subscription._endpoint, self._logger.name)
+        for handler in subscription.event_handlers:
+            self.add_waitable(handler)
+        tell_incompatible(subscription._incompatible)
         return subscription
 
     def create_service(self, srv_type: Any, srv_name: str, callback: Callable[..., Any], *,
@@ -263,7 +272,7 @@ class Node:
         for timer in self.timers:
             timer.cancel()
         if process.connected() and not process.shutdown_event.is_set():
-            sent: list[list[Any]] = [self.waitables, self.subscriptions, self.services, self.publishers]
+            sent: list[list[Any]] = [self.waitables, self.subscriptions, self.services, self.publishers, self.clients]
             for kind in sent:
                 for entity in list(kind):
                     self._removed(kind, entity)

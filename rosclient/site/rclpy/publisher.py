@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING, Any
 
 from rosclient import process
 from interfaces.messages import Message
-from rclpy import _graph
+from rclpy import _endpoints, _graph
+from rclpy import context as _context
 from rclpy.qos import DurabilityPolicy, QoSProfile, profile
 
 if TYPE_CHECKING:
@@ -35,7 +36,10 @@ class Publisher:
         self.topic_name = node.resolve_topic_name(topic)
         self.type = type_name(msg_type)
         self._destroyed = False
-        _graph.add_publisher(self.topic_name, self.type, msg_type, kept_for_late_joiners(self.qos_profile))
+        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, True, node.get_fully_qualified_name())
+        self._incompatible = _endpoints.add(self._endpoint)  # told once its handlers are made (node.py)
+        _graph.add_publisher(self.topic_name, self.type, msg_type, kept_for_late_joiners(self.qos_profile),
+                             self.qos_profile.lifespan.nanoseconds / 1e9)
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
 
     @property
@@ -45,6 +49,7 @@ class Publisher:
     def publish(self, msg: Any) -> None:
         if not isinstance(msg, self.msg_type):
             raise TypeError(f"Expected {self.msg_type.__module__}.{self.msg_type.__name__}, got {type(msg)}")
+        self._endpoint.message()
         process.publish(self.topic_name, self.type, msg.to_json())
 
     def get_subscription_count(self) -> int:
@@ -55,10 +60,13 @@ class Publisher:
         return True
 
     def assert_liveliness(self) -> None:
-        pass
+        """A MANUAL_BY_TOPIC publisher alive for its lease again (rclpy/event_handler.py)."""
+        self._endpoint.assert_liveliness()
+        _context.wake()
 
     def destroy(self) -> None:
         """The topic is unadvertised when no other publisher of it is left in the program."""
         if not self._destroyed:
             self._destroyed = True
+            _endpoints.remove(self._endpoint)
             _graph.remove_publisher(self.topic_name)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 from rosclient import delivery, process
 from rosclient.connection import message_of
 from interfaces.messages import Message
-from rclpy import _graph, context
+from rclpy import _endpoints, _graph, context
 from rclpy._entity import Call, Entity
 from rclpy.callback_groups import CallbackGroup
 from rclpy.publisher import type_name
@@ -32,6 +32,9 @@ class Subscription(Entity):
         callback_group.add_entity(self)
         self.qos_profile = profile(qos)
         self.topic_name = node.resolve_topic_name(topic)
+        self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, False, node.get_fully_qualified_name())
+        self._incompatible = _endpoints.add(self._endpoint)  # told once its handlers are made (node.py)
+        self._deaf = (-1, False)  # (the endpoints' generation, whether it hears none of the program's publishers)
         depth = self.qos_profile.queue_length
         self._queue: deque[bytes | dict[str, Any]] = delivery.bounded_queue(depth)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
@@ -48,7 +51,14 @@ class Subscription(Entity):
         _graph.add_subscription(self.topic_name)
 
     def _offer(self, data: bytes | dict[str, Any]) -> None:
-        """A message from the lab (the connection's reader thread): its frame, decoded only if taken."""
+        """A message from the lab (the connection's reader thread): its frame, decoded only if taken.
+        None while every publisher of the topic in this program offers an incompatible QoS (the lab
+        does not say which program sent a message: another program's are not heard then either)."""
+        if self._deaf[0] != _endpoints.generation[0]:
+            self._deaf = (_endpoints.generation[0], _endpoints.deaf(self._endpoint))
+        if self._deaf[1]:
+            return
+        self._endpoint.message()
         with context.CONDITION:
             self.received += 1
             self._queue.append(data)
@@ -81,5 +91,6 @@ class Subscription(Entity):
     def destroy(self) -> None:
         if not self._destroyed:
             self._destroyed = True
+            _endpoints.remove(self._endpoint)
             _graph.remove_subscription(self.topic_name)
             process.connection().unsubscribe(self.topic_name, self._sid, self._offer)

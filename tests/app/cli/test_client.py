@@ -134,6 +134,50 @@ def test_topic_pub_info_as_ros2_prints_them_to_a_listener(hri_lab, client, capsy
     assert "Unknown topic '/no_such_topic'" in capsys.readouterr().err
 
 
+def test_topic_info_verbose_service_info_and_pub_stdin_as_ros2_prints_them(hri_lab, client, capsys, monkeypatch):
+    """ros2cli's `topic info -v` (each endpoint's node, type and QoS as rclpy's TopicEndpointInfo prints
+    it), `service info`'s clients (as rclpy programs tell the lab: the `endpoints` op) and
+    `topic pub --stdin` (the message's YAML read from standard input)."""
+    import io
+
+    qos = {"reliability": "BEST_EFFORT", "durability": "TRANSIENT_LOCAL", "lifespan": 1_500_000_000, "deadline": 0,
+           "liveliness": "MANUAL_BY_TOPIC", "liveliness_lease_duration": 0}  # fmt: skip
+    with client.websocket_connect("/") as program, client.websocket_connect("/") as listener:
+        program.send_json({"op": "node", "name": "/demo/talker"})
+        program.send_json({"op": "advertise", "topic": "/qos_chatter", "type": "std_msgs/String"})
+        program.send_json({"op": "endpoints", "kind": "publisher", "name": "/qos_chatter",
+                           "entities": [{"node": "/demo/talker", "qos": qos}]})  # fmt: skip
+        program.send_json({"op": "endpoints", "kind": "client", "name": "/add_two_ints",
+                           "entities": [{"node": "/demo/talker", "qos": {}}, {"node": "/caller", "qos": {}}]})  # fmt: skip
+        listener.send_json({"op": "node", "name": "/echo"})
+        listener.send_json({"op": "subscribe", "id": "l", "topic": "/qos_chatter", "type": "std_msgs/String"})
+        for session in (program, listener):  # each connection's ops are handled in order: all taken once answered
+            session.send_json({"op": "call_service", "id": "sync", "service": "/rosapi/get_time", "args": {}})
+            assert within(session.receive_json, 30, "the sync answer")["op"] == "service_response"
+        assert hri_lab("topic", "info", "-v", "/qos_chatter") == 0
+        assert capsys.readouterr().out == (
+            "Type: std_msgs/msg/String\n\nPublisher count: 1\n\n"
+            "Node name: talker\nNode namespace: /demo\nTopic type: std_msgs/msg/String\nEndpoint type: PUBLISHER\n"
+            "QoS profile:\n  Reliability: BEST_EFFORT\n  History (Depth): UNKNOWN\n  Durability: TRANSIENT_LOCAL\n"
+            "  Lifespan: 1500000000 nanoseconds\n  Deadline: Infinite\n  Liveliness: MANUAL_BY_TOPIC\n"
+            "  Liveliness lease duration: Infinite\n\n"
+            "Subscription count: 1\n\n"
+            "Node name: echo\nNode namespace: /\nTopic type: std_msgs/msg/String\nEndpoint type: SUBSCRIPTION\n"
+            "QoS profile:\n  Reliability: RELIABLE\n  History (Depth): UNKNOWN\n  Durability: VOLATILE\n"
+            "  Lifespan: Infinite\n  Deadline: Infinite\n  Liveliness: AUTOMATIC\n"
+            "  Liveliness lease duration: Infinite\n\n"
+        )
+        assert hri_lab("service", "info", "/add_two_ints") == 0
+        assert capsys.readouterr().out == "Type: hri_lab/srv/AddTwoInts\nClients count: 2\nServices count: 1\n"
+        monkeypatch.setattr("sys.stdin", io.StringIO("data: from stdin\n"))
+        assert hri_lab("topic", "pub", "--stdin", "-1", "/qos_chatter", "std_msgs/msg/String") == 0
+        assert "std_msgs.msg.String(data='from stdin')" in capsys.readouterr().out
+        heard = within(listener.receive_json, 30, "the message read from stdin")
+        while heard.get("op") != "publish":
+            heard = within(listener.receive_json, 30, "the message read from stdin")
+        assert heard["msg"] == {"data": "from stdin"}
+
+
 def test_param_delete_asks_the_node_and_says_what_it_answered(hri_lab, capsys):
     assert hri_lab("param", "delete", "/cooperative_lifting", "mu") == 1  # statically typed: rclcpp's refusal
     assert capsys.readouterr().err == (

@@ -14,7 +14,7 @@ from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
 
 def test_the_table_names_each_service_once_and_only_parameters_change_the_lab():
     names = [s.name for s in rosapi.SERVICES]
-    assert len(names) == len(set(names)) == 22
+    assert len(names) == len(set(names)) == 23
     assert all(name.startswith("/rosapi/") for name in names)
     assert {s.name for s in rosapi.SERVICES if s.writes} == {"/rosapi/set_param", "/rosapi/delete_param"}
 
@@ -119,5 +119,50 @@ def test_the_mobile_worlds_cmd_vel_is_published_by_the_nodes_alone():
         await until(lambda: lab.bridge.lab.world.command[1] == 0.5, "the twist followed by the base")
         await op(leftover, op="unadvertise", topic="/cmd_vel")
         assert (await values("/rosapi/publishers", topic="/cmd_vel"))["publishers"] == ["/follower"]
+
+    run(check())
+
+
+def test_endpoints_a_client_told_are_listed_with_their_nodes_and_qos():
+    """The lab's `endpoints` op (capabilities/endpoints.py) and `/rosapi/endpoints`: each entity of a
+    kind on a name as its client told it, gone when it tells none or leaves; bad input refused by name."""
+
+    async def check() -> None:
+        lab = parts()
+        program, other = await connect(lab), await connect(lab)
+        caller = program.capability(CallService)
+        table = lab.bridge.service_table
+        qos = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "deadline": 0}
+        entities = [{"node": "/talker", "qos": qos}, {"node": "/talker2", "qos": {}}]
+        assert await op(program, op="endpoints", kind="publisher", name="chatter", entities=entities) == []
+        await op(other, op="endpoints", kind="client", name="/add_two_ints", entities=[{"node": "/caller", "qos": {}}])
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "publisher", "name": "/chatter"})
+        assert ok and answer["endpoints"] == entities
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "client", "name": "/add_two_ints"})
+        assert [e["node"] for e in answer["endpoints"]] == ["/caller"]
+        await op(other, op="node", name="/echo")  # a client that tells none: one entity, its QoS unknown
+        await op(other, op="subscribe", topic="/chatter", type="std_msgs/String")
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "subscription", "name": "/chatter"})
+        assert answer["endpoints"] == [{"node": "/echo", "qos": {}}]
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "publisher", "name": "/joint_states"})
+        assert answer["endpoints"] == [{"node": "/hri_lab", "qos": {}}]
+        await op(program, op="endpoints", kind="publisher", name="/chatter", entities=[])
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "publisher", "name": "/chatter"})
+        assert answer["endpoints"] == []
+        await other.close()
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "client", "name": "/add_two_ints"})
+        assert answer["endpoints"] == []
+        ok, reason = await table.call(caller, "/rosapi/endpoints", {"kind": "reader", "name": "/chatter"})
+        assert not ok and "'kind' must be one of publisher, subscription, client" in reason
+        refusals = {
+            "endpoints: field 'kind' must be one of publisher, subscription, client, got 'reader'": {"kind": "reader"},
+            "endpoints: an entity's 'node' must be a node's full name, e.g. /talker": {"entities": [{"node": "x"}]},
+            "endpoints: qos field 'deadline' must be a name or a finite number": {
+                "entities": [{"node": "/a", "qos": {"deadline": [1]}}]
+            },
+        }
+        for reason, fields in refusals.items():
+            frame = {"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [], **fields}
+            assert (await op(program, **frame))[0]["msg"] == reason
 
     run(check())

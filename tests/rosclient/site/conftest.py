@@ -76,7 +76,7 @@ def site():
         yield
     finally:
         sequences.typed[0] = False  # rclpy's typed arrays (its import turns them on)
-        for advertised in (process._advertised, process._headers, process._latched, process._publishers):
+        for advertised in (process._advertised, process._headers, process._latched, process._lifespans, process._publishers):
             advertised.clear()  # the topics it advertised: the next test's connection has none
         process._connection.clear()
         process.shutdown_event.clear()

@@ -158,3 +158,37 @@ def test_a_latched_publishers_last_messages_reach_a_late_subscription_as_deep_as
         assert sent(again, "publish") == []
 
     run(check())
+
+
+def test_a_kept_message_older_than_its_lifespan_does_not_reach_a_late_subscription():
+    """The lab's `lifespan` (rclpy's QoS lifespan, the lifespan demo): a TRANSIENT_LOCAL publisher's
+    kept messages reach a late subscription while they live; past their lifespan, none does. A
+    lifespan that is not a positive number is refused by name."""
+    import time
+
+    async def check() -> None:
+        lab = parts(replay=True)
+        talker, late = [await connect(lab) for _ in range(2)]
+        for topic, lifespan in (("/short", 0.05), ("/long", 3600)):
+            advertise = {"op": "advertise", "topic": topic, "type": "std_msgs/String", "latch": True, "queue_size": 10}
+            assert await op(talker, **advertise, lifespan=lifespan) == []
+        for i in range(3):
+            for topic in ("/short", "/long"):
+                await op(talker, op="publish", topic=topic, msg={"data": str(i)})
+        published = time.monotonic()
+        await until(lambda: time.monotonic() > published + 0.05 and [True], "the short lifespan to pass")
+        await op(late, op="subscribe", id="s", topic="/short", type="std_msgs/String")
+        await op(late, op="subscribe", id="l", topic="/long", type="std_msgs/String")
+        await op(talker, op="publish", topic="/short", msg={"data": "live"})  # marks the end of what it got
+        await until(lambda: any(m["msg"]["data"] == "live" for m in sent(late, "publish")), "the live one")
+        heard = await until(lambda: sent(late, "publish")[3:] and sent(late, "publish"), "the long-lived ones")
+        assert sorted((m["topic"], m["msg"]["data"]) for m in heard) == [
+            ("/long", "0"),
+            ("/long", "1"),
+            ("/long", "2"),
+            ("/short", "live"),
+        ]
+        bad = await op(talker, op="advertise", topic="/x", type="std_msgs/String", latch=True, lifespan=-1)
+        assert bad[0]["msg"] == "advertise: 'lifespan' must be a number of seconds > 0"
+
+    run(check())

@@ -1,0 +1,71 @@
+"""endpoints (the lab's extension): a client tells the graph its entities of one kind on one name,
+as a DDS participant announces its readers and writers, e.g.
+`{"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [{"node": "/talker",
+"qos": {"reliability": "RELIABLE", "durability": "VOLATILE", ...}}]}` (an empty list: none left).
+`hri-lab run`'s rclpy sends them for its publishers, subscriptions and service clients; rosapi's
+extension `/rosapi/endpoints` lists them (app/rosbridge/rosapi.py), for `topic info -v` (each
+endpoint's node and QoS) and `service info` (its clients). rosbridge_suite has no such op: a client
+that sends none is listed by the topics it advertises and subscribes."""
+
+from __future__ import annotations
+
+import math
+
+from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.ports import Id, SessionLike
+from app.rosbridge.protocol import ENDPOINT_KINDS, MAX_CLIENT_TOPICS, BadFrame, field, name_field
+
+MAX_ENTITIES = 64  # of one kind on one name, per client
+MAX_QOS_FIELDS = 16
+MAX_TEXT = 256  # characters of a node name or a QoS value
+
+
+class Endpoints(Capability):
+    """The client's entities: (kind, name) -> [{"node": str, "qos": {str: str | number}}]."""
+
+    def __init__(self, session: SessionLike) -> None:
+        super().__init__(session)
+        self.entities: dict[tuple[str, str], list[dict]] = {}
+
+    async def endpoints(self, message: dict, id_: Id) -> None:
+        kind = field(message, "kind", str)
+        if kind not in ENDPOINT_KINDS:
+            raise BadFrame(f"endpoints: field 'kind' must be one of {', '.join(ENDPOINT_KINDS)}, got {kind[:40]!r}")
+        name = name_field(message, "name")
+        entities = field(message, "entities", list)
+        if len(entities) > MAX_ENTITIES:
+            raise BadFrame(f"endpoints: at most {MAX_ENTITIES} entities of a kind on a name")
+        checked = [_entity(entity) for entity in entities]
+        if not checked:
+            self.entities.pop((kind, name), None)
+            return
+        if (kind, name) not in self.entities and len(self.entities) >= 3 * MAX_CLIENT_TOPICS:
+            raise BadFrame(f"endpoints: at most {3 * MAX_CLIENT_TOPICS} names per client")
+        self.entities[(kind, name)] = checked
+
+    def of(self, kind: str, name: str) -> list[dict]:
+        return self.entities.get((kind, name), [])
+
+    def finish(self) -> None:
+        self.entities.clear()
+
+
+def _entity(entity: object) -> dict:
+    """One entity as told: its node's name and its QoS (names, or numbers of nanoseconds)."""
+    if not isinstance(entity, dict):
+        raise BadFrame("endpoints: each entity must be an object with 'node' and 'qos'")
+    node = entity.get("node")
+    qos = entity.get("qos", {})
+    if not isinstance(node, str) or not node.startswith("/") or len(node) > MAX_TEXT:
+        raise BadFrame("endpoints: an entity's 'node' must be a node's full name, e.g. /talker")
+    if not isinstance(qos, dict) or len(qos) > MAX_QOS_FIELDS:
+        raise BadFrame(f"endpoints: an entity's 'qos' must be an object of at most {MAX_QOS_FIELDS} fields")
+    for key, value in qos.items():
+        text_ok = isinstance(value, str) and len(value) <= MAX_TEXT
+        number_ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        if len(key) > MAX_TEXT or not (text_ok or number_ok):
+            raise BadFrame(f"endpoints: qos field {key[:40]!r} must be a name or a finite number")
+    return {"node": node, "qos": dict(qos)}
+
+
+OPS: Ops = {"endpoints": Op(Endpoints, Endpoints.endpoints)}

@@ -20,7 +20,7 @@ import time
 import httpx
 from websockets.asyncio.client import connect
 
-from app.rosbridge.bridge import MAX_OUTGOING_RATE
+from app.rosbridge.managers.topics import MAX_OUTGOING_RATE
 from app.serving.launch import running_server
 from bench import percentile
 

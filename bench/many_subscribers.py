@@ -3,7 +3,7 @@
 (F_ext, /joint_states, /contact_state, /lifting_state); POST /services/error_recovery is called
 `calls` times in a row before and while they stream, and the loop's own figures are read from
 /health. Prints the HTTP p50/p99/max alone and under the load, the messages the clients received
-a second (the lab's total is capped: app/rosbridge/bridge.py, MAX_OUTGOING_RATE) and the
+a second (the lab's total is capped: app/rosbridge/managers/topics.py, MAX_OUTGOING_RATE) and the
 loop's rate and lateness.
 
     .venv/bin/python -m bench.many_subscribers [--clients 20] [--calls 300] [--seconds 10]
@@ -20,7 +20,7 @@ import time
 import httpx
 from websockets.asyncio.client import connect
 
-from app.rosbridge.bridge import MAX_OUTGOING_RATE
+from app.rosbridge.managers.topics import MAX_OUTGOING_RATE
 from app.serving.launch import running_server
 from bench import percentile
 

@@ -60,7 +60,7 @@ async def relay(type_name: str, message: dict, count: int) -> float:
     for _ in range(3):
         session = Session(parts.bridge, Socket())  # type: ignore[arg-type]  # a WebSocket's two members
         session.loop = asyncio.get_running_loop()
-        parts.bridge.sessions.append(session)
+        parts.bridge.sessions.join(session)
         sessions.append(session)
     publisher, *subscribers = sessions
     for subscriber in subscribers:

@@ -81,7 +81,7 @@ def image(
 def windows(request: Request) -> list[dict]:
     """One entry per window: its name (cv2.imshow's), the topic its images come on (WINDOWS + the
     name as a ROS name) and the stamp (wall clock) of its newest image."""
-    shown = dict(request.app.state.bridge.windows)
+    shown = request.app.state.bridge.windows.shown()
     return [
         {
             "name": msg.get("header", {}).get("frame_id", topic[len(WINDOWS) :]),

@@ -8,10 +8,11 @@ it (the upgrade's `Authorization: Bearer <token>` or `X-HRI-Lab-Token` header, o
 `{"op": "auth", "mac": "<token>"}`); reading is open.
 
 This module is rosbridge's public face: what the composition root (app/serving/compose.py) builds
-(the Bridge, the state every session shares: bridge.py) and mounts (the route). Layout
+(the Bridge, what every session shares: bridge.py) and mounts (the route). Layout
 (rosbridge_suite's): this route; session.py, one connection; ops.py, the ops by name from
-capabilities/ (one module per op family, a capability object per client); ports.py, what a
-capability sees of its session and the bridge; services.py, the one table of services a client
+capabilities/ (one module per op family, a capability object per client); managers/, the shared
+state, one manager per concern (topics, services, actions, tf, windows, sessions); ports.py, what a
+capability may call of its session and of each manager; services.py, the one table of services a client
 calls (the lab's, the nodes', rosapi's, /republish_tfs); internal/, the streams and the programs'
 frames; protocol.py, frames; rosapi.py, the rosapi services.
 """

@@ -1,7 +1,9 @@
 """What the parts of rosbridge see of each other, as Protocols: a capability, rosapi and the service
 table are handed a session (SessionLike: one client's connection, app/rosbridge/session.py) and
-through it the bridge (BridgeLike: what every session shares, app/rosbridge/bridge.py).
-They import neither class, so neither imports them back."""
+through it the bridge (BridgeLike: what every session shares, app/rosbridge/bridge.py): the lab and
+one manager per concern (app/rosbridge/managers/: topics, services, actions, tf, windows, sessions),
+each Protocol here what a capability may call of it. They import no session, bridge or manager, so
+none imports them back."""
 
 from __future__ import annotations
 
@@ -11,9 +13,9 @@ from typing import Any, Protocol, TypeVar
 
 from sim.messages import Topic
 
-from app.ros.actions import ActionServer
-from app.ros.node_actions import NodeActions
-from app.ros.node_services import NodeClient, NodeServices
+from app.ros.actions import Action, GoalHandle
+from app.ros.messages import RosMessage
+from app.ros.node_services import NodeClient
 from app.ros.services import Service
 from app.rosbridge.protocol import Id
 from app.tokens import Throttle
@@ -70,25 +72,6 @@ class SharedMessagesLike(Protocol):
     def forget(self, topic: str) -> None: ...
 
 
-class TFRepublisherLike(Protocol):
-    """The lab's tf2_web_republisher action server (app/rosbridge/tf_republisher.py)."""
-
-    @property
-    def inputs(self) -> tuple[str, str]: ...  # its goal and cancel topics
-
-    def take(self, session: SessionLike, topic: str, msg: dict) -> None: ...
-
-    def drop(self, session: SessionLike) -> None: ...
-
-    def start(self) -> None: ...
-
-    def subscriptions(self) -> int: ...
-
-    def held_by(self, session: SessionLike) -> int: ...
-
-    def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[Any, str]]]: ...
-
-
 class ServiceEntryLike(Protocol):
     """One service a client may call (app/rosbridge/services.py)."""
 
@@ -102,8 +85,67 @@ class ServiceEntryLike(Protocol):
     def writes(self) -> bool: ...  # with a token set, the caller must have presented it
 
 
-class ServiceTableLike(Protocol):
-    """Every service a client may call, by name (app/rosbridge/services.py)."""
+class TopicsLike(Protocol):
+    """The topics (app/rosbridge/managers/topics.py): the lab's sampled ones, the nodes' relayed ones."""
+
+    command_topic: str  # the topic the lab follows a node's Twists on
+    command: Command  # what the lab runs with each Twist on command_topic (its world's)
+    world_topics: list[Topic]  # the topics its world serves (rosapi's; the sampled ones are none when replaying bags)
+    latched: Iterable[str]  # lab topics sent again only when their message changed
+    shared: SharedMessagesLike
+
+    def sampled(self, name: str) -> bool: ...
+
+    def lab_topic(self, name: str) -> Topic | None: ...
+
+    def sampled_names(self) -> list[str]: ...
+
+    def min_period(self, name: str) -> float: ...
+
+    def add_topic(self, topic: Topic, min_period_s: float = 0.0) -> None: ...
+
+    def replace(self, topic: Topic) -> None: ...
+
+    def remove_topic(self, name: str) -> None: ...
+
+    def types(self) -> dict[str, str]: ...
+
+    def lab_publishes(self, topic: str) -> bool: ...
+
+    def definitions(self) -> dict[str, str]: ...
+
+    def add_lab_node_topic(self, name: str, type_name: str) -> None: ...
+
+    def find(self, topic: str) -> NodeTopicLike | None: ...
+
+    def room_for_topic(self, topic: str, op: str) -> None: ...
+
+    def advertise(self, topic: str, type_name: str, publisher: SessionLike, definition: str | None = None) -> None: ...
+
+    def publishes(self, topic: str, session: SessionLike) -> bool: ...
+
+    def publishers(self, topic: str) -> list[SessionLike]: ...
+
+    def subscribe(self, topic: str, type_name: str, subscription: StreamLike) -> None: ...
+
+    def subscribed(self, topic: str) -> bool: ...
+
+    def deliver(self, topic: str, message: dict, header: dict | None = None) -> None: ...
+
+    def unadvertise(self, topic: str, publisher: SessionLike) -> None: ...
+
+    def unsubscribe(self, topic: str, subscription: StreamLike) -> None: ...
+
+    def stream_opened(self) -> None: ...
+
+    def stream_closed(self) -> None: ...
+
+    def fair_period(self) -> float: ...
+
+
+class ServicesLike(Protocol):
+    """The services (app/rosbridge/managers/services.py): the one table a client calls, the ones
+    nodes provide."""
 
     def get(self, name: str) -> ServiceEntryLike | None: ...
 
@@ -117,56 +159,119 @@ class ServiceTableLike(Protocol):
         self, caller: Caller, name: str, args: dict | list | None, header: dict[str, str] | None = None
     ) -> tuple[bool, object]: ...
 
+    def registry(self) -> Iterable[Service]: ...
 
-class BridgeLike(Protocol):
-    """What every session shares: the lab, its registries, the node topics, the sessions."""
+    def offered(self, name: str) -> bool: ...
 
-    lab: LabPort[Any]  # any world's lab (app/worlds/port.py)
-    nodes: NodeServices
-    actions: ActionServer
-    node_actions: NodeActions
-    token: str | None
-    graded: bool  # a graded trial's lab: a client without the token may act as a node, never as the lab's admin
-    topics: dict[str, Topic]
-    frames: FramesLike
-    min_period_s: dict[str, float]
-    command_topic: str
-    command: Command  # what the lab runs with each Twist on command_topic (its world's)
-    world_topics: list[Topic]  # the topics its world serves (rosapi's; `topics` is empty when replaying bags)
-    latched: Iterable[str]
-    node_topics: dict[str, NodeTopicLike]
-    windows: dict[str, dict]
-    sessions: list[SessionLike]
-    auth_throttle: Throttle
-    streams: int
-    service_table: ServiceTableLike
-    tf_republisher: TFRepublisherLike
-    shared: SharedMessagesLike
+    def lab_provides(self, name: str) -> bool: ...
+
+    def room_for(self, name: str, op: str) -> None: ...
+
+    def replaces_lab(self, name: str) -> bool: ...
+
+    def advertise(
+        self,
+        name: str,
+        type_name: str,
+        session: NodeClient,
+        text: str | None = None,
+        models: tuple[type[RosMessage], type[RosMessage]] | None = None,
+    ) -> str | None: ...
+
+    def unadvertise(self, name: str, session: NodeClient) -> bool: ...
+
+    def drop(self, session: NodeClient) -> None: ...
+
+    def answer(self, session: NodeClient, call_id: object, ok: bool, values: Any) -> bool: ...
+
+
+class ActionsLike(Protocol):
+    """The actions (app/rosbridge/managers/actions.py): the lab's ActionServer, the nodes' actions."""
+
+    def get(self, name: str) -> Action | None: ...
+
+    def names(self) -> list[str]: ...
+
+    def send_goal(self, action: Action, goal: RosMessage) -> GoalHandle: ...
+
+    def cancel(self, handle: GoalHandle) -> None: ...
+
+    def advertise(self, name: str, type_name: str, session: NodeClient) -> None: ...
+
+    def unadvertise(self, name: str, session: NodeClient) -> bool: ...
+
+    def feedback(self, session: NodeClient, goal_id: object, name: str, values: Any) -> None: ...
+
+    def result(self, session: NodeClient, goal_id: object, name: str, values: Any, status: int, ok: bool) -> None: ...
+
+    def drop(self, session: NodeClient) -> None: ...
+
+
+class TFLike(Protocol):
+    """tf (app/rosbridge/managers/tf.py): the programs' frames and the lab's tf2_web_republisher."""
+
+    def offer(self, session: SessionLike, message: dict, static: bool) -> list[str]: ...
+
+    def drop(self, session: SessionLike) -> None: ...
 
     @property
-    def services(self) -> Iterable[Service]: ...
+    def inputs(self) -> tuple[str, str]: ...  # the action's goal and cancel topics
 
-    def fair_period(self) -> float: ...
+    def take(self, session: SessionLike, topic: str, message: dict) -> None: ...
+
+    def start(self) -> None: ...
+
+    def republish(self, session: SessionLike, args: dict) -> tuple[str, Closing]: ...
+
+
+class WindowsLike(Protocol):
+    """The programs' cv2.imshow windows (app/rosbridge/managers/windows.py)."""
+
+    def show(self, topic: str, image: dict) -> None: ...
+
+    def get(self, topic: str) -> dict | None: ...
+
+    def shown(self) -> dict[str, dict]: ...
+
+
+class SessionsLike(Protocol):
+    """The connected clients (app/rosbridge/managers/sessions.py)."""
+
+    auth_throttle: Throttle
 
     def next_name(self) -> str: ...
 
-    def add_topic(self, topic: Topic, min_period_s: float = 0.0) -> None: ...
+    def join(self, session: SessionLike) -> bool: ...
 
-    def remove_topic(self, name: str) -> None: ...
+    def leave(self, session: SessionLike) -> None: ...
 
-    def topic_types(self) -> dict[str, str]: ...
+    def all(self) -> list[SessionLike]: ...
 
-    def room_for_topic(self, topic: str, op: str) -> None: ...
 
-    def node_topic(self, topic: str, type_name: str) -> NodeTopicLike: ...
+class BridgeLike(Protocol):
+    """What every session shares: the lab, its access rule, and one manager per concern."""
 
-    def add_lab_node_topic(self, name: str, type_name: str) -> None: ...
+    lab: LabPort[Any]  # any world's lab (app/worlds/port.py)
+    token: str | None
+    graded: bool  # a graded trial's lab: a client without the token may act as a node, never as the lab's admin
 
-    def lab_publishes(self, topic: str) -> bool: ...
+    @property
+    def topics(self) -> TopicsLike: ...
 
-    def leave(
-        self, topic: str, publisher: SessionLike | None = None, subscription: StreamLike | None = None
-    ) -> None: ...
+    @property
+    def services(self) -> ServicesLike: ...
+
+    @property
+    def actions(self) -> ActionsLike: ...
+
+    @property
+    def tf(self) -> TFLike: ...
+
+    @property
+    def windows(self) -> WindowsLike: ...
+
+    @property
+    def sessions(self) -> SessionsLike: ...
 
 
 class SessionLike(Protocol):

@@ -210,7 +210,7 @@ _UNSET = object()
 
 def lab_topics(bridge: BridgeLike) -> list:
     """The topics the lab's world publishes (app/worlds/contract.py), even while bags replay."""
-    return bridge.world_topics
+    return bridge.topics.world_topics
 
 
 def _samples(bridge: BridgeLike, snapshot: Any) -> dict[str, tuple[str, dict]]:
@@ -224,30 +224,32 @@ def _samples(bridge: BridgeLike, snapshot: Any) -> dict[str, tuple[str, dict]]:
 
 
 def _topics(bridge: BridgeLike, args: dict) -> dict:
-    topics = bridge.topic_types()
+    topics = bridge.topics.types()
     return {"topics": list(topics), "types": list(topics.values())}
 
 
 def _topics_for_type(bridge: BridgeLike, args: dict) -> dict:
-    return {"topics": [t for t, ty in bridge.topic_types().items() if ty == args.get("type")]}
+    return {"topics": [t for t, ty in bridge.topics.types().items() if ty == args.get("type")]}
 
 
 def _topic_type(bridge: BridgeLike, args: dict) -> dict:
-    return {"type": bridge.topic_types().get("/" + str(args.get("topic", "")).strip("/"), "")}
+    return {"type": bridge.topics.types().get("/" + str(args.get("topic", "")).strip("/"), "")}
 
 
 def _services(bridge: BridgeLike, args: dict) -> dict:
-    return {"services": bridge.service_table.names()}
+    return {"services": bridge.services.names()}
 
 
 def _services_for_type(bridge: BridgeLike, args: dict) -> dict:
     return {
-        "services": [s.name for s in bridge.services if s.type == args.get("type") and bridge.nodes.offered(s.name)]
+        "services": [
+            s.name for s in bridge.services.registry() if s.type == args.get("type") and bridge.services.offered(s.name)
+        ]
     }
 
 
 def _service_type(bridge: BridgeLike, args: dict) -> dict:
-    entry = bridge.service_table.get(str(args.get("service", "")))
+    entry = bridge.services.get(str(args.get("service", "")))
     return {"type": entry.type if entry is not None else ""}
 
 
@@ -256,7 +258,7 @@ def _details(part: str) -> Handler:
 
     def details(bridge: BridgeLike, args: dict) -> dict:
         wanted = str(args.get("type", ""))
-        service = next((s for s in bridge.services if s.type == wanted), None)
+        service = next((s for s in bridge.services.registry() if s.type == wanted), None)
         if service is None:
             return {"typedefs": []}
         return {"typedefs": model_typedefs(f"{wanted}_{part.capitalize()}", getattr(service, part))}
@@ -280,9 +282,9 @@ def _message_details(bridge: BridgeLike, args: dict) -> dict:
 def _topics_and_raw_types(bridge: BridgeLike, args: dict) -> dict:
     samples = _samples(bridge, bridge.lab.snapshot())
     texts = {topic: full_text(message_typedefs(t, m)) for topic, (t, m) in samples.items()}
-    topics = bridge.topic_types()
+    topics = bridge.topics.types()
     # a node topic: the full text its publisher carried (hri-lab's programs do), not a lab sample's
-    texts.update({name: t.definition for name, t in bridge.node_topics.items() if t.definition})
+    texts.update(bridge.topics.definitions())
     return {
         "topics": list(topics),
         "types": list(topics.values()),
@@ -297,16 +299,16 @@ def _topic_arg(args: dict) -> str:
 def _publishers(bridge: BridgeLike, args: dict) -> dict:
     """The nodes on a topic, as rosapi names them: the lab's node for its own topics, then clients."""
     topic = _topic_arg(args)
-    lab = [LAB_NODE] if bridge.lab_publishes(topic) else []
-    return {"publishers": lab + [s.name for s in bridge.sessions if topic in s.details()["publishing"]]}
+    lab = [LAB_NODE] if bridge.topics.lab_publishes(topic) else []
+    return {"publishers": lab + [s.name for s in bridge.sessions.all() if topic in s.details()["publishing"]]}
 
 
 def _subscribers(bridge: BridgeLike, args: dict) -> dict:
     topic = _topic_arg(args)
     # the lab's own: the command topic it follows (a teleop node waiting for a subscriber to /cmd_vel counts
     # it, as rospy's get_num_connections counts every subscriber), tf2_web_republisher's goal and cancel
-    lab = [LAB_NODE] if topic == bridge.command_topic or topic in bridge.tf_republisher.inputs else []
-    return {"subscribers": lab + [s.name for s in bridge.sessions if topic in s.details()["subscribing"]]}
+    lab = [LAB_NODE] if topic == bridge.topics.command_topic or topic in bridge.tf.inputs else []
+    return {"subscribers": lab + [s.name for s in bridge.sessions.all() if topic in s.details()["subscribing"]]}
 
 
 def _endpoints(bridge: BridgeLike, args: dict) -> dict:
@@ -323,7 +325,7 @@ def _endpoints(bridge: BridgeLike, args: dict) -> dict:
     else:
         lab, detail = False, ""
     entities = [{"node": LAB_NODE, "qos": {}}] if lab else []
-    for session in bridge.sessions:
+    for session in bridge.sessions.all():
         told = session.endpoints(kind, name)
         entities += told or (
             [{"node": session.name, "qos": {}}] if detail and name in session.details()[detail] else []
@@ -332,29 +334,25 @@ def _endpoints(bridge: BridgeLike, args: dict) -> dict:
 
 
 def _nodes(bridge: BridgeLike, args: dict) -> dict:
-    return {"nodes": [LAB_NODE] + [n for s in bridge.sessions for n in (s.node_names or [s.client_name])]}
+    return {"nodes": [LAB_NODE] + [n for s in bridge.sessions.all() for n in (s.node_names or [s.client_name])]}
 
 
 def _node_details(bridge: BridgeLike, args: dict) -> dict:
     node = str(args.get("node", ""))
     if node == LAB_NODE:
         return {
-            "subscribing": [bridge.command_topic, *bridge.tf_republisher.inputs],
-            "publishing": [t for t in bridge.topic_types() if bridge.lab_publishes(t)],
-            "services": [
-                s.name
-                for s in bridge.services
-                if bridge.nodes.provided_by(s.name) is None and bridge.nodes.offered(s.name)
-            ],
+            "subscribing": [bridge.topics.command_topic, *bridge.tf.inputs],
+            "publishing": [t for t in bridge.topics.types() if bridge.topics.lab_publishes(t)],
+            "services": [s.name for s in bridge.services.registry() if bridge.services.lab_provides(s.name)],
         }
-    other = next((s for s in bridge.sessions if node in (s.node_names or [s.client_name])), None)
+    other = next((s for s in bridge.sessions.all() if node in (s.node_names or [s.client_name])), None)
     if other is None:
         return {"subscribing": [], "publishing": [], "services": []}
     return other.details()
 
 
 def _action_servers(bridge: BridgeLike, args: dict) -> dict:
-    return {"action_servers": list(bridge.actions.actions)}
+    return {"action_servers": bridge.actions.names()}
 
 
 def _get_time(bridge: BridgeLike, args: dict) -> dict:

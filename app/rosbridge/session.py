@@ -29,7 +29,7 @@ TOO_MANY = f"this lab serves at most {MAX_CONNECTIONS} rosbridge connections at 
 class Session:
     def __init__(self, bridge: BridgeLike, websocket: WebSocket) -> None:
         self.bridge, self.ws = bridge, websocket
-        self.client_name = bridge.next_name()  # its name until it names its node (op node)
+        self.client_name = bridge.sessions.next_name()  # its name until it names its node (op node)
         self.node_names: list[str] = []  # the nodes it runs, in the order it named them
         self.loop: asyncio.AbstractEventLoop | None = None
         token = bridge.token
@@ -50,7 +50,7 @@ class Session:
     # --- connection -------------------------------------------------------------------------
     async def run(self) -> None:
         await self.ws.accept()
-        if len(self.bridge.sessions) >= MAX_CONNECTIONS:  # told why, then closed: "try again later"
+        if not self.bridge.sessions.join(self):  # MAX_CONNECTIONS: told why, then closed: "try again later"
             self.closed = True
             try:
                 await self.ws.send_text(json.dumps(status("error", TOO_MANY)))
@@ -59,8 +59,7 @@ class Session:
                 pass
             return
         self.loop = asyncio.get_running_loop()
-        self.bridge.sessions.append(self)
-        self.bridge.tf_republisher.start()
+        self.bridge.tf.start()
         try:
             while True:
                 frame = await self.ws.receive()
@@ -84,7 +83,7 @@ class Session:
         if self.closed:
             return
         self.closed = True
-        self.bridge.sessions.remove(self)
+        self.bridge.sessions.leave(self)
         for capability in self.capabilities.values():
             capability.finish()
         for task in list(self.tasks):

@@ -24,6 +24,7 @@ from __future__ import annotations
 import asyncio
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,6 +35,7 @@ from sim.messages import Topic
 from app.ros import tf_messages as tf
 from app.ros.services import ServiceFailure
 from app.rosbridge.internal.node_frames import TF_TOPICS, transform_matrix
+from app.rosbridge.ports import FramesLike, TopicsLike
 from app.rosbridge.protocol import MAX_CLIENT_TF_REPUBLISHED, BadFrame
 
 SERVICE = "/republish_tfs"
@@ -51,13 +53,14 @@ _NUMBERS = itertools.count(1)
 
 
 # --- the tree -------------------------------------------------------------------------------------
-def tree_poses(bridge: Any, snapshot: Any) -> dict[str, tuple[np.ndarray, str]]:
-    """Every frame of the transforms /tf and /tf_static carry now (the lab's and the programs'): its
-    pose (4x4) in its tree's root frame, and that root. A frame below a loop is in no tree."""
+def tree_poses(lab_tf: dict[str, Topic], frames: Any, snapshot: Any) -> dict[str, tuple[np.ndarray, str]]:
+    """Every frame of the transforms /tf and /tf_static carry now (`lab_tf`: the lab's own topics
+    of them, with the programs' frames; `frames`, the programs' frames alone where the lab has none):
+    its pose (4x4) in its tree's root frame, and that root. A frame below a loop is in no tree."""
     edges: dict[str, tuple[str, np.ndarray]] = {}  # child -> (parent, child's pose in the parent)
     for name, static in TF_TOPICS.items():
-        topic = bridge.topics.get(name)  # absent in a lab started to replay bags: the programs' frames alone
-        transforms = topic.build(snapshot)["transforms"] if topic is not None else bridge.frames.transforms(static)
+        topic = lab_tf.get(name)  # absent in a lab started to replay bags: the programs' frames alone
+        transforms = topic.build(snapshot)["transforms"] if topic is not None else frames.transforms(static)
         for t in transforms:
             edges[t["child_frame_id"].strip("/")] = (
                 t["header"]["frame_id"].strip("/"),
@@ -111,40 +114,8 @@ def _request(args: dict) -> tuple[list[str], str, float]:
 # --- the service ----------------------------------------------------------------------------------
 def republish(caller: Any, args: dict) -> dict:
     """Answer the service for `caller` (a client's call capability: its bridge, what goes with it):
-    a new topic of the transforms, named in the response."""
-    bridge = caller.bridge
-    try:
-        sources, target, rate = _request(args)
-    except ValueError as bad:
-        raise ServiceFailure(f"republish_tfs: {bad}") from None
-    known = bridge.tf_republisher.tree(bridge.lab.snapshot())[1]
-    for name in [*sources, target]:
-        if name not in known:
-            raise ServiceFailure(
-                f"republish_tfs: frame '{name[:80]}' does not exist (frames: {', '.join(sorted(known))})"
-            )
-    server = bridge.tf_republisher
-    if server.subscriptions() >= MAX_SUBSCRIPTIONS:
-        raise ServiceFailure(f"republish_tfs: {MAX_SUBSCRIPTIONS} republished topics and goals exist already")
-    if server.held_by(caller.session) >= MAX_CLIENT_TF_REPUBLISHED:
-        raise ServiceFailure(
-            f"republish_tfs: this client holds {MAX_CLIENT_TF_REPUBLISHED} republished topics and goals already "
-            "(the limit per client)"
-        )
-
-    def build(snapshot: Any) -> dict:
-        at, poses = server.tree(snapshot)  # a frame whose program went: left out
-        found = ((source, relative(poses, target, source)) for source in sources)
-        return {"transforms": [tf.relative_stamped(at, target, s, pose) for s, pose in found if pose is not None]}
-
-    name = f"/tf_repub_{next(_NUMBERS)}"
-    bridge.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / rate)
-    server.owners[name] = caller.session
-
-    def close() -> None:
-        bridge.remove_topic(name)
-        server.owners.pop(name, None)
-
+    a new topic of the transforms, named in the response; it goes with the caller's client."""
+    name, close = caller.bridge.tf.republish(caller.session, args)
     caller.on_close.append(close)
     return {"topic_name": name}
 
@@ -207,8 +178,8 @@ def _stamp_s(goal_id: dict) -> float:
 class TFSubscriptionServer:
     """The tf2_web_republisher action's server: the lab's node on the action's five topics."""
 
-    def __init__(self, bridge: Any) -> None:
-        self.bridge = bridge
+    def __init__(self, lab: Any, topics: TopicsLike, frames: FramesLike) -> None:
+        self.lab, self.lab_topics, self.frames = lab, topics, frames
         self.goals: dict[str, Goal] = {}  # goal id -> goal (ended ones kept ENDED_KEPT_S for the status array)
         self.topics = {
             "goal": f"{ACTION}/goal",
@@ -225,7 +196,7 @@ class TFSubscriptionServer:
             "result": "tf2_web_republisher/TFSubscriptionActionResult",
         }
         for key, name in self.topics.items():
-            bridge.add_lab_node_topic(name, types[key])
+            topics.add_lab_node_topic(name, types[key])
         self._seq = itertools.count(1)
         self._status_task: asyncio.Task | None = None
         self.owners: dict[str, Any] = {}  # a /republish_tfs topic -> the session that asked for it
@@ -237,14 +208,55 @@ class TFSubscriptionServer:
         """(the snapshot it was built at, tree_poses) for every goal and republished topic: built once
         a period (1 / MAX_RATE_HZ of simulated time, either way: a reset sends it back) while the
         programs' frames stay, not once per request or goal."""
-        kept, version = self._tree, self.bridge.frames.version
+        kept, version = self._tree, self.frames.version
         if (
             kept is None
             or kept[1] != version
             or not (kept[0] is snapshot or abs(snapshot.time - kept[0].time) < 1.0 / MAX_RATE_HZ)
         ):
-            kept = self._tree = (snapshot, version, tree_poses(self.bridge, snapshot))
+            kept = self._tree = (snapshot, version, tree_poses(self._lab_tf(), self.frames, snapshot))
         return kept[0], kept[2]
+
+    def _lab_tf(self) -> dict[str, Topic]:
+        """The lab's own /tf and /tf_static topics (none in a lab started to replay bags)."""
+        found = {name: self.lab_topics.lab_topic(name) for name in TF_TOPICS}
+        return {name: topic for name, topic in found.items() if topic is not None}
+
+    def republish(self, session: Any, args: dict) -> tuple[str, Callable[[], None]]:
+        """/republish_tfs for `session`: the name of a new topic of the transforms, and what removes
+        it (when its client goes); ServiceFailure with the reason it cannot."""
+        try:
+            sources, target, rate = _request(args)
+        except ValueError as bad:
+            raise ServiceFailure(f"republish_tfs: {bad}") from None
+        known = self.tree(self.lab.snapshot())[1]
+        for name in [*sources, target]:
+            if name not in known:
+                raise ServiceFailure(
+                    f"republish_tfs: frame '{name[:80]}' does not exist (frames: {', '.join(sorted(known))})"
+                )
+        if self.subscriptions() >= MAX_SUBSCRIPTIONS:
+            raise ServiceFailure(f"republish_tfs: {MAX_SUBSCRIPTIONS} republished topics and goals exist already")
+        if self.held_by(session) >= MAX_CLIENT_TF_REPUBLISHED:
+            raise ServiceFailure(
+                f"republish_tfs: this client holds {MAX_CLIENT_TF_REPUBLISHED} republished topics and goals already "
+                "(the limit per client)"
+            )
+
+        def build(snapshot: Any) -> dict:
+            at, poses = self.tree(snapshot)  # a frame whose program went: left out
+            found = ((source, relative(poses, target, source)) for source in sources)
+            return {"transforms": [tf.relative_stamped(at, target, s, pose) for s, pose in found if pose is not None]}
+
+        name = f"/tf_repub_{next(_NUMBERS)}"
+        self.lab_topics.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / rate)
+        self.owners[name] = session
+
+        def close() -> None:
+            self.lab_topics.remove_topic(name)
+            self.owners.pop(name, None)
+
+        return name, close
 
     def held_by(self, session: Any) -> int:
         """Republished topics and active goals `session` holds (MAX_CLIENT_TF_REPUBLISHED)."""
@@ -258,7 +270,7 @@ class TFSubscriptionServer:
     def subscriptions(self) -> int:
         """Republished topics and active goals, all clients together (MAX_SUBSCRIPTIONS)."""
         goals = sum(1 for g in self.goals.values() if g.status == ACTIVE)
-        return goals + sum(1 for name in self.bridge.topics if name.startswith("/tf_repub_"))
+        return goals + sum(1 for name in self.lab_topics.sampled_names() if name.startswith("/tf_repub_"))
 
     def start(self) -> None:
         """The status array at 5 Hz, from the first client on (called on the server's event loop)."""
@@ -279,7 +291,7 @@ class TFSubscriptionServer:
         if not isinstance(id_, str) or len(id_) > 256:
             raise BadFrame(f"publish {self.topics['goal']}: 'goal_id.id' must be a string")
         if not id_:  # as actionlib's server names a goal sent without an id
-            id_ = f"{ACTION}-{next(self._seq)}-{self.bridge.lab.snapshot().time:.3f}"
+            id_ = f"{ACTION}-{next(self._seq)}-{self.lab.snapshot().time:.3f}"
             goal_id = {**goal_id, "id": id_}
         body = _object(msg, "goal")
         try:
@@ -334,8 +346,7 @@ class TFSubscriptionServer:
 
     # --- what the lab publishes ---
     def _offer(self, key: str, msg: dict) -> None:
-        for stream in list(self.bridge.node_topics[self.topics[key]].subscriptions):
-            stream.offer(msg)
+        self.lab_topics.deliver(self.topics[key], msg)
 
     def _status(self, goal: Goal) -> dict:
         return {"goal_id": goal.goal_id, "status": goal.status, "text": goal.text}
@@ -351,7 +362,7 @@ class TFSubscriptionServer:
         ended = [k for k, g in self.goals.items() if g.status != ACTIVE]
         for key in ended[: max(0, len(ended) - MAX_SUBSCRIPTIONS)]:  # a flood of rejected goals: the oldest go
             del self.goals[key]
-        time_s = self.bridge.lab.snapshot().time
+        time_s = self.lab.snapshot().time
         self._offer(
             "result", {"header": _ros1_header(time_s, next(self._seq)), "status": self._status(goal), "result": {}}
         )
@@ -361,7 +372,7 @@ class TFSubscriptionServer:
         loop = asyncio.get_running_loop()
         due = loop.time()
         while goal.status == ACTIVE:
-            snapshot, poses = self.tree(self.bridge.lab.snapshot())
+            snapshot, poses = self.tree(self.lab.snapshot())
             transforms = []
             for pair in goal.pairs:
                 now = relative(poses, goal.target, pair.source)
@@ -382,8 +393,8 @@ class TFSubscriptionServer:
             now = loop.time()
             for key in [k for k, g in self.goals.items() if now - g.ended_at > ENDED_KEPT_S]:
                 del self.goals[key]
-            if self.bridge.node_topics[self.topics["status"]].subscriptions:
-                header = _ros1_header(self.bridge.lab.snapshot().time, next(self._seq))
+            if self.lab_topics.subscribed(self.topics["status"]):
+                header = _ros1_header(self.lab.snapshot().time, next(self._seq))
                 self._offer("status", {"header": header, "status_list": [self._status(g) for g in self.goals.values()]})
             await asyncio.sleep(STATUS_PERIOD_S)
 

@@ -51,7 +51,7 @@ def create_app(
     (app/security.py). token: when set, state-changing requests must carry it (app/api/access.py).
     exercises: the handout's exercise services are left to the students' nodes (rosbridge).
     replay: the simulation publishes no topic over rosbridge: a bag played into the lab publishes them
-    (app/rosbridge/bridge.py, docs/recording.md)."""
+    (app/rosbridge/managers/topics.py, docs/recording.md)."""
     if token and token_problem(token):
         raise ValueError(token_problem(token))
     world = world or WORLDS[DEFAULT]

@@ -87,7 +87,7 @@ class Advertise(Capability):
         lifespan_s = field(message, "lifespan", (int, float), None, allow_none=True)
         if lifespan_s is not None and not (math.isfinite(lifespan_s) and lifespan_s > 0):
             raise BadFrame("advertise: 'lifespan' must be a number of seconds > 0")
-        known = bridge.topic_types().get(topic)
+        known = bridge.topics.types().get(topic)
         if topic == rosout.TOPIC:  # every node logs here, in ROS 2's type or ROS 1's
             if type_name not in rosout.TYPES:
                 raise BadFrame(
@@ -96,7 +96,7 @@ class Advertise(Capability):
             self.rosout_type = type_name
             self._hold(topic, id_)
             return
-        if topic in bridge.topics and topic != bridge.command_topic and topic not in TF_TOPICS:
+        if bridge.topics.sampled(topic) and topic != bridge.topics.command_topic and topic not in TF_TOPICS:
             raise BadFrame(f"advertise: topic {topic} is published by the lab")
         if known is not None and known != type_name:
             raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
@@ -110,12 +110,9 @@ class Advertise(Capability):
             )
         # tf: shared with the lab (node_frames.py); a command topic the lab publishes too (the lifting
         # world's) is the lab's, one it only follows (the mobile world's /cmd_vel) is the nodes'
-        if topic not in TF_TOPICS and (topic != bridge.command_topic or topic not in bridge.topics):
-            bridge.room_for_topic(topic, "advertise")
-            entry = bridge.node_topic(topic, type_name)
-            entry.publishers.add(self.session)
-            if isinstance(definition, str) and not entry.definition and len(definition) <= MAX_DEFINITION:
-                entry.definition = definition
+        if topic not in TF_TOPICS and (topic != bridge.topics.command_topic or not bridge.topics.sampled(topic)):
+            kept = definition if isinstance(definition, str) and len(definition) <= MAX_DEFINITION else None
+            bridge.topics.advertise(topic, type_name, self.session, kept)
         if headers is not None:
             self.headers[topic] = headers
             self._connection_headers.pop(topic, None)
@@ -162,11 +159,11 @@ class Advertise(Capability):
         self.lifespan_s.pop(topic, None)
         self.headers.pop(topic, None)
         self._connection_headers.pop(topic, None)
-        self.bridge.leave(topic, publisher=self.session)
+        self.bridge.topics.unadvertise(topic, self.session)
 
     def finish(self) -> None:
         for topic in self.ids:
-            self.bridge.leave(topic, publisher=self.session)
+            self.bridge.topics.unadvertise(topic, self.session)
         self.ids.clear()
         self.latched.clear()
 

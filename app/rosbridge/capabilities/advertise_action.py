@@ -17,7 +17,7 @@ class AdvertiseAction(Capability):
         name = name_field(message, "action")
         type_name = field(message, "type", str)
         try:
-            self.bridge.node_actions.advertise(name, type_name, self.session)
+            self.bridge.actions.advertise(name, type_name, self.session)
         except ValueError as refused:
             raise BadFrame(f"advertise_action: {refused}") from None
         await self.session.report(
@@ -26,14 +26,14 @@ class AdvertiseAction(Capability):
 
     async def unadvertise_action(self, message: dict, id_: Id) -> None:
         name = name_field(message, "action")
-        if not self.bridge.node_actions.unadvertise(name, self.session):
+        if not self.bridge.actions.unadvertise(name, self.session):
             await self.session.report("warning", f"unadvertise_action: {name} is not provided by this client", id_)
 
     async def action_feedback(self, message: dict, id_: Id) -> None:
         name = name_field(message, "action")
         values = field(message, "values", dict, {})
         try:
-            self.bridge.node_actions.feedback(self.session, message.get("id"), name, values)
+            self.bridge.actions.feedback(self.session, message.get("id"), name, values)
         except ValueError as refused:
             raise BadFrame(f"action_feedback: {refused}") from None
 
@@ -43,12 +43,12 @@ class AdvertiseAction(Capability):
         status = field(message, "status", int, 4 if ok else 6)
         values = message.get("values")
         try:
-            self.bridge.node_actions.result(self.session, message.get("id"), name, values, status, ok)
+            self.bridge.actions.result(self.session, message.get("id"), name, values, status, ok)
         except ValueError as refused:
             raise BadFrame(f"action_result: {refused}") from None
 
     def finish(self) -> None:
-        self.bridge.node_actions.drop(self.session)  # its actions go, their goals abort
+        self.bridge.actions.drop(self.session)  # its actions go, their goals abort
 
 
 OPS: Ops = {

@@ -15,7 +15,7 @@ from app.ros.node_services import models_of
 from app.ros.services import ServiceFailure
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
 from app.rosbridge.ports import Id, SessionLike
-from app.rosbridge.protocol import MAX_CLIENT_SERVICES, MAX_SERVICES, BadFrame, field, name_field, status
+from app.rosbridge.protocol import MAX_CLIENT_SERVICES, BadFrame, field, name_field, status
 
 
 class AdvertiseService(Capability):
@@ -37,7 +37,7 @@ class AdvertiseService(Capability):
         text = field(
             message, "definition", str, None
         )  # the lab's own client carries the .srv text (not rosbridge_suite's)
-        if bridge.service_table.answers_itself(name):  # rosapi's, /republish_tfs
+        if bridge.services.answers_itself(name):  # rosapi's, /republish_tfs
             raise BadFrame(f"advertise_service: {name} is the lab's")
         node, _, service = name.rpartition("/")
         if service in PARAMETER_SERVICES and node_name(node) in {n for n, _ in bridge.lab.params.declarations}:
@@ -48,8 +48,8 @@ class AdvertiseService(Capability):
             if session.closed:  # the client went while they were built: nothing of it is kept
                 return
             self._room_for(name)  # another op may have taken the last place meanwhile
-            replaces = bridge.nodes.answers_itself(name)
-            warning = bridge.nodes.advertise(name, type_name, session, text, models)
+            replaces = bridge.services.replaces_lab(name)
+            warning = bridge.services.advertise(name, type_name, session, text, models)
         except ServiceFailure as failure:
             raise BadFrame(f"advertise_service: {failure}") from None
         self.services.add(name)
@@ -69,20 +69,16 @@ class AdvertiseService(Capability):
             raise BadFrame(
                 f"advertise_service: at most {MAX_CLIENT_SERVICES} services per client (unadvertise one first)"
             )
-        if name not in self.bridge.nodes.providers and len(self.bridge.nodes.providers) >= MAX_SERVICES:
-            raise BadFrame(
-                f"advertise_service: at most {MAX_SERVICES} services are provided by nodes already "
-                "(the lab's limit, all clients together)"
-            )
+        self.bridge.services.room_for(name, "advertise_service")
 
     async def unadvertise_service(self, message: dict, id_: Id) -> None:
         name = name_field(message, "service")
-        if not self.bridge.nodes.unadvertise(name, self.session):
+        if not self.bridge.services.unadvertise(name, self.session):
             await self.session.report("warning", f"unadvertise_service: {name} is not provided by this client", id_)
         self.services.discard(name)
 
     def finish(self) -> None:
-        self.bridge.nodes.drop(self.session)  # its services go with it (their calls in flight fail)
+        self.bridge.services.drop(self.session)  # its services go with it (their calls in flight fail)
         self.services.clear()
 
 

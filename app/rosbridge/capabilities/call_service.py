@@ -31,7 +31,7 @@ class CallService(Capability):
         if args is not None and not isinstance(args, (dict, list)):
             raise BadFrame("call_service: field 'args' must be an object (or a list of the request's fields in order)")
         headers = headers_field(message)
-        table = self.bridge.service_table
+        table = self.bridge.services
         entry = table.get(name)
         # a graded program (bridge.graded) may call what nodes provide and rosbridge's own services, not the lab's
         node_call = self.bridge.graded and (table.provider(name) is not None or table.answers_itself(name))
@@ -48,7 +48,7 @@ class CallService(Capability):
         session.spawn(self._call(name, args, id_, headers))
 
     async def _call(self, name: str, args: dict | list | None, id_: Id, headers: dict[str, str] | None) -> None:
-        table = self.bridge.service_table
+        table = self.bridge.services
         server = table.provider(name) or LAB_NODE  # who answers, asked before the call (it may leave)
         try:
             ok, values = await table.call(self, name, args, headers)

@@ -19,7 +19,7 @@ class Connection(Capability):
         token = self.bridge.token
         if token is None:
             return
-        throttle, client = self.bridge.auth_throttle, self.session.address
+        throttle, client = self.bridge.sessions.auth_throttle, self.session.address
         self.session.authorized = token_matches(field(message, "mac", str), token)
         if self.session.authorized:
             throttle.succeed(client)

@@ -40,7 +40,7 @@ class Publish(Capability):
         topic = name_field(message, "topic")
         msg = field(message, "msg", dict)
         bridge, advertised = self.bridge, self.session.capability(Advertise)
-        if topic == bridge.command_topic and self._command(topic, msg, advertised.publishing):
+        if topic == bridge.topics.command_topic and self._command(topic, msg, advertised.publishing):
             return
         if topic == rosout.TOPIC:
             if topic not in advertised.publishing:
@@ -54,29 +54,28 @@ class Publish(Capability):
         if topic in TF_TOPICS:  # a program's frames join the lab's tree; the lab's own frames stay the lab's
             if topic not in advertised.publishing:
                 raise BadFrame(f"publish: advertise {topic} first (op advertise with type tf2_msgs/TFMessage)")
-            offered = bridge.frames.offer(self.session, msg, TF_TOPICS[topic])
+            offered = bridge.tf.offer(self.session, msg, TF_TOPICS[topic])
             refused = [reason for reason in offered if reason not in self.tf_refused]
             if refused:
                 self.tf_refused.update(refused)
                 raise BadFrame(f"publish {topic}: refused " + "; ".join(refused))
             return
-        if topic in bridge.topics:
+        if bridge.topics.sampled(topic):
             raise BadFrame(f"publish: topic {topic} is published by the lab")
-        entry = bridge.node_topics.get(topic)
-        if entry is None or self.session not in entry.publishers:
+        entry = bridge.topics.find(topic)
+        if entry is None or not bridge.topics.publishes(topic, self.session):
             raise BadFrame(f"publish: advertise {topic} first (op advertise with its type)")
         try:  # made whole once, shared by every subscriber (and the lab's readers of it below)
             msg = populate(entry.type, entry.definition, msg)
         except FieldError as error:
             raise BadFrame(f"publish {topic}: {error.describe(entry.type)}") from None
-        if topic in bridge.tf_republisher.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
-            bridge.tf_republisher.take(self.session, topic, msg)
+        if topic in bridge.tf.inputs:  # a goal or a cancel for the lab's tf2_web_republisher
+            bridge.tf.take(self.session, topic, msg)
         if topic.startswith(WINDOWS):  # a program's cv2.imshow: the dashboard shows its newest image
-            bridge.windows[topic] = msg
+            bridge.windows.show(topic, msg)
         header = advertised.connection_header(topic)  # for the streams that asked (capabilities/subscribe.py)
         advertised.keep(topic, msg, header)  # a latched publisher's history (capabilities/advertise.py)
-        for stream in list(entry.subscriptions):
-            stream.offer(msg, header)
+        bridge.topics.deliver(topic, msg, header)
 
     def _command(self, topic: str, msg: dict, publishing: set[str]) -> bool:
         """A Twist on the command topic, handed to the simulation; True when that is all (a topic
@@ -85,11 +84,10 @@ class Publish(Capability):
         if self.commands is None:
             self.commands = Commands(self.session)
         self.commands.offer(twist_values(msg, topic))
-        return topic in self.bridge.topics or topic not in publishing
+        return self.bridge.topics.sampled(topic) or topic not in publishing
 
     def finish(self) -> None:
-        self.bridge.frames.drop(self.session)  # its frames leave the lab's tree
-        self.bridge.tf_republisher.drop(self.session)  # its tf2_web_republisher goals end
+        self.bridge.tf.drop(self.session)  # its frames leave the lab's tree, its tf2_web_republisher goals end
 
 
 class Commands:
@@ -117,7 +115,7 @@ class Commands:
                     continue
                 twist, self.newest = self.newest, None
                 self.in_flight += 1
-                future = bridge.lab.submit(bridge.command, twist)
+                future = bridge.lab.submit(bridge.topics.command, twist)
                 future.add_done_callback(lambda f: loop.call_soon_threadsafe(self.done, f))
         finally:
             self.forwarding = False
@@ -125,7 +123,7 @@ class Commands:
     def done(self, future: Future[object]) -> None:
         self.in_flight -= 1
         if future.exception() is not None:
-            topic = self.session.bridge.command_topic
+            topic = self.session.bridge.topics.command_topic
             self.session.spawn(self.session.report("error", f"publish {topic}: {future.exception()}"))
 
 

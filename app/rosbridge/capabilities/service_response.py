@@ -16,7 +16,7 @@ class ServiceResponse(Capability):
     async def service_response(self, message: dict, id_: Id) -> None:
         ok = field(message, "result", bool, True)
         values = message.get("values")
-        if not self.bridge.nodes.answer(self.session, message.get("id"), ok, values):
+        if not self.bridge.services.answer(self.session, message.get("id"), ok, values):
             await self.session.report(
                 "warning",
                 f"service_response: no call with id {json.dumps(message.get('id'))[:80]} waits for this client's answer",

@@ -61,7 +61,7 @@ class Subscribe(Capability):
         compression = field(message, "compression", str, "none")
         if compression not in ("none", ""):
             raise BadFrame(f"subscribe: compression '{compression[:20]}' is not supported (only none)")
-        known = bridge.topic_types().get(topic)
+        known = bridge.topics.types().get(topic)
         if known is None and not type_name:
             raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
         if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
@@ -72,7 +72,7 @@ class Subscribe(Capability):
         if stream is None and len(self.streams) >= MAX_TOPICS:
             raise BadFrame(f"subscribe: at most {MAX_TOPICS} topics per client (unsubscribe from one first)")
         if stream is None and topic != rosout.TOPIC:
-            bridge.room_for_topic(topic, "subscribe")
+            bridge.topics.room_for_topic(topic, "subscribe")
         if stream is not None:
             stream.connection_header |= wants_header
             stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
@@ -81,7 +81,7 @@ class Subscribe(Capability):
             return
         stream = self.streams[topic] = self._open(topic, id_, throttle, queue_length)
         stream.connection_header = wants_header
-        lab, lab_topic = bridge.lab, bridge.topics.get(topic)
+        lab, lab_topic = bridge.lab, bridge.topics.lab_topic(topic)
         if topic == rosout.TOPIC:  # every line from now on, in the subscriber's type
             loop, kind = asyncio.get_running_loop(), known or rosout.TYPE
 
@@ -94,23 +94,24 @@ class Subscribe(Capability):
         elif topic == IMAGE and lab_topic is not None:  # the camera's images, rendered while somebody subscribes
             stream.tasks.append(asyncio.ensure_future(sample_images(lab, stream)))
         elif lab_topic is not None:
-            min_period_s = bridge.min_period_s.get(topic, 0.0)
-            stream.tasks.append(asyncio.ensure_future(sample(lab, stream, lab_topic, min_period_s, bridge.latched)))
+            min_period_s = bridge.topics.min_period(topic)
+            stream.tasks.append(
+                asyncio.ensure_future(sample(lab, stream, lab_topic, min_period_s, bridge.topics.latched))
+            )
         else:
-            bridge.node_topic(topic, normalise_type(type_name or known or "")).subscriptions.add(stream)
+            bridge.topics.subscribe(topic, normalise_type(type_name or known or ""), stream)
             self._latched(stream, id_, volatile)
 
     def _latched(self, stream: Stream, id_: Id, volatile: bool) -> None:
         """What the node topic's latched publishers kept (capabilities/advertise.py), for subscription
         `id_` (none for a volatile one; a lab topic has no entry: its latched ones are sampled)."""
-        entry = None if volatile else self.bridge.node_topics.get(stream.topic)
-        for publisher in list(entry.publishers) if entry is not None else ():
+        for publisher in [] if volatile else self.bridge.topics.publishers(stream.topic):
             for message, header in publisher.capability(Advertise).kept(stream.topic):
                 stream.offer(message, header, id_)
 
     def _open(self, topic: str, id_: Id, throttle: int, queue_length: int) -> Stream:
         """A new stream of `topic` for this client, sending from now on."""
-        stream = Stream(self.session, topic, paced=topic not in self.bridge.topics)
+        stream = Stream(self.session, topic, paced=not self.bridge.topics.sampled(topic))
         if topic == IMAGE:
             stream.max_queue = IMAGE_QUEUE  # the camera's or a played bag's
         stream.options[id_] = (throttle, min(queue_length, MAX_QUEUE))
@@ -133,7 +134,7 @@ class Subscribe(Capability):
 
     def _close(self, stream: Stream) -> None:
         stream.stop()
-        self.bridge.leave(stream.topic, subscription=stream)
+        self.bridge.topics.unsubscribe(stream.topic, stream)
 
     def finish(self) -> None:
         for stream in self.streams.values():
@@ -165,7 +166,7 @@ async def sample(
             need.every(period)
             if due(last, snapshot.time, period):
                 last = snapshot.time
-                shared = stream.session.bridge.shared  # built once for every client's stream of the topic
+                shared = stream.session.bridge.topics.shared  # built once for every client's stream of the topic
                 key = (shared.trial(snapshot.time), snapshot.time)
                 message = shared.built(topic.name, key, partial(topic.build, snapshot))
                 if topic.name not in latched or message != sent:
@@ -210,7 +211,7 @@ async def sample_every_step(lab: Any, stream: Stream) -> None:
                     while turns and stream.queue.maxlen is not None and len(stream.queue) >= stream.queue.maxlen:
                         turns -= 1
                         await asyncio.sleep(0)  # the sender's turn: it takes the one before
-                    shared = stream.session.bridge.shared  # each step's sample built once for every client
+                    shared = stream.session.bridge.topics.shared  # each step's sample built once for every client
                     stream.offer(shared.built(F_EXT, index, partial(wrench_stamped_at, time_s, row[1:])))
             if period <= POLL_S:  # every step's: the next as it is written
                 await new_samples.next()

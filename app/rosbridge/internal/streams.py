@@ -7,7 +7,7 @@ import math
 from collections import deque
 from collections.abc import Callable
 
-from app.rosbridge.ports import BridgeLike, Id, SessionLike
+from app.rosbridge.ports import Id, SessionLike, TopicsLike
 
 
 class Stream:
@@ -29,18 +29,17 @@ class Stream:
         self.tasks: list[asyncio.Task] = []
         self.on_stop: list[Callable[[], None]] = []  # e.g. leave the lab's /rosout listeners
         self.max_queue: int | None = None  # a cap on the queue whatever was asked (images: a few MB each)
-        self.bridge: BridgeLike | None = getattr(
-            session, "bridge", None
-        )  # its share of the lab's outgoing rate (Bridge.fair_period)
+        # the topics it shares the lab's outgoing rate with (TopicManager.fair_period)
+        self.topics: TopicsLike | None = getattr(getattr(session, "bridge", None), "topics", None)
         self.stopped = False
-        if self.bridge is not None:
-            self.bridge.streams += 1
+        if self.topics is not None:
+            self.topics.stream_opened()
 
     @property
     def period(self) -> float:
         """s between messages: the lowest throttle_rate of the subscriptions (at most 1 kHz), and at
-        least this stream's fair share of the lab's outgoing rate (Bridge.fair_period)."""
-        fair = self.bridge.fair_period() if self.bridge is not None else 0.0
+        least this stream's fair share of the lab's outgoing rate (TopicManager.fair_period)."""
+        fair = self.topics.fair_period() if self.topics is not None else 0.0
         return max(min(t for t, _ in self.options.values()) / 1000.0, 0.001, fair)
 
     PASS_THROUGH = 1000  # messages kept for a throttle_rate 0, queue_length 0 subscription
@@ -82,8 +81,8 @@ class Stream:
                     if header is not None:
                         frame["connection_header"] = header
                     await self.session.send(frame)
-                elif self.bridge is not None:  # encoded once for every client's stream of the topic
-                    await self.session.send_text(self.bridge.shared.frame(self.topic, message, header))
+                elif self.topics is not None:  # encoded once for every client's stream of the topic
+                    await self.session.send_text(self.topics.shared.frame(self.topic, message, header))
                 else:
                     frame = {"op": "publish", "topic": self.topic, "msg": message}
                     if header is not None:
@@ -92,8 +91,8 @@ class Stream:
                 await asyncio.sleep(0)  # one message, then the others' turn: HTTP waits behind no queue
 
     def stop(self) -> None:
-        if self.bridge is not None and not self.stopped:
-            self.bridge.streams -= 1
+        if self.topics is not None and not self.stopped:
+            self.topics.stream_closed()
         self.stopped = True
         for task in self.tasks:
             task.cancel()

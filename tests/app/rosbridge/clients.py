@@ -37,7 +37,7 @@ async def connect(parts: Parts, token: str | None = None) -> Session:
     headers = [(b"authorization", f"Bearer {token}".encode())] if token else []
     session = Session(parts.bridge, Socket(headers))  # type: ignore[arg-type]  # a WebSocket's two members
     session.loop = asyncio.get_running_loop()
-    parts.bridge.sessions.append(session)
+    parts.bridge.sessions.join(session)
     return session
 
 

@@ -45,7 +45,9 @@ def test_a_client_advertises_at_most_its_cap_of_topics_and_all_together_at_most_
         for n, other in enumerate(others):
             for i in range(protocol.MAX_CLIENT_TOPICS):
                 said += errors(await op(other, op="advertise", topic=f"/b{n}/{i}", type="std_msgs/String"))
-        assert len(lab.bridge.node_topics) - 5 == protocol.MAX_TOPICS  # the 5 of the tf2_web_republisher action
+        assert (
+            len(lab.bridge.topics.node_topic_names()) - 5 == protocol.MAX_TOPICS
+        )  # the 5 of the tf2_web_republisher action
         assert said and set(said) == {
             f"advertise: at most {protocol.MAX_TOPICS} topics exist already (the lab's limit, all clients together)"
         }
@@ -76,7 +78,7 @@ def test_a_client_provides_at_most_its_cap_of_services_and_all_together_at_most_
                 said += errors(
                     await op(client, op="advertise_service", service=f"/s{n}/{i}", type="p/S", definition=SRV)
                 )
-        assert len(lab.bridge.nodes.providers) == protocol.MAX_SERVICES
+        assert len(lab.bridge.services.nodes.providers) == protocol.MAX_SERVICES
         assert set(said) == {
             f"advertise_service: at most {protocol.MAX_SERVICES} services are provided by nodes already "
             "(the lab's limit, all clients together)"
@@ -131,7 +133,7 @@ def test_a_definitions_models_are_built_off_the_event_loop_and_go_with_the_clien
         )
         assert ticks[0] > before  # the loop ran other tasks while the models were built
         task.cancel()
-        model = weakref.ref(lab.bridge.services.get("/at_cap").request)
+        model = weakref.ref(lab.bridge.services.service("/at_cap").request)
         await session.close()
         assert lab.bridge.services.get("/at_cap") is None
         # nothing keeps the client's models once it left (the loop lets go of the finished build's future)
@@ -168,8 +170,8 @@ def test_connections_beyond_the_cap_are_closed_with_the_reason():
         assert socket.sent[0]["msg"] == (
             f"this lab serves at most {protocol.MAX_CONNECTIONS} rosbridge connections at once: try again later"
         )
-        assert len(lab.bridge.sessions) == protocol.MAX_CONNECTIONS
-        await lab.bridge.sessions[0].close()
+        assert len(lab.bridge.sessions.all()) == protocol.MAX_CONNECTIONS
+        await lab.bridge.sessions.all()[0].close()
         let_in = RefusedSocket()
         await Session(lab.bridge, let_in).run()  # type: ignore[arg-type]
         assert let_in.closed_with is None and let_in.sent == []
@@ -241,13 +243,13 @@ def test_the_tf_tree_is_built_once_a_period_for_every_goal_and_republished_topic
         lab = parts()
         bridge = lab.bridge
         built = [0]
-        tf_topic = bridge.topics["/tf"]
+        tf_topic = bridge.topics.lab_topic("/tf")
 
         def counted(snapshot) -> dict:
             built[0] += 1
             return tf_topic.build(snapshot)
 
-        bridge.topics["/tf"] = Topic("/tf", tf_topic.type, counted)
+        bridge.topics.replace(Topic("/tf", tf_topic.type, counted))
         client = await connect(lab)
         await op(
             client,
@@ -306,6 +308,6 @@ def test_a_client_that_goes_while_its_models_are_built_leaves_no_service():
         await session.close()
         await advertising
         assert lab.bridge.services.get("/late") is None
-        assert lab.bridge.nodes.providers == {}
+        assert lab.bridge.services.nodes.providers == {}
 
     run(check())

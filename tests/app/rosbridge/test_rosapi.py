@@ -24,7 +24,7 @@ def test_topics_services_and_types_are_the_labs():
         lab = parts()
         session = await connect(lab)
         caller = session.capability(CallService)
-        table = lab.bridge.service_table
+        table = lab.bridge.services
 
         async def values(name: str, **args: object) -> dict:
             ok, answer = await table.call(caller, name, args)
@@ -48,7 +48,7 @@ def test_topics_services_and_types_are_the_labs():
         await op(session, op="node", name="/listener")
         await op(session, op="subscribe", topic="/chatter", type="std_msgs/String")
         assert (await values("/rosapi/subscribers", topic="/chatter"))["subscribers"] == ["/listener"]
-        command = lab.bridge.command_topic  # the lab's own subscriber, as get_num_connections counts it
+        command = lab.bridge.topics.command_topic  # the lab's own subscriber, as get_num_connections counts it
         assert (await values("/rosapi/subscribers", topic=command))["subscribers"] == ["/hri_lab"]
         assert "/listener" in (await values("/rosapi/nodes"))["nodes"]
         assert (await values("/rosapi/node_details", node="/listener"))["subscribing"] == ["/chatter"]
@@ -61,7 +61,7 @@ def test_parameters_by_rosapis_two_kinds_of_names():
     async def check() -> None:
         lab = parts(replay=True)
         caller = (await connect(lab)).capability(CallService)
-        table = lab.bridge.service_table
+        table = lab.bridge.services
         alpha = await table.call(caller, "/rosapi/get_param", {"name": "/cooperative_lifting:alpha"})
         assert alpha == (True, {"value": json.dumps(LiftingParams().alpha)})
         assert await table.call(
@@ -97,7 +97,7 @@ def test_the_mobile_worlds_cmd_vel_is_published_by_the_nodes_alone():
         caller = listener.capability(CallService)
 
         async def values(name: str, **args: object) -> dict:
-            ok, answer = await lab.bridge.service_table.call(caller, name, args)
+            ok, answer = await lab.bridge.services.call(caller, name, args)
             assert ok, answer
             return answer
 
@@ -131,7 +131,7 @@ def test_endpoints_a_client_told_are_listed_with_their_nodes_and_qos():
         lab = parts()
         program, other = await connect(lab), await connect(lab)
         caller = program.capability(CallService)
-        table = lab.bridge.service_table
+        table = lab.bridge.services.table
         qos = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "deadline": 0}
         entities = [{"node": "/talker", "qos": qos}, {"node": "/talker2", "qos": {}}]
         assert await op(program, op="endpoints", kind="publisher", name="chatter", entities=entities) == []

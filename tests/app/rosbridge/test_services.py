@@ -13,7 +13,7 @@ WRITING_ROSAPI = {"/rosapi/set_param", "/rosapi/delete_param"}
 
 
 def test_every_service_has_one_entry_with_its_type_and_access():
-    table = parts(replay=True).bridge.service_table
+    table = parts(replay=True).bridge.services
     for service in rosapi.SERVICES:
         entry = table.get(service.name)
         assert entry is not None and entry.type.startswith("rosapi/"), service.name
@@ -34,7 +34,7 @@ def test_every_service_has_one_entry_with_its_type_and_access():
 
 def test_the_names_are_the_labs_offered_services_then_rosapis_then_the_republisher():
     lab = build(LIFTING, Lab(), exercises=True, replay=True)  # the exercises are left to the nodes: not offered yet
-    table: ServiceTable = lab.bridge.service_table  # type: ignore[assignment]
+    table: ServiceTable = lab.bridge.services.table
     names = table.names()
     rosapi_names = sorted(s.name for s in rosapi.SERVICES)
     assert names[-len(rosapi_names) - 1 :] == [*rosapi_names, "/republish_tfs"]
@@ -47,7 +47,7 @@ def test_one_path_answers_each_kind_of_service():
     async def check() -> None:
         session = await connect(parts(replay=True))
         caller = session.capability(CallService)
-        table = session.bridge.service_table
+        table = session.bridge.services
         assert await table.call(caller, "/add_two_ints", {"a": 2, "b": 3}) == (True, {"sum": 5})
         assert await table.call(caller, "/add_two_ints", [2, 3]) == (True, {"sum": 5})  # fields in order
         ok, reason = await table.call(caller, "/add_two_ints", {"a": "two", "b": 3})

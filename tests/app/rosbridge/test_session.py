@@ -52,19 +52,19 @@ def test_close_finishes_every_capability_and_the_shared_state_forgets_the_client
             "publishing": ["/chatter", "/tf"],
             "services": ["/mine"],
         }
-        assert "/chatter" in bridge.node_topics
+        assert bridge.topics.find("/chatter") is not None
         assert bridge.services.get("/mine") is not None
-        assert "my_marker" in bridge.frames.names()
-        assert topic in bridge.topics
-        assert bridge.streams == 1
+        assert "my_marker" in bridge.tf.frames.names()
+        assert bridge.topics.sampled(topic)
+        assert bridge.topics.streams == 1
         await session.close()
-        assert session not in bridge.sessions
-        assert "/chatter" not in bridge.node_topics
-        assert bridge.streams == 0
+        assert session not in bridge.sessions.all()
+        assert bridge.topics.find("/chatter") is None
+        assert bridge.topics.streams == 0
         assert bridge.services.get("/mine") is None
-        assert not bridge.nodes.providers
-        assert "my_marker" not in bridge.frames.names()
-        assert topic not in bridge.topics
+        assert not bridge.services.nodes.providers
+        assert "my_marker" not in bridge.tf.frames.names()
+        assert not bridge.topics.sampled(topic)
         assert session.capability(AdvertiseService).names() == []
 
     run(check())
@@ -92,9 +92,9 @@ def test_with_a_token_a_mutating_op_needs_it():
         refused = await op(stranger, op="advertise", topic="/chatter", type="std_msgs/String", id=1)
         assert refused[0]["level"] == "error"
         assert "advertise: this lab needs a token" in refused[0]["msg"]
-        assert "/chatter" not in lab.bridge.node_topics
+        assert lab.bridge.topics.find("/chatter") is None
         assert await op(owner, op="advertise", topic="/chatter", type="std_msgs/String") == []
-        assert "/chatter" in lab.bridge.node_topics
+        assert lab.bridge.topics.find("/chatter") is not None
         assert await op(stranger, op="subscribe", topic="/chatter") == []  # reading is open
 
     run(check())

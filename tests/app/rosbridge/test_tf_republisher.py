@@ -39,7 +39,7 @@ def test_a_chain_is_composed_from_its_root_and_a_pair_is_relative():
     bridge = bridge_with(
         [stamped("base", "/tool", (0.5, 0.0, 0.0))], [stamped("/world", "base", (1.0, 0.0, 0.0), math.pi / 2)]
     )
-    poses = tree_poses(bridge, None)
+    poses = tree_poses(bridge.topics, bridge.frames, None)
     assert set(poses) == {"world", "base", "tool"}
     assert {root for _, root in poses.values()} == {"world"}
     assert np.allclose(poses["tool"][0][:3, 3], [1.0, 0.5, 0.0])
@@ -54,7 +54,7 @@ def test_frames_of_two_trees_or_below_a_loop_do_not_resolve():
         [stamped("a", "b"), stamped("b", "a"), stamped("a", "c"), stamped("odom", "base_footprint")],
         [stamped("world", "base")],
     )
-    poses = tree_poses(bridge, None)
+    poses = tree_poses(bridge.topics, bridge.frames, None)
     assert {"a", "b", "c"}.isdisjoint(poses)  # a loop, and what hangs below it
     assert relative(poses, "world", "base_footprint") is None  # two trees: odom's and world's
     assert relative(poses, "odom", "base_footprint") is not None
@@ -65,7 +65,7 @@ def test_programs_frames_serve_when_the_lab_publishes_no_tf():
     bridge = SimpleNamespace(topics={}, frames=NodeFrames())  # a lab started to replay bags
     session = SimpleNamespace(name="/talker")
     assert bridge.frames.offer(session, {"transforms": [stamped("map", "robot", (2.0, 0.0, 0.0))]}, static=False) == []
-    assert np.allclose(relative(tree_poses(bridge, None), "map", "robot")[:3, 3], [2.0, 0.0, 0.0])
+    assert np.allclose(relative(tree_poses(bridge.topics, bridge.frames, None), "map", "robot")[:3, 3], [2.0, 0.0, 0.0])
 
 
 def pose(x_m: float = 0.0, yaw_rad: float = 0.0) -> np.ndarray:
@@ -154,7 +154,7 @@ def test_a_goal_gets_its_frames_as_feedback_and_a_cancel_ends_it_preempted():
         await op(client, op="publish", topic=CANCEL, msg={"id": "g1"})
         (result,) = await until(lambda: on(client, RESULT), "result")
         assert result["status"] == {"goal_id": goal("g1")["goal_id"], "status": 2, "text": "cancelled"}  # PREEMPTED
-        assert lab.bridge.tf_republisher.subscriptions() == 0
+        assert lab.bridge.tf.republisher.subscriptions() == 0
 
     run(check())
 
@@ -164,7 +164,7 @@ def test_a_goal_ends_with_its_client_and_a_bad_goal_is_rejected_naming_its_field
         lab = parts()
         watcher, client = await action_client(lab), await action_client(lab)
         await op(client, op="publish", topic=GOAL, msg=goal("g2"))
-        assert lab.bridge.tf_republisher.subscriptions() == 1
+        assert lab.bridge.tf.republisher.subscriptions() == 1
         await client.close()
         (result,) = await until(lambda: on(watcher, RESULT), "result")
         assert result["status"]["status"] == 2
@@ -173,6 +173,6 @@ def test_a_goal_ends_with_its_client_and_a_bad_goal_is_rejected_naming_its_field
         assert "goal rejected: 'rate' must be a positive number" in refused[0]["msg"]
         rejected = await until(lambda: on(watcher, RESULT)[1:], "the rejected goal's result")
         assert rejected[0]["status"]["status"] == 5  # REJECTED
-        assert lab.bridge.tf_republisher.subscriptions() == 0
+        assert lab.bridge.tf.republisher.subscriptions() == 0
 
     run(check())

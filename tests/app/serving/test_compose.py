@@ -18,16 +18,16 @@ from tests.waiting import within
 def test_the_parts_share_one_registry_one_action_server_and_the_nodes_parameters():
     parts = build(LIFTING, Lab(), token="s3cret-0123456789abcdef", replay=True)
     bridge = parts.bridge
-    assert bridge.nodes is parts.nodes
-    assert bridge.services is parts.nodes.registry
-    assert bridge.actions is parts.actions
-    assert bridge.node_actions.server is parts.actions
+    assert bridge.services.nodes is parts.nodes
+    assert bridge.services.registry() is parts.nodes.registry
+    assert bridge.actions.server is parts.actions
+    assert bridge.actions.nodes.server is parts.actions
     assert isinstance(parts.lab.params.remote, NodeParameters)
     assert parts.lab.params.remote.services is parts.nodes
     assert parts.nodes.effects == NODE_EFFECTS
     assert parts.nodes.lab is parts.lab
     assert bridge.token == "s3cret-0123456789abcdef"
-    assert bridge.topics == {}
+    assert bridge.topics.sampled_names() == []
     assert parts.world is LIFTING
     assert "/count" in parts.actions.actions
 
@@ -37,14 +37,14 @@ def test_the_mobile_world_has_its_own_declarations_and_no_lifting_effects():
     assert parts.world is MOBILE
     assert parts.actions_declared == []
     assert not parts.nodes.effects
-    assert parts.bridge.command_topic == "/cmd_vel"
+    assert parts.bridge.topics.command_topic == "/cmd_vel"
     assert parts.topics_declared == parts.lab.topics
 
 
 def test_the_app_serves_the_parts_it_was_handed():
     app = create_app(LIFTING, Lab())
     assert app.state.bridge.lab is app.state.lab
-    assert app.state.bridge.actions is app.state.actions
+    assert app.state.bridge.actions.server is app.state.actions
     assert app.state.view is None  # no view asked for
     client = TestClient(app)  # not entered: the lab is not started, its services that need no simulation answer
     with client.websocket_connect("/") as rosbridge:

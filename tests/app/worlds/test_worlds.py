@@ -43,11 +43,11 @@ def test_a_registered_world_is_the_contract_and_compose_builds_it(name):
     parts = build(world, lab, replay=False)
     assert parts.world is world and parts.lab is lab
     assert parts.topics_declared == list(world.topics)
-    assert set(parts.bridge.topics) == {t.name for t in world.topics}
-    assert parts.bridge.command_topic == world.command_topic
-    assert parts.bridge.command is world.command
-    assert parts.bridge.min_period_s == dict(world.min_period_s)
-    assert set(parts.bridge.latched) == set(world.latched)
+    assert set(parts.bridge.topics.sampled_names()) == {t.name for t in world.topics}
+    assert parts.bridge.topics.command_topic == world.command_topic
+    assert parts.bridge.topics.command is world.command
+    assert parts.bridge.topics.min_period_s == dict(world.min_period_s)
+    assert set(parts.bridge.topics.latched) == set(world.latched)
     assert {s.name for s in world.services} <= {s.name for s in parts.nodes.registry}
     assert [a.name for a in parts.actions_declared] == [a.name for a in world.actions]
 
@@ -61,7 +61,7 @@ def test_the_default_world_is_registered_and_a_graded_lab_serves_no_grader_topic
         parts = build(world, lab)
         assert lab.graded and parts.bridge.graded
         assert not {t.name for t in parts.topics_declared} & world.grader_topics
-        assert not set(parts.bridge.topics) & world.grader_topics
+        assert not set(parts.bridge.topics.sampled_names()) & world.grader_topics
 
 
 # --- a third world, declared in this file ------------------------------------------------------

@@ -62,11 +62,11 @@ def test_the_lab_s_topics_and_a_wrong_type_are_refused_and_finish_leaves_the_top
         wrong = await op(session, op="advertise", topic="/rosout", type="std_msgs/String")
         assert "topic /rosout is of type rcl_interfaces/Log" in wrong[0]["msg"]
         await op(session, op="advertise", topic="/chatter", type="std_msgs/msg/String")  # ROS 2's spelling
-        assert lab.bridge.node_topics["/chatter"].type == "std_msgs/String"
+        assert lab.bridge.topics.find("/chatter").type == "std_msgs/String"
         assert await op(session, op="advertise", topic="/tf", type="tf2_msgs/TFMessage") == []  # shared with the lab
         assert session.capability(Advertise).publishing == {"/chatter", "/tf"}
         session.capability(Advertise).finish()
-        assert "/chatter" not in lab.bridge.node_topics
+        assert lab.bridge.topics.find("/chatter") is None
         assert session.capability(Advertise).names() == []
 
     run(check())

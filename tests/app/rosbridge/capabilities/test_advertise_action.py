@@ -43,6 +43,6 @@ def test_finish_takes_the_clients_actions_away():
         await op(session, op="advertise_action", action="/tally", type="hri_lab/Count")
         session.capability(AdvertiseAction).finish()
         assert lab.bridge.actions.get("/tally") is None
-        assert not lab.bridge.node_actions.providers
+        assert not lab.bridge.actions.nodes.providers
 
     run(check())

@@ -46,9 +46,9 @@ def test_replacing_a_labs_own_service_is_warned_and_finish_gives_it_back():
         warned = await op(session, op="advertise_service", service="/add_two_ints", type="hri_lab/AddTwoInts")
         assert warned[-1]["level"] == "warning"
         assert "one of the lab's own services" in warned[-1]["msg"]
-        assert lab.bridge.nodes.goes_to_node("/add_two_ints")
+        assert lab.bridge.services.nodes.goes_to_node("/add_two_ints")
         session.capability(AdvertiseService).finish()
-        assert not lab.bridge.nodes.goes_to_node("/add_two_ints")
+        assert not lab.bridge.services.nodes.goes_to_node("/add_two_ints")
         assert session.capability(AdvertiseService).names() == []
 
     run(check())

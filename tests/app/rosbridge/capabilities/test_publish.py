@@ -45,7 +45,7 @@ def test_a_node_topics_message_reaches_every_subscriber_whole_and_a_wrong_one_is
             delivered = await until(lambda listener=listener: sent(listener, "publish"), "the cancel at its subscriber")
             stamp = {"sec": 0, "nanosec": 0, "secs": 0, "nsecs": 0}
             assert delivered[0]["msg"] == {"stamp": stamp, "id": "goal_1"}
-        assert len(lab.bridge.shared._frames["/test_action/cancel"]) == 1  # one message, encoded once for both
+        assert len(lab.bridge.topics.shared._frames["/test_action/cancel"]) == 1  # one message, encoded once for both
         refused = await op(client, op="publish", topic="/test_action/cancel", msg={"id": "goal_2", "stamp": 5})
         assert refused[0]["level"] == "error"
         assert (
@@ -87,8 +87,8 @@ def test_a_refused_frame_is_told_once_and_finish_takes_the_clients_frames_away()
         assert "refused" in refused[0]["msg"]
         assert "panda_link0" in refused[0]["msg"]
         assert await op(session, op="publish", topic="/tf", msg={"transforms": [frame, mine]}) == []  # told once
-        assert "marker" in lab.bridge.frames.names()
+        assert "marker" in lab.bridge.tf.frames.names()
         session.capability(Publish).finish()
-        assert "marker" not in lab.bridge.frames.names()
+        assert "marker" not in lab.bridge.tf.frames.names()
 
     run(check())

@@ -41,7 +41,7 @@ def test_subscriptions_of_one_topic_share_a_stream_at_the_lowest_throttle_and_lo
         assert not stream.stopped
         await op(session, op="unsubscribe", id="slow", topic="/chatter")
         assert stream.stopped
-        assert "/chatter" not in session.bridge.node_topics
+        assert session.bridge.topics.find("/chatter") is None
 
     run(check())
 
@@ -69,11 +69,13 @@ def test_finish_stops_every_stream_and_gives_back_its_share_of_the_rate():
         await op(session, op="subscribe", topic="/a", type="std_msgs/String")
         await op(session, op="subscribe", topic="/b", type="std_msgs/String")
         streams = list(session.capability(Subscribe).streams.values())
-        assert lab.bridge.streams == 2
+        assert lab.bridge.topics.streams == 2
         session.capability(Subscribe).finish()
         assert all(s.stopped for s in streams)
-        assert lab.bridge.streams == 0
-        assert all(t.lab for t in lab.bridge.node_topics.values())  # left: the lab's own node's (tf2_web_republisher's)
+        assert lab.bridge.topics.streams == 0
+        assert all(
+            lab.bridge.topics.find(n).lab for n in lab.bridge.topics.node_topic_names()
+        )  # left: the lab's own node's (tf2_web_republisher's)
 
     run(check())
 

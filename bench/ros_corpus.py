@@ -1,6 +1,7 @@
 """Public ROS programs nobody here wrote, run unchanged against the lab (issue 31, item 8): each
 program of the manifest (bench/ros_corpus.toml) under `hri-lab run` (a launch file under `hri-lab
-launch`), with its partner where it needs one (a talker with its listener, a server with its
+launch`), or as its docs start it (`hri-lab run PKG EXE`, `hri-lab launch PKG FILE`: the checkout is
+the workspace, as after sourcing its setup file), with its partner where it needs one (a talker with its listener, a server with its
 client), against one `hri-lab serve --exercises` started here on a free port; pass or fail per
 program with the reason, then the pass rate.
 
@@ -23,6 +24,7 @@ process started here (in a process group of its own) is stopped before the next 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
 import signal
@@ -56,6 +58,8 @@ PROGRAM_KEYS = {
     "partners",
     "args",
     "launch",
+    "package",
+    "executable",
     "expect",
     "checks",
     "topics",
@@ -65,9 +69,10 @@ PROGRAM_KEYS = {
     "why",
 }
 INTERRUPT_DELAY_S = 3.0  # from the line `interrupt` names to the Ctrl+C: time for its partners to subscribe
+PARTNER_KEYS = {"path", "package", "executable", "args"}
 EXPECT_KEYS = {"in", "line"}
 CHECK_KEYS = {"hri_lab", "line"}
-TOPIC_KEYS = {"name", "type"}
+TOPIC_KEYS = {"name", "type"}  # and `line`, optional
 CLIENTS = {"rclpy", "rospy"}
 
 
@@ -96,10 +101,38 @@ class Check:
 @dataclass(frozen=True)
 class Heard:
     """A topic (name, ROS type) on which the bench, subscribed over rosbridge like any client (roslibpy),
-    must receive a message: what `rostopic echo` would show of a program that publishes for nobody."""
+    must receive a message: what `rostopic echo` would show of a program that publishes for nobody.
+    With `pattern`, a message whose JSON matches it (a program's frame on /tf, which the lab's
+    frames share)."""
 
     name: str
     type: str
+    pattern: re.Pattern[str] | None = None
+
+    def matches(self, message: dict) -> bool:
+        return self.pattern is None or self.pattern.search(json.dumps(message)) is not None
+
+
+@dataclass(frozen=True)
+class Start:
+    """How a program or a partner is started: a file of the checkout (`hri-lab run FILE`, `hri-lab
+    launch FILE`), or by its package's name as its docs start it (`hri-lab run PKG EXE`: a
+    console_scripts entry point or a script rosrun finds; `hri-lab launch PKG FILE`)."""
+
+    path: str  # inside the repository: the file that stands for it (the script, the module, the launch file)
+    package: str = ""
+    executable: str = ""  # with `package`, unless it is a launch file
+    launch: bool = False
+    args: tuple[str, ...] = ()
+
+    def command(self, folder: Path) -> list[str]:
+        """`hri-lab`'s words after the verb and its --url."""
+        if not self.package:
+            return [str(folder / self.path), *self.args]
+        return [self.package, Path(self.path).name if self.launch else self.executable, *self.args]
+
+    def __str__(self) -> str:
+        return f"{self.package} {self.executable}" if self.package and not self.launch else self.path
 
 
 @dataclass(frozen=True)
@@ -108,9 +141,11 @@ class Program:
     commit: str  # the full commit
     path: str  # inside the repository
     client: str  # rclpy or rospy
-    partners: tuple[str, ...] = ()  # paths in the same checkout, started before the program
+    partners: tuple[Start, ...] = ()  # in the same checkout, started before the program
     args: tuple[str, ...] = ()
     launch: bool = False  # `hri-lab launch FILE` instead of `hri-lab run FILE`
+    package: str = ""  # started by its package's name (Start)
+    executable: str = ""
     expect: tuple[Expect, ...] = ()
     checks: tuple[Check, ...] = ()
     topics: tuple[Heard, ...] = ()
@@ -122,6 +157,10 @@ class Program:
     @property
     def name(self) -> str:
         return f"{self.repo}@{self.commit[:12]}:{self.path}"
+
+    @property
+    def start(self) -> Start:
+        return Start(self.path, self.package, self.executable, self.launch, self.args)
 
 
 def _regex(text: object, where: str, key: str = "line") -> re.Pattern[str]:
@@ -137,6 +176,30 @@ def _strings(value: object, where: str) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ManifestError(f"{where} must be a list of strings")
     return tuple(value)
+
+
+def _by_package(entry: dict, where: str, launch: bool) -> tuple[str, str]:
+    """(package, executable) of an entry started by its package's name ("", "" if by its file)."""
+    package, executable = entry.get("package", ""), entry.get("executable", "")
+    if not isinstance(package, str) or not isinstance(executable, str):
+        raise ManifestError(f"{where}: `package` and `executable` must be strings")
+    if executable and not package:
+        raise ManifestError(f"{where}: `executable` needs its `package`")
+    if package and not launch and not executable:
+        raise ManifestError(f"{where}: `package` needs the `executable` to run (or launch = true)")
+    if package and launch and executable:
+        raise ManifestError(f"{where}: a launch file has no `executable` (its file is `path`)")
+    return package, executable
+
+
+def _partner(item: object, where: str) -> Start:
+    """A partner: a path in the checkout, or a table of path, package, executable and args."""
+    if isinstance(item, str) and item:
+        return Start(item)
+    if not isinstance(item, dict) or set(item) - PARTNER_KEYS or not isinstance(item.get("path"), str):
+        raise ManifestError(f"{where}: a path, or a table of {', '.join(sorted(PARTNER_KEYS))} (path required)")
+    package, executable = _by_package(item, where, launch=False)
+    return Start(item["path"], package, executable, args=_strings(item.get("args", []), f"{where}: `args`"))
 
 
 def parse_program(entry: dict, index: int) -> Program:
@@ -172,12 +235,15 @@ def parse_program(entry: dict, index: int) -> Program:
         at = f"{where}, topic {j + 1}"
         if (
             not isinstance(item, dict)
-            or set(item) != TOPIC_KEYS
+            or set(item) - {"line"} != TOPIC_KEYS
             or not all(isinstance(v, str) and v for v in item.values())
         ):
-            raise ManifestError(f"{at}: a table of name and type (strings)")
-        topics.append(Heard(item["name"], item["type"]))
-    partners = _strings(entry.get("partners", []), f"{where}: `partners`")
+            raise ManifestError(f"{at}: a table of name and type (strings), and line (optional)")
+        topics.append(Heard(item["name"], item["type"], _regex(item["line"], at) if "line" in item else None))
+    if not isinstance(entry.get("partners", []), list):
+        raise ManifestError(f"{where}: `partners` must be a list")
+    partners = tuple(_partner(item, f"{where}, partner {j + 1}") for j, item in enumerate(entry.get("partners", [])))
+    package, executable = _by_package(entry, where, bool(entry.get("launch", False)))
     if any(e.where == "partner" for e in expects) and not partners:
         raise ManifestError(f"{where}: an expectation in a partner's output needs `partners`")
     exit_status = entry.get("exit")
@@ -199,6 +265,8 @@ def parse_program(entry: dict, index: int) -> Program:
         partners=partners,
         args=_strings(entry.get("args", []), f"{where}: `args`"),
         launch=bool(entry.get("launch", False)),
+        package=package,
+        executable=executable,
         expect=tuple(expects),
         checks=tuple(checks),
         topics=tuple(topics),
@@ -304,7 +372,7 @@ def _said(lines: Sequence[str]) -> str:
     return f": {error}" if error else ""
 
 
-def judge(program: Program, seen: Observed, timed_out: bool, partner_names: Sequence[str] = ()) -> Verdict | None:
+def judge(program: Program, seen: Observed, timed_out: bool, partner_names: Sequence[object] = ()) -> Verdict | None:
     """The verdict on what was seen, or None while it can still pass (not timed out)."""
     missing = [e for e in program.expect if not _seen(e, seen)]
     unheard = [t for t in program.topics if t.name not in seen.heard]
@@ -336,7 +404,8 @@ def _wanted(program: Program, missing: Sequence[Expect], seen: Observed) -> str:
         return f"a line /{missing[0].pattern.pattern}/ from the {missing[0].where}"
     unheard = [t for t in program.topics if t.name not in seen.heard]
     if unheard:
-        return f"a message on {unheard[0].name} ({unheard[0].type})"
+        pattern = f" matching /{unheard[0].pattern.pattern}/" if unheard[0].pattern else ""
+        return f"a message on {unheard[0].name} ({unheard[0].type}){pattern}"
     check = program.checks[seen.checks_matched]
     last = seen.last_check_output.strip().splitlines()
     return f"`hri-lab {' '.join(check.args)}` printing /{check.pattern.pattern}/" + (
@@ -417,23 +486,26 @@ def serving(lab: Lab, work: Path, port: int | None = None) -> Iterator[str]:
 
 
 def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, verbose: bool = False) -> Verdict:
-    env = dict(os.environ, HRI_LAB_URL=url, PYTHONUNBUFFERED="1")
+    # the checkout is the workspace, as a workspace is once its setup file is sourced
+    env = dict(os.environ, HRI_LAB_URL=url, PYTHONUNBUFFERED="1", HRI_LAB_WORKSPACE=str(folder))
     env.pop("PYTHONPATH", None)
 
-    def start(path: str, args: Sequence[str] = (), launch: bool = False) -> Process:
-        verb = ["launch", "--url", url] if launch else ["run", "--url", url]
-        return Process([str(lab.command), *verb, str(folder / path), *args], cwd=work, env=env)
+    def start(what: Start) -> Process:
+        verb = ["launch", "--url", url] if what.launch else ["run", "--url", url]
+        # by its package's name: from the workspace's root, where a student types `ros2 run` (and
+        # where a README's relative paths, a params file's, start)
+        return Process([str(lab.command), *verb, *what.command(folder)], cwd=folder if what.package else work, env=env)
 
-    for path in (program.path, *program.partners):
-        if not (folder / path).is_file():
-            return Verdict(False, f"not in the corpus folder: {folder / path}")
+    for what in (program.start, *program.partners):
+        if not (folder / what.path).is_file():
+            return Verdict(False, f"not in the corpus folder: {folder / what.path}")
     partners: list[Process] = []
     main: Process | None = None
     seen = Observed()
     listening = listen(url, program.topics, seen.heard)
     try:
         partners = [start(p) for p in program.partners]
-        main = start(program.path, program.args, program.launch)
+        main = start(program.start)
         deadline = time.monotonic() + program.timeout
         next_check = 0.0
         interrupt_at: float | None = None
@@ -469,7 +541,7 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
             if proc is not None:
                 proc.stop()
         if verbose:
-            for name, proc in ((program.path, main), *zip(program.partners, partners, strict=False)):
+            for name, proc in ((program.start, main), *zip(program.partners, partners, strict=False)):
                 if proc is not None:
                     print(f"    --- {name}")
                     for line in proc.lines[-40:]:
@@ -478,7 +550,7 @@ def run_program(lab: Lab, url: str, program: Program, folder: Path, work: Path, 
 
 def listen(url: str, topics: Sequence[Heard], heard: set[str]):  # -> roslibpy.Ros | None
     """Subscribed to `topics` over the lab's rosbridge endpoint with roslibpy: each name goes into
-    `heard` when its first message comes."""
+    `heard` when its first message (that matches the topic's pattern, if it has one) comes."""
     if not topics:
         return None
     import roslibpy
@@ -486,8 +558,13 @@ def listen(url: str, topics: Sequence[Heard], heard: set[str]):  # -> roslibpy.R
     host, port = url.removeprefix("http://").rsplit(":", 1)
     ros = roslibpy.Ros(host, int(port))
     ros.run(timeout=30)
+
+    def arrived(message: dict, t: Heard) -> None:
+        if t.matches(message):
+            heard.add(t.name)
+
     for t in topics:
-        roslibpy.Topic(ros, t.name, t.type).subscribe(lambda _msg, name=t.name: heard.add(name))
+        roslibpy.Topic(ros, t.name, t.type).subscribe(lambda message, t=t: arrived(message, t))
     return ros
 
 
@@ -586,7 +663,12 @@ def report(results: Sequence[tuple[Program, Verdict]], lab: str, command: str, l
     ]
     for p, v in sorted(results, key=lambda r: r[1].passed):
         result = "pass" if v.passed else "**fail**: " + short(v.reason).replace("|", "\\|")
-        lines.append(f"| {p.repo}@{p.commit[:12]} | `{p.path}` | {p.why.replace('|', '/')} | {result} |")
+        started = (
+            f" (`hri-lab {'launch' if p.launch else 'run'} {p.package} {p.start.command(Path())[1]}`)"
+            if p.package
+            else ""
+        )
+        lines.append(f"| {p.repo}@{p.commit[:12]} | `{p.path}`{started} | {p.why.replace('|', '/')} | {result} |")
     return "\n".join(lines) + "\n"
 
 

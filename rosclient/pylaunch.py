@@ -33,7 +33,7 @@ from typing import Any
 
 from rosclient import boot, executables
 from rosclient import launch as xml_launch
-from rosclient.run import command, program_env
+from rosclient.run import command, executable_command, program_env
 
 _SITE = str(boot.SITE)
 if _SITE not in sys.path:  # the launch vocabulary (site/launch, site/launch_ros) for this process
@@ -120,6 +120,25 @@ class Runner:
             return executables.resolve(package, name, self.roots())
         except executables.NotFound as exc:
             raise LaunchError(str(exc)) from None
+
+    def installed(self, found: executables.Executable) -> Path:
+        """The file `ExecutableInPackage` names: what colcon/catkin install as lib/PKG/EXE, a script
+        that runs the executable as `hri-lab run PKG EXE` does (its entry point called, or its script
+        run with the lab's client libraries), with the arguments it is given. ExecuteProcess starts
+        it as a command, as ROS's launch does."""
+        argv = executable_command(found, [])
+        script = self.logs / "lib" / found.package / found.name  # lib/PKG/EXE: its label is EXE, as in ROS
+        script.parent.mkdir(parents=True, exist_ok=True)
+        script.write_text(
+            f"#!{sys.executable}\n"
+            f"# {found.package}'s {found.name}, as the workspace would install it (made by the launch)\n"
+            "import os, sys\n"
+            f"argv = {argv!r} + sys.argv[1:]\n"
+            "os.execv(argv[0], argv)\n",
+            encoding="utf-8",
+        )
+        script.chmod(0o755)
+        return script
 
     def temp_file(self, prefix: str, suffix: str, text: str) -> Path:
         handle, name = tempfile.mkstemp(prefix=prefix + "-", suffix=suffix, dir=self.logs)

@@ -9,6 +9,7 @@ from bench.ros_corpus import (
     MANIFEST,
     ManifestError,
     Observed,
+    Start,
     checkout_of,
     find_checkouts,
     first_error_line,
@@ -47,7 +48,7 @@ def test_the_committed_manifest_is_a_corpus_of_rclpy_and_rospy_programs_each_wit
     for p in programs:
         assert p.expect or p.checks or p.topics or p.exit is not None, p.name
         assert re.fullmatch(r"[0-9a-f]{40}", p.commit), p.name
-        assert p.path not in p.partners, p.name
+        assert p.path not in [partner.path for partner in p.partners], p.name
 
 
 def test_a_manifest_entry_reads_into_its_program():
@@ -59,7 +60,7 @@ def test_a_manifest_entry_reads_into_its_program():
         exit="0",
         timeout="12.5",
     )
-    assert p.partners == ("listener.py",)
+    assert p.partners == (Start("listener.py"),)
     assert p.args == ("2", "3")
     assert p.exit == 0
     assert p.timeout == 12.5
@@ -71,6 +72,24 @@ def test_a_manifest_entry_reads_into_its_program():
     assert p.name == f"ros2/demos@{COMMIT[:12]}:talker.py"
 
 
+def test_a_program_started_by_its_package_runs_as_its_docs_start_it_and_its_partners_too(tmp_path):
+    run = one(
+        path='"pkg/pkg/server.py"',
+        package='"pkg"',
+        executable='"server"',
+        args='["--ros-args", "-p", "x:=1"]',
+        partners='["client.py", { path = "pkg/pkg/client.py", package = "pkg", executable = "client", args = ["5"] }]',
+        exit="0",
+    )
+    assert run.start.command(tmp_path) == ["pkg", "server", "--ros-args", "-p", "x:=1"]
+    assert [p.command(tmp_path) for p in run.partners] == [[str(tmp_path / "client.py")], ["pkg", "client", "5"]]
+    assert [str(p) for p in run.partners] == ["client.py", "pkg client"]  # how a failing partner is named
+    launched = one(path='"pkg/launch/demo.launch.py"', package='"pkg"', launch="true", exit="0")
+    assert launched.start.launch and launched.start.command(tmp_path) == ["pkg", "demo.launch.py"]
+    by_file = one(path='"talker.py"', args='["2"]', exit="0")
+    assert by_file.start.command(tmp_path) == [str(tmp_path / "talker.py"), "2"]
+
+
 @pytest.mark.parametrize(
     ("fields", "message"),
     [
@@ -80,6 +99,12 @@ def test_a_manifest_entry_reads_into_its_program():
         ({"exit": "0", "repo": '"demos"'}, "owner/name"),
         ({"expect": '[{ line = "(" }]'}, "expect 1: `line` is no regular expression"),
         ({"expect": '[{ in = "partner", line = "x" }]'}, "needs `partners`"),
+        ({"exit": "0", "executable": '"talker"'}, "`executable` needs its `package`"),
+        ({"exit": "0", "package": '"demo_nodes_py"'}, "`package` needs the `executable`"),
+        ({"exit": "0", "package": '"p"', "executable": '"x"', "launch": "true"}, "a launch file has no `executable`"),
+        ({"exit": "0", "partners": '[{ package = "p", executable = "x" }]'}, r"partner 1: a path, or a table"),
+        ({"topics": '[{ name = "/tf", type = "tf2_msgs/TFMessage", colour = "red" }]'}, "name and type"),
+        ({"exit": "0", "partners": '[{ path = "l.py", executable = "x" }]'}, r"partner 1: `executable` needs"),
         ({"expect": '[{ in = "server", line = "x" }]'}, "`in` must be program or partner"),
         ({"checks": '[{ hri_lab = "service call", line = "x" }]'}, "`hri_lab` must be a list of strings"),
         ({"exit": "true"}, "`exit` must be an integer"),
@@ -221,3 +246,17 @@ def test_the_report_is_a_markdown_table_failures_first_with_the_command_and_the_
         f"| ros2/demos@{COMMIT[:12]} | `listener.py` | a subscription | **fail**: exited with status 1: x \\| y |",
         f"| ros2/demos@{COMMIT[:12]} | `talker.py` | a timer publishing | pass |",
     ]
+
+
+def test_a_topic_with_a_line_is_heard_only_from_a_message_that_matches_it():
+    """A program's frame on /tf: the lab's own /tf messages (without it) do not count."""
+    (heard,) = one(
+        topics='[{ name = "/tf", type = "tf2_msgs/TFMessage", line = "\\"child_frame_id\\": \\"carrot1\\"" }]'
+    ).topics
+    lab = {"transforms": [{"header": {"frame_id": "world"}, "child_frame_id": "panda_link0"}]}
+    assert not heard.matches(lab)
+    assert heard.matches(
+        {"transforms": [*lab["transforms"], {"header": {"frame_id": "turtle1"}, "child_frame_id": "carrot1"}]}
+    )
+    (any_message,) = one(topics='[{ name = "/chatter", type = "std_msgs/String" }]').topics
+    assert any_message.matches({"data": ""})

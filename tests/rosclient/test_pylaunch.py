@@ -241,3 +241,39 @@ def generate_launch_description():
     assert any(s.startswith("[INFO] [sleeper-1]: process has finished cleanly") for s in said)  # stopped by SIGINT
     assert (tmp_path / "first-1.log").read_text() == "first ran\n"
     assert all(p.proc.poll() is not None for p in runner.processes)
+
+
+def test_execute_process_of_executable_in_package_runs_an_entry_point_and_a_script(workspace, tmp_path):
+    """topic_monitor's launch files: `ExecuteProcess(cmd=[ExecutableInPackage(...), args...])` of a
+    console_scripts entry point (no file of that name in the sources) and of a rosrun-found script:
+    each runs as its installed lib/PKG/EXE would, with its arguments, labelled by the executable."""
+    pkg = workspace / "src" / "demo"
+    _write(pkg, "demo/shout.py", "import sys\n\ndef main():\n    print('shout', sys.argv[1:])\n    return 4\n")
+    _write(pkg, "setup.cfg", "[options.entry_points]\nconsole_scripts =\n    shout = demo.shout:main\n")
+    _write(pkg, "scripts/whisper.py", "import sys\nprint('whisper', sys.argv[1:])\n")
+    path = _write(
+        tmp_path,
+        "exe.launch.py",
+        """
+from launch import LaunchDescription
+from launch.actions import ExecuteProcess
+from launch_ros.substitutions import ExecutableInPackage
+
+def generate_launch_description():
+    return LaunchDescription([
+        ExecuteProcess(cmd=[ExecutableInPackage(package='demo', executable='shout'), 'small', '--depth', '1'],
+                       output='screen'),
+        ExecuteProcess(cmd=[ExecutableInPackage(package='demo', executable='whisper.py'), 'quiet'], output='screen'),
+    ])
+""",
+    )
+    runner = pylaunch.Runner("", logs=tmp_path / "logs", workspace=str(workspace))
+    try:
+        code = runner.run(path, {}, threading.Event())
+    finally:
+        pylaunch._stop_all(runner.processes)
+    assert [p.plan.label for p in runner.processes] == ["shout-1", "whisper.py-1"]
+    assert (tmp_path / "logs" / "shout-1.log").read_text() == "shout ['small', '--depth', '1']\n"
+    assert (tmp_path / "logs" / "whisper.py-1.log").read_text() == "whisper ['quiet']\n"
+    assert [p.proc.returncode for p in runner.processes] == [4, 0]  # the entry point's return: its status
+    assert code == 1  # a process died (status 4), as launch reports it

@@ -29,7 +29,7 @@ from collections import deque
 from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
-from app.rosbridge.internal.node_frames import TF_TOPICS
+from app.rosbridge.internal.node_frames import TF_TOPICS, TF_TYPES
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import MAX_CLIENT_TOPICS, BadFrame, field, headers_field, name_field
 from interfaces.packages import field_count
@@ -98,7 +98,7 @@ class Advertise(Capability):
             return
         if bridge.topics.sampled(topic) and topic != bridge.topics.command_topic and topic not in TF_TOPICS:
             raise BadFrame(f"advertise: topic {topic} is published by the lab")
-        if known is not None and known != type_name:
+        if known is not None and known != type_name and not (topic in TF_TOPICS and type_name in TF_TYPES):
             raise BadFrame(f"advertise: topic {topic} is of type {known}, not {type_name}")
         if topic not in self.ids and len(self.ids) >= MAX_CLIENT_TOPICS:
             raise BadFrame(f"advertise: at most {MAX_CLIENT_TOPICS} topics per client (unadvertise one first)")

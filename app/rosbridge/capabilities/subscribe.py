@@ -26,6 +26,7 @@ from app.ros import rosout
 from app.ros.node_services import normalise_type
 from app.rosbridge.capabilities.advertise import Advertise
 from app.rosbridge.capabilities.capability import Capability, Op, Ops
+from app.rosbridge.internal.node_frames import TF_TOPICS, TF_TYPES
 from app.rosbridge.internal.streams import Stream
 from app.rosbridge.ports import Id, SessionLike
 from app.rosbridge.protocol import BadFrame, field, name_field
@@ -66,6 +67,8 @@ class Subscribe(Capability):
             raise BadFrame(f"subscribe: topic {topic} does not exist (give its 'type' to wait for a publisher)")
         if topic == rosout.TOPIC and type_name and normalise_type(type_name) in rosout.TYPES:
             known = normalise_type(type_name)  # a ROS 1 client reads /rosout as rosgraph_msgs/Log
+        if topic in TF_TOPICS and normalise_type(type_name) in TF_TYPES:
+            known = normalise_type(type_name)  # a ROS 1 tf client reads /tf as tf/tfMessage (node_frames.py)
         if known is not None and type_name and normalise_type(type_name) != known:
             raise BadFrame(f"subscribe: topic {topic} is of type {known}, not {type_name}")
         stream = self.streams.get(topic)

@@ -27,6 +27,9 @@ from app.ros.node_services import NodeClient
 
 MAX_FRAMES = 1000  # frames programs may publish, all together
 TF_TOPICS = {"/tf": False, "/tf_static": True}  # topic -> static
+# their type, and ROS 1's tf/tfMessage: the same definition (the same md5sum), which is why ROS 1 connects
+# a tf publisher to tf2's subscribers (the tf tutorial's fixed_tf_broadcaster publishes tf.msg.tfMessage)
+TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
 
 
 @dataclass

@@ -35,10 +35,10 @@ class ExecutableInPackage(Substitution):
         self.executable, self.package = normalize(executable), normalize(package)
 
     def perform(self, context: LaunchContext) -> str:
+        """The executable's installed file (Runner.installed): a console_scripts entry point or a
+        script, either started by ExecuteProcess as `ros2 run`/`rosrun` would start it."""
         found = context.runner.executable(perform(context, self.package), perform(context, self.executable))
-        if found.script is None:
-            raise SubstitutionFailure(f"{found.name} of {found.package} is an entry point, not a file")
-        return str(found.script)
+        return str(context.runner.installed(found))
 
 
 def __getattr__(name: str) -> Any:

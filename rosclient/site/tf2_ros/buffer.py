@@ -4,6 +4,9 @@ the target frame (what turns data in `source` into `target`), chained through th
 ancestor. Time is the newest of each transform (`Time()`/`rospy.Time(0)`, what programs ask for);
 `timeout` waits for the frames to arrive. rclpy's and rospy's spellings both work
 (`lookup_transform`, `can_transform`; ROS 1's `lookup_transform(target, source, time, timeout)`).
+rclpy's waits without blocking are there as tf2_ros has them: `wait_for_transform_async` (an
+rclpy Future whose result is the transform once it can be looked up, completed by the listener's
+thread as new transforms arrive) and `await buffer.lookup_transform_async(...)`.
 """
 
 from __future__ import annotations
@@ -57,6 +60,7 @@ class Buffer:
     def __init__(self, cache_time: Any = None, node: Any = None, debug: bool = True, **_: Any) -> None:
         self._frames: dict[str, tuple[str, np.ndarray, dict]] = {}  # child -> (parent, 4x4, stamp JSON)
         self._changed = threading.Condition()
+        self._new_data_callbacks: list[Any] = []  # called (without the lock) after each new transform
 
     # --- filling ----------------------------------------------------------------------------------
     def set_transform(self, transform: Any, authority: str = "") -> bool:
@@ -75,6 +79,9 @@ class Buffer:
         with self._changed:
             self._frames[child] = (parent, matrix, item.get("header", {}).get("stamp", {}))
             self._changed.notify_all()
+            callbacks = list(self._new_data_callbacks)
+        for callback in callbacks:
+            callback()
         return True
 
     def _offer_message(self, message: dict) -> None:
@@ -154,6 +161,49 @@ class Buffer:
         except TransformException as exc:
             found, reason = False, str(exc)
         return (found, reason) if return_debug_tuple else found
+
+    def can_transform_core(self, target_frame: str, source_frame: str, time: Any = None) -> tuple[bool, str]:
+        return self.can_transform(target_frame, source_frame, time, return_debug_tuple=True)
+
+    def lookup_transform_core(self, target_frame: str, source_frame: str, time: Any = None) -> Any:
+        return self.lookup_transform(target_frame, source_frame, time)
+
+    def wait_for_transform_async(self, target_frame: str, source_frame: str, time: Any = None) -> Any:
+        """An rclpy Future set to the transform once it is available (at once if it is), as
+        tf2_ros's: completed from the thread that brings the transform, its done callbacks run there
+        (or as tasks of the future's executor)."""
+        from rclpy.task import Future
+
+        future = Future()
+        if self.can_transform_core(target_frame, source_frame, time)[0]:
+            future.set_result(self.lookup_transform_core(target_frame, source_frame, time))
+            return future
+
+        def on_new_data() -> None:
+            if future.done():
+                return
+            try:
+                if self.can_transform_core(target_frame, source_frame, time)[0]:
+                    future.set_result(self.lookup_transform_core(target_frame, source_frame, time))
+            except BaseException as exc:  # noqa: BLE001 - the future's outcome, raised by whoever awaits it
+                future.set_exception(exc)
+
+        def forget(_: Any) -> None:
+            with self._changed:
+                if on_new_data in self._new_data_callbacks:
+                    self._new_data_callbacks.remove(on_new_data)
+
+        with self._changed:
+            self._new_data_callbacks.append(on_new_data)
+        future.add_done_callback(forget)
+        on_new_data()  # a transform may have come between the first look and the registration
+        return future
+
+    async def lookup_transform_async(self, target_frame: str, source_frame: str, time: Any = None) -> Any:
+        """The transform, once it is available: `await buffer.lookup_transform_async(...)` in a
+        coroutine callback suspends it (not the executor) until then."""
+        await self.wait_for_transform_async(target_frame, source_frame, time)
+        return self.lookup_transform_core(target_frame, source_frame, time)
 
     def all_frames_as_string(self) -> str:
         with self._changed:

@@ -92,3 +92,29 @@ def test_a_refused_frame_is_told_once_and_finish_takes_the_clients_frames_away()
         assert "marker" not in lab.bridge.tf.frames.names()
 
     run(check())
+
+
+def test_ros1s_tf_tfmessage_on_tf_is_tf2s_message_and_its_frames_join_the_tree():
+    """The ROS 1 tf tutorial's fixed_tf_broadcaster advertises /tf as tf/tfMessage (tf2_msgs/TFMessage's
+    twin, the same md5sum: ROS 1 connects them); another type is still refused, and so is a
+    subscriber of another type."""
+    carrot = {
+        "header": {"frame_id": "world"},
+        "child_frame_id": "carrot1",
+        "transform": {"translation": {"x": 0, "y": 2, "z": 0}, "rotation": {"x": 0, "y": 0, "z": 0, "w": 1}},
+    }
+
+    async def check() -> None:
+        lab = parts()  # with the lab's topics: /tf is tf2_msgs/TFMessage
+        session = await connect(lab)
+        assert await op(session, op="advertise", topic="/tf", type="tf/tfMessage") == []
+        assert await op(session, op="publish", topic="/tf", msg={"transforms": [carrot]}) == []
+        assert "carrot1" in lab.bridge.frames.names()
+        wrong = await op(await connect(lab), op="advertise", topic="/tf", type="std_msgs/String")
+        assert "is of type tf2_msgs/TFMessage, not std_msgs/String" in wrong[0]["msg"]
+        listener = await connect(lab)
+        assert await op(listener, op="subscribe", topic="/tf", type="tf/tfMessage") == []
+        refused = await op(await connect(lab), op="subscribe", topic="/tf", type="std_msgs/String")
+        assert "is of type tf2_msgs/TFMessage, not std_msgs/String" in refused[0]["msg"]
+
+    run(check())

@@ -8,6 +8,8 @@ import threading
 import numpy as np
 import pytest
 
+from tests.rosclient.site.rclpy.conftest import rclpy  # noqa: F401 - the fixture: rclpy initialised
+
 
 def stamped(parent, child, xyz=(0.0, 0.0, 0.0), xyzw=(0.0, 0.0, 0.0, 1.0)):
     return {
@@ -60,3 +62,44 @@ def test_tf_transformations_euler_convention(site):
     assert np.allclose(transformations.quaternion_matrix(turn)[:3, :3] @ [1, 0, 0], [0, 1, 0])
     with pytest.raises(ValueError, match="sxyz, rzyx"):
         transformations.euler_matrix(0, 0, 0, axes="szyx")
+
+
+def test_wait_for_transform_async_is_a_future_completed_when_the_chain_arrives(rclpy):
+    """tf2_ros' wait_for_transform_async: done at once when the transform is there; else done (with the
+    transform) by the thread that brings the missing frame, its done callbacks run then; the buffer
+    forgets it."""
+    from tf2_ros import Buffer
+
+    buffer = Buffer()
+    buffer._offer_message({"transforms": [stamped("base_link", "platform")]})
+    assert buffer.wait_for_transform_async("base_link", "platform", None).result().child_frame_id == "platform"
+    future = buffer.wait_for_transform_async("wheel", "platform", None)
+    done: list[str] = []
+    future.add_done_callback(lambda f: done.append(f.result().child_frame_id))
+    buffer._offer_message({"transforms": [stamped("odom", "wheel")]})  # another tree: not yet
+    assert not future.done() and done == []
+    buffer._offer_message({"transforms": [stamped("base_link", "wheel", (0, 1, 0))]})
+    assert future.done() and done == ["platform"]
+    assert buffer._new_data_callbacks == []
+
+
+def test_lookup_transform_async_suspends_a_coroutine_until_the_transform_comes(rclpy):
+    """`await buffer.lookup_transform_async(...)` in a task: the executor keeps spinning (the task
+    waits, not the executor) and the task ends with the transform once a thread brings it."""
+    from rclpy.executors import SingleThreadedExecutor
+    from tf2_ros import Buffer
+
+    buffer = Buffer()
+
+    async def look():
+        return await buffer.lookup_transform_async("base_link", "sonar", None)
+
+    executor = SingleThreadedExecutor()
+    task = executor.create_task(look)
+    executor.spin_once(timeout_sec=0)
+    assert not task.done()
+    threading.Timer(0.1, buffer._offer_message, args=({"transforms": [stamped("base_link", "sonar", (0.5, 0, 0))]},)).start()
+    executor.spin_until_future_complete(task, timeout_sec=30)
+    found = task.result()
+    assert (found.header.frame_id, found.child_frame_id) == ("base_link", "sonar")
+    assert found.transform.translation.x == pytest.approx(0.5)

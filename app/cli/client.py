@@ -52,8 +52,9 @@ def _yaml_arg(text: str) -> dict:
 
 
 def _message(type_name: str, suffix: str, values: dict) -> str:
+    """A request or response as ros2 service call prints it: the message's repr, `pkg.srv.Name_Response(...)`."""
     fields = ", ".join(f"{k}={v!r}" for k, v in values.items())
-    return f"{type_name.replace('/', '.')}_{suffix}({fields})"
+    return f"{_ros2_type(type_name, 'srv').replace('/', '.')}_{suffix}({fields})"
 
 
 def _detail(response: httpx.Response) -> str:

@@ -108,6 +108,8 @@ def build(
     actions = ActionServer(actions_declared, lab)
     lab.params.remote = NodeParameters(nodes)  # parameters nodes declare, in the same parameter server
     bridge = rosbridge.Bridge(world, lab, nodes, actions, NodeActions(actions), token, replay=replay)
+    # HTTP serves each topic as rosbridge does: /tf and /tf_static with the programs' frames after the lab's
+    topics_declared = [bridge.topics.lab_topic(t.name) or t for t in topics_declared]
     return Parts(world, lab, nodes, actions, actions_declared, topics_declared, bridge)
 
 

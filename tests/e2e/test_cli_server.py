@@ -47,7 +47,7 @@ def test_service_cli(server):
     assert cli(url, "service", "type", "/divide_ints").stdout.strip() == "hri_lab/srv/DivideInts"
     call = cli(url, "service", "call", "/divide_ints", "{a: 1, b: 0}")
     assert call.returncode == 0
-    assert "response:\nhri_lab.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
+    assert "response:\nhri_lab.srv.DivideInts_Response(result=0.0, message='Division by zero!')" in call.stdout
     bad = cli(url, "service", "call", "/add_two_ints", "{a: 1, b: x}")
     assert bad.returncode == 1
     assert "b: Input should be a valid integer" in bad.stderr

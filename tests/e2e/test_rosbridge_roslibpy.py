@@ -106,7 +106,7 @@ def test_a_service_advertised_by_a_node_answers_http_and_cli(ros, lab):
     assert http.get(f"{lab.url}/services/toggle").json()["srv"] == "bool data\n---\nbool success\nstring message"
     assert "/toggle [std_srvs/srv/SetBool]" in cli(lab.url, "service", "list", "-t").stdout
     out = cli(lab.url, "service", "call", "/toggle", "{data: false}")
-    assert "response:\nstd_srvs.SetBool_Response(success=False, message='toggled')" in out.stdout, out.stderr
+    assert "response:\nstd_srvs.srv.SetBool_Response(success=False, message='toggled')" in out.stdout, out.stderr
     for service in services:
         service.unadvertise()
     wait_for(lambda: http.post(f"{lab.url}/services/toggle", json={"data": True}).status_code == 404)

@@ -7,6 +7,7 @@ sends one of the lab's own frames is refused with the reason while its other fra
 
 import math
 
+import httpx
 import numpy as np
 import roslibpy
 from roslibpy.ros1.actionlib import ActionClient, Goal, GoalStatus
@@ -112,6 +113,9 @@ def test_a_programs_frames_join_the_tree_for_listeners_and_republish_tfs(ros, la
         edges = {(t["header"]["frame_id"], t["child_frame_id"]) for t in static[0]["transforms"]}
         assert ("plate", "plate_marker") in edges
         assert ("panda_link8", "plate") in edges
+        # and HTTP's /topics/tf_static (what `hri-lab topic echo /tf_static` prints) is the same topic
+        served = httpx.get(f"{lab.url}/topics/tf_static", timeout=30).json()
+        assert {(t["header"]["frame_id"], t["child_frame_id"]) for t in served["transforms"]} >= edges
     finally:
         broadcaster.interrupt()
     # the program gone, its frames go with it

@@ -60,8 +60,8 @@ def test_service_list_type_show_and_call(hri_lab, capsys):
     assert capsys.readouterr().out == "1\n"
     assert hri_lab("service", "call", "/add_two_ints", "{a: 2, b: 40}") == 0
     out = capsys.readouterr().out
-    assert "requester: making request: hri_lab.AddTwoInts_Request(a=2, b=40)" in out
-    assert out.endswith("response:\nhri_lab.AddTwoInts_Response(sum=42)\n")
+    assert "requester: making request: hri_lab.srv.AddTwoInts_Request(a=2, b=40)" in out
+    assert out.endswith("response:\nhri_lab.srv.AddTwoInts_Response(sum=42)\n")
 
 
 def test_a_failed_call_names_the_field_and_a_missing_service_says_so(hri_lab, capsys):

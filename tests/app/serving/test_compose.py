@@ -38,7 +38,7 @@ def test_the_mobile_world_has_its_own_declarations_and_no_lifting_effects():
     assert parts.actions_declared == []
     assert not parts.nodes.effects
     assert parts.bridge.topics.command_topic == "/cmd_vel"
-    assert parts.topics_declared == parts.lab.topics
+    assert [t.name for t in parts.topics_declared] == [t.name for t in parts.lab.topics]
 
 
 def test_the_app_serves_the_parts_it_was_handed():

@@ -106,15 +106,7 @@ CASES = [
 
 # Differences between the two that are kept, each with its reason (docs/ros-programs.md, "Checked
 # against real ROS 1"): (case name or "*" for every case, text in the difference's line, reason).
-KNOWN: list[tuple[str, str, str]] = [
-    (
-        "*",
-        "/get_loggers' only under ROS 1",
-        "rospy's init_node advertises ~get_loggers and ~set_logger_level (roscpp's logger services); "
-        "the lab's rospy does not",
-    ),
-    ("*", "/set_logger_level' only under ROS 1", "the same: roscpp's logger services"),
-]
+KNOWN: list[tuple[str, str, str]] = []  # none left: rospy's logger services are advertised (issue 47)
 
 
 # --- a side: where the programs run ----------------------------------------------------------

@@ -32,6 +32,17 @@ def test_a_star_import_server_answers_under_its_node_name_and_a_second_service_r
         assert http.get(f"{lab.url}/services/add_two_ints").json()["node"] == "/add_two_ints_server"
         assert "/add_two_ints_server" in rosapi(ros, "nodes")["nodes"]
         assert "/add_two_ints" in rosapi(ros, "node_details", {"node": "/add_two_ints_server"})["services"]
+        # roscpp's logger services, which rospy's init_node advertises for every node
+        get_loggers = roslibpy.Service(ros, "/add_two_ints_server/get_loggers", "roscpp/GetLoggers")
+        set_level = roslibpy.Service(ros, "/add_two_ints_server/set_logger_level", "roscpp/SetLoggerLevel")
+
+        def levels() -> dict[str, str]:
+            loggers = get_loggers.call(roslibpy.ServiceRequest({}), timeout=30)["loggers"]
+            return {logger["name"]: logger["level"] for logger in loggers}
+
+        assert levels()["rosout"] == "INFO"
+        set_level.call(roslibpy.ServiceRequest({"logger": "rosout", "level": "warn"}), timeout=30)
+        assert levels()["rosout"] == "WARN"
         again = run(lab.url, "add_two_ints_server_star_rospy.py")  # another node of the same name
         assert again.wait() == 1, again.output
         assert "rospy.service.ServiceException: service [/add_two_ints] cannot be provided" in again.output

@@ -36,6 +36,14 @@ def test_a_services_md5sum_is_of_its_request_then_its_response(ros1: Interfaces)
     assert md5sum(add_two_ints) == "6a2e34150c00229791cc89ff309fff21"  # rospy_tutorials' AddTwoInts
 
 
+@pytest.mark.parametrize(
+    ("name", "expected"),  # Debian's ros-core (roscpp.srv's generated classes): rospy's logger services
+    [("GetLoggers", "32e97e85527d4678a8f9279894bb64b0"), ("SetLoggerLevel", "51da076440d78ca1684d36c868df61ea")],
+)
+def test_roscpps_logger_services_have_ros_1s_md5sums(ros1: Interfaces, name: str, expected: str) -> None:
+    assert md5sum(ros1.get("roscpp", "srv", name)) == expected
+
+
 def test_the_text_drops_comments_and_keeps_constants_before_fields(tmp_path) -> None:
     package = tmp_path / "demo_msgs" / "msg"
     package.mkdir(parents=True)

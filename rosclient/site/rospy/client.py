@@ -5,6 +5,7 @@ calls a node makes of its environment. Parameter names resolve as topic names do
 from __future__ import annotations
 
 import json
+import logging
 import os
 import signal
 import sys
@@ -62,6 +63,32 @@ def init_node(
             key, value = arg.split(":=", 1)
             if key.startswith("_") and not key.startswith("__"):
                 set_param("~" + key[1:], process.parse_value(value))
+    _advertise_logger_services()
+
+
+def _advertise_logger_services() -> None:
+    """roscpp's logger services, which rospy's init_node advertises for every node: `~get_loggers`
+    (each logger of the program with its level) and `~set_logger_level` (a level by name; rosout's is
+    the node's loginfo & co.)."""
+    from roscpp.msg import Logger
+    from roscpp.srv import GetLoggers, GetLoggersResponse, SetLoggerLevel, SetLoggerLevelResponse
+
+    from rospy.impl.tcpros_service import Service
+
+    def get_loggers(request: Any) -> Any:
+        known = [core.ROSOUT_LOGGER, *(n for n in logging.Logger.manager.loggerDict if n != core.ROSOUT_LOGGER)]
+        return GetLoggersResponse(loggers=[Logger(name=n, level=core.LEVEL_NAMES[core.logger_level(n)]) for n in known])
+
+    def set_logger_level(request: Any) -> Any:
+        level = {name: number for number, name in core.LEVEL_NAMES.items()}.get(request.level.upper())
+        if level is None:  # rospy answers, and logs the bad level
+            core.logerr(f"Bad logging level: {request.level.upper()}")
+        else:
+            core.set_logger_level(request.logger, level)
+        return SetLoggerLevelResponse()
+
+    Service("~get_loggers", GetLoggers, get_loggers)
+    Service("~set_logger_level", SetLoggerLevel, set_logger_level)
 
 
 def _require_node(what: str) -> None:

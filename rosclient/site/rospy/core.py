@@ -3,6 +3,7 @@ and /rosout once the node is connected, as rosgraph_msgs/Log lines)."""
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 import sys
@@ -16,7 +17,8 @@ from rosclient import process
 from rospy import names
 
 DEBUG, INFO, WARN, ERROR, FATAL = 1, 2, 4, 8, 16  # rosgraph_msgs/Log levels
-_LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
+LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
+_PYTHON_LEVELS = {DEBUG: logging.DEBUG, INFO: logging.INFO, WARN: logging.WARNING, ERROR: logging.ERROR, FATAL: logging.CRITICAL}
 
 _state: dict[str, Any] = {"initialized": False, "level": INFO, "rosout": True, "topics_closed": False}
 _shutdown_hooks: list[Callable[..., Any]] = []
@@ -71,13 +73,31 @@ def get_node_uri() -> str:
 
 
 # --- logging ------------------------------------------------------------------------------------
+ROSOUT_LOGGER = "rosout"  # the logger rospy's loginfo & co. write to (its level: init_node's log_level)
+
+
+def logger_level(name: str) -> int:
+    """A logger's level as rosgraph_msgs/Log numbers it: the node's own for rosout, else Python's."""
+    if name == ROSOUT_LOGGER:
+        return int(_state["level"])
+    python = logging.getLogger(name).getEffectiveLevel()
+    return min((level for level, value in _PYTHON_LEVELS.items() if value >= python), default=FATAL)
+
+
+def set_logger_level(name: str, level: int) -> None:
+    """`name`'s level set (rosout's is the node's own: its loginfo & co. below it print nothing)."""
+    logging.getLogger(name).setLevel(_PYTHON_LEVELS[level])
+    if name == ROSOUT_LOGGER:
+        _state["level"] = level
+
+
 def _log(level: int, msg: Any, *args: Any, **kwargs: Any) -> None:
     text = str(msg) % args if args else str(msg)
     if level < _state["level"]:
         return
     now = time.time()
     stream = sys.stdout if level <= INFO else sys.stderr
-    print(f"[{_LEVEL_NAMES[level]}] [{now:.6f}]: {text}", file=stream, flush=True)
+    print(f"[{LEVEL_NAMES[level]}] [{now:.6f}]: {text}", file=stream, flush=True)
     if _state["initialized"] and _state["rosout"]:
         caller = sys._getframe(2)
         process.rosout(

@@ -1,12 +1,18 @@
-"""`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url)."""
+"""`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url).
+
+httpx is imported by the commands that send a request, not with this module: `hri-lab run` and
+`launch`, which parse their arguments here and send none, start without it (its import, with the
+rich, click and pygments of its own command line, is most of a CLI start's CPU)."""
+
+from __future__ import annotations
 
 import argparse
 import json
 import os
 import sys
 import time
+from typing import TYPE_CHECKING
 
-import httpx
 import yaml
 from websockets.exceptions import WebSocketException
 from websockets.sync.client import connect
@@ -15,6 +21,9 @@ from app.cli import arguments
 from app.ros.names import absolute, node_name
 from app.ros.params import ParameterRefused, read_parameter_file
 from rosclient.headers import lab_headers
+
+if TYPE_CHECKING:
+    import httpx
 
 
 class CliError(Exception):
@@ -27,11 +36,15 @@ def _headers(args) -> dict[str, str]:
 
 
 def _client(args) -> httpx.Client:
+    import httpx
+
     headers = _headers(args)
     return httpx.Client(base_url=args.url, timeout=10.0, headers=headers)
 
 
 def _request(args, method: str, path: str, **kwargs) -> httpx.Response:
+    import httpx
+
     try:
         with _client(args) as client:
             return client.request(method, path, **kwargs)

@@ -243,13 +243,16 @@ def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, browser):
     (localhost vs 127.0.0.1), so it renders in its own process. A service call's round trip on the
     page is measured without and with the embedded view (printed, not asserted: wall time;
     `python -m bench.page_responsiveness` measures it with more clicks). A tab of its own, closed
-    at the end: a software-rendered view would load the machine for the tests after it."""
+    at the end: a software-rendered view would load the machine for the tests after it, and so
+    would the lifting it started (a lifting lab takes twice an idle one's CPU, the page's tests
+    after it need none)."""
     page = open_page(server, browser)
     try:
         the_3d_view_on_demand(server, page)
         assert not page.offline_requests, page.offline_requests
     finally:
         page.close()
+        http.post(f"{server}/services/stop_cooperative_lifting", timeout=30)
 
 
 def the_3d_view_on_demand(server, page):

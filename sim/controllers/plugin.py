@@ -13,7 +13,6 @@ import copy
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from sim.controllers.builtin import BUILTIN, BuiltinFactory
 from sim.controllers.interface import ControllerFault
 from sim.controllers.sandbox import SandboxBudget, SandboxedController
 
@@ -22,6 +21,10 @@ DEFAULT_CLASS = "CooperativeLifting"
 
 def controller_factory(spec: str | None, sandboxed: bool = True):
     """`sp`, `patch` (in-process) or `FILE.py[:Class]` (a sandboxed plug-in) -> a factory of new controllers."""
+    # imported here: the built-ins load numba's kernels (~1.3 s of CPU), which a command that only
+    # loads or prints a plug-in file (`hri-lab template`, `grade`'s parent) does not need
+    from sim.controllers.builtin import BUILTIN, BuiltinFactory
+
     if spec is None or spec in BUILTIN:
         return BuiltinFactory(spec or "sp")
     return PluginFactory(spec, sandboxed=sandboxed)

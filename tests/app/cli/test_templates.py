@@ -4,6 +4,8 @@ nodes state the rule each handler is graded by."""
 
 import ast
 import re
+import subprocess
+import sys
 from dataclasses import fields
 
 import pytest
@@ -80,3 +82,22 @@ def test_the_rospy_handlers_return_what_rospy_takes():
                 )
                 assert not bare_list, f"{function.name} returns a bare list: {ast.unparse(value)}"
     assert "a bare list" in (ast.get_docstring(tree) or "")  # the rule, where a student reads it
+
+
+def test_printing_the_controller_template_loads_no_compiled_kernel():
+    """`hri-lab template` prints a file: numba, which the built-in controllers' kernels need (~1.3 s
+    of CPU to import), is not loaded for it (sim/controllers/plugin.py imports the built-ins where
+    a factory of them is asked for)."""
+    script = (
+        "import runpy, sys\n"
+        "sys.argv = ['hri-lab', 'template']\n"
+        "try:\n"
+        "    runpy.run_module('app.cli', run_name='__main__')\n"
+        "except SystemExit as stop:\n"
+        "    assert not stop.code, stop.code\n"
+        "print('numba loaded' if 'numba' in sys.modules else 'numba not loaded', file=sys.stderr)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "class CooperativeLifting" in done.stdout
+    assert done.stderr.strip().endswith("numba not loaded"), done.stderr

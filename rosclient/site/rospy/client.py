@@ -74,6 +74,7 @@ def _advertise_logger_services() -> None:
     from roscpp.srv import GetLoggers, GetLoggersResponse, SetLoggerLevel, SetLoggerLevelResponse
 
     from rospy.impl.tcpros_service import Service
+    from rospy.service import ServiceException
 
     def get_loggers(request: Any) -> Any:
         known = [core.ROSOUT_LOGGER, *(n for n in logging.Logger.manager.loggerDict if n != core.ROSOUT_LOGGER)]
@@ -87,8 +88,11 @@ def _advertise_logger_services() -> None:
             core.set_logger_level(request.logger, level)
         return SetLoggerLevelResponse()
 
-    Service("~get_loggers", GetLoggers, get_loggers)
-    Service("~set_logger_level", SetLoggerLevel, set_logger_level)
+    try:
+        Service("~get_loggers", GetLoggers, get_loggers)
+        Service("~set_logger_level", SetLoggerLevel, set_logger_level)
+    except ServiceException:  # a node of this name runs already (ROS 1's master would shut it down, the
+        pass  # lab does not): the program's own services say so, as they did before these were advertised
 
 
 def _require_node(what: str) -> None:

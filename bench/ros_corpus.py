@@ -202,6 +202,17 @@ def _partner(item: object, where: str) -> Start:
     return Start(item["path"], package, executable, args=_strings(item.get("args", []), f"{where}: `args`"))
 
 
+def _heard(item: object, at: str) -> Heard:
+    """A `topics` entry: a topic (name, type) the program's messages are heard on, and the line one must match."""
+    if (
+        not isinstance(item, dict)
+        or set(item) - {"line"} != TOPIC_KEYS
+        or not all(isinstance(v, str) and v for v in item.values())
+    ):
+        raise ManifestError(f"{at}: a table of name and type (strings), and line (optional)")
+    return Heard(item["name"], item["type"], _regex(item["line"], at) if "line" in item else None)
+
+
 def parse_program(entry: dict, index: int) -> Program:
     where = f"program {index + 1}" + (f" ({entry['path']})" if isinstance(entry.get("path"), str) else "")
     unknown = set(entry) - PROGRAM_KEYS
@@ -230,16 +241,7 @@ def parse_program(entry: dict, index: int) -> Program:
         if not isinstance(item, dict) or set(item) - CHECK_KEYS:
             raise ManifestError(f"{at}: a table of {', '.join(sorted(CHECK_KEYS))}")
         checks.append(Check(_strings(item.get("hri_lab"), f"{at}: `hri_lab`"), _regex(item.get("line"), at)))
-    topics = []
-    for j, item in enumerate(entry.get("topics", [])):
-        at = f"{where}, topic {j + 1}"
-        if (
-            not isinstance(item, dict)
-            or set(item) - {"line"} != TOPIC_KEYS
-            or not all(isinstance(v, str) and v for v in item.values())
-        ):
-            raise ManifestError(f"{at}: a table of name and type (strings), and line (optional)")
-        topics.append(Heard(item["name"], item["type"], _regex(item["line"], at) if "line" in item else None))
+    topics = [_heard(item, f"{where}, topic {j + 1}") for j, item in enumerate(entry.get("topics", []))]
     if not isinstance(entry.get("partners", []), list):
         raise ManifestError(f"{where}: `partners` must be a list")
     partners = tuple(_partner(item, f"{where}, partner {j + 1}") for j, item in enumerate(entry.get("partners", [])))

@@ -1,5 +1,6 @@
 """bench/ros1_oracle.py's pure parts: what is masked, and a difference found unless it is known."""
 
+from bench import ros1_oracle
 from bench.ros1_oracle import KNOWN, Case, Seen, Step, differences, masked
 
 
@@ -11,7 +12,7 @@ def test_times_anonymous_names_and_addresses_are_masked_and_nothing_else():
     assert masked("node /talker_2") == "node /talker_2"  # a name's own number stays
 
 
-def test_a_difference_is_reported_unless_listed_with_its_reason():
+def test_a_difference_is_reported_unless_listed_with_its_reason(monkeypatch):
     case = Case("c", [Step("p.py")])
     same = Seen({"p.py": ["a"]}, {"node /p"}, {})
     assert differences(case, same, same) == []
@@ -22,5 +23,7 @@ def test_a_difference_is_reported_unless_listed_with_its_reason():
     failed = differences(case, same, Seen({"p.py": ["a"]}, {"node /p"}, {}, failure="p.py ready: not within 60 s"))
     assert failed == ["lab: p.py ready: not within 60 s"]
     logger = Seen({"p.py": ["a"]}, {"node /p", "service /p/get_loggers"}, {})
+    assert differences(case, logger, same) == ["graph: 'service /p/get_loggers' only under ROS 1"]
+    monkeypatch.setattr(ros1_oracle, "KNOWN", [("*", "/get_loggers' only under ROS 1", "a reason")])
     assert differences(case, logger, same) == []  # known, with its reason
     assert all(reason for _, _, reason in KNOWN)

@@ -109,7 +109,7 @@ def test_ros1s_tf_tfmessage_on_tf_is_tf2s_message_and_its_frames_join_the_tree()
         session = await connect(lab)
         assert await op(session, op="advertise", topic="/tf", type="tf/tfMessage") == []
         assert await op(session, op="publish", topic="/tf", msg={"transforms": [carrot]}) == []
-        assert "carrot1" in lab.bridge.frames.names()
+        assert "carrot1" in lab.bridge.tf.frames.names()
         wrong = await op(await connect(lab), op="advertise", topic="/tf", type="std_msgs/String")
         assert "is of type tf2_msgs/TFMessage, not std_msgs/String" in wrong[0]["msg"]
         listener = await connect(lab)

@@ -128,16 +128,19 @@ class Runner:
         it as a command, as ROS's launch does."""
         argv = executable_command(found, [])
         script = self.logs / "lib" / found.package / found.name  # lib/PKG/EXE: its label is EXE, as in ROS
-        script.parent.mkdir(parents=True, exist_ok=True)
-        script.write_text(
+        text = (
             f"#!{sys.executable}\n"
             f"# {found.package}'s {found.name}, as the workspace would install it (made by the launch)\n"
             "import os, sys\n"
             f"argv = {argv!r} + sys.argv[1:]\n"
-            "os.execv(argv[0], argv)\n",
-            encoding="utf-8",
+            "os.execv(argv[0], argv)\n"
         )
-        script.chmod(0o755)
+        if script.is_file() and script.read_text(encoding="utf-8") == text:
+            return script  # installed once: a process started from it may be reading it now
+        script.parent.mkdir(parents=True, exist_ok=True)
+        made = self.temp_file(f"lib-{found.name}", "", text)
+        made.chmod(0o755)
+        os.replace(made, script)  # whole or not at all: a process never reads it half written
         return script
 
     def temp_file(self, prefix: str, suffix: str, text: str) -> Path:

@@ -3,6 +3,7 @@ rosclient/site): a description's evaluation (the processes it starts, with their
 arguments, conditions, includes, groups, refusals by name; and a run of real processes with a
 timer, event handlers and a Shutdown event; roslaunch's search of a whole package."""
 
+import os
 import sys
 import threading
 from pathlib import Path
@@ -277,3 +278,21 @@ def generate_launch_description():
     assert (tmp_path / "logs" / "whisper.py-1.log").read_text() == "whisper ['quiet']\n"
     assert [p.proc.returncode for p in runner.processes] == [4, 0]  # the entry point's return: its status
     assert code == 1  # a process died (status 4), as launch reports it
+
+
+def test_an_executable_installed_again_leaves_its_file_as_the_started_processes_read_it(workspace, tmp_path):
+    """topic_monitor's depth demo starts four processes of one entry point: the second
+    ExecutableInPackage must not rewrite the file the first process is reading (rewritten in place,
+    a process reading it then saw an empty script and ran nothing)."""
+    pkg = workspace / "src" / "demo"
+    _write(pkg, "demo/shout.py", "def main():\n    return 0\n")
+    _write(pkg, "setup.cfg", "[options.entry_points]\nconsole_scripts =\n    shout = demo.shout:main\n")
+    runner = pylaunch.Runner("", logs=tmp_path / "logs", workspace=str(workspace))
+    found = runner.executable("demo", "shout")
+    script = runner.installed(found)
+    before = script.stat()
+    assert runner.installed(found) == script
+    after = script.stat()
+    assert (after.st_ino, after.st_mtime_ns, after.st_size) == (before.st_ino, before.st_mtime_ns, before.st_size)
+    assert script.read_text().startswith("#!") and os.access(script, os.X_OK)
+    assert list(script.parent.iterdir()) == [script]  # no temporary file left beside it

@@ -5,22 +5,103 @@ short of; wall seconds are what a worker waits.
 
     .venv/bin/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder -p bench.suite_time [FILES]
     HRI_LAB_SUITE_TIME=times.json ...   # the table as JSON too
+    HRI_LAB_SUITE_PROGRAMS=1 ...        # and a second table: CPU by program (labs, browsers, grades, ...)
 
 A pytest plugin (`-p bench.suite_time`), with or without xdist: each worker measures its tests and
 hands the figures to the controller in the tests' reports; the table is printed at the end.
+
+The file table counts a child's CPU only once the worker has waited for it. The program table
+counts every descendant of the run, whoever waits for it (a sandbox's process, a browser's GPU
+process, a lab's simulation process): the run's process tree sampled every `SAMPLE_PERIOD_S`
+(psutil), each process's last CPU reading summed by the kind of program it is (`program_kind`). A
+process shorter than a period may be missed; those are a small part of the whole.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import resource
+import threading
 import time
+from collections import Counter
 from pathlib import Path
 
+import psutil
 import pytest
 
 KEY = "suite_time_cpu_s"
+SAMPLE_PERIOD_S = 0.25  # s between two readings of the run's process tree (the program table)
+
+# (kind, pattern of the command line), the first match names a process; forks keep their parent's
+# command line (a lab's simulation process is a `hri-lab serve`)
+PROGRAM_KINDS = (
+    ("chromium", re.compile(r"chrom(e|ium)")),
+    ("sandboxed controller", re.compile(r"sim\.controllers\.sandbox")),
+    ("student program (hri-lab run)", re.compile(r"rosclient\.boot|hri-lab run\b|app\.cli run\b")),
+    ("Gradescope set-up", re.compile(r"compileall|ensurepip|\buv\b|\bpip\b|setup\.sh")),
+    ("Jupyter", re.compile(r"jupyter|configurable-http-proxy")),
+    ("ROS 1 (Debian)", re.compile(r"/usr/bin/ros|rosmaster")),
+    ("pytest worker", re.compile(r"exec\(eval\(sys\.stdin|-m pytest|/pytest\b")),
+    ("multiprocessing's spawned child", re.compile(r"multiprocessing\.spawn")),
+)
+CLI = re.compile(r"(?:hri-lab|app\.cli) ([a-z][a-z0-9-]*)")
+
+
+def program_kind(cmdline: list[str]) -> str:
+    """What a process of the run is, from its command line: `hri-lab COMMAND` by its command (a lab
+    is `hri-lab serve`), else one of PROGRAM_KINDS, else its program's name."""
+    text = " ".join(cmdline)
+    for kind, pattern in PROGRAM_KINDS[:3]:  # before the CLI: they may be started through it
+        if pattern.search(text):
+            return kind
+    if found := CLI.search(text):
+        return f"hri-lab {found.group(1)}"
+    for kind, pattern in PROGRAM_KINDS[3:]:
+        if pattern.search(text):
+            return kind
+    return os.path.basename(cmdline[0]) if cmdline else "?"
+
+
+class ProcessTree:
+    """The CPU seconds of this process's descendants, sampled on a thread until `stop()`."""
+
+    def __init__(self, period_s: float = SAMPLE_PERIOD_S) -> None:
+        self.period_s = period_s
+        self.seen: dict[tuple[int, float], list] = {}  # (pid, start time) -> [kind, CPU s]
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="suite-time-programs", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        me = psutil.Process()
+        while not self._stop.is_set():
+            self.sample(me)
+            self._stop.wait(self.period_s)
+
+    def sample(self, root: psutil.Process) -> None:
+        for child in root.children(recursive=True):
+            try:
+                with child.oneshot():
+                    key = (child.pid, child.create_time())
+                    times = child.cpu_times()
+                    if key not in self.seen:
+                        self.seen[key] = [program_kind(child.cmdline()), 0.0]
+                    self.seen[key][1] = times.user + times.system
+            except psutil.Error:  # gone between the listing and the reading
+                continue
+
+    def stop(self) -> list[tuple[str, int, float]]:
+        """(kind, processes, CPU s), the most CPU first."""
+        self._stop.set()
+        self._thread.join()
+        cpu: Counter[str] = Counter()
+        count: Counter[str] = Counter()
+        for kind, seconds in self.seen.values():
+            cpu[kind] += seconds
+            count[kind] += 1
+        return [(kind, count[kind], seconds) for kind, seconds in cpu.most_common()]
 
 
 def cpu_s() -> float:
@@ -33,8 +114,9 @@ def cpu_s() -> float:
 class SuiteTime:
     """One run's figures (an object per run: a run inside a run keeps its own)."""
 
-    def __init__(self) -> None:
+    def __init__(self, programs: ProcessTree | None = None) -> None:
         self.started = time.monotonic()
+        self.programs = programs
         self.cpu_at_start: dict[str, float] = {}
         self.files: dict[str, dict[str, float]] = {}  # file -> tests, wall_s, setup_s, cpu_s
 
@@ -72,6 +154,13 @@ class SuiteTime:
         write(f"{'wall s':>7} {'setup s':>7} {'CPU s':>7} {'tests':>5}  file")
         for path, e in rows:
             write(f"{e['wall_s']:7.1f} {e['setup_s']:7.1f} {e['cpu_s']:7.1f} {int(e['tests']):5d}  {path}")
+        if self.programs is not None:
+            kinds = self.programs.stop()
+            write("")
+            write(f"CPU by program: {sum(n for _, n, _ in kinds)} processes, {sum(c for *_, c in kinds):.1f} s of CPU")
+            write(f"{'CPU s':>7} {'procs':>5}  program")
+            for kind, n, seconds in kinds:
+                write(f"{seconds:7.1f} {n:5d}  {kind}")
         load = " ".join(f"{x:.2f}" for x in os.getloadavg())
         write(f"the run: {time.monotonic() - self.started:.0f} s; load average at its end {load}")
         if out := os.environ.get("HRI_LAB_SUITE_TIME"):
@@ -79,4 +168,6 @@ class SuiteTime:
 
 
 def pytest_configure(config) -> None:
-    config.pluginmanager.register(SuiteTime(), "suite_time_figures")
+    controller = not hasattr(config, "workerinput")  # xdist's workers have it; the table is the controller's
+    programs = ProcessTree() if controller and os.environ.get("HRI_LAB_SUITE_PROGRAMS") else None
+    config.pluginmanager.register(SuiteTime(programs), "suite_time_figures")

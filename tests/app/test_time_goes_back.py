@@ -4,8 +4,9 @@ throttle (the F_ext ring's every step and a snapshot topic's), the camera's imag
 recording — instead of going silent until the simulated time climbs back past where it was.
 
 Each subscriber keeps the stamps it got, in order. A reset shows in them as a stamp earlier than
-the one before; the first of the new trial comes within a fraction of the old trial's time (the code
-before sent nothing until the new trial's time passed the old one's, then went on with no drop)."""
+the one before, and the first of the new trial comes before the new trial's time reaches the old
+one's (the code before sent nothing until then, and then went on with no stamp going back). How
+much before is the machine's speed (a camera's frame under load), so it is not asserted."""
 
 from __future__ import annotations
 
@@ -107,7 +108,7 @@ def _assert_each_went_on(subscribers: list[Subscriber], lengths: list[float], se
             f"{len(s.stamps)} messages, stamps {s.stamps[:3]} ... {s.stamps[-3:]}"
         )
         first_after_long_trial = trials[-2][0]
-        assert first_after_long_trial < lengths[0] / 2, (
+        assert first_after_long_trial < lengths[0], (
             f"{s.name}: the first message after a reset at t = {lengths[0]:.2f} s came at "
             f"{first_after_long_trial:.3f} s (seed {seed})"
         )
@@ -155,7 +156,7 @@ def test_every_stream_of_the_lifting_lab_goes_on_after_resets_at_random_moments(
     for name, stamps in (("recorded /joint_states", joint_states), ("recorded images", images)):
         backs = [i for i in range(1, len(stamps)) if stamps[i] < stamps[i - 1]]
         assert len(backs) >= 2, f"{name}: the recording did not go on after each reset (seed {seed})"
-        assert stamps[backs[0]] < lengths[0] / 2, f"{name} (seed {seed})"
+        assert stamps[backs[0]] < lengths[0], f"{name} (seed {seed})"
 
 
 def test_every_stream_of_the_mobile_lab_goes_on_after_resets_at_random_moments():

@@ -2,6 +2,13 @@
 setup, wall and CPU seconds in the table, the longest file first, and the JSON."""
 
 import json
+import os
+import sys
+from pathlib import Path
+
+from bench.suite_time import SAMPLE_PERIOD_S, program_kind
+
+ROOT = Path(__file__).resolve().parents[2]
 
 pytest_plugins = ["pytester"]
 
@@ -45,3 +52,44 @@ def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypa
     assert slow["wall_s"] >= slow["setup_s"] + 0.4
     assert slow["cpu_s"] >= 0.4  # the loop's CPU
     assert times["test_quick.py"]["tests"] == 1
+
+
+def test_a_process_is_named_by_its_program():
+    assert program_kind(["/v/bin/python", "-m", "app.cli", "serve", "--port", "1"]) == "hri-lab serve"
+    assert program_kind(["/v/bin/python", "/v/bin/hri-lab", "grade", "a.py"]) == "hri-lab grade"
+    assert program_kind(["/v/bin/python", "-m", "rosclient.boot", "talker.py"]) == "student program (hri-lab run)"
+    assert program_kind(["/v/bin/python", "/v/bin/hri-lab", "run", "talker.py"]) == "student program (hri-lab run)"
+    assert program_kind(["bwrap", "--die-with-parent", "python", "-m", "sim.controllers.sandbox.zygote"]) == (
+        "sandboxed controller"
+    )
+    assert program_kind(["/usr/lib/chromium/chromium", "--type=gpu-process"]) == "chromium"
+    assert program_kind(["python", "-u", "-c", "import sys;exec(eval(sys.stdin.readline()))"]) == "pytest worker"
+    assert program_kind(["/usr/bin/sleep", "1"]) == "sleep"
+
+
+def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):
+    """A grandchild that burns CPU and is never waited for by the test (its parent exits first):
+    the file table cannot see it, the program table does."""
+    pytester.makepyfile(
+        test_child="""
+        import subprocess, sys
+
+        BURN = "import time; s = time.process_time()\\nwhile time.process_time() - s < 1.0: pass"
+
+        def test_spawns():
+            code = f"import subprocess, sys; subprocess.run([sys.executable, '-c', {BURN!r}])"
+            subprocess.run([sys.executable, "-c", code], check=True)
+        """
+    )
+    monkeypatch.setenv("HRI_LAB_SUITE_PROGRAMS", "1")
+    monkeypatch.setenv("PYTHONPATH", str(ROOT))  # the plugin, from this checkout
+    result = pytester.runpytest_subprocess("-p", "bench.suite_time", "-p", "no:cacheprovider")
+    result.assert_outcomes(passed=1)
+    lines = result.outlines
+    header = lines.index(next(line for line in lines if line.startswith("CPU by program: ")))
+    assert lines[header + 1].split() == ["CPU", "s", "procs", "program"]
+    end = next(i for i in range(header, len(lines)) if lines[i].startswith("the run"))
+    rows = {row.split(None, 2)[2]: (float(row.split()[0]), int(row.split()[1])) for row in lines[header + 2 : end]}
+    burned, processes = rows[os.path.basename(sys.executable)]
+    assert processes == 2
+    assert burned >= 1.0 - 2 * SAMPLE_PERIOD_S  # the last reading may come up to a period before its end

@@ -87,6 +87,18 @@ def message_of(frame: bytes | dict) -> dict | None:
     return message if isinstance(message, dict) else {}
 
 
+def framed(frame: bytes | dict) -> bytes | dict:
+    """A publish frame as it came, decoded once (a Frame) for a handler that reads its header before
+    its message (`sender_of`, then `message_of` when taken); anything else as it is."""
+    if isinstance(frame, dict):
+        return frame
+    try:
+        decoded = decode(frame)
+    except ValueError:
+        return frame
+    return Frame(decoded) if isinstance(decoded, dict) else frame
+
+
 def sender_of(frame: bytes | dict) -> str | None:
     """The `callerid` of a publish frame's connection header, as an `undecoded` handler that asked for
     headers was given it (its publisher's client: app/rosbridge/capabilities/advertise.py); None when

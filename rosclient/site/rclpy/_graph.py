@@ -1,10 +1,11 @@
 """How many publishers and subscriptions a topic has in the graph, as rclpy's counts give them
-(`Node.count_publishers`, `count_subscribers`, `Publisher.get_subscription_count`,
-`Subscription.get_publisher_count`, the matched events of rclpy/event_handler.py).
+(`Node.count_publishers`, `count_subscribers`), and the other clients on a topic (the matched counts
+of rclpy/_endpoints.py: `Publisher.get_subscription_count`, `Subscription.get_publisher_count`, the
+matched events).
 
-Over rosbridge the lab knows clients, not their entities: the count is this program's own entities on
-the topic (every node's, each one) and, from the lab's rosapi, every other client on it, each
-counted once however many it holds — the lab's own node as one when it publishes the topic."""
+rosapi lists clients, not their entities: the count is this program's own entities on the topic
+(every node's, each one) and every other client on it, each counted once however many it holds —
+the lab's own node as one when it publishes the topic."""
 
 from __future__ import annotations
 

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from rosclient import delivery, process
-from rosclient.connection import message_of, sender_of
+from rosclient.connection import framed, message_of, sender_of
 from interfaces.messages import Message
 from rclpy import _endpoints, _graph, context
 from rclpy._entity import Call, Entity
@@ -58,8 +58,10 @@ class Subscription(Entity):
         connection header's `callerid`, read only while some program is: rclpy/_endpoints.py `muted`)."""
         if self._muted[0] != _endpoints.generation[0]:
             self._muted = (_endpoints.generation[0], _endpoints.muted(self._endpoint))
-        if self._muted[1] and sender_of(data) in self._muted[1]:
-            return
+        if self._muted[1]:
+            data = framed(data)  # decoded once: its header now, its message when taken
+            if sender_of(data) in self._muted[1]:
+                return
         self._endpoint.message()
         with context.CONDITION:
             self.received += 1

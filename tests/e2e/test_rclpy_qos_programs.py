@@ -33,11 +33,10 @@ def test_incompatible_programs_are_told_on_both_sides_and_hear_nothing_of_each_o
         programs.append(good)
         listener.wait_for_line("liveliness alive=1 change=1 not_alive=0")  # the compatible talker only
         listener.wait_for_line("matched current=1 change=1")
-        fast_sent = int(fast.wait_for_line("published 10").split()[-1])
+        fast.wait_for_line("published 10")  # ten messages since both listeners subscribed
         heard = int(listener.wait_for_line("heard: good_talker").split()[-1])
         for program in (listener, quiet):  # well after the fast talker's 10th message reached the lab
             program.wait_for_line(f"heard: good_talker {heard + 10}")
-        assert fast_sent == 10
         assert good.interrupt() == 0, good.output
         listener.wait_for_line("liveliness alive=0 change=-1 not_alive=0")
         listener.wait_for_line("matched current=0 change=-1")

@@ -55,7 +55,6 @@ discovered: list[Callable[[Pairs], None]] = []
 class Endpoint:
     """A publisher's or a subscription's part in the events: its QoS and its times."""
 
-    remote = False
     known = True  # its QoS is known (another program's may not be: Remote)
 
     def __init__(self, topic: str, qos: QoSProfile, publisher: bool, node: str) -> None:
@@ -94,8 +93,6 @@ class Endpoint:
 class Remote(Endpoint):
     """Another program's publisher or subscription, as the lab told it: alive while it is listed (its
     program's assertions are not relayed: a MANUAL_BY_TOPIC one counts as alive until it goes)."""
-
-    remote = True
 
     def __init__(self, topic: str, qos: QoSProfile | None, publisher: bool, node: str, client: str,
                  key: tuple) -> None:
@@ -186,6 +183,7 @@ def qos_of(fields: object) -> QoSProfile | None:
     be read (a client's own making: its QoS unknown, never incompatible)."""
     if not isinstance(fields, dict):
         return None
+
     def duration(key: str) -> Duration:
         return Duration(nanoseconds=_nanoseconds(fields.get(key, 0)))
 

@@ -66,10 +66,17 @@ def _publish_topic(frame: bytes) -> str | None:
         return None
 
 
+class Frame(dict):
+    """A publish frame already decoded (for the topic's other handlers, or addressed to one
+    subscription), as an `undecoded` handler is given it: `message_of` reads its message."""
+
+
 def message_of(frame: bytes | dict) -> dict | None:
     """The message of what an `undecoded` handler was given: a publish frame as it came (decoded here),
-    or the message itself when the frame had been decoded for the topic's other handlers; None for a
-    frame that is not JSON."""
+    a Frame, or the message itself (a test's); None for a frame that is not JSON."""
+    if isinstance(frame, Frame):
+        message = frame.get("msg")
+        return message if isinstance(message, dict) else {}
     if isinstance(frame, dict):
         return frame
     try:
@@ -78,6 +85,36 @@ def message_of(frame: bytes | dict) -> dict | None:
         return None
     message = decoded.get("msg") if isinstance(decoded, dict) else None
     return message if isinstance(message, dict) else {}
+
+
+def framed(frame: bytes | dict) -> bytes | dict:
+    """A publish frame as it came, decoded once (a Frame) for a handler that reads its header before
+    its message (`sender_of`, then `message_of` when taken); anything else as it is."""
+    if isinstance(frame, dict):
+        return frame
+    try:
+        decoded = decode(frame)
+    except ValueError:
+        return frame
+    return Frame(decoded) if isinstance(decoded, dict) else frame
+
+
+def sender_of(frame: bytes | dict) -> str | None:
+    """The `callerid` of a publish frame's connection header, as an `undecoded` handler that asked for
+    headers was given it (its publisher's client: app/rosbridge/capabilities/advertise.py); None when
+    it carries none (the lab's own topics, a client without a header) or is not JSON."""
+    if isinstance(frame, Frame):
+        decoded: Any = frame
+    elif isinstance(frame, dict):
+        return None
+    else:
+        try:
+            decoded = decode(frame)
+        except ValueError:
+            return None
+    header = decoded.get("connection_header") if isinstance(decoded, dict) else None
+    caller = header.get("callerid") if isinstance(header, dict) else None
+    return caller if isinstance(caller, str) else None
 
 
 def websocket_url(url: str) -> str:
@@ -130,6 +167,8 @@ class Connection:
         self.service_handlers: dict[str, Callable[[dict], None]] = {}
         self.action_handlers: dict[str, tuple[Callable[[dict], None], Callable[[dict], None]]] = {}
         self.status_handler: Callable[[dict], None] = _print_status
+        # the lab's `endpoints` frames: the other programs' endpoints on this program's topics (rclpy's)
+        self.endpoints_handler: Callable[[dict], None] | None = None
         self.rosout_refused: Callable[[str], None] = lambda reason: (
             None
         )  # the lab refused a /rosout line (process.py keeps it)
@@ -167,13 +206,14 @@ class Connection:
         `handler(msg, header)`, the header of the publisher that sent it ({} when the lab sent none);
         `undecoded`: as the publish frame's bytes, left for the taker to decode (`message_of`): a
         subscription whose queue drops what its callback cannot take never decodes those (30 images a
-        second of 1.2 MB: the reader's JSON held the interpreter 1.6 ms each). `volatile` (the lab's
+        second of 1.2 MB: the reader's JSON held the interpreter 1.6 ms each); with `connection_header`
+        too, the frames carry the header, which `sender_of` reads. `volatile` (the lab's
         extension, rclpy's VOLATILE durability): none of what latched publishers kept; without it
         their history comes first, addressed to this subscription's id (_dispatch)."""
         sid = self.next_id(f"subscribe:{topic}")
         with self._lock:
             self._subscriptions[sid] = (topic, handler)
-            if connection_header:
+            if connection_header and not undecoded:
                 self.header_handlers.setdefault(topic, []).append(handler)
             elif undecoded:
                 self.frame_handlers.setdefault(topic, []).append(handler)
@@ -340,21 +380,7 @@ class Connection:
     def _dispatch(self, message: dict) -> None:
         op = message.get("op")
         if op == "publish":
-            topic = str(message.get("topic"))
-            with self._lock:
-                handlers = list(self.topic_handlers.get(topic, ()))
-                handlers += self.frame_handlers.get(topic, ())  # decoded already, for the topic's other handlers
-                with_header = list(self.header_handlers.get(topic, ()))
-                addressed = self._subscriptions.get(str(message.get("id"))) if "id" in message else None
-            if addressed is not None and addressed[0] == topic:  # a latched message for one subscription
-                handlers = [h for h in handlers if h is addressed[1]]
-                with_header = [h for h in with_header if h is addressed[1]]
-            for handler in handlers:
-                handler(message.get("msg") or {})
-            if with_header:
-                header = message.get("connection_header")
-                for header_handler in with_header:
-                    header_handler(message.get("msg") or {}, header if isinstance(header, dict) else {})
+            self._publish(message)
         elif op == "service_response":
             self._service_response(message)
         elif op == "call_service":
@@ -376,6 +402,32 @@ class Connection:
                 entry[0 if op == "send_action_goal" else 1](message)
         elif op == "status":
             self._status(message)
+        elif op == "endpoints" and self.endpoints_handler is not None:  # other programs' (rclpy/_endpoints.py)
+            self.endpoints_handler(message)
+
+    def _publish(self, message: dict) -> None:
+        """A publish frame decoded: its message to the topic's handlers (a latched one's to the one
+        subscription it is addressed to)."""
+        topic = str(message.get("topic"))
+        with self._lock:
+            handlers = list(self.topic_handlers.get(topic, ()))
+            undecoded = list(self.frame_handlers.get(topic, ()))  # decoded already, for the topic's other handlers
+            with_header = list(self.header_handlers.get(topic, ()))
+            addressed = self._subscriptions.get(str(message.get("id"))) if "id" in message else None
+        if addressed is not None and addressed[0] == topic:  # a latched message for one subscription
+            handlers = [h for h in handlers if h is addressed[1]]
+            undecoded = [h for h in undecoded if h is addressed[1]]
+            with_header = [h for h in with_header if h is addressed[1]]
+        for handler in handlers:
+            handler(message.get("msg") or {})
+        if undecoded:
+            frame = Frame(message)
+            for handler in undecoded:
+                handler(frame)
+        if with_header:
+            header = message.get("connection_header")
+            for header_handler in with_header:
+                header_handler(message.get("msg") or {}, header if isinstance(header, dict) else {})
 
     def _service_response(self, message: dict) -> None:
         """A call's answer to the future its caller waits on: (result, values[, connection header])."""

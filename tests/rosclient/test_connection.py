@@ -7,7 +7,7 @@ import json
 import pytest
 
 from app.rosbridge.internal.shared import dumps
-from rosclient.connection import _publish_topic, decode, message_of
+from rosclient.connection import Frame, _publish_topic, decode, framed, message_of, sender_of
 
 
 def test_the_topic_of_a_labs_publish_frame_is_read_without_decoding_it():
@@ -15,6 +15,19 @@ def test_the_topic_of_a_labs_publish_frame_is_read_without_decoding_it():
     assert _publish_topic(frame) == "/image_raw"
     assert message_of(frame) == {"data": "AQI="}
     assert message_of({"data": "x"}) == {"data": "x"}  # decoded already for another handler
+
+
+def test_a_frames_publisher_is_read_from_its_connection_header_and_the_frame_decoded_once():
+    """rclpy's subscriptions ask for connection headers (the program that sent a message: its `callerid`)."""
+    message = {"data": "hi"}
+    frame = dumps({"op": "publish", "topic": "/chatter", "msg": message, "connection_header": {"callerid": "/talker"}})
+    assert _publish_topic(frame.encode()) == "/chatter"  # the header comes after the message
+    assert sender_of(frame.encode()) == "/talker"
+    once = framed(frame.encode())
+    assert isinstance(once, Frame) and sender_of(once) == "/talker" and message_of(once) == message
+    without = dumps({"op": "publish", "topic": "/chatter", "msg": message}).encode()
+    assert sender_of(without) is None and sender_of(message) is None  # no header; a message itself
+    assert sender_of(b"{") is None and framed(b"{") == b"{"  # not JSON: left as it came
 
 
 def test_any_other_frame_is_left_to_the_usual_decoding():

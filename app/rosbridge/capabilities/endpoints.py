@@ -5,7 +5,18 @@ as a DDS participant announces its readers and writers, e.g.
 `hri-lab run`'s rclpy sends them for its publishers, subscriptions and service clients; rosapi's
 extension `/rosapi/endpoints` lists them (app/rosbridge/rosapi.py), for `topic info -v` (each
 endpoint's node and QoS) and `service info` (its clients). rosbridge_suite has no such op: a client
-that sends none is listed by the topics it advertises and subscribes."""
+that sends none is listed by the topics it advertises and subscribes.
+
+The lab tells them back, as DDS discovery tells a participant the remote readers and writers: a
+client that told publishers (subscriptions) on a topic is sent, with the same op, the other
+clients' subscriptions (publishers) on it, each entity with its `client` (the name the lab gives
+that client: its first node's, the `callerid` of its messages' connection headers), e.g.
+`{"op": "endpoints", "kind": "subscription", "name": "/chatter", "entities": [{"node": "/listener",
+"qos": {...}, "client": "/listener"}]}` — in answer to each of its own `endpoints` frames of a topic
+(when some other client has entities of the opposite kind there), and whenever the others' entities
+of that kind there change, a client that leaves included (its entities gone). The program pairs
+them with its own (rclpy's incompatible-QoS, liveliness and matched events, rclpy/_endpoints.py);
+the lab only relays: it never reads the QoS. Service clients are listed, never paired."""
 
 from __future__ import annotations
 
@@ -18,6 +29,7 @@ from app.rosbridge.protocol import ENDPOINT_KINDS, MAX_CLIENT_TOPICS, BadFrame, 
 MAX_ENTITIES = 64  # of one kind on one name, per client
 MAX_QOS_FIELDS = 16
 MAX_TEXT = 256  # characters of a node name or a QoS value
+PAIRED = {"publisher": "subscription", "subscription": "publisher"}  # the kind a kind's entities are told of
 
 
 class Endpoints(Capability):
@@ -38,16 +50,49 @@ class Endpoints(Capability):
         checked = [_entity(entity) for entity in entities]
         if not checked:
             self.entities.pop((kind, name), None)
-            return
-        if (kind, name) not in self.entities and len(self.entities) >= 3 * MAX_CLIENT_TOPICS:
-            raise BadFrame(f"endpoints: at most {3 * MAX_CLIENT_TOPICS} names per client")
-        self.entities[(kind, name)] = checked
+        else:
+            if (kind, name) not in self.entities and len(self.entities) >= 3 * MAX_CLIENT_TOPICS:
+                raise BadFrame(f"endpoints: at most {3 * MAX_CLIENT_TOPICS} names per client")
+            self.entities[(kind, name)] = checked
+        if kind in PAIRED:
+            if checked:
+                await self._answer(PAIRED[kind], name)
+            self._tell_others(kind, name)
 
     def of(self, kind: str, name: str) -> list[dict]:
         return self.entities.get((kind, name), [])
 
+    def others(self, kind: str, name: str) -> list[dict]:
+        """The other clients' entities of `kind` on `name`, each with its client's name."""
+        return [
+            {**entity, "client": session.name}
+            for session in self.bridge.sessions.all()
+            if session is not self.session
+            for entity in session.endpoints(kind, name)
+        ]
+
+    async def _answer(self, kind: str, name: str) -> None:
+        """This client told entities on `name`: the others' of `kind` there (none: nothing sent)."""
+        entities = self.others(kind, name)
+        if entities:
+            await self.session.send({"op": "endpoints", "kind": kind, "name": name, "entities": entities})
+
+    def _tell_others(self, kind: str, name: str) -> None:
+        """This client's entities of `kind` on `name` changed: every other client with entities of the
+        paired kind there is sent the entities of `kind` it now sees (in a task of its own: a slow
+        client holds up nobody)."""
+        for session in self.bridge.sessions.all():
+            if session is self.session or not session.endpoints(PAIRED[kind], name):
+                continue
+            told = session.capability(Endpoints).others(kind, name)
+            session.spawn(session.send({"op": "endpoints", "kind": kind, "name": name, "entities": told}))
+
     def finish(self) -> None:
-        self.entities.clear()
+        """The client left (no longer among the sessions): the others are told its entities are gone."""
+        held, self.entities = list(self.entities), {}
+        for kind, name in held:
+            if kind in PAIRED:
+                self._tell_others(kind, name)
 
 
 def _entity(entity: object) -> dict:

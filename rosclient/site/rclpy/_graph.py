@@ -1,10 +1,11 @@
 """How many publishers and subscriptions a topic has in the graph, as rclpy's counts give them
-(`Node.count_publishers`, `count_subscribers`, `Publisher.get_subscription_count`,
-`Subscription.get_publisher_count`, the matched events of rclpy/event_handler.py).
+(`Node.count_publishers`, `count_subscribers`), and the other clients on a topic (the matched counts
+of rclpy/_endpoints.py: `Publisher.get_subscription_count`, `Subscription.get_publisher_count`, the
+matched events).
 
-Over rosbridge the lab knows clients, not their entities: the count is this program's own entities on
-the topic (every node's, each one) and, from the lab's rosapi, every other client on it, each
-counted once however many it holds — the lab's own node as one when it publishes the topic."""
+rosapi lists clients, not their entities: the count is this program's own entities on the topic
+(every node's, each one) and every other client on it, each counted once however many it holds —
+the lab's own node as one when it publishes the topic."""
 
 from __future__ import annotations
 
@@ -43,21 +44,23 @@ def remove_publisher(topic: str) -> None:
     CHANGED.set()
 
 
-def _others(service: str, field: str, topic: str) -> int:
-    """The clients other than this program that rosapi lists on `topic`."""
+def other_clients(topic: str, publishers: bool) -> list[str]:
+    """The clients other than this program that rosapi lists publishing (or subscribing to) `topic`,
+    by the names the lab gives them (their first node's)."""
+    service, field = ("/rosapi/publishers", "publishers") if publishers else ("/rosapi/subscribers", "subscribers")
     names = process.connection().call_service(service, {"topic": topic}, timeout=10).get(field, [])
     own = set(process.node_names[:1])  # rosapi names a client by its first node
-    return sum(1 for name in names if name not in own)
+    return [name for name in names if name not in own]
 
 
 def count_subscriptions(topic: str) -> int:
     with _lock:
         own = _subscriptions.get(topic, 0)
-    return own + _others("/rosapi/subscribers", "subscribers", topic)
+    return own + len(other_clients(topic, publishers=False))
 
 
 def count_publishers(topic: str) -> int:
-    return process.publishers_of(topic) + _others("/rosapi/publishers", "publishers", topic)
+    return process.publishers_of(topic) + len(other_clients(topic, publishers=True))
 
 
 # --- the graph's names (Node.get_topic_names_and_types and its kin), from the lab's rosapi -------------

@@ -2,23 +2,26 @@
 `PublisherEventCallbacks` / `SubscriptionEventCallbacks` take them, with rmw's payloads.
 
 - **matched**: the count of subscriptions matched to a publisher (or of publishers to a subscription)
-  changed (rclpy/_graph.py counts them). A watcher thread looks at the counts of every publisher and
-  subscription that has a matched callback at once when this program makes or destroys one and every
-  POLL_S otherwise (other clients come and go through the lab's rosapi).
+  changed: the compatible ones, this program's and the other programs' (rclpy/_endpoints.py
+  `matched`). A watcher thread looks at the counts of every publisher and subscription that has a
+  matched callback at once when this program makes or destroys one or the lab tells of another
+  program's, and every POLL_S otherwise (clients that tell no QoS come and go through rosapi).
 - **deadline**: a publisher that published nothing for its QoS deadline (QoSOfferedDeadlineMissedInfo),
   a subscription that received nothing for it (QoSRequestedDeadlineMissedInfo): one miss a period,
   counted from the first message.
 - **liveliness**: a MANUAL_BY_TOPIC publisher that neither published nor called `assert_liveliness`
-  for its lease (QoSLivelinessLostInfo); a subscription's count of alive and not alive publishers
-  changed (QoSLivelinessChangedInfo): a publisher is alive from when it is made, an AUTOMATIC one
-  until its lease after it was destroyed, a MANUAL_BY_TOPIC one its lease after its last assertion.
+  for its lease (QoSLivelinessLostInfo); a subscription's count of alive and not alive compatible
+  publishers changed (QoSLivelinessChangedInfo): a publisher of this program is alive from when it
+  is made, an AUTOMATIC one until its lease after it was destroyed, a MANUAL_BY_TOPIC one its lease
+  after its last assertion; another program's is alive while the lab lists it (its assertions are
+  not relayed: a MANUAL_BY_TOPIC one of another program is never seen not alive, only gone).
 - **incompatible QoS**: a publisher and a subscription of a topic whose QoS rmw does not match
-  (rclpy/qos.py `incompatible_policies`): each gets a QoS*IncompatibleQoSInfo with the last policy
-  found; without a callback of its own, rclpy's default one warns.
+  (rclpy/qos.py `incompatible_policies`), of this program or another one the lab told of: each side
+  of this program gets a QoS*IncompatibleQoSInfo with the last policy found, once per peer
+  discovered; without a callback of its own, rclpy's default one warns.
 
-The deadline and liveliness events are the executor's to time (`_due`); those that compare a
-subscription with its publishers see this program's endpoints (rclpy/_endpoints.py). Lost messages
-and incompatible types are never told: those callbacks are taken and never called.
+The deadline and liveliness events are the executor's to time (`_due`). Lost messages and
+incompatible types are never told: those callbacks are taken and never called.
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ from rclpy import context as _context
 from rclpy._entity import Call
 from rclpy.callback_groups import CallbackGroup
 from rclpy.logging import get_logger
-from rclpy.qos import LivelinessPolicy, QoSPolicyKind, qos_policy_name_from_kind
+from rclpy.qos import LivelinessPolicy, qos_policy_name_from_kind
 from rclpy.waitable import Waitable
 
 class UnsupportedEventTypeError(Exception):
@@ -272,7 +275,8 @@ class LivelinessLostHandler(EventHandler):
 
 
 class LivelinessChangedHandler(EventHandler):
-    """A subscription's publishers alive and not alive (this program's, rclpy/_endpoints.py)."""
+    """A subscription's compatible publishers alive and not alive (this program's and the others'
+    the lab told of, rclpy/_endpoints.py)."""
 
     def __init__(self, callback_group: CallbackGroup, callback: Callable[[Any], Any],
                  endpoint: _endpoints.Endpoint) -> None:
@@ -281,7 +285,9 @@ class LivelinessChangedHandler(EventHandler):
         self._alive = self._not_alive = 0
 
     def _publishers(self) -> list[_endpoints.Endpoint]:
-        return [p for p in _endpoints.publishers(self._endpoint.topic) if not _endpoints.incompatible(p, self._endpoint)]
+        topic = self._endpoint.topic
+        every = _endpoints.publishers(topic) + _endpoints.remotes(True, topic)
+        return [p for p in every if _endpoints.compatible(p, self._endpoint)]
 
     def _due(self) -> float | None:
         if self._endpoint.destroyed is not None:
@@ -342,7 +348,7 @@ def publisher_handlers(callbacks: Any, group: CallbackGroup, topic: str, endpoin
         handlers.append(LivelinessLostHandler(group, callbacks.liveliness, endpoint))
     handlers += _incompatible(callbacks, group, topic, logger_name, True)
     if callbacks.matched is not None:
-        handlers.append(MatchedHandler(group, callbacks.matched, lambda: _graph.count_subscriptions(endpoint.topic),
+        handlers.append(MatchedHandler(group, callbacks.matched, lambda: _endpoints.matched(endpoint),
                                        QoSPublisherMatchedInfo))
     return handlers
 
@@ -357,7 +363,7 @@ def subscription_handlers(callbacks: Any, group: CallbackGroup, topic: str, endp
     if callbacks.liveliness:
         handlers.append(LivelinessChangedHandler(group, callbacks.liveliness, endpoint))
     if callbacks.matched is not None:
-        handlers.append(MatchedHandler(group, callbacks.matched, lambda: _graph.count_publishers(endpoint.topic),
+        handlers.append(MatchedHandler(group, callbacks.matched, lambda: _endpoints.matched(endpoint),
                                        QoSSubscriptionMatchedInfo))
     return handlers
 
@@ -370,13 +376,24 @@ def _incompatible(callbacks: Any, group: CallbackGroup, topic: str, logger_name:
     return [] if callback is None else [IncompatibleQoSHandler(group, callback)]
 
 
-def tell_incompatible(pairs: list[tuple[_endpoints.Endpoint, _endpoints.Endpoint, QoSPolicyKind]]) -> None:
-    """A new endpoint's incompatible pairs (rclpy/_endpoints.py `add`): an event for each side."""
+def tell_incompatible(pairs: _endpoints.Pairs) -> None:
+    """A new endpoint's incompatible pairs (rclpy/_endpoints.py `add`, `told`): an event for each side
+    of this program (another program's side has no handlers here: its program tells its own)."""
     for publisher, subscription, kind in pairs:
         for endpoint in (publisher, subscription):
             for handler in endpoint.handlers:
                 if isinstance(handler, IncompatibleQoSHandler):
                     handler.found(kind)
+
+
+def _discovered(pairs: _endpoints.Pairs) -> None:
+    """The lab told of other programs' endpoints: their incompatible pairs, and every wait looks again
+    (a subscription's liveliness counts them)."""
+    tell_incompatible(pairs)
+    _context.wake()
+
+
+_endpoints.discovered[:] = [_discovered]
 
 
 # --- the watcher ---------------------------------------------------------------------------------

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from rosclient import process
-from rclpy import _graph
+from rclpy import _endpoints, _graph
 from rclpy import context as _context
 from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from rclpy.client import Client
@@ -184,7 +184,7 @@ class Node:
             self._logger.name)
         for handler in publisher.event_handlers:
             self.add_waitable(handler)
-        tell_incompatible(publisher._incompatible)
+        tell_incompatible(publisher._incompatible + _endpoints.ready(publisher._endpoint))
         return publisher
 
     def create_subscription(self, msg_type: type, topic: str, callback: Callable[..., Any],
@@ -204,7 +204,7 @@ class Node:
             event_callbacks or SubscriptionEventCallbacks(), group, topic, subscription._endpoint, self._logger.name)
         for handler in subscription.event_handlers:
             self.add_waitable(handler)
-        tell_incompatible(subscription._incompatible)
+        tell_incompatible(subscription._incompatible + _endpoints.ready(subscription._endpoint))
         return subscription
 
     def create_service(self, srv_type: Any, srv_name: str, callback: Callable[..., Any], *,

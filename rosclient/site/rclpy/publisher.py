@@ -53,8 +53,8 @@ class Publisher:
         process.publish(self.topic_name, self.type, msg.to_json())
 
     def get_subscription_count(self) -> int:
-        """The subscriptions of its topic in the graph (rclpy/_graph.py)."""
-        return _graph.count_subscriptions(self.topic_name)
+        """rmw's count of the subscriptions matched to it: its topic's compatible ones (rclpy/_endpoints.py)."""
+        return _endpoints.matched(self._endpoint)
 
     def wait_for_all_acked(self, timeout: Any = None) -> bool:
         return True

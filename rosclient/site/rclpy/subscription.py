@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from rosclient import delivery, process
-from rosclient.connection import message_of
+from rosclient.connection import framed, message_of, sender_of
 from interfaces.messages import Message
 from rclpy import _endpoints, _graph, context
 from rclpy._entity import Call, Entity
@@ -34,7 +34,7 @@ class Subscription(Entity):
         self.topic_name = node.resolve_topic_name(topic)
         self._endpoint = _endpoints.Endpoint(self.topic_name, self.qos_profile, False, node.get_fully_qualified_name())
         self._incompatible = _endpoints.add(self._endpoint)  # told once its handlers are made (node.py)
-        self._deaf = (-1, False)  # (the endpoints' generation, whether it hears none of the program's publishers)
+        self._muted: tuple[int, set[str]] = (-1, set())  # (the endpoints' generation, the programs it does not hear)
         depth = self.qos_profile.queue_length
         self._queue: deque[bytes | dict[str, Any]] = delivery.bounded_queue(depth)  # frames, decoded when taken
         self.received = 0  # messages that reached the program (the queue may have dropped some since)
@@ -42,22 +42,26 @@ class Subscription(Entity):
             self.topic_name,
             type_name(msg_type),
             self._offer,
+            connection_header=True,
             undecoded=True,
             volatile=self.qos_profile.durability != DurabilityPolicy.TRANSIENT_LOCAL,
         )  # every message (delivery.LAB_QUEUE): the QoS depth is this subscription's own queue; a
-        # TRANSIENT_LOCAL one gets first what the latched publishers kept (as many as its depth keeps)
+        # TRANSIENT_LOCAL one gets first what the latched publishers kept (as many as its depth keeps);
+        # each with its publisher's connection header (its program: `_offer`)
         self._destroyed = False
         self.event_handlers: list[Any] = []  # rclpy/event_handler.py
         _graph.add_subscription(self.topic_name)
 
     def _offer(self, data: bytes | dict[str, Any]) -> None:
         """A message from the lab (the connection's reader thread): its frame, decoded only if taken.
-        None while every publisher of the topic in this program offers an incompatible QoS (the lab
-        does not say which program sent a message: another program's are not heard then either)."""
-        if self._deaf[0] != _endpoints.generation[0]:
-            self._deaf = (_endpoints.generation[0], _endpoints.deaf(self._endpoint))
-        if self._deaf[1]:
-            return
+        Not one of a program every publisher of the topic of which offers an incompatible QoS (its
+        connection header's `callerid`, read only while some program is: rclpy/_endpoints.py `muted`)."""
+        if self._muted[0] != _endpoints.generation[0]:
+            self._muted = (_endpoints.generation[0], _endpoints.muted(self._endpoint))
+        if self._muted[1]:
+            data = framed(data)  # decoded once: its header now, its message when taken
+            if sender_of(data) in self._muted[1]:
+                return
         self._endpoint.message()
         with context.CONDITION:
             self.received += 1
@@ -85,8 +89,8 @@ class Subscription(Entity):
         return self.topic_name
 
     def get_publisher_count(self) -> int:
-        """The publishers of its topic in the graph (rclpy/_graph.py)."""
-        return _graph.count_publishers(self.topic_name)
+        """rmw's count of the publishers matched to it: its topic's compatible ones (rclpy/_endpoints.py)."""
+        return _endpoints.matched(self._endpoint)
 
     def destroy(self) -> None:
         if not self._destroyed:

@@ -10,6 +10,7 @@ import pytest
 
 from interfaces import sequences
 from rosclient import boot, process
+from rosclient.connection import Frame
 
 GENERATED = ("std_msgs", "example_interfaces", "rcl_interfaces", "builtin_interfaces", "geometry_msgs", "tf2_msgs", "sensor_msgs",
              "action_msgs", "unique_identifier_msgs")  # fmt: skip
@@ -25,6 +26,8 @@ class RecordingConnection:
         self.service_handlers: dict[str, object] = {}
         self.calls: list[WireFuture] = []
         self.with_header: set = set()
+        self.framed: set = set()  # undecoded handlers that asked for connection headers (rclpy's subscriptions)
+        self.endpoints_handler = None  # the lab's `endpoints` frames to the program (rclpy/_endpoints.py)
         self.queue_lengths: dict[str, int] = {}  # what each subscription asked the lab to hold for it
         self.volatile: dict[str, bool] = {}  # whether each topic's newest subscription asked for no latched history
 
@@ -36,8 +39,10 @@ class RecordingConnection:
         self.topic_handlers.setdefault(topic, []).append(handler)
         self.queue_lengths[topic] = queue_length
         self.volatile[topic] = volatile
-        if connection_header:  # handler(msg, header): the lab relayed no publisher's header here
+        if connection_header and not undecoded:  # handler(msg, header): the lab relayed no publisher's header here
             self.with_header.add(handler)
+        if connection_header and undecoded:  # handler(frame): the publish frame, with its header when one is given
+            self.framed.add(handler)
         return f"subscribe:{topic}"
 
     def unsubscribe(self, topic, sid, handler) -> None:
@@ -55,9 +60,16 @@ class RecordingConnection:
         self.calls.append(future)
         return future
 
-    def publish(self, topic: str, msg: dict) -> None:
+    def publish(self, topic: str, msg: dict, sender: str | None = None) -> None:
+        """`msg` on `topic` to its handlers, as the lab relays it; `sender`: the `callerid` of its
+        publisher's connection header (the program that published it), for the handlers that asked."""
+        frame = Frame({"op": "publish", "topic": topic, "msg": msg,
+                       **({"connection_header": {"callerid": sender}} if sender else {})})
         for handler in list(self.topic_handlers.get(topic, [])):
-            handler(msg, {}) if handler in self.with_header else handler(msg)
+            if handler in self.with_header:
+                handler(msg, {"callerid": sender} if sender else {})
+            else:
+                handler(frame if handler in self.framed else msg)
 
     def call(self, service: str, call_id: str, args: dict) -> None:
         self.service_handlers[service]({"op": "call_service", "id": call_id, "service": service, "args": args})

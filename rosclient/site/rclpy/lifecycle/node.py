@@ -6,6 +6,7 @@ import time
 from enum import IntEnum
 from typing import Any, NamedTuple
 
+from rclpy import _endpoints
 from rclpy.lifecycle.managed_entity import ManagedEntity
 from rclpy.lifecycle.publisher import LifecyclePublisher
 from rclpy.node import Node
@@ -214,6 +215,7 @@ class LifecycleNode(LifecycleNodeMixin, Node):
     def create_lifecycle_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int,
                                    **kwargs: Any) -> LifecyclePublisher:
         publisher = LifecyclePublisher(self, msg_type, topic, qos_profile)
+        _endpoints.ready(publisher._endpoint)  # no event handlers: the pairs the lab's news made are not kept
         self.publishers.append(publisher)
         self.add_managed_entity(publisher)
         return publisher

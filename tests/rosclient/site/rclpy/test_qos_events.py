@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import time
 
+from rosclient import process
 from tests.waiting import wait_for
 
 
@@ -43,7 +44,7 @@ def test_an_incompatible_publisher_and_subscription_are_each_told_and_nothing_is
     executor.add_node(talker)
     executor.add_node(listener)
     publisher.publish(String(data="lost"))
-    rclpy.connection.publish("/chatter", {"data": "lost"})  # as the lab relays it back
+    rclpy.connection.publish("/chatter", {"data": "lost"}, sender=process.node_names[0])  # as the lab relays it back
     spin_until(executor, lambda: offered and requested)
     assert (offered[0].total_count, offered[0].total_count_change) == (1, 1)
     assert (requested[0].total_count, requested[0].total_count_change) == (1, 1)
@@ -227,3 +228,59 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
     node.destroy_publisher(publisher)
     node.destroy_client(client)
     assert told("publisher", "/demo/chatter") == [] and told("client", "/add_two_ints") == []
+
+
+def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rclpy, capsys):
+    """DDS discovery over the lab (rclpy/_endpoints.py `told`): the other programs' publishers and
+    subscriptions on this program's topics, as the lab's `endpoints` frames tell them. An incompatible
+    one is an event on this program's side (once per peer: told again, nothing new), rclpy's default
+    warning without a callback; its program's messages are not heard while a compatible program's
+    are; a compatible publisher counts in the subscription's liveliness while it is listed."""
+    from rclpy.event_handler import SubscriptionEventCallbacks
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    node = rclpy.create_node("listener", start_parameter_services=False)
+    requested: list = []
+    changed: list = []
+    heard: list = []
+    node.create_subscription(String, "chatter", lambda m: heard.append(m.data), QoSProfile(depth=10),
+                             event_callbacks=SubscriptionEventCallbacks(incompatible_qos=requested.append,
+                                                                        liveliness=changed.append))
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    lab = rclpy.connection.endpoints_handler  # the program listens once it has an endpoint
+    best_effort = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "deadline": 0, "liveliness": "AUTOMATIC",
+                   "liveliness_lease_duration": 0, "lifespan": 0}
+    reliable = {**best_effort, "reliability": "RELIABLE"}
+    fast = {"node": "/fast_talker", "qos": best_effort, "client": "/fast_talker"}
+    good = {"node": "/good_talker", "qos": reliable, "client": "/good_talker"}
+    lab({"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [fast, good]})
+    spin_until(executor, lambda: requested and changed)
+    assert (requested[0].total_count, requested[0].total_count_change) == (1, 1)
+    assert f"{requested[0].last_policy_kind}" == "rmw_qos_policy_kind_t.RMW_QOS_POLICY_RELIABILITY"
+    assert (changed[0].alive_count, changed[0].alive_count_change) == (1, 1)  # the compatible one only
+    rclpy.connection.publish("/chatter", {"data": "best effort"}, sender="/fast_talker")
+    rclpy.connection.publish("/chatter", {"data": "reliable"}, sender="/good_talker")
+    rclpy.connection.publish("/chatter", {"data": "unknown"})  # a client that tells no QoS (the lab's node)
+    spin_until(executor, lambda: len(heard) == 2)
+    lab({"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [good, fast]})  # nothing new
+    lab({"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [fast]})  # the good one left
+    spin_until(executor, lambda: len(changed) >= 2)
+    assert (changed[1].alive_count, changed[1].not_alive_count, changed[1].alive_count_change) == (0, 0, -1)
+    assert len(requested) == 1 and heard == ["reliable", "unknown"]
+
+    # a publisher without callbacks: rclpy's default warning for a transient-local subscription elsewhere;
+    # a QoS the program cannot read, or an entity of no QoS, is never incompatible
+    node.create_publisher(String, "durable", QoSProfile(depth=10))
+    durable = {**reliable, "durability": "TRANSIENT_LOCAL"}
+    lab({"op": "endpoints", "kind": "subscription", "name": "/durable", "entities": [
+        {"node": "/late", "qos": durable, "client": "/late"}, {"node": "/odd", "qos": {"reliability": "SOMETIMES"},
+                                                               "client": "/odd"}, {"node": "/rospy", "client": "/x"}]})
+    warned: list[str] = []
+    spin_until(executor, lambda: warned.extend(capsys.readouterr().err.splitlines()) or any(
+        "incompatible QoS" in line for line in warned))
+    assert [line.split("]: ", 1)[1] for line in warned if "incompatible QoS" in line] == [
+        "New subscription discovered on topic 'durable', requesting incompatible QoS. No messages will be sent to "
+        "it. Last incompatible policy: DURABILITY"]

@@ -99,6 +99,12 @@ def framed(frame: bytes | dict) -> bytes | dict:
     return Frame(decoded) if isinstance(decoded, dict) else frame
 
 
+def header_of(decoded: dict) -> dict:
+    """A decoded publish frame's connection header, its publisher's ({} when the lab sent none)."""
+    header = decoded.get("connection_header")
+    return header if isinstance(header, dict) else {}
+
+
 def sender_of(frame: bytes | dict) -> str | None:
     """The `callerid` of a publish frame's connection header, as an `undecoded` handler that asked for
     headers was given it (its publisher's client: app/rosbridge/capabilities/advertise.py); None when
@@ -112,8 +118,7 @@ def sender_of(frame: bytes | dict) -> str | None:
             decoded = decode(frame)
         except ValueError:
             return None
-    header = decoded.get("connection_header") if isinstance(decoded, dict) else None
-    caller = header.get("callerid") if isinstance(header, dict) else None
+    caller = header_of(decoded).get("callerid") if isinstance(decoded, dict) else None
     return caller if isinstance(caller, str) else None
 
 
@@ -425,9 +430,9 @@ class Connection:
             for handler in undecoded:
                 handler(frame)
         if with_header:
-            header = message.get("connection_header")
+            header = header_of(message)
             for header_handler in with_header:
-                header_handler(message.get("msg") or {}, header if isinstance(header, dict) else {})
+                header_handler(message.get("msg") or {}, header)
 
     def _service_response(self, message: dict) -> None:
         """A call's answer to the future its caller waits on: (result, values[, connection header])."""

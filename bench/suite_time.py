@@ -46,12 +46,18 @@ PROGRAM_KINDS = (
     ("pytest worker", re.compile(r"exec\(eval\(sys\.stdin|-m pytest|/pytest\b")),
     ("multiprocessing's spawned child", re.compile(r"multiprocessing\.spawn")),
 )
+LAB_CHILDREN = ("hri-lab-sim", "hri-lab-camera")
 CLI = re.compile(r"(?:hri-lab|app\.cli) ([a-z][a-z0-9-]*)")
 
 
-def program_kind(cmdline: list[str]) -> str:
+def program_kind(cmdline: list[str], name: str = "") -> str:
     """What a process of the run is, from its command line: `hri-lab COMMAND` by its command (a lab
-    is `hri-lab serve`), else one of PROGRAM_KINDS, else its program's name."""
+    is `hri-lab serve`), else one of PROGRAM_KINDS, else its program's name. A lab's forked
+    children keep its command line and tell apart by their process `name`: "hri-lab-sim" (the
+    simulation's loop) and "hri-lab-camera" (app/runtime/process.py, name_this_process), counted
+    apart with the program that forked them (a lab, or a worker's in-process lab)."""
+    if name in LAB_CHILDREN:
+        return f"{name} ({program_kind(cmdline)})"
     text = " ".join(cmdline)
     for kind, pattern in PROGRAM_KINDS[:3]:  # before the CLI: they may be started through it
         if pattern.search(text):
@@ -87,7 +93,7 @@ class ProcessTree:
                     key = (child.pid, child.create_time())
                     times = child.cpu_times()
                     if key not in self.seen:
-                        self.seen[key] = [program_kind(child.cmdline()), 0.0]
+                        self.seen[key] = [program_kind(child.cmdline(), child.name()), 0.0]
                     self.seen[key][1] = times.user + times.system
             except psutil.Error:  # gone between the listing and the reading
                 continue

@@ -65,6 +65,9 @@ def test_a_process_is_named_by_its_program():
     assert program_kind(["/usr/lib/chromium/chromium", "--type=gpu-process"]) == "chromium"
     assert program_kind(["python", "-u", "-c", "import sys;exec(eval(sys.stdin.readline()))"]) == "pytest worker"
     assert program_kind(["/usr/bin/sleep", "1"]) == "sleep"
+    lab = ["/v/bin/python", "/v/bin/hri-lab", "serve"]
+    assert program_kind(lab, "hri-lab-sim") == "hri-lab-sim (hri-lab serve)"  # a lab's fork, by its name
+    assert program_kind(["python", "-m", "pytest"], "hri-lab-camera") == "hri-lab-camera (pytest worker)"
 
 
 def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):

@@ -1,8 +1,9 @@
 """An idle lab: CPU of `hri-lab serve --view none` (the server and its simulation process) while
 nothing happens, as CPU seconds over wall seconds; then the same while a node commands the robot
-(lifting started), when the loop is back at 1 ms granularity.
+(lifting started), when the loop is back at 1 ms granularity. `--view light` (or `full`): the lab
+as `make run` and the hub start it, its 3D view served and nobody looking at it.
 
-    .venv/bin/python -m bench.idle_cpu [--seconds 10]
+    .venv/bin/python -m bench.idle_cpu [--seconds 10] [--view none|light|full]
 """
 
 from __future__ import annotations
@@ -55,8 +56,10 @@ def share_of_a_core(pid: int, seconds: float) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--view", choices=("none", "light", "full"), default="none", help="the 3D view, not opened")
     args = parser.parse_args()
-    with running_server("--view", "none") as server, httpx.Client(base_url=server.url, timeout=10.0) as http:
+    print(f"hri-lab serve --view {args.view}")
+    with running_server("--view", args.view) as server, httpx.Client(base_url=server.url, timeout=10.0) as http:
         time.sleep(2.0)  # start-up work done (first requests, kernels warm)
         idle = share_of_a_core(server.proc.pid, args.seconds)
         health = http.get("/health").json()

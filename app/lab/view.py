@@ -3,7 +3,8 @@ plate, the box, the person's palm, F_ext split into its normal and tangential pa
 force, a translucent friction cone, the box's path; and the lab's controls. The controls call the
 same service registry and action server as the API (no second code path).
 
-The scene is redrawn from the loop's snapshot at `rate_hz` inside `server.atomic()`. Light mode
+The scene is redrawn from the loop's snapshot at `rate_hz` inside `server.atomic()` while a browser
+looks (`watched`); the box's path is kept whoever looks. Light mode
 draws the collision meshes (simple, few triangles) for software-rendered browsers.
 """
 
@@ -18,7 +19,7 @@ from sim.recording.scene import ARROW_COLOURS, COLOURS, FORCE_SCALE, arrows_of, 
 from sim.world import Snapshot
 
 from app.lab import commands
-from app.view.scene import SceneShapes, SceneView, guarded_websocket_server, wxyz
+from app.view.scene import SceneShapes, SceneView, guarded_websocket_server, watched, wxyz
 
 CAMERA_POSITION = (0.2, 1.6, 0.9)  # m, base frame: the robot and the box in view, from the person's side
 CAMERA_LOOK_AT = (0.3, 0.1, 0.5)
@@ -105,13 +106,17 @@ class LabView(SceneView):
         if self.controls:
             self.gizmo.on_update(self._on_gizmo)
 
+    def record(self, s: Snapshot) -> None:
+        """Keep what the view accumulates whoever looks: the box's path."""
+        self._path.append(s.box_position.copy())
+
     def update(self, s: Snapshot) -> None:
-        """Redraw everything that moves from one snapshot."""
+        """Record, then redraw everything that moves from one snapshot."""
         started = time.perf_counter()
+        self.record(s)
         transform = s.transform_ee_to_base
         arrows = arrows_of(s, self.plate_offset)
         state = state_of(s)
-        self._path.append(s.box_position.copy())
         shapes = self.shapes
         with self.server.atomic():
             self.robot.place(s.q)
@@ -137,7 +142,11 @@ class LabView(SceneView):
         period = 1.0 / self.rate_hz
         while not self._stop.wait(period):
             try:
-                self.update(self.lab.snapshot())
+                snapshot = self.lab.snapshot()
+                if watched(self.server):
+                    self.update(snapshot)
+                else:
+                    self.record(snapshot)
             except Exception as exc:  # noqa: BLE001 - a drawing problem never stops the lab
                 self.status_message = f"view error: {exc}"
 

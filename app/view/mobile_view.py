@@ -20,12 +20,12 @@ from sim.mobile.recording import arena_description
 from sim.mobile.world import MobileSnapshot
 
 from app.view.replay import ReplayView
-from app.view.scene import CAMERA_FOV, PANEL_WIDTH, guarded_websocket_server
+from app.view.scene import CAMERA_FOV, PANEL_WIDTH, guarded_websocket_server, watched
 
 WALL_COLOUR, OBSTACLE_COLOUR, BASE_COLOUR = (150, 150, 160), (230, 160, 60), (60, 60, 70)
 SCAN_COLOUR, TRAIL_COLOUR, CONTACT_COLOUR = (220, 30, 30), (40, 120, 220), (230, 40, 40)
 BASE_HEIGHT = 0.143  # m, the Burger's stack (drawn)
-TRAIL_POINTS = 2000  # odometry poses kept (one per redraw)
+TRAIL_POINTS = 2000  # odometry poses kept (one per period of the view's thread)
 
 
 def yaw_wxyz(yaw: float) -> tuple[float, float, float, float]:
@@ -123,7 +123,7 @@ class MobileScene:
 
 
 class MobileView:
-    """The live view: the scene redrawn from the lab's snapshots."""
+    """The live view: the scene redrawn from the lab's snapshots while a browser looks (`watched`)."""
 
     def __init__(
         self, lab, host: str = "127.0.0.1", port: int = 8080, light: bool = False, rate_hz: float = 20.0
@@ -152,8 +152,13 @@ class MobileView:
         self._thread.join(timeout=2.0)
         self.server.stop()
 
-    def update(self, s: MobileSnapshot) -> None:
+    def record(self, s: MobileSnapshot) -> None:
+        """Keep what the view accumulates whoever looks: the odometry's trail."""
         self._trail.append((float(s.odom_pose[0]), float(s.odom_pose[1])))
+
+    def update(self, s: MobileSnapshot) -> None:
+        """Record, then redraw from one snapshot."""
+        self.record(s)
         scan = None
         if s.scan_time != self._scan_time:
             self._scan_time = s.scan_time
@@ -170,7 +175,11 @@ class MobileView:
         period = 1.0 / self.rate_hz
         while not self._stop.wait(period):
             try:
-                self.update(self.lab.snapshot())
+                snapshot = self.lab.snapshot()
+                if watched(self.server):
+                    self.update(snapshot)
+                else:
+                    self.record(snapshot)
             except Exception:  # noqa: BLE001 - a drawing problem never stops the lab
                 pass
 

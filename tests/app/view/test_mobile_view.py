@@ -15,6 +15,8 @@ from sim.mobile.world import MobileConfig, MobileWorld, seeded_config
 
 from app.mobile.lab import MobileLab
 from app.view.mobile_view import MobileReplayView, MobileView, scan_points
+from tests.app.view.looking import a_browser
+from tests.waiting import wait_for
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +50,29 @@ def test_the_view_follows_the_base_and_its_scan(view):
         view.update(world.snapshot())
     end = view.scene.trail.points[-1][1]
     assert end[:2] == pytest.approx(world.odom_pose[:2], abs=1e-3)  # float16/32 in viser
+
+
+def test_it_draws_only_while_a_browser_looks():
+    """Nobody looking, the view's thread keeps the odometry's trail and draws nothing; a browser
+    that connects is drawn for; once it leaves, nothing again."""
+    lab = MobileLab(MobileConfig(arena=Arena((1.5, 1.5), ())), realtime=False)
+    view = MobileView(lab, port=0, light=True, rate_hz=200.0)
+    draws: list[float] = []
+    draw = view.scene.draw
+    view.scene.draw = lambda *args: (draws.append(1.0), draw(*args))  # type: ignore[method-assign]  # a spy
+    view.start()  # the first frame, drawn at the start
+    try:
+        drawn, kept = len(draws), len(view._trail)
+        wait_for(lambda: len(view._trail) >= kept + 5)  # five periods of the thread
+        assert len(draws) == drawn == 1
+        with a_browser(view.server):
+            wait_for(lambda: len(draws) >= drawn + 3)
+        drawn, kept = len(draws), len(view._trail)
+        wait_for(lambda: len(view._trail) >= kept + 5)
+        assert len(draws) <= drawn + 1  # at most the frame begun as the browser left
+    finally:
+        view.stop()
+        lab.stop()
 
 
 def test_a_recording_replays_in_the_view(tmp_path):

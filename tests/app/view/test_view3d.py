@@ -11,6 +11,8 @@ from app.lab.lab import Lab
 from app.lab.services import SERVICES
 from app.lab.view import FORCE_SCALE, LabView, state_of
 from app.ros.actions import ActionServer
+from tests.app.view.looking import a_browser
+from tests.waiting import wait_for
 
 
 @pytest.fixture(scope="module")
@@ -159,3 +161,23 @@ def test_the_default_camera_frames_the_robot_and_the_box_beside_the_panel(view):
         assert abs(x_px) < 0.95 * width_px / 2 and abs(y_px) < 0.95 * height_px / 2, (point, x_px, y_px)
     assert view.gizmo.fixed
     assert view.gizmo.scale == GIZMO_SIZE >= 80
+
+
+def test_it_draws_only_while_a_browser_looks():
+    """Nobody looking, the view's thread keeps the box's path and draws nothing; a browser that
+    connects is drawn for; once it leaves, nothing again."""
+    lab = Lab(realtime=False)
+    view = LabView(lab, ActionServer(ACTIONS, lab), SERVICES, port=0, light=True, rate_hz=200.0)
+    view.start()  # the first frame, drawn at the start: what a browser that connects is sent
+    try:
+        drawn, kept = len(view.frame_times), len(view._path)
+        wait_for(lambda: len(view._path) >= kept + 5)  # five periods of the thread
+        assert len(view.frame_times) == drawn == 1
+        with a_browser(view.server):
+            wait_for(lambda: len(view.frame_times) >= drawn + 3)
+        drawn, kept = len(view.frame_times), len(view._path)
+        wait_for(lambda: len(view._path) >= kept + 5)
+        assert len(view.frame_times) <= drawn + 1  # at most the frame begun as the browser left
+    finally:
+        view.stop()
+        lab.stop()

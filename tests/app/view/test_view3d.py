@@ -49,6 +49,9 @@ def test_force_arrow_follows_f_ext(view):
 
 def test_colours_tell_the_state(view):
     world = view.lab.runtime.world
+    world.reset()
+    world.start_lifting(10.0)
+    world.run(1.5)  # pressing the box (whatever the tests before left)
     snapshot = world.snapshot()
     assert state_of(snapshot) in ("inside", "below", "above", "slipping")
     world.stop_lifting()

@@ -71,7 +71,7 @@ def guarded_websocket_server(bound_host: str):
 def watched(server: viser.ViserServer) -> bool:
     """A browser has this view open. A live view draws only then: nobody looking, it keeps what it
     accumulates (the box's path, the odometry's trail) and draws nothing, so an idle lab whose view
-    nobody opened spends no CPU on frames (`python -m bench.idle_cpu --view light`). A browser that
+    nobody opened spends no CPU on frames (`python -m bench.idle_cpu --view full`). A browser that
     connects is sent the scene as last drawn; the next frame (1/rate_hz later) brings it up to date."""
     return bool(server.get_clients())
 

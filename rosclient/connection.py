@@ -109,16 +109,10 @@ def sender_of(frame: bytes | dict) -> str | None:
     """The `callerid` of a publish frame's connection header, as an `undecoded` handler that asked for
     headers was given it (its publisher's client: app/rosbridge/capabilities/advertise.py); None when
     it carries none (the lab's own topics, a client without a header) or is not JSON."""
-    if isinstance(frame, Frame):
-        decoded: Any = frame
-    elif isinstance(frame, dict):
+    decoded = framed(frame)
+    if not isinstance(decoded, Frame):  # a message itself, or not a JSON object
         return None
-    else:
-        try:
-            decoded = decode(frame)
-        except ValueError:
-            return None
-    caller = header_of(decoded).get("callerid") if isinstance(decoded, dict) else None
+    caller = header_of(decoded).get("callerid")
     return caller if isinstance(caller, str) else None
 
 

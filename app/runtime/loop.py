@@ -72,9 +72,9 @@ class SharedSeconds(Protocol):
 
 
 class SimulationLoop(Generic[S]):
-    max_behind = 0.05  # s; further behind than this, the loop drops the missed periods
+    max_behind = 0.1  # s; further behind than this, the loop drops the missed periods
     stats_every = 100  # ticks between two updates of the lateness percentiles
-    batch_period = 0.02  # s between two wake-ups of an idle loop (< max_behind)
+    batch_period = 0.05  # s between two wake-ups of an idle loop (max_behind - batch_period: a late wake-up's room)
     fine_hold = 1.0  # s at 1 ms granularity after the last command
 
     def __init__(

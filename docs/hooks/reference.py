@@ -33,7 +33,9 @@ def _defaults() -> dict[str, Any]:
     from sim.controllers.interface import LiftingParams
     from sim.monitor import TrialRules
 
-    return {"LiftingParams": LiftingParams(), "TrialRules": TrialRules()}
+    from app.runtime.loop import SimulationLoop
+
+    return {"LiftingParams": LiftingParams(), "TrialRules": TrialRules(), "SimulationLoop": SimulationLoop}
 
 
 def value(match: re.Match[str]) -> str:

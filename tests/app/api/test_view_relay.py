@@ -50,6 +50,6 @@ def test_the_views_page_is_relayed_and_a_404_when_the_view_is_off():
 
 
 def test_the_servers_modules_import_without_httpx():
-    program = "import sys, app.cli.serve, app.serving.compose; print('httpx' in sys.modules)"
+    program = "import sys, app.cli.serve, app.serving.serve; print('httpx' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert done.stdout.strip() == "False", done.stdout + done.stderr

@@ -1,6 +1,6 @@
 """Where the test suite's time goes: each test file's wall time (its tests' setup, call and teardown,
 as pytest reports them) and its CPU time (the worker's own and its children's: the servers, nodes,
-sandboxes and browsers it started), the longest first. CPU seconds are what a shared machine is
+sandboxes and browsers it started; `own s` the worker's own alone), the longest first. CPU seconds are what a shared machine is
 short of; wall seconds are what a worker waits.
 
     .venv/bin/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder -p bench.suite_time [FILES]
@@ -32,6 +32,7 @@ import psutil
 import pytest
 
 KEY = "suite_time_cpu_s"
+OWN_KEY = "suite_time_own_cpu_s"  # the worker's own, without its children
 SAMPLE_PERIOD_S = 0.25  # s between two readings of the run's process tree (the program table)
 
 # (kind, pattern of the command line), the first match names a process; forks keep their parent's
@@ -110,11 +111,16 @@ class ProcessTree:
         return [(kind, count[kind], seconds) for kind, seconds in cpu.most_common()]
 
 
+def own_cpu_s() -> float:
+    """CPU seconds (user + system) of this process alone."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    return own.ru_utime + own.ru_stime
+
+
 def cpu_s() -> float:
     """CPU seconds (user + system) of this process and of its children that have ended."""
-    own = resource.getrusage(resource.RUSAGE_SELF)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+    return own_cpu_s() + children.ru_utime + children.ru_stime
 
 
 class SuiteTime:
@@ -123,24 +129,24 @@ class SuiteTime:
     def __init__(self, programs: ProcessTree | None = None) -> None:
         self.started = time.monotonic()
         self.programs = programs
-        self.cpu_at_start: dict[str, float] = {}
-        self.files: dict[str, dict[str, float]] = {}  # file -> tests, wall_s, setup_s, cpu_s
+        self.cpu_at_start: dict[str, tuple[float, float]] = {}  # test -> (CPU s with children, own CPU s)
+        self.files: dict[str, dict[str, float]] = {}  # file -> tests, wall_s, setup_s, cpu_s, own_cpu_s
 
     @pytest.hookimpl(hookwrapper=True)
     def pytest_runtest_setup(self, item):
-        self.cpu_at_start[item.nodeid] = cpu_s()
+        self.cpu_at_start[item.nodeid] = (cpu_s(), own_cpu_s())
         yield
 
     @pytest.hookimpl(hookwrapper=True)
     def pytest_runtest_makereport(self, item, call):
         outcome = yield
         if call.when == "teardown":  # the test's CPU, from before its setup to after its teardown
-            spent = cpu_s() - self.cpu_at_start.pop(item.nodeid, cpu_s())
-            outcome.get_result().user_properties.append((KEY, spent))
+            with_children, own = self.cpu_at_start.pop(item.nodeid, (cpu_s(), own_cpu_s()))
+            outcome.get_result().user_properties += [(KEY, cpu_s() - with_children), (OWN_KEY, own_cpu_s() - own)]
 
     def pytest_runtest_logreport(self, report) -> None:  # on xdist's controller: every worker's reports
         entry = self.files.setdefault(
-            report.nodeid.split("::")[0], {"tests": 0, "wall_s": 0.0, "setup_s": 0.0, "cpu_s": 0.0}
+            report.nodeid.split("::")[0], {"tests": 0, "wall_s": 0.0, "setup_s": 0.0, "cpu_s": 0.0, "own_cpu_s": 0.0}
         )
         entry["wall_s"] += report.duration
         if report.when == "setup":
@@ -148,6 +154,7 @@ class SuiteTime:
             entry["setup_s"] += report.duration
         elif report.when == "teardown":
             entry["cpu_s"] += dict(report.user_properties).get(KEY, 0.0)
+            entry["own_cpu_s"] += dict(report.user_properties).get(OWN_KEY, 0.0)
 
     def pytest_terminal_summary(self, terminalreporter) -> None:
         if not self.files:
@@ -157,9 +164,11 @@ class SuiteTime:
         wall, cpu = sum(e["wall_s"] for _, e in rows), sum(e["cpu_s"] for _, e in rows)
         write("")
         write(f"suite time by file: {len(rows)} files, {wall:.0f} s of test wall time, {cpu:.0f} s of CPU")
-        write(f"{'wall s':>7} {'setup s':>7} {'CPU s':>7} {'tests':>5}  file")
+        write(f"{'wall s':>7} {'setup s':>7} {'CPU s':>7} {'own s':>7} {'tests':>5}  file")
         for path, e in rows:
-            write(f"{e['wall_s']:7.1f} {e['setup_s']:7.1f} {e['cpu_s']:7.1f} {int(e['tests']):5d}  {path}")
+            write(
+                f"{e['wall_s']:7.1f} {e['setup_s']:7.1f} {e['cpu_s']:7.1f} {e['own_cpu_s']:7.1f} {int(e['tests']):5d}  {path}"
+            )
         if self.programs is not None:
             kinds = self.programs.stop()
             write("")

@@ -1,5 +1,5 @@
 """bench/suite_time.py, the plugin that tells where the suite's time goes: each file's tests,
-setup, wall and CPU seconds in the table, the longest file first, and the JSON."""
+setup, wall and CPU seconds (with its children's and the worker's own) in the table, the longest file first, and the JSON."""
 
 import json
 import os
@@ -16,6 +16,8 @@ pytest_plugins = ["pytester"]
 def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypatch, tmp_path):
     pytester.makepyfile(
         test_slow="""
+        import subprocess
+        import sys
         import time
         import pytest
 
@@ -30,6 +32,10 @@ def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypa
             start = time.process_time()
             while time.process_time() - start < 0.4:
                 pass
+
+        def test_a_child_burns_cpu():
+            burn = "import time\\nt = time.process_time()\\nwhile time.process_time() - t < 0.3: pass"
+            subprocess.run([sys.executable, "-c", burn], check=True)
         """,
         test_quick="""
         def test_nothing():
@@ -39,18 +45,19 @@ def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypa
     out = tmp_path / "times.json"
     monkeypatch.setenv("HRI_LAB_SUITE_TIME", str(out))
     result = pytester.runpytest("-p", "bench.suite_time", "-p", "no:cacheprovider")
-    result.assert_outcomes(passed=3)
+    result.assert_outcomes(passed=4)
     lines = result.outlines
     header = lines.index(next(line for line in lines if line.startswith("suite time by file: 2 files")))
-    assert lines[header + 1].split() == ["wall", "s", "setup", "s", "CPU", "s", "tests", "file"]
+    assert lines[header + 1].split() == ["wall", "s", "setup", "s", "CPU", "s", "own", "s", "tests", "file"]
     assert lines[header + 2].endswith("test_slow.py")
     assert lines[header + 3].endswith("test_quick.py")
     times = json.loads(out.read_text())
     slow = times["test_slow.py"]
-    assert slow["tests"] == 2
+    assert slow["tests"] == 3
     assert slow["setup_s"] >= 0.3
     assert slow["wall_s"] >= slow["setup_s"] + 0.4
-    assert slow["cpu_s"] >= 0.4  # the loop's CPU
+    assert slow["own_cpu_s"] >= 0.4  # the loop's CPU
+    assert slow["cpu_s"] >= slow["own_cpu_s"] + 0.3  # and the child's, which the worker's own leaves out
     assert times["test_quick.py"]["tests"] == 1
 
 

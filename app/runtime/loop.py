@@ -18,6 +18,11 @@ simulated time; only their wall-clock spacing changes), publishing the last of t
 only by a reader of every step's sample (`sample`, a 1 kHz F_ext subscriber), with no reader of
 snapshots that needs them oftener than `batch_period` (`snapshot_spacing`), publishes a snapshot
 once per `batch_period`, as an idle batch does: the snapshot's write is most of a step's cost.
+
+Behind the wall clock by more than `max_behind` (a paused or overloaded machine), the loop drops the
+periods it missed (`LoopStats.overruns`) rather than run them back to back without the controller's
+commands; the periods that came due during an idle sleep, late by design, get one `batch_period`
+more (`behind_limit`).
 """
 
 from __future__ import annotations
@@ -72,9 +77,9 @@ class SharedSeconds(Protocol):
 
 
 class SimulationLoop(Generic[S]):
-    max_behind = 0.1  # s; further behind than this, the loop drops the missed periods
+    max_behind = 0.05  # s; further behind than this (`behind_limit`), the loop drops the missed periods
     stats_every = 100  # ticks between two updates of the lateness percentiles
-    batch_period = 0.05  # s between two wake-ups of an idle loop (max_behind - batch_period: a late wake-up's room)
+    batch_period = 0.05  # s between two wake-ups of an idle loop
     fine_hold = 1.0  # s at 1 ms granularity after the last command
 
     def __init__(
@@ -108,6 +113,7 @@ class SimulationLoop(Generic[S]):
         self._started = 0.0
         self._last_command = 0.0  # perf_counter() of the last command run
         self._catching_up = False  # stepping the periods that came due during an idle sleep
+        self._slept_until = -math.inf  # perf_counter s: the end of the last idle sleep (`behind_limit`)
 
     def submit(self, call_id: int, fn: Callable[..., object], args: tuple) -> None:
         """Queue fn(world, *args) for the next tick; reply(call_id, ...) answers it."""
@@ -125,6 +131,14 @@ class SimulationLoop(Generic[S]):
             return self.world.config.dt
         needed = self._granularity.value if self._granularity is not None else self.batch_period
         return max(self.world.config.dt, min(self.batch_period, needed))
+
+    def behind_limit(self, tick: float) -> float:
+        """s behind the wall clock beyond which the loop drops the missed periods, for the period due
+        at `tick` (perf_counter s): `max_behind` (a controller's commands meet the world as late as
+        they were sent, never a longer backlog of steps run without them); one `batch_period` more
+        for a period that came due while the loop slept idle (`_slept_until`): it is late by design,
+        and a late wake-up keeps `max_behind` of room."""
+        return self.max_behind + (self.batch_period if tick <= self._slept_until else 0.0)
 
     def run(self) -> None:
         """Tick until stopped (in the calling thread); records `fatal` if something escapes."""
@@ -158,12 +172,13 @@ class SimulationLoop(Generic[S]):
             now = time.perf_counter()
             if done:
                 self._last_command = now
-            if now - next_tick > self.max_behind:  # far behind (paused, overloaded): resync
+            if now - next_tick > self.behind_limit(next_tick):  # far behind (paused, overloaded): resync
                 self.stats.overruns += 1
                 next_tick = now
             elif (wake := self.wake_period(now)) > period:  # idle: sleep until a batch is due (or a
-                if next_tick > now:  # command comes), then catch up
-                    self._wake.wait(next_tick - period + wake - now)
+                self._slept_until = next_tick - period + wake  # command comes), then catch up
+                if next_tick > now:
+                    self._wake.wait(self._slept_until - now)
                     self._wake.clear()
                 self.stats.batched += 1
                 self._catching_up = True

@@ -3,6 +3,7 @@ steps in batches; the steps are the same ones (the same world at the same tick a
 directly), and a command brings 1 ms granularity back until the robot is left alone again."""
 
 import threading
+import time
 
 import numpy as np
 
@@ -77,6 +78,21 @@ def test_a_commanded_robot_is_stepped_at_1_ms_granularity_and_idles_again_when_l
         running.call(2, cmd.stop_lifting)
         wait_for(lambda: not world.commanded)  # the command ramps down to zero (rate limit)
         wait_for(lambda: loop.stats.batched > batched)  # left alone: it sleeps again
+
+
+def test_a_commanded_loop_stalled_beyond_max_behind_drops_the_periods_it_missed():
+    """At 1 ms granularity the loop runs at most `max_behind` of missed periods back to back: a
+    controller's commands never meet a longer backlog of steps run without them (an idle batch's
+    periods, late by design, get one `batch_period` more: `behind_limit`)."""
+    world = World()
+    with _Running(world) as running:
+        loop = running.loop
+        running.call(1, cmd.start_lifting, 10.0)
+        ticks = loop.stats.ticks
+        wait_for(lambda: loop.stats.ticks >= ticks + 3 * loop.batch_period / world.config.dt)  # past the idle periods
+        overruns = loop.stats.overruns
+        running.call(2, lambda w: time.sleep(1.5 * loop.max_behind))  # a stall in the loop (a paused machine)
+        wait_for(lambda: loop.stats.overruns > overruns)
 
 
 def test_readers_set_how_often_an_idle_loop_wakes():

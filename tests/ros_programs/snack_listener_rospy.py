@@ -25,9 +25,9 @@ def callback(msg):
 
 def listener():
     rospy.init_node("snack_listener", anonymous=True)
-    rospy.Subscriber("snacks", String, callback)
-    mine = String("built here")
+    mine = String("built here")  # told before subscribing: a latched message's callback may come at once
     print("a message built here has a connection header: %s" % hasattr(mine, "_connection_header"), flush=True)
+    rospy.Subscriber("snacks", String, callback)
     rospy.spin()
 
 

@@ -19,7 +19,6 @@ from tests.ros_running import run
 from tests.waiting import wait_for
 
 TOLERANCE_PX = 5
-IMAGE_LAG_S = 1.0  # s of simulated time the image a node answers from may lag (a bound for a loaded machine)
 DETECTED = "detected_target_position"  # the node's service, remapped beside the lab's own
 
 
@@ -32,10 +31,6 @@ def lab():
 def lab_pixel(lab) -> np.ndarray:
     answer = http.post(f"{lab.url}/services/get_target_position", json={"get": True}, timeout=30).json()
     return np.array([answer["x"], answer["y"]])
-
-
-def sim_time(lab) -> float:
-    return http.get(f"{lab.url}/health", timeout=30).json()["sim_time"]
 
 
 def distance_to_path(point: np.ndarray, path: list[np.ndarray]) -> float:
@@ -117,24 +112,23 @@ def test_the_detection_node_answers_within_5_px_at_rest_and_while_carried(lab):
 
         at_rest = np.array(wait_for(first_detection, timeout=90))  # its first images came
         assert np.abs(detected() - lab_pixel(lab)).max() <= TOLERANCE_PX, at_rest
-        # the person lifts and carries the box: each answer is within 5 px of the box's path in the
-        # image over the last IMAGE_LAG_S of simulated time (the lab's answers before it and the one
-        # after it; at least the last five): the node answers from the last image it got, which on a
-        # loaded machine can be older than its previous answers
+        # the person lifts and carries the box: each answer is within 5 px of the path the box took in
+        # the image since the lift began (the lab's answers, a polyline): the node answers from the
+        # last image it got, which on a loaded machine may be seconds old, so no lag is bounded here
+        # (a bound on the machine's speed); and its answers follow the box away from where it rested
         start = lab_pixel(lab)
         assert http.post(f"{lab.url}/services/start_cooperative_lifting", json={"force": 10.0}).status_code == 200
-        seen: list[tuple[float, np.ndarray]] = [(sim_time(lab), start)] * 4
-        checked = 0
+        path = [start]
+        checked, followed = 0, False
         end = time.monotonic() + 120
-        while time.monotonic() < end and checked < 30:
+        while time.monotonic() < end and (checked < 30 or not followed):
             answer = detected()
-            seen.append((sim_time(lab), lab_pixel(lab)))
-            recent = [pixel for t, pixel in seen if t >= seen[-1][0] - IMAGE_LAG_S]
-            path = recent if len(recent) >= 5 else [pixel for _, pixel in seen[-5:]]
-            if answer is not None and np.abs(seen[-1][1] - start).max() > 10:  # the box moved in the image
-                assert distance_to_path(answer, path) <= TOLERANCE_PX, (answer, path)
+            path.append(lab_pixel(lab))
+            if answer is not None and np.abs(path[-1] - start).max() > 10:  # the box moved in the image
+                assert distance_to_path(answer, path) <= TOLERANCE_PX, (answer, path[-5:])
+                followed = followed or np.abs(answer - start).max() > 10
                 checked += 1
-        assert checked >= 10, "the box was not carried across the image"
+        assert checked >= 10 and followed, "the box was not carried across the image, or the node never saw it move"
         windows = wait_for(lambda: http.get(f"{lab.url}/camera/windows", timeout=30).json())
         assert windows[0]["name"] == "detection"
         assert windows[0]["topic"] == "/image_windows/detection"

@@ -6,12 +6,15 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 import pytest
 
 from app.serving.launch import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -212,3 +215,20 @@ def _answers(url: str) -> bool:
         return http.get(url, timeout=5).status_code == 200
     except Exception:  # noqa: BLE001 - not listening yet
         return False
+
+
+def test_a_taken_port_is_refused_before_the_servers_modules_are_imported():
+    """A second lab on a port in use ends at once (a reader who forgot the first one): it says what
+    to do, without the second or so of CPU the server's modules take to import (app/cli/serve.py)."""
+    program = (
+        "import sys; from app.cli.main import main; code = main(['serve', '--view', 'none', '--port', sys.argv[1]]); "
+        "print(code, sorted(m for m in ('uvicorn', 'app.serving.serve', 'app.serving.compose', 'numba') if m in sys.modules))"
+    )
+    with socket.create_server(("127.0.0.1", 0)) as taken:
+        port = taken.getsockname()[1]
+        done = subprocess.run(
+            [sys.executable, "-c", program, str(port)], capture_output=True, text=True, timeout=300, cwd=ROOT
+        )
+    assert done.stdout.strip() == "1 []", done.stdout + done.stderr
+    assert f"127.0.0.1:{port} is in use" in done.stderr
+    assert "One lab per port" in done.stderr

@@ -1,8 +1,17 @@
 # `make run` and `make test` each set everything up (idempotent) and then run.
-PYTHON ?= python3
+# The interpreter the venv is made from: the system's own python3 (Debian's and Ubuntu's are built
+# with profile-guided optimization and link-time optimization) when it is 3.11 or newer and can make
+# a venv, else python3 on PATH (pyenv builds without them by default: a grade took 27 % more CPU);
+# `make PYTHON=/path/to/python3` picks another. The venv is made again when it was made from another.
+SYSTEM_PYTHON := /usr/bin/python3
+ifeq ($(origin PYTHON),undefined)
+PYTHON := $(shell $(SYSTEM_PYTHON) -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null && echo $(SYSTEM_PYTHON) || echo python3)
+endif
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+PYTHON_HOME := $(shell $(PYTHON) -c 'import os, sys; print(os.path.dirname(sys._base_executable))' 2>/dev/null)
+VENV_MADE_FROM := $(shell sed -n 's/^home = //p' $(VENV)/pyvenv.cfg 2>/dev/null)
 # pyproject's extras the venv gets (the container image: hub,nodes)
 EXTRAS ?= test
 # Debian's packages beside the venv (scripts/system-deps.sh): apt-get runs only when one is missing
@@ -17,10 +26,14 @@ DEPS   := scripts/system-deps.sh
 UV_VERSION := $(shell sed -n 's/^UV = "uv==\(.*\)".*/\1/p' app/cli/autograder.py)  # one pin: the Gradescope bundle's (app/cli/autograder.py)
 UV := $(BIN)/uv pip install --quiet --compile-bytecode --python $(BIN)/python
 $(STAMP): pyproject.toml
-	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || { echo "hri-lab needs Python >= 3.11: $(PYTHON) is $$($(PYTHON) --version 2>&1)"; exit 1; }
+	test -x $(BIN)/python && test "$(VENV_MADE_FROM)" = "$(PYTHON_HOME)" || $(PYTHON) -m venv --clear $(VENV)
 	$(BIN)/python -m pip install --quiet uv==$(UV_VERSION)
 	$(UV) -e '.[$(EXTRAS)]'
 	touch $(STAMP)
+ifneq ($(VENV_MADE_FROM),$(PYTHON_HOME))
+.PHONY: $(STAMP)  # made from another interpreter: made again
+endif
 
 # JupyterHub's proxy (npm's configurable-http-proxy), beside the venv, for the hub test (tests/e2e/test_jupyterhub.py)
 CHP := $(VENV)/chp/node_modules/.bin/configurable-http-proxy

@@ -39,7 +39,9 @@ SETUP_TIMEOUT = 2400.0  # s: a fresh venv from the package cache and the kernels
 RUN_TIMEOUT = 1200.0  # s: a whole battery, and a lab started for the services
 
 
-IMAGE_PATH = "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"  # an Ubuntu image's: its python3 is Ubuntu's
+IMAGE_PATH = (
+    "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"  # an Ubuntu image's: its python3 is Ubuntu's
+)
 
 
 def clean_env(**extra: str) -> dict:

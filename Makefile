@@ -1,8 +1,9 @@
 # `make run` and `make test` each set everything up (idempotent) and then run.
 # The interpreter the venv is made from: the system's own python3 (Debian's and Ubuntu's are built
 # with profile-guided optimization and link-time optimization) when it is 3.11 or newer and can make
-# a venv, else python3 on PATH (pyenv builds without them by default: a grade took 27 % more CPU);
-# `make PYTHON=/path/to/python3` picks another. The venv is made again when it was made from another.
+# a venv, else python3 on PATH (pyenv builds without them by default; what it costs:
+# docs/getting-started.md#the-interpreter); `make PYTHON=/path/to/python3` picks another. The venv is
+# made again when it was made from another.
 SYSTEM_PYTHON := /usr/bin/python3
 ifeq ($(origin PYTHON),undefined)
 PYTHON := $(shell $(SYSTEM_PYTHON) -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null && echo $(SYSTEM_PYTHON) || echo python3)

@@ -1,6 +1,7 @@
 import ctypes
 import os
 import signal
+import sys
 import time
 from multiprocessing import resource_tracker
 from pathlib import Path
@@ -131,6 +132,8 @@ def no_process_left_behind():
     descendants, so a worker orphaned by its parent comes back to it and is seen here."""
     ctypes.CDLL(None, use_errno=True).prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
     yield
+    if "tests.lab_zygote" in sys.modules:  # the labs' zygote, if this process started one (tests/e2e/serving.py)
+        sys.modules["tests.lab_zygote"].close()
     deadline = time.monotonic() + 15.0  # processes told to stop may take a moment
     own_tracker = resource_tracker._resource_tracker._pid  # this run's own helper (ends with it), if started
     while True:

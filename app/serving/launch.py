@@ -50,15 +50,19 @@ class ServerProcess:
         self.started = time.perf_counter()
         self._output = None if "--output-dir" in args else tempfile.TemporaryDirectory(prefix="hri-lab-serve-")
         output = ("--output-dir", self._output.name) if self._output else ()
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "app.cli", "serve", "--port", str(self.port), *output, *args],
+        self.proc = self._start(["serve", "--port", str(self.port), *output, *args], own_session)
+        self.banner = self._wait_ready(timeout)
+        self.ready_after = time.perf_counter() - self.started
+
+    def _start(self, arguments: list[str], own_session: bool) -> subprocess.Popen:
+        """`hri-lab ARGUMENTS` started, its output (stdout and stderr) read from `stdout`."""
+        return subprocess.Popen(
+            [sys.executable, "-m", "app.cli", *arguments],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             text=True,
             start_new_session=own_session,  # out of the terminal's Ctrl+C: its starter stops it (hri-lab launch)
         )
-        self.banner = self._wait_ready(timeout)
-        self.ready_after = time.perf_counter() - self.started
 
     def _wait_ready(self, timeout: float) -> str:
         lines: list[str] = []

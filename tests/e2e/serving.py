@@ -1,11 +1,31 @@
-"""A real `hri-lab serve` for a test file: `lab = served_lab("--exercises")` at a module's top gives
-its tests a module-scoped fixture `lab`, the server process (app/serving/launch.py: `url`, `port`),
-started once for the file and stopped after it. (tests/conftest.py's `lab`, which a file without
-this line gets, is the in-process app's Lab.)"""
+"""A real `hri-lab serve` for a test: `running_server(ARGS)` (a context manager), and `lab =
+served_lab("--exercises")` at a module's top, which gives its tests a module-scoped fixture `lab`,
+started once for the file and stopped after it (the server: app/serving/launch.py's `url`, `port`,
+`proc`). (tests/conftest.py's `lab`, which a file without this line gets, is the in-process app's Lab.)
+
+The lab is forked from the suite's warm zygote (tests/lab_zygote.py: the server's modules imported
+and the kernels loaded once per pytest process), then runs `hri-lab serve ARGS` as the command does."""
+
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import pytest
 
-from app.serving.launch import running_server
+from app.serving.launch import ServerProcess
+from tests.lab_zygote import ForkedServer
+
+# HRI_LAB_TEST_LABS=command: each lab started as the command (`python -m app.cli serve`), to compare
+STARTED = ServerProcess if os.environ.get("HRI_LAB_TEST_LABS") == "command" else ForkedServer
+
+
+@contextmanager
+def running_server(*args: str) -> Iterator[ServerProcess]:
+    server = STARTED(*args)
+    try:
+        yield server
+    finally:
+        server.stop()
 
 
 def served_lab(*args: str):

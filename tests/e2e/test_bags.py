@@ -19,8 +19,8 @@ from rosbags.typesys import Stores, get_typestore
 from sim.recording import bounded
 
 from app.recording import bags
-from app.serving.launch import running_server
 from tests import hostile_bags
+from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.ros_running import run
 from tests.waiting import wait_for

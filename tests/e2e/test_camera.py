@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import roslibpy
 
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.ros_running import run
 from tests.waiting import wait_for

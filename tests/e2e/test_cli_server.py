@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
 

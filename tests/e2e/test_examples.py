@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 

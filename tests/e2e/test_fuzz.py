@@ -3,8 +3,8 @@ cases per operation (the longer run: `python -m bench.fuzz`)."""
 
 import pytest
 
-from app.serving.launch import running_server
 from bench.fuzz import fuzz
+from tests.e2e.serving import running_server
 
 
 @pytest.fixture(scope="module")

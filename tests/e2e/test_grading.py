@@ -303,7 +303,7 @@ def test_a_batch_reports_every_file_even_those_that_cannot_load(tmp_path):
 def test_a_raising_plugin_in_the_live_server_stops_the_robot_not_the_server():
     import time
 
-    from app.serving.launch import running_server
+    from tests.e2e.serving import running_server
 
     with running_server("--view", "none", "--controller", f"{CONTROLLERS / 'broken.py'}:Raising") as server:
         url = server.url

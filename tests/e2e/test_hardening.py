@@ -11,7 +11,7 @@ import pytest
 
 from app.api.access import is_loopback
 from app.lab import commands as cmd
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
 

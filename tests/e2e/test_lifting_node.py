@@ -6,8 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from app.serving.launch import running_server
 from tests.e2e.lifting import carry_the_box, slow_commands
+from tests.e2e.serving import running_server
 
 NODE = Path(__file__).resolve().parents[1] / "nodes" / "lifting_solution.py"
 

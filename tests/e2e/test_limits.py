@@ -19,7 +19,7 @@ from app.ros.messages import Empty
 from app.security import MAX_BODY_BYTES
 from app.serving.compose import create_app
 from app.serving.http import server_config
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 from tests.http_client import http
 
 YAML = {"content-type": "application/yaml"}

@@ -11,8 +11,7 @@ from base64 import b64decode
 
 import roslibpy
 
-from app.serving.launch import running_server
-from tests.e2e.serving import served_lab
+from tests.e2e.serving import running_server, served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for

@@ -3,8 +3,8 @@
 only through rosbridge (F_ext in, Twist commands out). As tests/e2e/test_lifting_node.py (the roslibpy
 node), the command period is raised to 5 s: the test machine is shared (tests/e2e/lifting.py)."""
 
-from app.serving.launch import running_server
 from tests.e2e.lifting import carry_the_box, slow_commands
+from tests.e2e.serving import running_server
 from tests.ros_running import run
 
 

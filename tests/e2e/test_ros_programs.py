@@ -9,8 +9,7 @@ import sys
 import pytest
 
 from app.grading.services import grade_services
-from app.serving.launch import running_server
-from tests.e2e.serving import served_lab
+from tests.e2e.serving import running_server, served_lab
 from tests.http_client import http
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for

@@ -8,7 +8,7 @@ import time
 
 import httpx
 
-from app.serving.launch import running_server
+from tests.e2e.serving import running_server
 from tests.waiting import wait_for
 
 

@@ -7,8 +7,8 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 import pytest
 
-from app.serving.launch import running_server
 from tests.e2e.browser.test_page import ARGS, CHROMIUM
+from tests.e2e.serving import running_server
 from tests.http_client import http
 
 ATTACK = """<!doctype html><title>evil</title>

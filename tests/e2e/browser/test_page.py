@@ -11,7 +11,7 @@ from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 from sim.controllers.interface import LiftingParams
 
-from app.serving.launch import free_port, running_server
+from app.serving.launch import free_port
 from bench.page_responsiveness import (
     ARGS,
     CHROMIUM,
@@ -20,6 +20,7 @@ from bench.page_responsiveness import (
     open_controls,
     round_trips,
 )
+from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.waiting import wait_for
 

@@ -1,0 +1,84 @@
+"""The suite's labs forked from its zygote (tests/lab_zygote.py) are `hri-lab serve` as the command
+starts it: the same banner, the same end on SIGTERM, the test's environment and working folder,
+a process group of its own when asked, and the test run waits for it as for any child."""
+
+import os
+import signal
+
+from app.serving.launch import ServerProcess, stop_group
+from tests.e2e.serving import running_server
+from tests.http_client import http
+from tests.lab_zygote import ForkedServer
+from tests.waiting import wait_for
+
+TOKEN = "z9gote-z9gote-z9gote"
+
+
+def banner(server) -> list[str]:
+    """The lines it printed until ready, its port masked."""
+    text = server.banner.replace(str(server.port), "PORT")
+    return [line for line in text.splitlines() if line.strip()]
+
+
+def test_a_forked_lab_prints_serves_and_ends_as_the_command_does():
+    command = ServerProcess("--view", "none")
+    try:
+        forked = ForkedServer("--view", "none")
+        try:
+            assert banner(forked) == banner(command)
+            assert http.get(f"{forked.url}/health").json()["loop_alive"] is True
+            assert os.getppid() != forked.proc.pid and forked.proc.poll() is None
+        finally:
+            forked.stop()
+    finally:
+        command.stop()
+    assert forked.proc.returncode == command.proc.returncode == -signal.SIGTERM
+
+
+def test_the_tests_environment_and_folder_are_the_labs(tmp_path, monkeypatch):
+    (tmp_path / "params.yaml").write_text("keytwist:\n  ros__parameters:\n    linear_speed: 0.3\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HRI_LAB_TOKEN", TOKEN)  # `serve --token`'s default
+    with running_server("--view", "none", "--params", "params.yaml") as server:  # a path from the test's folder
+        assert http.get(f"{server.url}/params/keytwist/linear_speed").json()["value"] == 0.3
+        refused = http.post(f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2})
+        assert refused.status_code == 401
+        answer = http.post(
+            f"{server.url}/services/add_two_ints", json={"a": 1, "b": 2}, headers={"Authorization": f"Bearer {TOKEN}"}
+        )
+        assert answer.json() == {"sum": 3}
+
+
+def test_a_lab_in_a_session_of_its_own_is_stopped_with_its_group():
+    server = ForkedServer("--view", "none", own_session=True)
+    try:
+        assert os.getpgid(server.proc.pid) == server.proc.pid != os.getpgid(0)
+        (simulation,) = [p for p in children(server.proc.pid) if "hri-lab-sim" in name(p)]
+        assert os.getpgid(simulation) == server.proc.pid
+    finally:
+        stop_group(server.proc, 10.0)
+    assert server.proc.returncode is not None
+    wait_for(
+        lambda: gone(simulation)
+    )  # with its group (its parent gone, it may wait as a zombie for the run to reap it)
+
+
+def gone(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/status") as handle:
+            return "zombie" in handle.read()
+    except FileNotFoundError:
+        return True
+
+
+def children(pid: int) -> list[int]:
+    found = []
+    for task in os.listdir(f"/proc/{pid}/task"):
+        with open(f"/proc/{pid}/task/{task}/children") as handle:
+            found += [int(p) for p in handle.read().split()]
+    return found
+
+
+def name(pid: int) -> str:
+    with open(f"/proc/{pid}/comm") as handle:
+        return handle.read().strip()

@@ -1,0 +1,225 @@
+"""A warm start for the suite's labs: `hri-lab serve` forked from a process that has imported the
+server and warmed the simulation's compiled kernels once, as a forkserver does, instead of a new
+interpreter importing them for every lab (~1.3 s of CPU a lab, ~50 labs a run; a forked one ~0.2 s).
+
+After the fork the lab runs `hri-lab`'s own `main(["serve", ...])` with the test's environment,
+working folder and output: the same code as `python -m app.cli serve` runs once its imports are
+done. What a test of the command's own start needs (its refusals before the imports, its import
+time) starts the command itself (`app.serving.launch.ServerProcess`, `tests/e2e/test_cli_server.py`).
+
+One zygote per pytest process, started at its first lab and stopped at the session's end
+(tests/conftest.py). Each lab is forked twice (the zygote's child forks the lab and exits), so the
+lab is adopted by the test run, the subreaper of its descendants (tests/conftest.py): the test
+waits for it and reads its exit status as for any child (`ForkedLab`).
+
+    python -m tests.lab_zygote FD      # FD: the socket the requests come on (one JSON line and one descriptor each)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+import traceback
+from typing import IO
+
+from app.serving.launch import ServerProcess
+
+PR_SET_PDEATHSIG = 1
+
+
+class ForkedLab:
+    """The part of `subprocess.Popen` a test uses, for a lab the test run adopted (its child)."""
+
+    def __init__(self, pid: int, stdout: IO[str], args: list[str]) -> None:
+        self.pid, self.stdout, self.args = pid, stdout, args
+        self.returncode: int | None = None
+
+    def _reaped(self, flags: int) -> int | None:
+        if self.returncode is None:
+            try:
+                pid, status = os.waitpid(self.pid, flags)
+            except ChildProcessError:  # reaped elsewhere (the run's own check at its end)
+                self.returncode = -signal.SIGKILL
+                return self.returncode
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+        return self.returncode
+
+    def poll(self) -> int | None:
+        return self._reaped(os.WNOHANG)
+
+    def wait(self, timeout: float | None = None) -> int:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.poll() is None:
+            if deadline is not None and time.monotonic() > deadline:
+                raise subprocess.TimeoutExpired(self.args, timeout or 0.0)
+            time.sleep(0.01)
+        assert self.returncode is not None
+        return self.returncode
+
+    def send_signal(self, sig: int) -> None:
+        if self.poll() is None:
+            os.kill(self.pid, sig)
+
+    def terminate(self) -> None:
+        self.send_signal(signal.SIGTERM)
+
+    def kill(self) -> None:
+        self.send_signal(signal.SIGKILL)
+
+
+def _parent(pid: int) -> int:
+    with open(f"/proc/{pid}/stat") as stat:
+        return int(stat.read().rsplit(")", 1)[1].split()[1])
+
+
+class Zygote:
+    """The worker's side: the zygote process and the socket its requests go on."""
+
+    def __init__(self) -> None:
+        ours, theirs = socket.socketpair()
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "tests.lab_zygote", str(theirs.fileno())],
+            pass_fds=[theirs.fileno()],
+            stdin=subprocess.DEVNULL,
+        )
+        theirs.close()
+        self._socket, self._lock = ours, threading.Lock()
+        self._answers = ours.makefile("r")
+
+    def fork(self, arguments: list[str], own_session: bool) -> ForkedLab:
+        """`hri-lab ARGUMENTS` forked, with this process's environment and working folder."""
+        read, write = os.pipe()
+        request = {"argv": arguments, "env": dict(os.environ), "cwd": os.getcwd(), "session": own_session}
+        with self._lock:
+            try:
+                socket.send_fds(self._socket, [json.dumps(request).encode() + b"\n"], [write])
+            finally:
+                os.close(write)
+            answer = self._answers.readline()
+        if not answer:
+            os.close(read)
+            raise RuntimeError(f"the labs' zygote has ended (status {self.process.poll()})")
+        lab = ForkedLab(int(answer), os.fdopen(read, "r"), ["hri-lab", *arguments])
+        if _parent(lab.pid) != os.getpid():  # not adopted: nobody here could wait for it
+            os.kill(lab.pid, signal.SIGKILL)
+            raise RuntimeError("a forked lab is adopted only by a subreaper: tests/conftest.py makes the test run one")
+        return lab
+
+    def close(self) -> None:
+        self._socket.close()
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+_zygote: Zygote | None = None
+
+
+def zygote() -> Zygote:
+    global _zygote
+    if _zygote is None or _zygote.process.poll() is not None:
+        _zygote = Zygote()
+    return _zygote
+
+
+def close() -> None:
+    """The zygote stopped, if this process started one (the session's end)."""
+    global _zygote
+    if _zygote is not None:
+        _zygote.close()
+        _zygote = None
+
+
+class ForkedServer(ServerProcess):
+    """`ServerProcess` whose lab is forked from the zygote."""
+
+    def _start(self, arguments: list[str], own_session: bool) -> ForkedLab:
+        return zygote().fork(arguments, own_session)
+
+
+# --- the zygote's side ---------------------------------------------------------------------------
+def _lab(request: dict, output: int) -> None:
+    """In the forked lab: the test's output, session, folder and environment; then `hri-lab`."""
+    os.dup2(output, 1)
+    os.dup2(output, 2)
+    os.close(output)
+    if request["session"]:
+        os.setsid()
+    os.chdir(request["cwd"])
+    os.environ.clear()
+    os.environ.update(request["env"])
+    sys.argv = ["hri-lab", *request["argv"]]
+    code = 1
+    try:
+        from app.cli.main import main
+
+        code = main(request["argv"])
+    except SystemExit as stop:
+        code = stop.code if isinstance(stop.code, int) else 1
+    except BaseException:  # noqa: BLE001 - a forked lab never returns into the zygote's loop: it ends here
+        traceback.print_exc()
+    finally:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code or 0)
+
+
+def _serve(requests: socket.socket) -> None:
+    answers = requests.makefile("w")
+    pending = b""
+    while True:
+        message, fds, _, _ = socket.recv_fds(requests, 1 << 20, 1)
+        if not message:
+            return
+        pending += message
+        if not pending.endswith(b"\n"):  # a request larger than one read: the rest comes next
+            for fd in fds:
+                os.close(fd)
+            continue
+        request, pending = json.loads(pending), b""
+        told, tell = os.pipe()
+        middle = os.fork()
+        if middle == 0:  # forks the lab and ends: the lab is adopted by the test run
+            requests.close()
+            os.close(told)
+            lab = os.fork()
+            if lab == 0:
+                os.close(tell)
+                _lab(request, fds[0])
+            os.write(tell, str(lab).encode())
+            os._exit(0)
+        os.close(tell)
+        for fd in fds:
+            os.close(fd)
+        os.waitpid(middle, 0)
+        with os.fdopen(told) as pid:
+            answers.write(pid.read() + "\n")
+        answers.flush()
+
+
+def _warm() -> None:
+    """What every lab's start would do first: import the server and the worlds, load the kernels."""
+    from sim.warm_up import warm_up
+
+    import app.cli.main
+    import app.cli.serve
+    import app.serving.serve
+    import app.serving.worlds  # noqa: F401  (both worlds' packages)
+
+    warm_up()  # every kernel loaded from numba's cache (make test's set-up compiled them)
+
+
+if __name__ == "__main__":
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)  # dies with its test run
+    _warm()
+    _serve(socket.socket(fileno=int(sys.argv[1])))

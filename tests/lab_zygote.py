@@ -176,20 +176,19 @@ def _lab(request: dict, output: int) -> None:
 
 def _serve(requests: socket.socket) -> None:
     answers = requests.makefile("w")
-    pending = b""
+    pending, fds = b"", []
     while True:
-        message, fds, _, _ = socket.recv_fds(requests, 1 << 20, 1)
+        message, received, _, _ = socket.recv_fds(requests, 1 << 20, 1)
         if not message:
             return
-        pending += message
+        pending, fds = pending + message, fds + received
         if not pending.endswith(b"\n"):  # a request larger than one read: the rest comes next
-            for fd in fds:
-                os.close(fd)
             continue
         request, pending = json.loads(pending), b""
         told, tell = os.pipe()
         middle = os.fork()
         if middle == 0:  # forks the lab and ends: the lab is adopted by the test run
+            answers.close()
             requests.close()
             os.close(told)
             lab = os.fork()
@@ -201,6 +200,7 @@ def _serve(requests: socket.socket) -> None:
         os.close(tell)
         for fd in fds:
             os.close(fd)
+        fds = []
         os.waitpid(middle, 0)
         with os.fdopen(told) as pid:
             answers.write(pid.read() + "\n")
@@ -214,7 +214,7 @@ def _warm() -> None:
     import app.cli.main
     import app.cli.serve
     import app.serving.serve
-    import app.serving.worlds  # noqa: F401  (both worlds' packages)
+    import app.serving.worlds  # noqa: F401 - imported for what they import: the command, the server, both worlds
 
     warm_up()  # every kernel loaded from numba's cache (make test's set-up compiled them)
 

@@ -46,6 +46,7 @@ PROGRAM_KINDS = (
     ("ROS 1 (Debian)", re.compile(r"/usr/bin/ros|rosmaster")),
     ("pytest worker", re.compile(r"exec\(eval\(sys\.stdin|-m pytest|/pytest\b")),
     ("multiprocessing's spawned child", re.compile(r"multiprocessing\.spawn")),
+    ("hri-lab serve", re.compile(r"tests\.lab_zygote")),  # the tests' labs' zygote and the labs forked from it
 )
 LAB_CHILDREN = ("hri-lab-sim", "hri-lab-camera")
 CLI = re.compile(r"(?:hri-lab|app\.cli) ([a-z][a-z0-9-]*)")

@@ -75,6 +75,9 @@ def test_a_process_is_named_by_its_program():
     lab = ["/v/bin/python", "/v/bin/hri-lab", "serve"]
     assert program_kind(lab, "hri-lab-sim") == "hri-lab-sim (hri-lab serve)"  # a lab's fork, by its name
     assert program_kind(["python", "-m", "pytest"], "hri-lab-camera") == "hri-lab-camera (pytest worker)"
+    forked = ["/v/bin/python", "-m", "tests.lab_zygote", "5"]  # a test's lab (tests/lab_zygote.py)
+    assert program_kind(forked) == "hri-lab serve"
+    assert program_kind(forked, "hri-lab-sim") == "hri-lab-sim (hri-lab serve)"
 
 
 def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):

@@ -1,6 +1,6 @@
 """A warm start for the suite's labs: `hri-lab serve` forked from a process that has imported the
 server and warmed the simulation's compiled kernels once, as a forkserver does, instead of a new
-interpreter importing them for every lab (~1.3 s of CPU a lab, ~50 labs a run; a forked one ~0.2 s).
+interpreter importing them for every lab (what it saves: tests/README.md, "Servers").
 
 After the fork the lab runs `hri-lab`'s own `main(["serve", ...])` with the test's environment,
 working folder and output: the same code as `python -m app.cli serve` runs once its imports are

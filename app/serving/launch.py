@@ -91,8 +91,9 @@ class ServerProcess:
 
 
 @contextmanager
-def running_server(*args: str) -> Iterator[ServerProcess]:
-    server = ServerProcess(*args)
+def running_server(*args: str, started: type[ServerProcess] = ServerProcess) -> Iterator[ServerProcess]:
+    """`started(*args)` until the block ends (`started`: how the lab is started, the command by default)."""
+    server = started(*args)
     try:
         yield server
     finally:

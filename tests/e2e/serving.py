@@ -7,11 +7,11 @@ The lab is forked from the suite's warm zygote (tests/lab_zygote.py: the server'
 and the kernels loaded once per pytest process), then runs `hri-lab serve ARGS` as the command does."""
 
 import os
-from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager
 
 import pytest
 
+from app.serving import launch
 from app.serving.launch import ServerProcess
 from tests.lab_zygote import ForkedServer
 
@@ -19,13 +19,8 @@ from tests.lab_zygote import ForkedServer
 STARTED = ServerProcess if os.environ.get("HRI_LAB_TEST_LABS") == "command" else ForkedServer
 
 
-@contextmanager
-def running_server(*args: str) -> Iterator[ServerProcess]:
-    server = STARTED(*args)
-    try:
-        yield server
-    finally:
-        server.stop()
+def running_server(*args: str) -> AbstractContextManager[ServerProcess]:
+    return launch.running_server(*args, started=STARTED)
 
 
 def served_lab(*args: str):

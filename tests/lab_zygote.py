@@ -17,6 +17,7 @@ waits for it and reads its exit status as for any child (`ForkedLab`).
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import json
 import os
@@ -114,6 +115,11 @@ class Zygote:
         return lab
 
     def close(self) -> None:
+        """The zygote ends at the end of its requests: the socket closed for good (its file object
+        too, which holds the descriptor open while it lives)."""
+        with contextlib.suppress(OSError):  # the zygote already gone
+            self._socket.shutdown(socket.SHUT_RDWR)
+        self._answers.close()
         self._socket.close()
         try:
             self.process.wait(timeout=10)

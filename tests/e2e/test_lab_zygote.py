@@ -8,6 +8,7 @@ import signal
 from app.serving.launch import ServerProcess, stop_group
 from tests.e2e.serving import running_server
 from tests.http_client import http
+from tests import lab_zygote
 from tests.lab_zygote import ForkedServer
 from tests.waiting import wait_for
 
@@ -82,3 +83,11 @@ def children(pid: int) -> list[int]:
 def name(pid: int) -> str:
     with open(f"/proc/{pid}/comm") as handle:
         return handle.read().strip()
+
+
+def test_the_zygote_ends_by_itself_when_the_run_closes_it():
+    """At the session's end (tests/conftest.py) the zygote sees its requests end and exits 0, rather
+    than being killed after close()'s bound: each worker's end waited that bound before."""
+    running = lab_zygote.zygote()  # this worker's (the next lab starts another)
+    lab_zygote.close()
+    assert running.process.returncode == 0

@@ -35,11 +35,16 @@ const api = async (method, path, body, raw) => {
   return { status: response.status, data, text };  // text: numbers exact (JSON.parse rounds int64)
 };
 const show = (value) => (typeof value === "string" ? value : JSON.stringify(value, null, 1));
+// A topic's messages at `rate` Hz until close(); a stream the server closed (a restart) opens again.
 const stream = (name, rate, onMessage) => {
-  const ws = new WebSocket(socketUrl(`/topics${name}/stream?rate=${rate}`));
-  ws.onmessage = (e) => onMessage(JSON.parse(e.data));
-  ws.onclose = () => setTimeout(() => stream(name, rate, onMessage), 2000);  // server restarted: reconnect
-  return ws;
+  let ws, closed = false;
+  const open = () => {
+    ws = new WebSocket(socketUrl(`/topics${name}/stream?rate=${rate}`));
+    ws.onmessage = (e) => onMessage(JSON.parse(e.data));
+    ws.onclose = () => { if (!closed) setTimeout(open, 2000); };
+  };
+  open();
+  return { close: () => { closed = true; ws.close(); } };
 };
 // 3-4 significant digits, no exponent for everyday magnitudes
 const num = (x, digits = 4) => (typeof x !== "number" ? String(x) : x === 0 ? "0" : Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? String(Number(x.toPrecision(digits))) : x.toExponential(2));
@@ -220,18 +225,28 @@ function formatMessage(message) {
   return lines.join("\n");
 }
 
+// Every topic's newest message, streamed only while the tab is shown: a hidden tab's streams would
+// cost the lab and the browser about a sixth of a core each for nothing on screen.
 async function renderTopics() {
   const root = byId("topics");
   const raw = byId("topics-raw");
   const list = (await api("GET", "/topics")).data;
+  const follow = [];  // per topic: () => its stream, opened
   for (const { name, type } of list) {
     const out = $("pre", { class: "message" });
     root.append($("div", { class: "item topic", "data-name": name }, $("h3", {}, name, " ", $("span", { class: "type", text: `[${type}]` })), out));
     let last = null;
     const draw = () => { if (last) out.textContent = raw.checked ? show(last) : formatMessage(last); };
     raw.addEventListener("change", draw);
-    stream(name, 2, (m) => { last = m; draw(); });
+    follow.push(() => stream(name, 2, (m) => { last = m; draw(); }));
   }
+  let open = [];
+  const shown = () => {
+    if (!root.hidden && !open.length) open = follow.map((start) => start());
+    if (root.hidden) { open.forEach((s) => s.close()); open = []; }
+  };
+  document.addEventListener("tab-shown", shown);
+  shown();
 }
 
 // One block per goal: its own progress bar and log; a refusal goes to its own line, never into
@@ -617,6 +632,7 @@ for (const button of document.querySelectorAll("nav button")) {
   button.addEventListener("click", () => {
     for (const b of document.querySelectorAll("nav button")) b.classList.toggle("active", b === button);
     for (const tab of document.querySelectorAll(".tab")) tab.hidden = tab.id !== button.dataset.tab;
+    document.dispatchEvent(new Event("tab-shown"));
   });
 }
 renderView();

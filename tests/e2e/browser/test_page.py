@@ -452,6 +452,31 @@ def test_the_favicon_and_no_request_that_fails(server, browser):
     assert answer.content.startswith(b"<svg")
 
 
+def test_the_topics_tab_streams_only_while_it_is_shown(server, browser):
+    """The Topics tab's streams (one per topic; /joint_states is streamed by nothing else on the
+    page) are opened when the tab is shown and closed when another tab is: a hidden tab costs the
+    lab and the browser nothing."""
+    page = browser.new_page(viewport={"width": 1500, "height": 900})
+    page.set_default_timeout(90_000)
+    sockets = []
+    page.on("websocket", lambda ws: sockets.append(ws) if "/topics/joint_states/stream" in ws.url else None)
+    try:
+        page.goto(server + "/")
+        joints = page.locator(".topic[data-name='/joint_states'] pre")
+        joints.wait_for(state="attached")  # the tab is built, hidden
+        assert sockets == []
+        for _ in range(2):  # shown, hidden, shown again
+            page.locator("nav button[data-tab=topics]").click()
+            wait_text(page, ".topic[data-name='/joint_states'] pre", "position:")
+            assert [ws.is_closed() for ws in sockets] == [True] * (len(sockets) - 1) + [False]
+            page.locator("nav button[data-tab=services]").click()
+            if not sockets[-1].is_closed():
+                sockets[-1].wait_for_event("close")
+        assert len(sockets) == 2 and all(ws.is_closed() for ws in sockets)
+    finally:
+        page.close()
+
+
 def test_the_twist_plot_keeps_one_zero_for_v_and_w(page):
     """|w| (right axis) is never negative: both axes are symmetric about 0, so their zero lines
     are one, |w| is drawn above it, and the right axis labels no negative value."""

@@ -6,9 +6,9 @@ import os
 import signal
 
 from app.serving.launch import ServerProcess, stop_group
+from tests import lab_zygote
 from tests.e2e.serving import running_server
 from tests.http_client import http
-from tests import lab_zygote
 from tests.lab_zygote import ForkedServer
 from tests.waiting import wait_for
 

@@ -225,8 +225,8 @@ function formatMessage(message) {
   return lines.join("\n");
 }
 
-// Every topic's newest message, streamed only while the tab is shown: a hidden tab's streams would
-// cost the lab and the browser about a sixth of a core each for nothing on screen.
+// Every topic's newest message, streamed only while the tab is shown: a hidden tab's streams cost
+// the lab and the browser CPU for nothing on screen (docs/performance.md, "The dashboard").
 async function renderTopics() {
   const root = byId("topics");
   const raw = byId("topics-raw");

@@ -475,7 +475,7 @@ def test_the_topics_tab_streams_only_while_it_is_shown(server, browser):
                     ws.wait_for_event("close")
         hidden_at = http.get(f"{server}/health").json()["sim_time"]
         # a stream the server closed opens again after 2 s (static/app.js's stream): none does here
-        wait_for(lambda: http.get(f"{server}/health").json()["sim_time"] > hidden_at + 3.0)
+        wait_for(lambda: http.get(f"{server}/health").json()["sim_time"] > hidden_at + 3.0, 120)
         page.evaluate("() => new Promise((done) => setTimeout(done, 0))")  # the page's events reach the test
         assert len(sockets) == 2 and all(ws.is_closed() for ws in sockets)
     finally:

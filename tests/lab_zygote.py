@@ -30,7 +30,7 @@ import time
 import traceback
 from typing import IO
 
-from app.serving.launch import ServerProcess
+from app.serving.launch import ServerProcess, wait_or_kill
 
 PR_SET_PDEATHSIG = 1
 
@@ -121,11 +121,7 @@ class Zygote:
             self._socket.shutdown(socket.SHUT_RDWR)
         self._answers.close()
         self._socket.close()
-        try:
-            self.process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
+        wait_or_kill(self.process, 10.0)
 
 
 _zygote: Zygote | None = None

@@ -34,6 +34,15 @@ def stop_group(proc: subprocess.Popen, grace_s: float) -> None:
         pass
 
 
+def wait_or_kill(proc: subprocess.Popen, grace_s: float) -> None:
+    """Waits for a process told to end; after `grace_s`, kills it and waits."""
+    try:
+        proc.wait(timeout=grace_s)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -81,11 +90,7 @@ class ServerProcess:
     def stop(self) -> None:
         if self.proc.poll() is None:
             self.proc.terminate()
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+            wait_or_kill(self.proc, 10.0)
         if self._output is not None:
             self._output.cleanup()
 

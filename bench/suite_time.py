@@ -44,11 +44,15 @@ PROGRAM_KINDS = (
     ("Gradescope set-up", re.compile(r"compileall|ensurepip|\buv\b|\bpip\b|setup\.sh")),
     ("Jupyter", re.compile(r"jupyter|configurable-http-proxy")),
     ("ROS 1 (Debian)", re.compile(r"/usr/bin/ros|rosmaster")),
-    ("pytest worker", re.compile(r"exec\(eval\(sys\.stdin|-m pytest|/pytest\b")),
+    ("Gradescope run (run_autograder)", re.compile(r"app\.grading\.gradescope")),
+    ("similarity report (copydetect)", re.compile(r"app\.grading\.similarity")),
+    # pytest's own processes (not a program whose arguments name a folder of pytest's tmp_path)
+    ("pytest worker", re.compile(r"exec\(eval\(sys\.stdin|-m ?pytest\b|/pytest(?:\s|$)")),
     ("multiprocessing's spawned child", re.compile(r"multiprocessing\.spawn")),
-    ("hri-lab serve", re.compile(r"tests\.lab_zygote")),  # the tests' labs' zygote and the labs forked from it
+    ("hri-lab serve", re.compile(r"tests\.lab_zygote")),  # the tests' zygote, and the labs forked from it
 )
 LAB_CHILDREN = ("hri-lab-sim", "hri-lab-camera")
+ZYGOTE = PROGRAM_KINDS[-1][1]  # its forks take their command's name (tests/lab_zygote.py)
 CLI = re.compile(r"(?:hri-lab|app\.cli) ([a-z][a-z0-9-]*)")
 
 
@@ -57,10 +61,14 @@ def program_kind(cmdline: list[str], name: str = "") -> str:
     is `hri-lab serve`), else one of PROGRAM_KINDS, else its program's name. A lab's forked
     children keep its command line and tell apart by their process `name`: "hri-lab-sim" (the
     simulation's loop) and "hri-lab-camera" (app/runtime/process.py, name_this_process), counted
-    apart with the program that forked them (a lab, or a worker's in-process lab)."""
+    apart with the program that forked them (a lab, or a worker's in-process lab). A command forked
+    from the tests' zygote (a lab, a grade) keeps the zygote's command line and takes its command
+    as its name ("grade")."""
     if name in LAB_CHILDREN:
         return f"{name} ({program_kind(cmdline)})"
     text = " ".join(cmdline)
+    if ZYGOTE.search(text) and name and not name.startswith("python"):  # forked from the tests' zygote
+        return f"hri-lab {name}"
     for kind, pattern in PROGRAM_KINDS[:3]:  # before the CLI: they may be started through it
         if pattern.search(text):
             return kind

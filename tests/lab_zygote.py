@@ -1,18 +1,20 @@
-"""A warm start for the suite's labs: `hri-lab serve` forked from a process that has imported the
-server and warmed the simulation's compiled kernels once, as a forkserver does, instead of a new
-interpreter importing them for every lab (what it saves: tests/README.md, "Servers").
+"""A warm start for the suite's labs and its grading commands: `hri-lab serve` (and `grade`,
+`experiment`, ...) forked from a process that has imported the server, the grading and the
+simulation and warmed the compiled kernels once, as a forkserver does, instead of a new interpreter
+importing them for every lab or grade (what it saves: tests/README.md, "Servers").
 
-After the fork the lab runs `hri-lab`'s own `main(["serve", ...])` with the test's environment,
-working folder and output: the same code as `python -m app.cli serve` runs once its imports are
+After the fork the process runs `hri-lab`'s own `main([COMMAND, ...])` with the test's environment,
+working folder and output: the same code as `python -m app.cli COMMAND` runs once its imports are
 done. What a test of the command's own start needs (its refusals before the imports, its import
 time) starts the command itself (`app.serving.launch.ServerProcess`, `tests/e2e/test_cli_server.py`).
 
-One zygote per pytest process, started at its first lab and stopped at the session's end
-(tests/conftest.py). Each lab is forked twice (the zygote's child forks the lab and exits), so the
-lab is adopted by the test run, the subreaper of its descendants (tests/conftest.py): the test
-waits for it and reads its exit status as for any child (`ForkedLab`).
+One zygote per pytest process, started at its first lab or command and stopped at the session's end
+(tests/conftest.py). Each process is forked twice (the zygote's child forks it and exits), so it is
+adopted by the test run, the subreaper of its descendants (tests/conftest.py): the test waits for it
+and reads its exit status as for any child (`ForkedLab`). A lab writes its output and errors to one
+pipe (as `ServerProcess` reads them); a command (`run_command`) to two, read as `subprocess.run` does.
 
-    python -m tests.lab_zygote FD      # FD: the socket the requests come on (one JSON line and one descriptor each)
+    python -m tests.lab_zygote FD      # FD: the socket the requests come on (one JSON line and its descriptors each)
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ PR_SET_PDEATHSIG = 1
 class ForkedLab:
     """The part of `subprocess.Popen` a test uses, for a lab the test run adopted (its child)."""
 
-    def __init__(self, pid: int, stdout: IO[str], args: list[str]) -> None:
+    def __init__(self, pid: int, stdout: IO[str] | None, args: list[str]) -> None:
         self.pid, self.stdout, self.args = pid, stdout, args
         self.returncode: int | None = None
 
@@ -95,20 +97,39 @@ class Zygote:
         self._socket, self._lock = ours, threading.Lock()
         self._answers = ours.makefile("r")
 
-    def fork(self, arguments: list[str], own_session: bool) -> ForkedLab:
-        """`hri-lab ARGUMENTS` forked, with this process's environment and working folder."""
-        read, write = os.pipe()
-        request = {"argv": arguments, "env": dict(os.environ), "cwd": os.getcwd(), "session": own_session}
+    def fork(
+        self,
+        arguments: list[str],
+        own_session: bool,
+        outputs: list[int] | None = None,
+        env: dict[str, str] | None = None,
+        cwd: str | None = None,
+    ) -> ForkedLab:
+        """`hri-lab ARGUMENTS` forked, with this process's environment and working folder (or `env`,
+        `cwd`); its output and errors to one new pipe (`ForkedLab.stdout`), or to `outputs`' two
+        descriptors (its stdout, its stderr), which this call closes on its side."""
+        read = None
+        if outputs is None:
+            read, write = os.pipe()
+            outputs = [write]
+        request = {
+            "argv": arguments,
+            "env": dict(os.environ) if env is None else env,
+            "cwd": cwd or os.getcwd(),
+            "session": own_session,
+        }
         with self._lock:
             try:
-                socket.send_fds(self._socket, [json.dumps(request).encode() + b"\n"], [write])
+                socket.send_fds(self._socket, [json.dumps(request).encode() + b"\n"], outputs)
             finally:
-                os.close(write)
+                for fd in outputs:
+                    os.close(fd)
             answer = self._answers.readline()
         if not answer:
-            os.close(read)
+            if read is not None:
+                os.close(read)
             raise RuntimeError(f"the labs' zygote has ended (status {self.process.poll()})")
-        lab = ForkedLab(int(answer), os.fdopen(read, "r"), ["hri-lab", *arguments])
+        lab = ForkedLab(int(answer), os.fdopen(read, "r") if read is not None else None, ["hri-lab", *arguments])
         if _parent(lab.pid) != os.getpid():  # not adopted: nobody here could wait for it
             os.kill(lab.pid, signal.SIGKILL)
             raise RuntimeError("a forked lab is adopted only by a subreaper: tests/conftest.py makes the test run one")
@@ -142,6 +163,41 @@ def close() -> None:
         _zygote = None
 
 
+def run_command(
+    *arguments: str, timeout: float, cwd: str | os.PathLike | None = None, env: dict[str, str] | None = None
+) -> subprocess.CompletedProcess:
+    """`python -m app.cli ARGUMENTS` as `subprocess.run(..., capture_output=True, text=True,
+    timeout=timeout)` runs it (its stdout and stderr apart, its exit status; killed and
+    TimeoutExpired past the bound), forked from the zygote."""
+    (out_read, out_write), (err_read, err_write) = os.pipe(), os.pipe()
+    try:
+        command = zygote().fork(list(arguments), False, [out_write, err_write], env, None if cwd is None else str(cwd))
+    except BaseException:
+        os.close(out_read)
+        os.close(err_read)
+        raise
+    texts: dict[int, str] = {}
+
+    def drain(fd: int) -> None:
+        with os.fdopen(fd, "r", errors="replace") as stream:
+            texts[fd] = stream.read()
+
+    readers = [threading.Thread(target=drain, args=(fd,), daemon=True) for fd in (out_read, err_read)]
+    for reader in readers:
+        reader.start()
+    try:
+        code = command.wait(timeout)
+    except subprocess.TimeoutExpired:
+        command.kill()
+        command.wait()
+        raise
+    finally:
+        for reader in readers:
+            reader.join(timeout=10)  # the rest of its output (a grandchild holding the pipe: what came so far)
+    argv = [sys.executable, "-m", "app.cli", *arguments]
+    return subprocess.CompletedProcess(argv, code, texts.get(out_read, ""), texts.get(err_read, ""))
+
+
 class ForkedServer(ServerProcess):
     """`ServerProcess` whose lab is forked from the zygote."""
 
@@ -150,14 +206,19 @@ class ForkedServer(ServerProcess):
 
 
 # --- the zygote's side ---------------------------------------------------------------------------
-def _lab(request: dict, output: int) -> None:
-    """In the forked lab: the test's output, session, folder and environment; then `hri-lab`."""
-    os.dup2(output, 1)
-    os.dup2(output, 2)
-    os.close(output)
+def _lab(request: dict, outputs: list[int]) -> None:
+    """In the forked lab or command: the test's output (one descriptor for both streams, or one
+    each), session, folder and environment; then `hri-lab`."""
+    os.dup2(outputs[0], 1)
+    os.dup2(outputs[-1], 2)
+    for fd in outputs:
+        os.close(fd)
     if request["session"]:
         os.setsid()
     os.chdir(request["cwd"])
+    from app.runtime.process import name_this_process  # the server's: imported by the zygote's warm-up
+
+    name_this_process(request["argv"][0] if request["argv"] else "hri-lab")  # `ps` and bench.suite_time tell it
     os.environ.clear()
     os.environ.update(request["env"])
     sys.argv = ["hri-lab", *request["argv"]]
@@ -180,7 +241,7 @@ def _serve(requests: socket.socket) -> None:
     answers = requests.makefile("w")
     pending, fds = b"", []
     while True:
-        message, received, _, _ = socket.recv_fds(requests, 1 << 20, 1)
+        message, received, _, _ = socket.recv_fds(requests, 1 << 20, 2)
         if not message:
             return
         pending, fds = pending + message, fds + received
@@ -196,7 +257,7 @@ def _serve(requests: socket.socket) -> None:
             lab = os.fork()
             if lab == 0:
                 os.close(tell)
-                _lab(request, fds[0])
+                _lab(request, fds)
             os.write(tell, str(lab).encode())
             os._exit(0)
         os.close(tell)
@@ -210,13 +271,16 @@ def _serve(requests: socket.socket) -> None:
 
 
 def _warm() -> None:
-    """What every lab's start would do first: import the server and the worlds, load the kernels."""
+    """What every lab's start would do first: import the server and the worlds, load the kernels;
+    and what a grade or an experiment imports."""
     from sim.warm_up import warm_up
 
+    import app.cli.experiment
+    import app.cli.grade
     import app.cli.main
     import app.cli.serve
     import app.serving.serve
-    import app.serving.worlds  # noqa: F401 - imported for what they import: the command, the server, both worlds
+    import app.serving.worlds  # noqa: F401 - imported for what they import: the commands, the server, both worlds
 
     warm_up()  # every kernel loaded from numba's cache (make test's set-up compiled them)
 

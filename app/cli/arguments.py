@@ -83,12 +83,14 @@ def runs(module: str) -> Callable[[argparse.Namespace], int]:
     commands then start without loading the simulation: numba, pinocchio)."""
 
     def run(args: argparse.Namespace) -> int:
-        from sim.procedures.runner import ClusterUnreachable
-
         try:
             return importlib.import_module(module).run(args)
-        except ClusterUnreachable as exc:  # --scheduler names no cluster: one line, exit 1
-            print(f"hri-lab {args.command}: {exc}", file=sys.stderr)
+        except Exception as exc:
+            # the runner is imported by the commands that can raise its ClusterUnreachable, not by the others
+            runner = sys.modules.get("sim.procedures.runner")
+            if runner is None or not isinstance(exc, runner.ClusterUnreachable):
+                raise
+            print(f"hri-lab {args.command}: {exc}", file=sys.stderr)  # --scheduler names no cluster: one line, exit 1
             return 1
 
     return run

@@ -1,25 +1,23 @@
 """`hri-lab service|param|topic ...`: ros2-like commands against a running server (--url).
 
-httpx is imported by the commands that send a request, not with this module: `hri-lab run` and
-`launch`, which parse their arguments here and send none, start without it (its import, with the
-rich, click and pygments of its own command line, is most of a CLI start's CPU)."""
+httpx, websockets and yaml are imported by the commands that use them, not with this module: every
+`hri-lab` command builds its parser from this one, and `hri-lab run` and `launch`, which parse their
+arguments here and send nothing, start without them (httpx's import, with the rich, click and
+pygments of its own command line, was most of a CLI start's CPU; websockets' and yaml's half of the
+rest: docs/performance.md, "The commands' start")."""
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import sys
 import time
 from typing import TYPE_CHECKING
 
-import yaml
-from websockets.exceptions import WebSocketException
-from websockets.sync.client import connect
-
 from app.cli import arguments
 from app.ros.names import absolute, node_name
-from app.ros.params import ParameterRefused, read_parameter_file
 from rosclient.headers import lab_headers
 
 if TYPE_CHECKING:
@@ -52,7 +50,17 @@ def _request(args, method: str, path: str, **kwargs) -> httpx.Response:
         raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
 
 
+def _unreachable(*also: type[Exception]) -> tuple[type[Exception], ...]:
+    """What a rosbridge connection that fails raises, and `also` (`except _unreachable():` imports
+    websockets only when one did)."""
+    from websockets.exceptions import WebSocketException
+
+    return (OSError, TimeoutError, WebSocketException, *also)
+
+
 def _yaml_arg(text: str) -> dict:
+    import yaml
+
     try:
         value = yaml.safe_load(text) if text.strip() else {}
     except yaml.YAMLError as exc:
@@ -210,6 +218,8 @@ def _param_get(args, node: str) -> int:
 
 
 def _param_set(args, node: str) -> int:
+    import yaml
+
     value = yaml.safe_load(args.value)
     response = _request(args, "PUT", f"/params/{node}/{args.name}", json={"value": value})
     body = response.json()
@@ -245,6 +255,8 @@ def _param_dump(args, node: str) -> int:
 
 
 def _param_load(args, node: str) -> int:
+    from app.ros.params import ParameterRefused, read_parameter_file
+
     try:
         text = read_parameter_file(args.file)
     except ParameterRefused as exc:
@@ -289,7 +301,7 @@ def _node_known(args, node: str) -> bool:
         return True
     try:
         return "/" + node.strip("/") in graph.node_list(args.url)
-    except (OSError, WebSocketException, TimeoutError):
+    except _unreachable():
         return False
 
 
@@ -298,6 +310,8 @@ def _ros1_param(args, name: str) -> int:
     lab's rosapi over its rosbridge endpoint, as rospy's get_param does; a string printed as is."""
     ws_url = args.url.replace("http://", "ws://").replace("https://", "wss://").rstrip("/") + "/"
     request = {"op": "call_service", "id": "param_get", "service": "/rosapi/get_param", "args": {"name": name}}
+    from websockets.sync.client import connect
+
     try:
         with connect(ws_url, open_timeout=10, max_size=2**24, additional_headers=_headers(args)) as ws:
             ws.send(json.dumps(request))
@@ -305,7 +319,7 @@ def _ros1_param(args, name: str) -> int:
                 answer = json.loads(ws.recv(timeout=10))
                 if answer.get("op") == "service_response" and answer.get("id") == "param_get":
                     break
-    except (OSError, TimeoutError, ValueError, WebSocketException) as exc:
+    except _unreachable(ValueError) as exc:
         raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
     if not answer.get("result"):
         raise CliError(f"cannot get {name}: {answer.get('values')}")
@@ -327,7 +341,7 @@ def _graph_topics(args) -> dict[str, str]:
 
     try:
         return graph.topics(args.url)
-    except (OSError, WebSocketException, TimeoutError, ValueError):
+    except _unreachable(ValueError):
         return {}
 
 
@@ -457,7 +471,7 @@ def _topic_pub(args, name: str) -> int:
         raise CliError(str(refused)) from None
     except KeyboardInterrupt:
         pass
-    except (OSError, WebSocketException, TimeoutError) as exc:
+    except _unreachable() as exc:
         raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
     return 0
 
@@ -484,7 +498,7 @@ def _topic_watch(args, name: str) -> int:
                     print(lines, flush=True)
     except KeyboardInterrupt:
         pass
-    except (OSError, WebSocketException, TimeoutError) as exc:
+    except _unreachable() as exc:
         raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
     return 0
 
@@ -513,6 +527,8 @@ def topic(args) -> int:
         + f"/topics{name}/stream?rate={args.rate}"
     )
     received = 0
+    from websockets.sync.client import connect
+
     try:
         with connect(ws_url, additional_headers=_headers(args)) as ws:
             while args.count is None or received < args.count:
@@ -523,18 +539,27 @@ def topic(args) -> int:
     return 0
 
 
-class _Dumper(yaml.SafeDumper):
-    """YAML with a text of several lines (a results table) as a literal block, readable as printed."""
+@functools.cache
+def _dumper() -> type:
+    """yaml's SafeDumper with a text of several lines (a results table) as a literal block, readable as printed."""
+    import yaml
 
+    class Dumper(yaml.SafeDumper):
+        pass
 
-_Dumper.add_representer(
-    str,
-    lambda dumper, text: dumper.represent_scalar("tag:yaml.org,2002:str", text, style="|" if "\n" in text else None),
-)
+    Dumper.add_representer(
+        str,
+        lambda dumper, text: dumper.represent_scalar(
+            "tag:yaml.org,2002:str", text, style="|" if "\n" in text else None
+        ),
+    )
+    return Dumper
 
 
 def _dump(value, **options) -> str:
-    return yaml.dump(value, Dumper=_Dumper, sort_keys=False, allow_unicode=True, **options)
+    import yaml
+
+    return yaml.dump(value, Dumper=_dumper(), sort_keys=False, allow_unicode=True, **options)
 
 
 def _print_message(message: dict) -> None:
@@ -595,7 +620,7 @@ def node(args) -> int:
             print(graph.node_info(args.url, args.name))
     except LookupError as exc:
         raise CliError(str(exc)) from None
-    except (OSError, WebSocketException, TimeoutError) as exc:
+    except _unreachable() as exc:
         raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
     return 0
 

@@ -10,7 +10,6 @@ start without loading the simulation (numba, pinocchio) that `experiment`, `grad
 from __future__ import annotations
 
 import argparse
-import multiprocessing
 import os
 import signal
 import sys
@@ -351,9 +350,10 @@ def _print_template(args: argparse.Namespace) -> int:
 
 
 def _stop_with_workers(signum, frame) -> None:
-    """SIGTERM/SIGHUP: the trial workers (experiment, grade --jobs) go with this process."""
-
-    for child in multiprocessing.active_children():
+    """SIGTERM/SIGHUP: the trial workers (experiment, grade --jobs) go with this process (none
+    when the command has not imported multiprocessing; nothing is imported in a signal handler)."""
+    multiprocessing = sys.modules.get("multiprocessing")
+    for child in multiprocessing.active_children() if multiprocessing else ():
         child.kill()
     os._exit(128 + signum)
 

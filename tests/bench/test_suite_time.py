@@ -75,9 +75,16 @@ def test_a_process_is_named_by_its_program():
     lab = ["/v/bin/python", "/v/bin/hri-lab", "serve"]
     assert program_kind(lab, "hri-lab-sim") == "hri-lab-sim (hri-lab serve)"  # a lab's fork, by its name
     assert program_kind(["python", "-m", "pytest"], "hri-lab-camera") == "hri-lab-camera (pytest worker)"
-    forked = ["/v/bin/python", "-m", "tests.lab_zygote", "5"]  # a test's lab (tests/lab_zygote.py)
-    assert program_kind(forked) == "hri-lab serve"
+    forked = ["/v/bin/python", "-m", "tests.lab_zygote", "5"]  # the tests' zygote (tests/lab_zygote.py)
+    assert program_kind(forked, "python3") == "hri-lab serve"  # itself
+    assert program_kind(forked, "serve") == "hri-lab serve"  # a lab it forked, named by its command
+    assert program_kind(forked, "grade") == "hri-lab grade"  # a command it forked
     assert program_kind(forked, "hri-lab-sim") == "hri-lab-sim (hri-lab serve)"
+    gradescope = ["/tmp/pytest-of-root/pytest-3/popen-gw0/gradescope0/autograder/hri-lab/bin/python", "-m"]
+    assert program_kind([*gradescope, "app.grading.gradescope"]) == "Gradescope run (run_autograder)"  # not pytest's
+    assert program_kind(["python", "-m", "app.grading.similarity", "out", "0.5"]) == "similarity report (copydetect)"
+    assert program_kind(["/v/bin/python", "/v/bin/pytest", "-q"]) == "pytest worker"
+    assert program_kind(["/v/bin/python", "-mpytest", "--basetemp=/tmp/x"]) == "pytest worker"
 
 
 def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):

@@ -4,19 +4,15 @@ silent PASS, never a grade that does not end)."""
 
 import json
 import subprocess
-import sys
 from pathlib import Path
+
+from tests.lab_zygote import run_command
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 
 
 def grade(out: Path, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade", *args, "--out", str(out), "--jobs", "2", "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=900,
-    )
+    return run_command("grade", *args, "--out", str(out), "--jobs", "2", "--quiet", timeout=900)
 
 
 def test_the_labs_own_controller_and_a_copy_of_it_score_zero_saying_why(tmp_path):

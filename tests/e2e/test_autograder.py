@@ -15,17 +15,14 @@ from pathlib import Path
 
 import pytest
 
+from tests.lab_zygote import run_command
+
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
 VISIBILITY = {"hidden", "after_due_date", "after_published", "visible"}
 
 
 def build_bundle(out: Path, *args: str) -> Path:
-    run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--seed", "5", *args],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+    run = run_command("autograder", "-o", str(out), "--seed", "5", *args, timeout=120)
     assert run.returncode == 0, run.stderr
     return out
 
@@ -121,11 +118,8 @@ def test_the_services_exercises_with_services_even_when_the_node_says_ready_earl
     advertise does not wait): here the line comes a second early. Its services are graded once the
     lab has them, not counted as missing."""
     out = tmp_path / "services.zip"
-    subprocess.run(
-        [sys.executable, "-m", "app.cli", "autograder", "-o", str(out), "--services", "--public-seed"],
-        check=True,
-        timeout=120,
-    )
+    made = run_command("autograder", "-o", str(out), "--services", "--public-seed", timeout=120)
+    assert made.returncode == 0, made.stderr
     node = (Path(__file__).resolve().parents[1] / "nodes" / "services_solution.py").read_text()
     early = 'import time\nprint("node ready (too early)", flush=True)\ntime.sleep(1.0)\n' + node
     root = tmp_path / "gs"

@@ -3,13 +3,13 @@ controllers on the same participants and seeds, a refused argument. (The trials 
 tests/sim/test_world.py; parameters: tests/e2e/test_experiment_params.py.)"""
 
 import json
-import subprocess
-import sys
 
 from sim.controllers.interface import LiftingParams
 from sim.procedures.experiment import plan
 from sim.procedures.tables import format_comparison
 from sim.procedures.trial import TrialResult
+
+from tests.lab_zygote import run_command
 
 # the short trial: at the wider margin alpha 0.8 the hasty participant's box is dropped at ~3 s
 SHORT = ("--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alpha=0.8")
@@ -17,9 +17,9 @@ SHORT = ("--trials", "1", "--participant", "hasty", "--seed", "3", "--set", "alp
 
 def experiment(*args: str) -> str:
     """`hri-lab experiment ARGS`'s output; fails the test when it exits non-zero."""
-    return subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", *args], capture_output=True, text=True, check=True, timeout=300
-    ).stdout
+    run = run_command("experiment", *args, timeout=300)
+    assert run.returncode == 0, run.stderr
+    return run.stdout
 
 
 def test_cli_experiment_json():
@@ -31,9 +31,7 @@ def test_cli_experiment_json():
     assert "participant" in table
     assert "hasty" in table
     assert "success: " in table
-    bad = subprocess.run(
-        [sys.executable, "-m", "app.cli", "experiment", "--trials", "0"], capture_output=True, text=True
-    )
+    bad = run_command("experiment", "--trials", "0", timeout=120)
     assert bad.returncode == 2
     assert "--trials" in bad.stderr
 

@@ -6,13 +6,13 @@ file is graded again, --force grades all."""
 import json
 import os
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from sim.procedures.runner import Job, run_jobs
 
+from tests.lab_zygote import run_command
 from tests.sim.procedures.test_runner import die_once  # a worker lost mid-task, as the local runner's test has it
 
 CONTROLLERS = Path(__file__).resolve().parents[1] / "controllers"
@@ -42,7 +42,7 @@ def scheduler():
 
 
 def cli(*args: str, check_status: int | None = None) -> subprocess.CompletedProcess:
-    run = subprocess.run([sys.executable, "-m", "app.cli", *args], capture_output=True, text=True, timeout=600)
+    run = run_command(*args, timeout=600)
     if check_status is not None:
         assert run.returncode == check_status, run.stdout + run.stderr
     return run
@@ -86,13 +86,7 @@ def test_the_environment_names_the_cluster_and_trials_run_there_as_here(schedule
     args = ("experiment", "--trials", "2", "--participant", "calm", "--seed", "3", "--quiet")
     local = cli(*args, "--jobs", "2", "--sweep", "alpha=0.4,0.5", check_status=0)
     env = {**os.environ, "HRI_LAB_SCHEDULER": scheduler}
-    remote = subprocess.run(
-        [sys.executable, "-m", "app.cli", *args, "--sweep", "alpha=0.4,0.5"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-        env=env,
-    )
+    remote = run_command(*args, "--sweep", "alpha=0.4,0.5", timeout=600, env=env)
     assert remote.returncode == 0 and remote.stdout == local.stdout, remote.stderr
     assert "calm" in local.stdout
     assert "0.4" in local.stdout

@@ -3,7 +3,6 @@ cases per operation (the longer run: `python -m bench.fuzz`)."""
 
 import pytest
 
-from bench.fuzz import fuzz
 from tests.e2e.serving import running_server
 
 
@@ -14,4 +13,6 @@ def server_url():
 
 
 def test_api_fuzz(server_url):
+    from bench.fuzz import fuzz  # schemathesis: imported by the worker that runs this, not at every collection
+
     assert fuzz(server_url, max_examples=15, derandomize=True) > 100

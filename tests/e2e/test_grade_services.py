@@ -4,13 +4,12 @@ controller grader's report formats. (The lab's own answers, the reference: tests
 
 import json
 import os
-import subprocess
-import sys
 
 import pytest
 
 from app.grading.services import grade_services
 from tests.e2e.serving import served_lab
+from tests.lab_zygote import run_command
 from tests.waiting import start_node, stop_node
 
 TORQUES = "/compute_torques: tau = J(q)^T F of the Panda at the lab's q (Exercise 8)"
@@ -21,13 +20,7 @@ lab = served_lab("--exercises")  # the lab with its exercise services
 
 def grade(lab, *args, seed="5"):
     env = {k: v for k, v in os.environ.items() if k not in ("HRI_LAB_URL", "HRI_LAB_GRADE_SEED")}
-    return subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade-services", "--url", lab.url, "--seed", seed, *args],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=env,
-    )
+    return run_command("grade-services", "--url", lab.url, "--seed", seed, *args, timeout=120, env=env)
 
 
 def test_the_solution_node_passes_with_full_marks_in_every_format(lab, tmp_path):
@@ -79,12 +72,7 @@ def test_no_node_every_exercise_is_not_provided(lab):
 
 
 def test_a_lab_that_cannot_be_reached_is_said_so():
-    result = subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade-services", "--url", "http://127.0.0.1:9"],
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    result = run_command("grade-services", "--url", "http://127.0.0.1:9", timeout=60)
     assert result.returncode == 2
     assert "cannot reach the lab at http://127.0.0.1:9" in result.stderr
 

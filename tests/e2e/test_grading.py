@@ -18,6 +18,7 @@ from app.grading.battery import PROBE_PASS_MARK, new_report, trial_items
 from app.grading.probe_stream import PROBES, Draw, graded, probe_items
 from app.grading.report import Item, summary_csv
 from tests.http_client import http
+from tests.lab_zygote import run_command
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "controllers"))
 import mutants
@@ -288,12 +289,7 @@ def test_a_batch_reports_every_file_even_those_that_cannot_load(tmp_path):
     (folder / "exits.py").write_text((CONTROLLERS / "exits_at_import.py").read_text())
     (folder / "syntax.py").write_text("class CooperativeLifting(:\n")
     out = tmp_path / "reports"
-    run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "grade", str(folder), "--out", str(out), "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
+    run = run_command("grade", str(folder), "--out", str(out), "--quiet", timeout=300)
     assert run.returncode == 1, run.stderr
     assert "failed: SystemExit: 0" in (out / "exits.txt").read_text()
     assert "SyntaxError" in json.loads((out / "syntax.json").read_text())["error"]

@@ -1,11 +1,17 @@
 """The suite's labs forked from its zygote (tests/lab_zygote.py) are `hri-lab serve` as the command
 starts it: the same banner, the same end on SIGTERM, the test's environment and working folder,
-a process group of its own when asked, and the test run waits for it as for any child."""
+a process group of its own when asked, and the test run waits for it as for any child. A command
+forked from it (`run_command`: grade, experiment, ...) prints and ends as `subprocess.run` of the
+command itself."""
 
 import os
 import signal
+import subprocess
+import sys
 
-from app.serving.launch import ServerProcess, stop_group
+import pytest
+
+from app.serving.launch import ServerProcess, free_port, stop_group
 from tests import lab_zygote
 from tests.e2e.serving import running_server
 from tests.http_client import http
@@ -91,3 +97,29 @@ def test_the_zygote_ends_by_itself_when_the_run_closes_it():
     running = lab_zygote.zygote()  # this worker's (the next lab starts another)
     lab_zygote.close()
     assert running.process.returncode == 0
+
+
+@pytest.mark.parametrize(
+    "arguments",
+    [
+        ("grade", "/nonexistent.py", "--quiet"),  # its refusal on stdout, its exit status 1
+        ("experiment", "--trials", "0"),  # argparse's error on stderr, exit status 2
+        ("experiment", "--trials", "1", "--participant", "calm", "--json", "--quiet"),  # a trial's JSON on stdout
+    ],
+)
+def test_a_forked_command_prints_and_ends_as_the_command_does(arguments, tmp_path):
+    """`run_command` as `subprocess.run` gives a command started itself: the same stdout, the same
+    stderr apart from it and the same exit status, in the test's folder."""
+    forked = lab_zygote.run_command(*arguments, timeout=120, cwd=tmp_path)
+    started = subprocess.run(
+        [sys.executable, "-m", "app.cli", *arguments], capture_output=True, text=True, timeout=120, cwd=tmp_path
+    )
+    assert (forked.returncode, forked.stdout, forked.stderr) == (started.returncode, started.stdout, started.stderr)
+    assert forked.stdout or forked.stderr
+
+
+def test_a_forked_command_past_its_bound_is_killed_as_subprocess_run_kills_it():
+    """A command that never ends by itself (a lab) past `timeout`: TimeoutExpired, and the process
+    gone (the run fails a test that leaves one behind)."""
+    with pytest.raises(subprocess.TimeoutExpired):
+        lab_zygote.run_command("serve", "--view", "none", "--port", str(free_port()), timeout=1.0)

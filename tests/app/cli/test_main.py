@@ -181,13 +181,16 @@ def test_a_closed_stdout_ends_the_command_quietly_as_sigpipe_would():
 def test_run_and_launch_start_without_httpx():
     """`hri-lab run` and `launch` send no request before they hand over to the program: their start
     does not import httpx (with its own command line's rich, click and pygments, half a CLI start's
-    CPU; each program a test runs pays it), which the client's commands import when they send one."""
+    CPU; each program a test runs pays it), which the client's commands import when they send one;
+    nor websockets, yaml or the cluster's runner, which the commands that use them import (every
+    command builds the parser: docs/performance.md, "The commands' start")."""
     program = (
         "import sys\n"
         "from app.cli.main import build_parser\n"
         "build_parser().parse_args(['run', 'talker.py'])\n"
         "build_parser().parse_args(['launch', 'calculator.launch.xml'])\n"
-        "print(sorted(m for m in ('httpx', 'rich', 'click', 'pygments') if m in sys.modules))\n"
+        "heavy = ('httpx', 'rich', 'click', 'pygments', 'websockets', 'yaml', 'sim.procedures.runner', 'multiprocessing')\n"
+        "print(sorted(m for m in heavy if m in sys.modules))\n"
     )
     done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=120, cwd=ROOT)
     assert done.stdout.strip() == "[]", done.stdout + done.stderr

@@ -533,4 +533,6 @@ def test_after_reset_the_page_shows_the_new_trial_without_a_reload(page, server)
         f"(() => {{ const m = document.querySelector('#health').textContent.match(/t = ([0-9.]+) s/);"
         f" return m && parseFloat(m[1]) < {before / 2}; }})()"
     )
-    assert page.evaluate("plots.charts[0].chart.data[0].length") > 1  # drawing again, from the new trial
+    # drawing again, from the new trial: a second sample (the plots draw every 200 ms; the wait above can
+    # end on the first sample's drawing, the reset having emptied them: 1 > 1 failed once, a loaded run)
+    page.wait_for_function("plots.charts[0].chart.data[0].length > 1")

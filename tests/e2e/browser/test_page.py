@@ -111,6 +111,120 @@ def test_docs_and_redoc_render_offline(server, browser):
     assert not external, external
 
 
+def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, browser):
+    """Software WebGL here: the view is not embedded until asked; embedded, it is another site
+    (localhost vs 127.0.0.1), so it renders in its own process. A service call's round trip on the
+    page is measured without and with the embedded view (printed, not asserted: wall time;
+    `python -m bench.page_responsiveness` measures it with more clicks). A tab of its own, closed
+    at the end: a software-rendered view would load the machine for the tests after it, and so
+    would the lifting it started (a lifting lab takes twice an idle one's CPU, the page's tests
+    after it need none). This test and the next two, each on a tab of its own, run before the
+    module's shared tab is opened (`page`, whose streams would cost the browser ~27 % of a core
+    meanwhile), and it leaves the lab reset, as the shared tab's tests expect it."""
+    page = open_page(server, browser)
+    try:
+        the_3d_view_on_demand(server, page)
+        assert not page.offline_requests, page.offline_requests
+    finally:
+        page.close()
+        http.post(f"{server}/services/stop_cooperative_lifting", timeout=30)
+        http.post(f"{server}/services/reset_simulation", timeout=30)  # the next tests' lab as it started
+
+
+def the_3d_view_on_demand(server, page):
+    http.post(f"{server}/services/reset_simulation")
+    wait_text(page, "#view-off-reason", "software-rendered")  # the page fills it once it has asked the server
+    without = round_trips(page, 3)
+    view = embed_view(page)
+    assert page.locator("#view").get_attribute("src").startswith("http://localhost:")
+    # its control panel starts collapsed to a tab at the edge: the scene has the whole frame
+    assert view.locator("[data-dock-collapsed='true']").count() >= 1
+    assert view.get_by_text("Take over the palm").count() == 0
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SCREENSHOTS / "view-collapsed.png"))
+    open_controls(view)  # one click opens it
+    assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
+    embedded = round_trips(page, 3)
+    print(
+        f"\npage click -> response: {describe(without)} without the 3D view, "
+        f"{describe(embedded)} with it embedded ({VIEW} meshes, software WebGL)"
+    )
+    (SCREENSHOTS).mkdir(parents=True, exist_ok=True)
+    (SCREENSHOTS / "responsiveness.txt").write_text(f"without {max(without):.3f} s, embedded {max(embedded):.3f} s\n")
+
+    # lifting started from the 3D view's control shows on the page's status
+    view.get_by_role("button", name="Start lifting").dispatch_event(
+        "click"
+    )  # the status above it changes height at 30 Hz
+    wait_text(page, "#st-lifting", "ON, band [10, 15] N")
+
+    def pressing() -> bool:  # the robot presses the box (what the screenshot shows), inside the band
+        try:
+            return http.get(f"{server}/topics/contact_state").json()["normal_force"] >= 10.0
+        except httpx.TimeoutException:  # a busy machine's slow answer (the software-WebGL view beside it): ask again
+            return False
+
+    wait_for(pressing, timeout=120.0)
+    # viser's "software WebGL" notice (only there) closed, if still shown: the screenshot shows the scene
+    view.locator("body").evaluate(
+        "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())"
+    )
+    page.evaluate("document.querySelector('#ros').scrollTop = 0")
+    page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
+    assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000
+
+
+def test_the_favicon_and_no_request_that_fails(server, browser):
+    """The page names its icon, /favicon.ico answers it too (a browser's first guess): no 404."""
+    page = browser.new_page()
+    page.set_default_timeout(90_000)
+    failed = []
+    page.on("response", lambda r: failed.append((r.url, r.status)) if r.status >= 400 else None)
+    try:
+        page.goto(server + "/")
+        page.wait_for_function("plots.charts.length === 3 && plots.charts[2].chart.data[0].length > 5")
+        icon = page.evaluate("document.querySelector('link[rel=icon]').href")
+        assert icon == f"{server}/static/favicon.svg"
+        page.goto(server + "/favicon.ico")
+    finally:
+        page.close()
+    assert not failed, failed
+    answer = http.get(f"{server}/favicon.ico")
+    assert answer.status_code == 200
+    assert answer.headers["content-type"] == "image/svg+xml"
+    assert answer.content.startswith(b"<svg")
+
+
+def test_the_topics_tab_streams_only_while_it_is_shown(server, browser):
+    """The Topics tab's streams (one per topic; /joint_states is streamed by nothing else on the
+    page) are opened when the tab is shown and closed when another tab is, and stay closed: a
+    hidden tab costs the lab and the browser nothing."""
+    page = browser.new_page(viewport={"width": 1500, "height": 900})
+    page.set_default_timeout(90_000)
+    joint_states = "/topics/joint_states/stream"
+    sockets = []
+    page.on("websocket", lambda ws: sockets.append(ws) if joint_states in ws.url else None)
+    try:
+        page.goto(server + "/")
+        page.locator(".topic[data-name='/joint_states'] pre").wait_for(state="attached")  # the tab built, hidden
+        assert sockets == []
+        for _ in range(2):  # shown, hidden, shown again
+            with page.expect_websocket(lambda ws: joint_states in ws.url) as opened:
+                page.locator("nav button[data-tab=topics]").click()
+            opened.value.wait_for_event("framereceived")  # a message for the tab
+            page.locator("nav button[data-tab=services]").click()
+            for ws in sockets:
+                if not ws.is_closed():
+                    ws.wait_for_event("close")
+        hidden_at = http.get(f"{server}/health").json()["sim_time"]
+        # a stream the server closed opens again after 2 s (static/app.js's stream): none does here
+        wait_for(lambda: http.get(f"{server}/health").json()["sim_time"] > hidden_at + 3.0, 120)
+        page.evaluate("() => new Promise((done) => setTimeout(done, 0))")  # the page's events reach the test
+        assert len(sockets) == 2 and all(ws.is_closed() for ws in sockets)
+    finally:
+        page.close()
+
+
 def test_the_page_as_a_student_uses_it(server, page):
     # before the lift the person holds the box by its grasp: not "slipping" (the palm's contact points
     # may slide while the grasp holds it)
@@ -237,66 +351,6 @@ def test_the_page_as_a_student_uses_it(server, page):
     assert figure.url.endswith(f"/{loaded[1][0]}.svg")
     assert figure.evaluate("document.documentElement.localName") == "svg"  # shown, not downloaded
     figure.close()
-
-
-def test_the_3d_view_on_demand_and_the_page_stays_responsive(server, browser):
-    """Software WebGL here: the view is not embedded until asked; embedded, it is another site
-    (localhost vs 127.0.0.1), so it renders in its own process. A service call's round trip on the
-    page is measured without and with the embedded view (printed, not asserted: wall time;
-    `python -m bench.page_responsiveness` measures it with more clicks). A tab of its own, closed
-    at the end: a software-rendered view would load the machine for the tests after it, and so
-    would the lifting it started (a lifting lab takes twice an idle one's CPU, the page's tests
-    after it need none)."""
-    page = open_page(server, browser)
-    try:
-        the_3d_view_on_demand(server, page)
-        assert not page.offline_requests, page.offline_requests
-    finally:
-        page.close()
-        http.post(f"{server}/services/stop_cooperative_lifting", timeout=30)
-
-
-def the_3d_view_on_demand(server, page):
-    http.post(f"{server}/services/reset_simulation")
-    wait_text(page, "#view-off-reason", "software-rendered")  # the page fills it once it has asked the server
-    without = round_trips(page, 3)
-    view = embed_view(page)
-    assert page.locator("#view").get_attribute("src").startswith("http://localhost:")
-    # its control panel starts collapsed to a tab at the edge: the scene has the whole frame
-    assert view.locator("[data-dock-collapsed='true']").count() >= 1
-    assert view.get_by_text("Take over the palm").count() == 0
-    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(SCREENSHOTS / "view-collapsed.png"))
-    open_controls(view)  # one click opens it
-    assert view.get_by_text("Box colour").count() == 1  # its legend (folder "Legend")
-    embedded = round_trips(page, 3)
-    print(
-        f"\npage click -> response: {describe(without)} without the 3D view, "
-        f"{describe(embedded)} with it embedded ({VIEW} meshes, software WebGL)"
-    )
-    (SCREENSHOTS).mkdir(parents=True, exist_ok=True)
-    (SCREENSHOTS / "responsiveness.txt").write_text(f"without {max(without):.3f} s, embedded {max(embedded):.3f} s\n")
-
-    # lifting started from the 3D view's control shows on the page's status
-    view.get_by_role("button", name="Start lifting").dispatch_event(
-        "click"
-    )  # the status above it changes height at 30 Hz
-    wait_text(page, "#st-lifting", "ON, band [10, 15] N")
-
-    def pressing() -> bool:  # the robot presses the box (what the screenshot shows), inside the band
-        try:
-            return http.get(f"{server}/topics/contact_state").json()["normal_force"] >= 10.0
-        except httpx.TimeoutException:  # a busy machine's slow answer (the software-WebGL view beside it): ask again
-            return False
-
-    wait_for(pressing, timeout=120.0)
-    # viser's "software WebGL" notice (only there) closed, if still shown: the screenshot shows the scene
-    view.locator("body").evaluate(
-        "() => document.querySelectorAll('.mantine-Notification-closeButton').forEach((b) => b.click())"
-    )
-    page.evaluate("document.querySelector('#ros').scrollTop = 0")
-    page.screenshot(path=str(SCREENSHOTS / f"dashboard-{VIEW}.png"))
-    assert (SCREENSHOTS / f"dashboard-{VIEW}.png").stat().st_size > 10_000
 
 
 def test_console_shows_rosout_filtered_by_node_and_level(page, server):
@@ -429,57 +483,6 @@ def test_the_camera_panel_shows_the_image_and_a_programs_imshow_window(page, ser
         assert program.interrupt() == 0, program.output
     page.wait_for_function("() => !document.querySelector('img[data-window=\"detection\"]')")
     page.uncheck("#camera-live")
-
-
-def test_the_favicon_and_no_request_that_fails(server, browser):
-    """The page names its icon, /favicon.ico answers it too (a browser's first guess): no 404."""
-    page = browser.new_page()
-    page.set_default_timeout(90_000)
-    failed = []
-    page.on("response", lambda r: failed.append((r.url, r.status)) if r.status >= 400 else None)
-    try:
-        page.goto(server + "/")
-        page.wait_for_function("plots.charts.length === 3 && plots.charts[2].chart.data[0].length > 5")
-        icon = page.evaluate("document.querySelector('link[rel=icon]').href")
-        assert icon == f"{server}/static/favicon.svg"
-        page.goto(server + "/favicon.ico")
-    finally:
-        page.close()
-    assert not failed, failed
-    answer = http.get(f"{server}/favicon.ico")
-    assert answer.status_code == 200
-    assert answer.headers["content-type"] == "image/svg+xml"
-    assert answer.content.startswith(b"<svg")
-
-
-def test_the_topics_tab_streams_only_while_it_is_shown(server, browser):
-    """The Topics tab's streams (one per topic; /joint_states is streamed by nothing else on the
-    page) are opened when the tab is shown and closed when another tab is, and stay closed: a
-    hidden tab costs the lab and the browser nothing."""
-    page = browser.new_page(viewport={"width": 1500, "height": 900})
-    page.set_default_timeout(90_000)
-    joint_states = "/topics/joint_states/stream"
-    sockets = []
-    page.on("websocket", lambda ws: sockets.append(ws) if joint_states in ws.url else None)
-    try:
-        page.goto(server + "/")
-        page.locator(".topic[data-name='/joint_states'] pre").wait_for(state="attached")  # the tab built, hidden
-        assert sockets == []
-        for _ in range(2):  # shown, hidden, shown again
-            with page.expect_websocket(lambda ws: joint_states in ws.url) as opened:
-                page.locator("nav button[data-tab=topics]").click()
-            opened.value.wait_for_event("framereceived")  # a message for the tab
-            page.locator("nav button[data-tab=services]").click()
-            for ws in sockets:
-                if not ws.is_closed():
-                    ws.wait_for_event("close")
-        hidden_at = http.get(f"{server}/health").json()["sim_time"]
-        # a stream the server closed opens again after 2 s (static/app.js's stream): none does here
-        wait_for(lambda: http.get(f"{server}/health").json()["sim_time"] > hidden_at + 3.0, 120)
-        page.evaluate("() => new Promise((done) => setTimeout(done, 0))")  # the page's events reach the test
-        assert len(sockets) == 2 and all(ws.is_closed() for ws in sockets)
-    finally:
-        page.close()
 
 
 def test_the_twist_plot_keeps_one_zero_for_v_and_w(page):

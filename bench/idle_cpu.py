@@ -1,5 +1,5 @@
-"""An idle lab: CPU of `hri-lab serve --view none` (the server and its simulation process) while
-nothing happens, as CPU seconds over wall seconds; then the same while a node commands the robot
+"""An idle lab: CPU of `hri-lab serve --view none` (the server and its simulation and camera
+processes, each apart too) while nothing happens, as CPU seconds over wall seconds; then the same while a node commands the robot
 (lifting started), when the loop is back at 1 ms granularity. `--view light` (or `full`): the lab
 as `make run` and the hub start it, its 3D view served and nobody looking at it. `--page TAB`: the
 dashboard open on that tab in Chromium (SwiftShader, as the browser tests run it), the browser's
@@ -75,6 +75,19 @@ def share_of_a_core(pid: int, seconds: float, browser: bool = False) -> tuple[fl
     return (lab_after - lab) / elapsed, (page_after - page) / elapsed
 
 
+def by_process(pid: int) -> dict[str, float]:
+    """CPU seconds of each process of pid's tree, by its name (the server's, "hri-lab-sim", "hri-lab-camera")."""
+    found: dict[str, float] = {}
+    for p in _tree(pid):
+        try:
+            with open(f"/proc/{p}/comm") as name:
+                key = "server" if p == pid else name.read().strip()
+            found[key] = found.get(key, 0.0) + _own(p)
+        except OSError:
+            pass
+    return found
+
+
 @contextlib.contextmanager
 def dashboard(url: str, tab: str) -> Iterator[None]:
     """The dashboard open on `tab` in Chromium until the context ends."""
@@ -104,12 +117,18 @@ def main() -> None:
         dashboard(server.url, args.page) if args.page else contextlib.nullcontext(),
     ):
         time.sleep(2.0)  # start-up work done (first requests, kernels warm, the page drawn)
+        parts, wall = by_process(server.proc.pid), time.perf_counter()
         idle, page = share_of_a_core(server.proc.pid, args.seconds, bool(args.page))
+        parts_after, elapsed = by_process(server.proc.pid), time.perf_counter() - wall
         health = http.get("/health").json()
         print(
             f"idle server: {idle * 100:.1f} % of a core ({args.seconds:g} s; loop rate "
             f"{health['rate_hz']:.0f} Hz, {health['batched_ticks']} of {health['ticks']} ticks stepped in idle batches)"
             + (f"; the browser {page * 100:.1f} %" if args.page else "")
+        )
+        print(
+            "  by process: "
+            + ", ".join(f"{k} {(v - parts.get(k, 0.0)) / elapsed * 100:.2f} %" for k, v in sorted(parts_after.items()))
         )
         http.post("/services/start_cooperative_lifting", json={"force": 10.0})
         time.sleep(1.0)

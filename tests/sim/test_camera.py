@@ -55,13 +55,25 @@ def rotation_z(angle: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
+def wake_ups(pid: int) -> int:
+    """The times the process's main thread went to sleep and was woken (voluntary context switches)."""
+    with open(f"/proc/{pid}/status") as status:
+        return next(int(line.split()[1]) for line in status if line.startswith("voluntary_ctxt_switches"))
+
+
 def test_the_camera_process_renders_only_while_wanted(world):
-    """(First in this file: the process is forked before this one makes an OpenGL context.)"""
+    """Idle, it sleeps until a demand wakes it (it looked at the demand every 20 ms before: ~50
+    wake-ups a second in every idle lab; a busy machine wakes it less often, never more); wanted,
+    it renders. (First in this file: the process is forked before this one makes an OpenGL context.)"""
     process = CameraProcess(world.snapshot, lambda: sizes_of(world.config))
     process.start()
     try:
         assert process.number == 0
         assert not process.wanted
+        time.sleep(0.3)  # its start done
+        before = wake_ups(process.pid)
+        time.sleep(1.0)  # a window to count its wake-ups in
+        assert wake_ups(process.pid) - before <= 5
         with process.wants(0.05):
             assert process.wanted
             wait_for(lambda: process.number >= 2 or process.error, timeout=120)

@@ -312,8 +312,10 @@ def _ros1_param(args, name: str) -> int:
     request = {"op": "call_service", "id": "param_get", "service": "/rosapi/get_param", "args": {"name": name}}
     from websockets.sync.client import connect
 
+    from app.cli.graph import MAX_MESSAGE_BYTES
+
     try:
-        with connect(ws_url, open_timeout=10, max_size=2**24, additional_headers=_headers(args)) as ws:
+        with connect(ws_url, open_timeout=10, max_size=MAX_MESSAGE_BYTES, additional_headers=_headers(args)) as ws:
             ws.send(json.dumps(request))
             while True:
                 answer = json.loads(ws.recv(timeout=10))
@@ -529,8 +531,10 @@ def topic(args) -> int:
     received = 0
     from websockets.sync.client import connect
 
+    from app.cli.graph import MAX_MESSAGE_BYTES
+
     try:
-        with connect(ws_url, additional_headers=_headers(args)) as ws:
+        with connect(ws_url, max_size=MAX_MESSAGE_BYTES, additional_headers=_headers(args)) as ws:
             while args.count is None or received < args.count:
                 _print_message(json.loads(ws.recv()))
                 received += 1

@@ -17,6 +17,9 @@ from websockets.sync.client import connect
 _ids = itertools.count(1)
 HIDDEN = f"/_hri_lab_cli_{os.getpid()}"  # this command's own node: a hidden name (a leading _), as ROS 2 hides them
 TIMEOUT_S = 10.0  # s to wait for rosapi's answer (a bound for a loaded machine)
+# bytes of one WebSocket message the commands take: a camera image (/image_raw, 640x480 RGB) is 1.2 MB
+# and more, the robot's URDF hundreds of kB; websockets' default, 1 MiB, refused an image ("message too big")
+MAX_MESSAGE_BYTES = 2**24
 
 
 def _ws_url(url: str) -> str:
@@ -26,7 +29,7 @@ def _ws_url(url: str) -> str:
 def call(url: str, service: str, args: dict[str, Any] | None = None) -> dict[str, Any]:
     """One rosbridge call_service; its values (an empty dict when it failed)."""
     ident = f"hri-lab-cli-{next(_ids)}"
-    with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
+    with connect(_ws_url(url), open_timeout=TIMEOUT_S, max_size=MAX_MESSAGE_BYTES) as ws:
         ws.send(json.dumps({"op": "node", "name": HIDDEN}))  # hidden, as ros2cli's own node is
         ws.send(json.dumps({"op": "call_service", "id": ident, "service": service, "args": args or {}}))
         while True:
@@ -50,7 +53,7 @@ def messages(url: str, topic: str, type_name: str) -> Iterator[dict[str, Any]]:
 def frames(url: str, topic: str, type_name: str) -> Iterator[tuple[dict[str, Any], int]]:
     """The messages published on `topic` from now on, each with its frame's size (bytes of its JSON
     text, what `topic bw` counts where ros2 counts the CDR bytes)."""
-    with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
+    with connect(_ws_url(url), open_timeout=TIMEOUT_S, max_size=MAX_MESSAGE_BYTES) as ws:
         ws.send(json.dumps({"op": "subscribe", "id": f"hri-lab-cli-{next(_ids)}", "topic": topic, "type": type_name}))
         while True:
             text = ws.recv()
@@ -82,7 +85,7 @@ def publish(
     """`topic pub`: advertise `topic`, wait until `wait_for` subscriptions are on it (`waiting()` told
     once when it must wait), then publish each of `messages` every `period_s` s (the first at once);
     Refused with the lab's reason."""
-    with connect(_ws_url(url), open_timeout=TIMEOUT_S) as ws:
+    with connect(_ws_url(url), open_timeout=TIMEOUT_S, max_size=MAX_MESSAGE_BYTES) as ws:
         link = _Link(ws)
         ws.send(json.dumps({"op": "node", "name": HIDDEN}))
         ws.send(json.dumps({"op": "advertise", "id": "pub", "topic": topic, "type": type_name}))

@@ -40,15 +40,7 @@ def _tree(pid: int) -> list[int]:
 
 def cpu_seconds(pid: int) -> float:
     """user + system CPU of the process tree, s."""
-    total = 0
-    for p in _tree(pid):
-        try:
-            with open(f"/proc/{p}/stat") as handle:
-                fields = handle.read().rsplit(")", 1)[1].split()
-            total += int(fields[11]) + int(fields[12])  # utime, stime
-        except OSError:
-            pass
-    return total / TICKS
+    return sum(by_process(pid).values())
 
 
 def cpu_seconds_but(pid: int, left_out: int) -> float:
@@ -58,9 +50,10 @@ def cpu_seconds_but(pid: int, left_out: int) -> float:
 
 
 def _own(pid: int) -> float:
+    """user + system CPU of one process (its threads), s."""
     with open(f"/proc/{pid}/stat") as handle:
         fields = handle.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / TICKS
+    return (int(fields[11]) + int(fields[12])) / TICKS  # utime, stime
 
 
 def share_of_a_core(pid: int, seconds: float, browser: bool = False) -> tuple[float, float]:

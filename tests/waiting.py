@@ -47,6 +47,32 @@ def process_gone(pid: int) -> bool:
     return False
 
 
+def child_named(pid: int, name: str, other_than: int | None = None, timeout: float = 30.0) -> int:
+    """The one child of process `pid` that calls itself `name` (its /proc/PID/comm: the server's
+    "hri-lab-sim", "hri-lab-camera"), and not `other_than`. Waited for: a server prints that it is
+    ready once it forked its children, which name themselves when they first run."""
+
+    def named() -> list[int]:
+        found = []
+        for task in os.listdir(f"/proc/{pid}/task"):
+            try:
+                with open(f"/proc/{pid}/task/{task}/children") as handle:
+                    children = [int(child) for child in handle.read().split()]
+            except OSError:
+                continue  # the thread ended meanwhile
+            for child in children:
+                try:
+                    with open(f"/proc/{child}/comm") as handle:
+                        if handle.read().strip() == name and child != other_than:
+                            found.append(child)
+                except OSError:
+                    pass  # gone meanwhile
+        return found
+
+    (child,) = wait_for(lambda: len(found := named()) == 1 and found, timeout)
+    return child
+
+
 def start_node(lab, script: str, *args: str) -> subprocess.Popen:
     """tests/nodes/SCRIPT connected to the lab (a running_server), once it printed "node ready"."""
     node = subprocess.Popen(

@@ -16,7 +16,7 @@ from tests import lab_zygote
 from tests.e2e.serving import running_server
 from tests.http_client import http
 from tests.lab_zygote import ForkedServer
-from tests.waiting import wait_for
+from tests.waiting import child_named, process_gone, wait_for
 
 TOKEN = "z9gote-z9gote-z9gote"
 
@@ -60,35 +60,12 @@ def test_a_lab_in_a_session_of_its_own_is_stopped_with_its_group():
     server = ForkedServer("--view", "none", own_session=True)
     try:
         assert os.getpgid(server.proc.pid) == server.proc.pid != os.getpgid(0)
-        (simulation,) = [p for p in children(server.proc.pid) if "hri-lab-sim" in name(p)]
+        simulation = child_named(server.proc.pid, "hri-lab-sim")
         assert os.getpgid(simulation) == server.proc.pid
     finally:
         stop_group(server.proc, 10.0)
     assert server.proc.returncode is not None
-    wait_for(
-        lambda: gone(simulation)
-    )  # with its group (its parent gone, it may wait as a zombie for the run to reap it)
-
-
-def gone(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/status") as handle:
-            return "zombie" in handle.read()
-    except FileNotFoundError:
-        return True
-
-
-def children(pid: int) -> list[int]:
-    found = []
-    for task in os.listdir(f"/proc/{pid}/task"):
-        with open(f"/proc/{pid}/task/{task}/children") as handle:
-            found += [int(p) for p in handle.read().split()]
-    return found
-
-
-def name(pid: int) -> str:
-    with open(f"/proc/{pid}/comm") as handle:
-        return handle.read().strip()
+    wait_for(lambda: process_gone(simulation))  # with its group
 
 
 def test_the_zygote_ends_by_itself_when_the_run_closes_it():

@@ -9,24 +9,7 @@ import time
 import httpx
 
 from tests.e2e.serving import running_server
-from tests.waiting import wait_for
-
-
-def _children(pid: int, name: str = "hri-lab-sim") -> list[int]:
-    """The server's children of that name (app/runtime: the simulation, the camera)."""
-    pids = []
-    for tid in os.listdir(f"/proc/{pid}/task"):
-        with open(f"/proc/{pid}/task/{tid}/children") as handle:
-            pids += [int(p) for p in handle.read().split()]
-    named = []
-    for child in pids:
-        try:
-            with open(f"/proc/{child}/comm") as handle:
-                if handle.read().strip() == name:
-                    named.append(child)
-        except OSError:
-            pass  # gone meanwhile
-    return named
+from tests.waiting import child_named, wait_for
 
 
 def _sockets(pid: int) -> int:
@@ -42,7 +25,7 @@ def _sockets(pid: int) -> int:
 def test_a_keep_alive_client_goes_on_across_a_restart_of_the_simulation():
     with running_server("--view", "none") as server, httpx.Client(base_url=server.url, timeout=20.0) as client:
         assert client.post("/services/add_two_ints", json={"a": 1, "b": 2}).json() == {"sum": 3}  # connection kept
-        (simulation,) = _children(server.proc.pid)
+        simulation = child_named(server.proc.pid, "hri-lab-sim")
         os.kill(simulation, signal.SIGKILL)
         statuses = []
         for _ in range(20):  # the same kept-alive connection, during and after the restart
@@ -55,8 +38,7 @@ def test_a_keep_alive_client_goes_on_across_a_restart_of_the_simulation():
         assert wait_for(lambda: client.get("/health").json()["loop_restarts"] >= 1)
         assert client.get("/health").json()["last_loop_death"] == "simulation process killed by SIGKILL"
         assert client.post("/services/start_cooperative_lifting", json={"force": 10}).status_code == 200
-        (restarted,) = _children(server.proc.pid)
-        assert restarted != simulation
+        restarted = child_named(server.proc.pid, "hri-lab-sim", other_than=simulation)
         assert _sockets(restarted) == 1  # its own pipe to the server, none of the server's sockets
         assert _sockets(server.proc.pid) > 1  # (the server's listening socket and connection, for contrast)
 

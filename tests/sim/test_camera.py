@@ -2,11 +2,19 @@
 (sim/camera.py, /get_target_position) agree: the box's blob, found as the handout finds it (an HSV
 threshold, the largest contour's bounding rectangle), is centred within 5 px of the projection at
 several poses, the robot's and the palm's colours do not pass the threshold, CameraInfo is the
-model's K, and the camera process renders only while somebody wants images."""
+model's K, and the camera process renders only while somebody wants images.
+
+This pytest process never makes an OpenGL context itself: Mesa's llvmpipe keeps threads that a
+fork does not copy, so a camera process forked after it (a lab run in-process by a later test
+file) would wait forever for its first image. The renderer under test runs in a forked child
+(`Rendering`), and the camera process's test comes last in the file: it fails should an earlier
+test have made a context here."""
 
 import dataclasses
 import math
+import multiprocessing
 import time
+from multiprocessing.connection import Connection
 
 import cv2
 import numpy as np
@@ -33,9 +41,37 @@ def world():
     return World(WorldConfig())
 
 
+class Rendering:
+    """A CameraRenderer in a forked child (see the module's docstring): render(s) is its image of s."""
+
+    def __init__(self, sizes: SceneSizes) -> None:
+        fork = multiprocessing.get_context("fork")
+        self._conn, child = fork.Pipe()
+        self._process = fork.Process(target=_render_each, args=(sizes, child), daemon=True)
+        self._process.start()
+        child.close()
+
+    def render(self, s) -> np.ndarray:
+        self._conn.send(s)
+        assert self._conn.poll(120), "the renderer did not answer within 120 s"
+        return self._conn.recv()
+
+    def release(self) -> None:
+        self._conn.send(None)
+        self._process.join(30)
+        self._conn.close()
+
+
+def _render_each(sizes: SceneSizes, conn: Connection) -> None:
+    renderer = CameraRenderer(sizes)
+    while (s := conn.recv()) is not None:
+        conn.send(renderer.render(s))
+    renderer.release()
+
+
 @pytest.fixture(scope="module")
 def renderer(world):
-    r = CameraRenderer(sizes_of(world.config))
+    r = Rendering(sizes_of(world.config))
     yield r
     r.release()
 
@@ -59,37 +95,6 @@ def wake_ups(pid: int) -> int:
     """The times the process's main thread went to sleep and was woken (voluntary context switches)."""
     with open(f"/proc/{pid}/status") as status:
         return next(int(line.split()[1]) for line in status if line.startswith("voluntary_ctxt_switches"))
-
-
-def test_the_camera_process_renders_only_while_wanted(world):
-    """Idle, it sleeps until a demand wakes it (it looked at the demand every 20 ms before: ~50
-    wake-ups a second in every idle lab; a busy machine wakes it less often, never more); wanted,
-    it renders. (First in this file: the process is forked before this one makes an OpenGL context.)"""
-    process = CameraProcess(world.snapshot, lambda: sizes_of(world.config))
-    process.start()
-    try:
-        assert process.number == 0
-        assert not process.wanted
-        time.sleep(0.3)  # its start done
-        before = wake_ups(process.pid)
-        time.sleep(1.0)  # a window to count its wake-ups in
-        assert wake_ups(process.pid) - before <= 5
-        with process.wants(0.05):
-            assert process.wanted
-            wait_for(lambda: process.number >= 2 or process.error, timeout=120)
-            assert not process.error
-        frame = process.latest()
-        assert frame is not None
-        assert frame.image.shape == (480, 640, 3)
-        assert frame.time == world.snapshot().time
-        assert blob_centre(frame.image) is not None
-        assert not process.wanted  # released: at most the frame being rendered then still comes
-        released = process.number
-        time.sleep(0.5)  # a window to see none come (a slow machine renders fewer, never more)
-        assert process.number <= released + 1
-    finally:
-        process.stop()
-    assert not process.running
 
 
 def test_the_projection_of_a_point_is_k_times_the_optical_frames_coordinates():
@@ -176,3 +181,35 @@ def test_a_shared_frame_is_read_whole_with_its_stamp():
     assert frame.number == 1
     assert frame.time == 1.25
     assert np.array_equal(frame.image, picture)
+
+
+def test_the_camera_process_renders_only_while_wanted(world):
+    """Idle, it sleeps until a demand wakes it (it looked at the demand every 20 ms before: ~50
+    wake-ups a second in every idle lab; a busy machine wakes it less often, never more); wanted,
+    it renders. (Last in the file: forked after the renderer's tests, it renders only if they left
+    no OpenGL context in this process.)"""
+    process = CameraProcess(world.snapshot, lambda: sizes_of(world.config))
+    process.start()
+    try:
+        assert process.number == 0
+        assert not process.wanted
+        time.sleep(0.3)  # its start done
+        before = wake_ups(process.pid)
+        time.sleep(1.0)  # a window to count its wake-ups in
+        assert wake_ups(process.pid) - before <= 5
+        with process.wants(0.05):
+            assert process.wanted
+            wait_for(lambda: process.number >= 2 or process.error, timeout=120)
+            assert not process.error
+        frame = process.latest()
+        assert frame is not None
+        assert frame.image.shape == (480, 640, 3)
+        assert frame.time == world.snapshot().time
+        assert blob_centre(frame.image) is not None
+        assert not process.wanted  # released: at most the frame being rendered then still comes
+        released = process.number
+        time.sleep(0.5)  # a window to see none come (a slow machine renders fewer, never more)
+        assert process.number <= released + 1
+    finally:
+        process.stop()
+    assert not process.running

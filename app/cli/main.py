@@ -10,13 +10,12 @@ start without loading the simulation (numba, pinocchio) that `experiment`, `grad
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import signal
 import sys
-from collections.abc import Sequence
-from typing import overload
-
-from sim.person.participants import PARTICIPANTS
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, overload
 
 from app.cli import arguments as a
 from app.cli import bag
@@ -38,7 +37,7 @@ def _experiment(exp: a.Parser) -> None:
     exp.add_argument(
         "--trials", type=a.positive_int, default=9, help="number of trials (default 9 = 3 participants x 3 tries)"
     )
-    exp.add_argument("--participant", choices=sorted(PARTICIPANTS), help="only this participant")
+    exp.add_argument("--participant", choices=Choices(_participants), help="only this participant")
     exp.add_argument("--seed", type=int, default=0, help="random seed (same seed, same table)")
     a.jobs(exp, "trials")
     exp.add_argument("--json", action="store_true", help="print JSON instead of the table")
@@ -111,7 +110,7 @@ def _serve(srv: a.Parser) -> None:
     )
     srv.add_argument(
         "--world",
-        choices=RegisteredWorlds(),
+        choices=Choices(_worlds),
         metavar="WORLD",  # argparse would read the choices to draw {a,b} as the parser is built
         default=None,
         help="the world served, one of %(choices)s (default: the first, the Panda and the box; "
@@ -308,14 +307,16 @@ def _launch(lch: a.Parser) -> None:
 COMMANDS = (_experiment, _serve, _template, _grade, _grade_services, _grade_wall, _autograder, _handout, _run, _launch)
 
 
-class RegisteredWorlds(Sequence[str]):
-    """`serve --world`'s choices: the registry's worlds (app/serving/worlds.py), read when argparse first
-    asks (a world's package is slow to import: not for every command)."""
+class Choices(Sequence[str]):
+    """An argument's choices read when argparse first asks for them (at a command line naming that
+    command): the modules that hold them are slow to import, not for every command."""
 
+    def __init__(self, names: Callable[[], Iterable[str]]) -> None:
+        self._load = names
+
+    @functools.cached_property
     def _names(self) -> list[str]:
-        from app.serving.worlds import WORLDS
-
-        return list(WORLDS)
+        return list(self._load())
 
     @overload
     def __getitem__(self, index: int) -> str: ...
@@ -324,21 +325,62 @@ class RegisteredWorlds(Sequence[str]):
     def __getitem__(self, index: slice) -> Sequence[str]: ...
 
     def __getitem__(self, index: int | slice) -> str | Sequence[str]:
-        return self._names()[index]
+        return self._names[index]
 
     def __len__(self) -> int:
-        return len(self._names())
+        return len(self._names)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """`hri-lab`: this module's commands, then the ros2-like client's, bag's and urdf's."""
+def _worlds() -> Iterable[str]:
+    from app.serving.worlds import WORLDS  # a world's package: the simulation's
+
+    return WORLDS
+
+
+def _participants() -> Iterable[str]:
+    from sim.person.participants import PARTICIPANTS  # the simulation's package (its kernels' caches checked)
+
+    return sorted(PARTICIPANTS)
+
+
+class _Unread:
+    """A command's parser when another command runs: takes what the command's declaration adds to it
+    (arguments, groups, sub-commands, defaults) and keeps nothing."""
+
+    def __getattr__(self, _name: str) -> Callable[..., _Unread]:
+        return self._take
+
+    def _take(self, *_args: object, **_kwargs: object) -> _Unread:
+        return self
+
+
+class _Only:
+    """The sub-commands of `hri-lab` that add the parser of `name` alone (`build_parser(only=...)`)."""
+
+    def __init__(self, sub: argparse._SubParsersAction, name: str) -> None:
+        self.sub, self.name = sub, name
+
+    def add_parser(self, name: str, **kwargs: Any) -> argparse.ArgumentParser | _Unread:
+        return self.sub.add_parser(name, **kwargs) if name == self.name else _Unread()
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """`hri-lab`: this module's commands, then the ros2-like client's, bag's and urdf's. With `only`
+    (the command a command line names), that command's parser alone, which parses its command
+    lines as the whole one does: argparse looks its messages up with gettext for every parser
+    (half a millisecond each, 51 parsers: a quarter of a client command's start, every `hri-lab
+    run` of a student's program). A name that is no command gets the whole parser (its error lists
+    them all)."""
     parser = argparse.ArgumentParser(prog="hri-lab", description="The simulated cooperative-lifting lab.")
     sub = parser.add_subparsers(dest="command", required=True)
+    adding: Any = sub if only is None else _Only(sub, only)
     for add in COMMANDS:
-        add(sub)
-    client_cli.add_parsers(sub)
-    bag.add_parsers(sub)
-    urdf_cli.add_parsers(sub)
+        add(adding)
+    client_cli.add_parsers(adding)
+    bag.add_parsers(adding)
+    urdf_cli.add_parsers(adding)
+    if only is not None and only not in sub.choices:
+        return build_parser()
     return parser
 
 
@@ -359,7 +401,8 @@ def _stop_with_workers(signum, frame) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    words = sys.argv[1:] if argv is None else argv
+    args = build_parser(only=words[0] if words and not words[0].startswith("-") else None).parse_args(words)
     if args.command in ("experiment", "grade"):
         for signum in (signal.SIGTERM, signal.SIGHUP):
             signal.signal(signum, _stop_with_workers)

@@ -92,6 +92,43 @@ def test_each_example_parses_to_its_command(name):
         assert args.command == name and callable(args.func), words
 
 
+def test_one_commands_parser_is_the_whole_ones_part(capsys):
+    """`hri-lab NAME ...` parses with NAME's parser alone (`build_parser(only=NAME)`): its help, its
+    examples' values and its refusals are the whole parser's; a name that is no command is refused
+    with the whole list."""
+    whole = subcommands(build_parser())
+    for name, parser in whole.items():
+        alone = subcommands(build_parser(only=name))
+        assert list(alone) == [name]
+        assert alone[name].format_help() == parser.format_help(), name
+        for words in examples(parser):
+            expected, got = (
+                vars(build_parser().parse_args(words[1:])),
+                vars(build_parser(only=name).parse_args(words[1:])),
+            )
+            assert (got.pop("func").__qualname__, got) == (expected.pop("func").__qualname__, expected), words
+    with pytest.raises(SystemExit):
+        build_parser(only="experiment").parse_args(["experiment", "--participant", "nobody"])
+    assert (
+        "invalid choice: 'nobody' (choose from 'average', 'brisk', 'calm', 'hasty', 'tilting')"
+        in capsys.readouterr().err
+    )
+    assert list(subcommands(build_parser(only="nosuch"))) == list(whole)
+
+
+def test_a_command_line_is_parsed_by_its_commands_parser(monkeypatch, capsys):
+    """main() builds the parser of the command its line names (an option first: the whole one)."""
+    from app.cli import main
+
+    built = []
+    monkeypatch.setattr(main, "build_parser", lambda only=None: built.append(only) or build_parser(only))
+    for words in (["run", "--help"], ["--help"]):
+        with pytest.raises(SystemExit):
+            main.main(words)
+    assert built == ["run", None]
+    assert capsys.readouterr().out.startswith("usage: hri-lab run [-h]")
+
+
 def test_examples_parse_to_the_values_they_name():
     parser = build_parser()
     grade = parser.parse_args(shlex.split("grade submissions/ --out reports/ --seed 4242 --format gradescope"))

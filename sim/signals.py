@@ -57,6 +57,9 @@ def minimum_jerk(tau: float) -> float:
     return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
+MINIMUM_JERK_PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)  # max |d2s/dtau2|, at tau = 1/2 -+ sqrt(3)/6
+
+
 def minimum_jerk_rate(tau: float) -> float:
     """ds/dtau = 30 tau^2 (1 - tau)^2 on [0, 1]."""
     tau = min(max(tau, 0.0), 1.0)

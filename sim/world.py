@@ -200,9 +200,9 @@ class World:
         self.jog = None
         goal = np.array(self.config.start_q)
         if np.any(self.arm.qdot):
-            self.motion = BrakeThenMove(self.arm.qdot, self.arm.q, goal, peak_velocity)
+            self.motion = BrakeThenMove(self.arm.qdot, self.arm.q, goal, peak_velocity, self.arm.qdd_max)
         else:
-            self.motion = JointTrajectory(self.arm.q, goal, peak_velocity)
+            self.motion = JointTrajectory(self.arm.q, goal, peak_velocity, self.arm.qdd_max)
         return self.motion
 
     def set_sensor(self, **changes) -> None:

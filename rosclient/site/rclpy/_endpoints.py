@@ -62,16 +62,21 @@ class Endpoint:
         self.created = time.monotonic()
         self.last_message: float | None = None  # published (a publisher) or received (a subscription)
         self.last_assertion = self.created  # a publisher asserts its liveliness by being made and by each message
+        self.revivals = 0  # assertions that came once its lease had passed: alive again after a lapse
         self.destroyed: float | None = None
         self.handlers: list[Any] = []  # its event handlers (rclpy/event_handler.py)
         # the lab's pairs with it that came before its handlers were made (None once they are: `ready`)
         self.early: Pairs | None = []
 
     def message(self) -> None:
-        self.last_message = self.last_assertion = time.monotonic()
+        self.assert_liveliness()
+        self.last_message = self.last_assertion
 
     def assert_liveliness(self) -> None:
-        self.last_assertion = time.monotonic()
+        now = time.monotonic()
+        if now >= self.alive_until():
+            self.revivals += 1  # a subscription sees it not alive, then alive again, however soon it looks
+        self.last_assertion = now
 
     # --- liveliness as a subscription sees this publisher ------------------------------------------
     def lease_s(self) -> float:

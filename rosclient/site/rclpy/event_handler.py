@@ -276,13 +276,17 @@ class LivelinessLostHandler(EventHandler):
 
 class LivelinessChangedHandler(EventHandler):
     """A subscription's compatible publishers alive and not alive (this program's and the others'
-    the lab told of, rclpy/_endpoints.py)."""
+    the lab told of, rclpy/_endpoints.py). As rmw_fastrtps reports DDS's liveliness changes: every
+    change since the last event is in the next one, the counts as they are and the changes summed;
+    a publisher that lapsed and asserted itself again between two looks made two changes (a lapse
+    and a revival: `Endpoint.revivals`), summed to none but still an event."""
 
     def __init__(self, callback_group: CallbackGroup, callback: Callable[[Any], Any],
                  endpoint: _endpoints.Endpoint) -> None:
         super().__init__(callback_group, callback)
         self._endpoint = endpoint
         self._alive = self._not_alive = 0
+        self._seen: dict[int, tuple[bool, int]] = {}  # id(publisher): (alive, revivals) at the last look
 
     def _publishers(self) -> list[_endpoints.Endpoint]:
         topic = self._endpoint.topic
@@ -300,12 +304,21 @@ class LivelinessChangedHandler(EventHandler):
         if self._endpoint.destroyed is not None:
             return
         alive = not_alive = 0
+        revived = False  # a lapse and a revival since the last look (no count moved for it)
+        seen: dict[int, tuple[bool, int]] = {}
         for publisher in self._publishers():
-            if publisher.alive_until() > now:
+            is_alive = publisher.alive_until() > now
+            if is_alive:
                 alive += 1
             elif publisher.destroyed is None:  # a MANUAL_BY_TOPIC one past its lease
                 not_alive += 1
-        if (alive, not_alive) != (self._alive, self._not_alive):
+            else:
+                continue
+            seen[id(publisher)] = (is_alive, publisher.revivals)
+            before = self._seen.get(id(publisher))
+            revived = revived or (before is not None and publisher.revivals != before[1])
+        self._seen = seen
+        if revived or (alive, not_alive) != (self._alive, self._not_alive):
             self._pending.append(QoSLivelinessChangedInfo(alive, not_alive, alive - self._alive,
                                                           not_alive - self._not_alive))
             self._alive, self._not_alive = alive, not_alive

@@ -30,11 +30,13 @@ import sys
 import threading
 import time
 import traceback
+from pathlib import Path
 from typing import IO
 
 from app.serving.launch import ServerProcess, wait_or_kill
 
 PR_SET_PDEATHSIG = 1
+CHECKOUT = Path(__file__).resolve().parents[1]  # where `python -m tests.lab_zygote` is found
 
 
 class ForkedLab:
@@ -92,6 +94,7 @@ class Zygote:
             [sys.executable, "-m", "tests.lab_zygote", str(theirs.fileno())],
             pass_fds=[theirs.fileno()],
             stdin=subprocess.DEVNULL,
+            cwd=CHECKOUT,  # `-m tests...` from the checkout, whatever folder the test that needs it is in
         )
         theirs.close()
         self._socket, self._lock = ours, threading.Lock()

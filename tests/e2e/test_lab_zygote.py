@@ -56,6 +56,17 @@ def test_the_tests_environment_and_folder_are_the_labs(tmp_path, monkeypatch):
         assert answer.json() == {"sum": 3}
 
 
+def test_a_zygote_started_from_a_tests_own_folder_serves_its_labs(tmp_path, monkeypatch):
+    """A worker's first lab may come from a test that moved to a folder of its own (as the test above
+    does): the zygote still starts from the checkout (it failed with `No module named 'tests'` when
+    xdist gave that test a worker first), and the lab works in the test's folder."""
+    lab_zygote.close()  # this worker's: the next lab starts another
+    (tmp_path / "params.yaml").write_text("keytwist:\n  ros__parameters:\n    linear_speed: 0.3\n")
+    monkeypatch.chdir(tmp_path)
+    with running_server("--view", "none", "--params", "params.yaml") as server:
+        assert http.get(f"{server.url}/params/keytwist/linear_speed").json()["value"] == 0.3
+
+
 def test_a_lab_in_a_session_of_its_own_is_stopped_with_its_group():
     server = ForkedServer("--view", "none", own_session=True)
     try:

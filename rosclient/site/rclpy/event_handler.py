@@ -286,7 +286,7 @@ class LivelinessChangedHandler(EventHandler):
         super().__init__(callback_group, callback)
         self._endpoint = endpoint
         self._alive = self._not_alive = 0
-        self._seen: dict[int, tuple[bool, int]] = {}  # id(publisher): (alive, revivals) at the last look
+        self._revivals: dict[int, int] = {}  # id(publisher): its revivals at the last look
 
     def _publishers(self) -> list[_endpoints.Endpoint]:
         topic = self._endpoint.topic
@@ -305,19 +305,17 @@ class LivelinessChangedHandler(EventHandler):
             return
         alive = not_alive = 0
         revived = False  # a lapse and a revival since the last look (no count moved for it)
-        seen: dict[int, tuple[bool, int]] = {}
+        revivals: dict[int, int] = {}
         for publisher in self._publishers():
-            is_alive = publisher.alive_until() > now
-            if is_alive:
+            if publisher.alive_until() > now:
                 alive += 1
             elif publisher.destroyed is None:  # a MANUAL_BY_TOPIC one past its lease
                 not_alive += 1
             else:
                 continue
-            seen[id(publisher)] = (is_alive, publisher.revivals)
-            before = self._seen.get(id(publisher))
-            revived = revived or (before is not None and publisher.revivals != before[1])
-        self._seen = seen
+            revivals[id(publisher)] = publisher.revivals
+            revived = revived or self._revivals.get(id(publisher), publisher.revivals) != publisher.revivals
+        self._revivals = revivals
         if revived or (alive, not_alive) != (self._alive, self._not_alive):
             self._pending.append(QoSLivelinessChangedInfo(alive, not_alive, alive - self._alive,
                                                           not_alive - self._not_alive))

@@ -15,6 +15,10 @@ const $ = (tag, attrs = {}, ...children) => {
   return el;
 };
 const byId = (id) => document.getElementById(id);
+// A text or class written only when it changes: the status is rewritten at each of its topics'
+// messages, and an unchanged write still has the browser lay the line out and paint it again.
+const setText = (el, text) => { if (el.textContent !== text) el.textContent = text; };
+const setClass = (el, name) => { if (el.className !== name) el.className = name; };
 // A path of the lab ("/services") as a URL relative to this page, so that the page works wherever it
 // is served: at / on a laptop, or under a prefix behind a JupyterHub (/user/NAME/hri-lab/).
 const here = (path) => new URL(path.replace(/^\//, ""), document.baseURI).href;
@@ -23,6 +27,9 @@ const socketUrl = (path) => here(path).replace(/^http/, "ws");
 // raw: body is a YAML text
 const api = async (method, path, body, raw) => {
   const init = { method, headers: {} };
+  // a POST with nothing to send sends the empty request, {}: a body-less POST through JupyterHub's
+  // proxy arrives typed as a form (tornado's HTTP client), which the lab refuses (app/security.py)
+  if (body === undefined && method === "POST") body = {};
   if (body !== undefined) {
     if (raw) init.body = body;  // a YAML text (/params/load)
     else init.body = typeof body === "object" && "json" in body ? body.json : JSON.stringify(body);
@@ -365,6 +372,9 @@ function figureStrip(urls) {
 
 function showTrial(t) {
   const el = byId("trial-result");
+  const shown = JSON.stringify(t);
+  if (el.dataset.shown === shown) return;  // the same result again (4 a second): nothing to draw
+  el.dataset.shown = shown;
   if (t.state === "none") { el.className = "result"; el.textContent = "No trial yet: start lifting while the person holds the box, or run a scripted participant."; return; }
   const figures = `time ${t.duration.toFixed(2)} s · f_n ${t.f_n_min.toFixed(2)}..${t.f_n_max.toFixed(2)} N · max |f_t|/(mu f_n) ${t.max_friction_ratio.toFixed(2)} · slip ${(t.slip * 1000).toFixed(1)} mm`;
   const head = { running: "trial running", succeeded: "SUCCESS", failed: "FAILED", abandoned: "no result" }[t.state] || t.state;
@@ -388,32 +398,32 @@ function renderStatus() {
   const l = state.lifting, c = state.contact;
   if (l) {
     const on = byId("st-lifting");
-    on.textContent = l.started ? `ON, band [${num(l.f_n_min)}, ${num(l.f_n_max)}] N` : "off";
-    on.className = l.started ? "on" : "off";
-    byId("st-person").textContent = l.human_phase;
+    setText(on, l.started ? `ON, band [${num(l.f_n_min)}, ${num(l.f_n_max)}] N` : "off");
+    setClass(on, l.started ? "on" : "off");
+    setText(byId("st-person"), l.human_phase);
     const error = byId("st-error");
     error.hidden = !l.error;
     if (l.error) {
       const [first, ...rest] = l.error.split("\n");
-      byId("st-error-reason").textContent = first;
+      setText(byId("st-error-reason"), first);
       byId("st-error-trace").hidden = rest.length === 0;
-      byId("st-error-trace").textContent = rest.join("\n");
+      setText(byId("st-error-trace"), rest.join("\n"));
     }
   }
   if (c) {
     const fn = byId("st-fn");
     const where = !l || !l.started ? "" : c.normal_force < l.f_n_min ? "below the band" : c.normal_force > l.f_n_max ? "above the band" : "in the band";
-    fn.textContent = `${c.normal_force.toFixed(1)} N${where ? ` (${where})` : ""}`;
-    fn.className = where === "in the band" ? "on" : where ? "warn" : "";
-    byId("st-contact").textContent = `robot ${c.robot_contact ? (c.robot_slipping ? "slipping" : "yes") : "no"}, person ${personContact(l, c)}, |f_t|/(mu f_n) ${c.friction_ratio.toFixed(2)}`;
+    setText(fn, `${c.normal_force.toFixed(1)} N${where ? ` (${where})` : ""}`);
+    setClass(fn, where === "in the band" ? "on" : where ? "warn" : "");
+    setText(byId("st-contact"), `robot ${c.robot_contact ? (c.robot_slipping ? "slipping" : "yes") : "no"}, person ${personContact(l, c)}, |f_t|/(mu f_n) ${c.friction_ratio.toFixed(2)}`);
   }
-  byId("st-controller").textContent = state.controller;
+  setText(byId("st-controller"), state.controller);
 }
 
 async function pollSlow() {
   try {
     const h = (await api("GET", "/health")).data;
-    byId("health").textContent = h.loop_alive ? `simulation ${h.rate_hz.toFixed(0)} Hz, t = ${h.sim_time.toFixed(1)} s` : "simulation stopped";
+    setText(byId("health"), h.loop_alive ? `simulation ${h.rate_hz.toFixed(0)} Hz, t = ${h.sim_time.toFixed(1)} s` : "simulation stopped");
     const [controller, alpha] = await Promise.all([api("GET", "/params/cooperative_lifting/controller"), api("GET", "/params/cooperative_lifting/alpha")]);
     state.controller = controller.data.value;
     state.alpha = alpha.data.value;

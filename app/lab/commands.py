@@ -1,7 +1,8 @@
 """Every command the server sends into the simulation: functions fn(world, *args), run in the
 simulation process between two steps (`lab.call(fn, *args)`, app/runtime/process.py). This is the
 only way into the world from app/: services, parameters, actions, teleop and the 3D view all call
-these. They live at module level so they travel by name."""
+these. They live at module level so they travel by name. Those that only read the world are marked
+`@reads_world` (app/runtime/loop.py): reading one leaves an idle lab idle."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from sim.controllers.interface import stop_lifting as stop_band
 from sim.person.participants import PARTICIPANTS
 from sim.world import World, WorldConfig
 
+from app.runtime.loop import reads_world
 from interfaces.json_value import JSON
 
 
@@ -43,6 +45,7 @@ def reset_world(world: World) -> None:
     world.reset()
 
 
+@reads_world
 def lifting_state(world: World) -> tuple[bool, float, float, float]:
     """(running, f_n_min, f_n_band, f_n_max) read in one go."""
     p = world.params
@@ -65,6 +68,7 @@ def begin_move_to_start(world: World) -> float:
     return world.move_to_start().duration
 
 
+@reads_world
 def motion_progress(world: World) -> tuple[float, bool, str | None]:
     """(progress 0..1, still moving, robot error) of the motion to the start pose."""
     motion = world.motion
@@ -86,11 +90,13 @@ def set_hand_target(world: World, position: np.ndarray) -> None:
     world.human.set_target(position)
 
 
+@reads_world
 def world_config(world: World) -> WorldConfig:
     """The world's configuration as it is now (parameters change it)."""
     return world.config
 
 
+@reads_world
 def scene_geometry(world: World) -> dict[str, tuple[float, ...]]:
     """What the 3D view draws that does not move: plate (width, height, offset), box size, palm size (m)."""
     cfg = world.config
@@ -101,10 +107,12 @@ def scene_geometry(world: World) -> dict[str, tuple[float, ...]]:
     }
 
 
+@reads_world
 def controller_name(world: World) -> str:
     return type(world.controller).__name__
 
 
+@reads_world
 def controller_choice(world: World) -> str:
     """The `controller` parameter: "sp", "patch", "node" (a node's commands drive the robot) or
     "plugin" (a file given to `serve --controller`)."""
@@ -129,6 +137,7 @@ def set_command_period(world: World, value: float) -> None:
         world.controller.period = value
 
 
+@reads_world
 def get_command_period(world: World) -> float:
     return world.config.command_period
 
@@ -147,6 +156,7 @@ def set_lifting(world: World, value: JSON, field: str) -> None:
     setattr(world.params, field, value)
 
 
+@reads_world
 def get_lifting(world: World, field: str) -> JSON:
     return getattr(world.params, field)
 
@@ -159,6 +169,7 @@ def set_person(world: World, value: Any, field: str) -> None:  # Any: a field of
     world.set_participant(replace(world.human.participant, **{field: value}))
 
 
+@reads_world
 def get_person(world: World, field: str) -> JSON:
     return getattr(world.human.participant, field)
 
@@ -175,5 +186,6 @@ def set_config(world: World, value: JSON, part: str, field: str) -> None:
     _CONFIGURE[part](world, **{field: value})
 
 
+@reads_world
 def get_config(world: World, part: str, field: str) -> JSON:
     return getattr(getattr(world.config, part), field)

@@ -9,7 +9,8 @@ Anything that escapes all the same ends the loop with `fatal` set: the process t
 supervisor (app/runtime/process.py) starts a fresh one.
 
 An idle lab sleeps: while nobody commands the robot (`World.commanded` is false) and no command has
-come for `fine_hold` seconds, nothing needs 1 ms granularity, so the loop wakes once per
+come for `fine_hold` seconds (a command marked `reads_world`, a parameter's value read, does not
+count: a page that reads a parameter every second leaves an idle lab idle), nothing needs 1 ms granularity, so the loop wakes once per
 `batch_period` (or as often as the server's readers need a fresh snapshot: `granularity`, e.g. a
 50 Hz topic stream) and runs the periods that came due back to back (the same steps, the same
 simulated time; only their wall-clock spacing changes), publishing the last of them. A command wakes it at once and the loop is back at
@@ -27,6 +28,7 @@ more (`behind_limit`).
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import queue
@@ -57,6 +59,24 @@ class LoopStats:
 
 
 S = TypeVar("S")  # the world's snapshot type
+F = TypeVar("F", bound=Callable[..., object])
+
+_READS_WORLD = "reads_world"
+
+
+def reads_world(fn: F) -> F:
+    """Mark a command that only reads the world (a parameter's value, the scene's sizes): it is
+    run and answered at the next tick as any command, but it does not keep the loop at 1 ms
+    granularity for `fine_hold` afterwards, as a command that may set the robot going does."""
+    setattr(fn, _READS_WORLD, True)
+    return fn
+
+
+def only_reads(fn: Callable[..., object]) -> bool:
+    """Is fn (or the function a functools.partial wraps) marked by `reads_world`?"""
+    while isinstance(fn, functools.partial):
+        fn = fn.func
+    return bool(getattr(fn, _READS_WORLD, False))
 
 
 @dataclass
@@ -156,7 +176,7 @@ class SimulationLoop(Generic[S]):
         period = self.world.config.dt
         next_tick = time.perf_counter()
         while not self._stop.is_set():
-            done = self._run_commands()
+            done, changed = self._run_commands()
             # an idle batch's catch-up publishes only its last step (no reader needs finer), and any
             # step that answers a command (its effect must be in the snapshot)
             now = time.perf_counter()
@@ -170,7 +190,7 @@ class SimulationLoop(Generic[S]):
                 continue
             next_tick += period
             now = time.perf_counter()
-            if done:
+            if changed:
                 self._last_command = now
             if now - next_tick > self.behind_limit(next_tick):  # far behind (paused, overloaded): resync
                 self.stats.overruns += 1
@@ -230,14 +250,17 @@ class SimulationLoop(Generic[S]):
         elapsed = time.perf_counter() - self._started
         self.stats.rate_hz = self.stats.ticks / elapsed if elapsed > 0 else 0.0
 
-    def _run_commands(self) -> list[tuple[int, bool, object]]:
-        """Run the queued functions; their (call id, ok, result or exception)."""
+    def _run_commands(self) -> tuple[list[tuple[int, bool, object]], bool]:
+        """Run the queued functions: their (call id, ok, result or exception), and whether any of
+        them was more than a read (`reads_world`)."""
         done: list[tuple[int, bool, object]] = []
+        changed = False
         while True:
             try:
                 call_id, fn, args = self._commands.get_nowait()
             except queue.Empty:
-                return done
+                return done, changed
+            changed = changed or not only_reads(fn)
             try:
                 done.append((call_id, True, fn(self.world, *args)))
             except BaseException as exc:  # noqa: BLE001 - handed back to the caller, never kills the loop

@@ -172,6 +172,7 @@ def test_a_non_ascii_token_is_a_401_and_shutdown_is_bounded(server):
         assert r.status_code == 401
     # shutdown is bounded whatever is connected: a 0.1 Hz stream and a 30 s long-poll are open
     ws = connect(server.url.replace("http", "ws") + "/topics/joint_states/stream?rate=0.1")
+    assert "Sec-WebSocket-Extensions" not in ws.response.headers  # deflate offered, not taken (app/serving/http.py)
     ws.recv()
     goal = http.post(f"{server.url}/actions/count/goals", json={"count": 60}, headers=AUTH).json()["goal_id"]
     with ThreadPoolExecutor(1) as pool:

@@ -2,8 +2,10 @@
 steps in batches; the steps are the same ones (the same world at the same tick as stepping it
 directly), and a command brings 1 ms granularity back until the robot is left alone again."""
 
+import itertools
 import threading
 import time
+from functools import partial
 
 import numpy as np
 
@@ -78,6 +80,26 @@ def test_a_commanded_robot_is_stepped_at_1_ms_granularity_and_idles_again_when_l
         running.call(2, cmd.stop_lifting)
         wait_for(lambda: not world.commanded)  # the command ramps down to zero (rate limit)
         wait_for(lambda: loop.stats.batched > batched)  # left alone: it sleeps again
+
+
+def test_reading_the_world_leaves_an_idle_loop_idle():
+    """A page reads a parameter every second or two (static/app.js): a command marked `reads_world`
+    is answered at the next tick, and the loop goes on sleeping between batches (before, every read
+    held it at 1 ms granularity for `fine_hold` and an idle lab with a page open spent ~2.5 times
+    its CPU: docs/performance.md)."""
+    world = World()
+    with _Running(world) as running:
+        loop = running.loop
+        wait_for(lambda: loop.stats.batched > 0)
+        ids = itertools.count(1)
+        batched = loop.stats.batched
+
+        def read_and_look() -> bool:
+            assert running.call(next(ids), partial(cmd.get_lifting, field="mu")) == world.params.mu
+            assert running.call(next(ids), cmd.controller_choice) == "sp"
+            return loop.stats.batched > batched + 3  # idle batches between the reads
+
+        wait_for(read_and_look)
 
 
 def test_a_commanded_loop_stalled_beyond_max_behind_drops_the_periods_it_missed():

@@ -12,5 +12,6 @@ def test_uvicorn_gets_the_servers_limits():
     assert config.timeout_graceful_shutdown == SHUTDOWN_S
     assert config.ws_max_size == 2 * MAX_FRAME
     assert config.ws_ping_timeout == WS_PING_TIMEOUT_S
+    assert config.ws_per_message_deflate is False  # rosbridge_server's default: no compression
     assert config.http.read_timeout_s == READ_TIMEOUT_S
     assert server_config(None, "127.0.0.1", 1, read_timeout_s=0.5).http.read_timeout_s == 0.5

@@ -201,8 +201,9 @@ def test_the_launcher_lists_the_labs(hub):
 
 
 def test_her_lab_live_in_chromium(hub, browser):
-    """Signed in as ada, the launcher's URL shows her dashboard updating, its controls work (a POST
-    through the hub, the lab's origin check passed), and the 3D view comes through the same prefix."""
+    """Signed in as ada, the launcher's URL shows her dashboard updating, its controls work (POSTs
+    through the hub, the lab's origin check passed: Start with its force, Stop with no field), and
+    the 3D view comes through the same prefix."""
     context, page = _login(browser, hub, "ada")
     try:
         page.goto(f"{hub.url}/user/ada/hri-lab/?view=embed")  # embedded even where WebGL is software
@@ -214,6 +215,13 @@ def test_her_lab_live_in_chromium(hub, browser):
         page.wait_for_function("/ N/.test(document.querySelector('#st-fn').textContent)")  # F_ext's stream
         page.frame_locator("#view").locator(CONTROL_PANEL_TAB).wait_for(state="attached")
         assert page.locator("#view").get_attribute("src").startswith(f"{hub.url}/user/ada/hri-lab/view/3d/")
+        page.locator("#ctl-stop").click()  # and stopped: the software-WebGL view then has nothing to redraw
+        # Stop sends no fields: a body-less POST through the proxy arrived typed as a form, and the lab
+        # refused it (415); the page sends {}
+        page.wait_for_function("document.querySelector('#st-lifting').textContent === 'off'")
+        message = page.locator("#ctl-message").inner_text()
+        assert message.startswith("stop_cooperative_lifting: ") and "not accepted" not in message, message
+        page.close()  # before the API's docs load: its streams would go on beside them
         docs = context.new_page()
         docs.goto(f"{hub.url}/user/ada/hri-lab/docs")
         docs.wait_for_selector(".swagger-ui .opblock", timeout=180_000)  # its schema fetched through the prefix

@@ -10,15 +10,16 @@ supervisor (app/runtime/process.py) starts a fresh one.
 
 An idle lab sleeps: while nobody commands the robot (`World.commanded` is false) and no command has
 come for `fine_hold` seconds (a command marked `reads_world`, a parameter's value read, does not
-count: a page that reads a parameter every second leaves an idle lab idle), nothing needs 1 ms granularity, so the loop wakes once per
-`batch_period` (or as often as the server's readers need a fresh snapshot: `granularity`, e.g. a
-50 Hz topic stream) and runs the periods that came due back to back (the same steps, the same
-simulated time; only their wall-clock spacing changes), publishing the last of them. A command wakes it at once and the loop is back at
-1 ms granularity before the command runs. Lateness is measured only at 1 ms granularity
-(`LoopStats.batched` counts the ticks stepped in batches). An idle loop kept at 1 ms granularity
-only by a reader of every step's sample (`sample`, a 1 kHz F_ext subscriber), with no reader of
-snapshots that needs them oftener than `batch_period` (`snapshot_spacing`), publishes a snapshot
-once per `batch_period`, as an idle batch does: the snapshot's write is most of a step's cost.
+count: a page that reads a parameter every second leaves an idle lab idle), nothing needs 1 ms
+granularity, so the loop wakes once per `batch_period` (or as often as the server's readers need a
+fresh snapshot: `granularity`, e.g. a 50 Hz topic stream) and runs the periods that came due back to
+back (the same steps, the same simulated time; only their wall-clock spacing changes), publishing
+the last of them. A command wakes it at once and the loop is back at 1 ms granularity before the
+command runs. Lateness is measured only at 1 ms granularity (`LoopStats.batched` counts the ticks
+stepped in batches). An idle loop kept at 1 ms granularity only by a reader of every step's sample
+(`sample`, a 1 kHz F_ext subscriber), with no reader of snapshots that needs them oftener than
+`batch_period` (`snapshot_spacing`), publishes a snapshot once per `batch_period`, as an idle batch
+does: the snapshot's write is most of a step's cost.
 
 Behind the wall clock by more than `max_behind` (a paused or overloaded machine), the loop drops the
 periods it missed (`LoopStats.overruns`) rather than run them back to back without the controller's

@@ -1,10 +1,10 @@
 """The HTTP server's limits, in uvicorn's configuration (besides the body limit, app/security.py): a
 request must arrive whole (headers and body) within READ_TIMEOUT_S of its first byte (or of the
 connection's opening), an idle keep-alive connection is closed after KEEP_ALIVE_S, headers are at most
-64 KiB (h11/httptools), WebSocket messages go uncompressed (no permessage-deflate: rosbridge_server's
-default, `use_compression` false; compressing each of a page's ~75 small messages a second cost the
-server and the browser more than it saved on a loopback or campus network), and a shutdown (Ctrl+C, SIGTERM) closes every connection and stream within
-SHUTDOWN_S. `hri-lab serve` and a graded wall trial's lab serve with them."""
+64 KiB (h11/httptools), WebSocket messages go uncompressed as rosbridge_server sends them by default
+(`use_compression` false: no permessage-deflate, whatever the client offers), and a shutdown (Ctrl+C,
+SIGTERM) closes every connection and stream within SHUTDOWN_S. `hri-lab serve` and a graded wall
+trial's lab serve with them."""
 
 import asyncio
 

@@ -2,7 +2,7 @@
 them (`hri-lab serve --port P --world lifting`, each on a free port, as jupyter-server-proxy does), each
 with cooperative lifting running (the scripted participant, /services/start_cooperative_lifting), its
 dashboard's data read as the page reads it (the five topic streams of static/app.js at the page's
-rates, /health and /log polled), and one student node streaming F_ext into a rospy callback
+rates, its polls at theirs), and one student node streaming F_ext into a rospy callback
 (bench/ros_fext_subscriber.py under `hri-lab run`). For N = 1, 2, 4, 8, ... it prints each lab's
 real-time factor, its missed 1 kHz periods (/health's overruns: periods the loop skipped) and
 lateness p99, the CPU (% of one core) and memory (PSS, MiB) of the lab's processes and of the node's,
@@ -48,7 +48,16 @@ PAGE_STREAMS = {
     "/trial": 4,
     "/contact_state": 20,
 }
-PAGE_POLLS = {"/log": 1.0, "/health": 2.0}
+PAGE_POLLS = {  # each page's timers: the console (the lines after the newest it has), the cv2 windows, pollSlow's reads
+    "/log": 1.0,
+    "/camera/windows": 1.0,
+    "/health": 2.0,
+    "/params/cooperative_lifting/controller": 2.0,
+    "/params/cooperative_lifting/alpha": 2.0,
+    "/services": 2.0,
+    "/actions": 2.0,
+}
+PAGE_READS_ONCE = {"/params", "/topics", "/view", "/params/human/profile", "/params/human/profile/describe"}
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 
@@ -217,11 +226,16 @@ class Dashboards:
                 await asyncio.sleep(2.0)  # as the page: reconnect after 2 s
 
     async def _poll(self, url: str, every: float) -> None:
+        seen = 0  # the console's newest line: it asks for those after it, as the page does
         async with httpx.AsyncClient(timeout=10) as http:
             while True:
                 try:
-                    await http.get(url)
-                except httpx.HTTPError:
+                    if url.endswith("/log"):
+                        lines = (await http.get(url, params={"after_seq": seen})).json()
+                        seen = max([seen, *(line["seq"] for line in lines)])
+                    else:
+                        await http.get(url)
+                except (httpx.HTTPError, ValueError, TypeError, KeyError):
                     pass
                 await asyncio.sleep(every)
 

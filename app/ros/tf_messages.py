@@ -4,6 +4,7 @@ frames: its package, e.g. app/lab/tf.py; the programs' frames: app/rosbridge/int
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -14,10 +15,13 @@ from sim.messages import header
 WORLD = "world"  # the root frame (tf2_web_republisher's default target frame)
 
 
-def relative_stamped(s: Any, parent: str, child: str, relative: np.ndarray) -> dict:
+def relative_stamped(
+    s: Any, parent: str, child: str, relative: np.ndarray, rotation_xyzw: Sequence[float] | np.ndarray | None = None
+) -> dict:
     """geometry_msgs/TransformStamped of `relative`, the child's pose (4x4) in the parent's frame,
-    stamped with the snapshot `s`'s simulated time."""
-    x, y, z, w = pin.Quaternion(relative[:3, :3]).coeffs()
+    stamped with the snapshot `s`'s simulated time; its rotation `rotation_xyzw` where the caller
+    composed it (tf2's sign), else read from the matrix."""
+    x, y, z, w = pin.Quaternion(relative[:3, :3]).coeffs() if rotation_xyzw is None else rotation_xyzw
     t = relative[:3, 3]
     return {
         "header": header(s, parent),

@@ -26,7 +26,7 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -34,7 +34,7 @@ from sim.messages import Topic
 
 from app.ros import tf_messages as tf
 from app.ros.services import ServiceFailure
-from app.rosbridge.internal.node_frames import TF_TOPICS, transform_matrix
+from app.rosbridge.internal.node_frames import TF_TOPICS, transform_pose
 from app.rosbridge.ports import FramesLike, TopicsLike
 from app.rosbridge.protocol import MAX_CLIENT_TF_REPUBLISHED, BadFrame
 
@@ -53,20 +53,47 @@ _NUMBERS = itertools.count(1)
 
 
 # --- the tree -------------------------------------------------------------------------------------
-def tree_poses(lab_tf: dict[str, Topic], frames: Any, snapshot: Any) -> dict[str, tuple[np.ndarray, str]]:
+class FramePose(NamedTuple):
+    """A frame's pose in another: its 4x4, and its rotation as tf2 composes it (x, y, z, w): by
+    quaternion products along the chain (tf2's BufferCore::lookupTransform), so a frame's pose in its
+    parent comes back with the quaternion its broadcaster sent, sign included (one read back from the
+    matrix, as Eigen reads it, is its negative for a turn beyond 90 degrees about z)."""
+
+    matrix: np.ndarray
+    rotation_xyzw: np.ndarray
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The Hamilton product a * b of two quaternions (x, y, z, w): b's rotation, then a's."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )
+
+
+_IDENTITY = FramePose(np.eye(4), np.array([0.0, 0.0, 0.0, 1.0]))
+
+
+def tree_poses(lab_tf: dict[str, Topic], frames: Any, snapshot: Any) -> dict[str, tuple[FramePose, str]]:
     """Every frame of the transforms /tf and /tf_static carry now (`lab_tf`: the lab's own topics
     of them, with the programs' frames; `frames`, the programs' frames alone where the lab has none):
-    its pose (4x4) in its tree's root frame, and that root. A frame below a loop is in no tree."""
-    edges: dict[str, tuple[str, np.ndarray]] = {}  # child -> (parent, child's pose in the parent)
+    its pose in its tree's root frame, and that root. A frame below a loop is in no tree."""
+    edges: dict[str, tuple[str, FramePose]] = {}  # child -> (parent, child's pose in the parent)
     for name, static in TF_TOPICS.items():
         topic = lab_tf.get(name)  # absent in a lab started to replay bags: the programs' frames alone
         transforms = topic.build(snapshot)["transforms"] if topic is not None else frames.transforms(static)
         for t in transforms:
             edges[t["child_frame_id"].strip("/")] = (
                 t["header"]["frame_id"].strip("/"),
-                transform_matrix(t["transform"]),
+                FramePose(*transform_pose(t["transform"])),
             )
-    placed: dict[str, tuple[np.ndarray, str]] = {}
+    placed: dict[str, tuple[FramePose, str]] = {}
     unplaced: set[str] = set()  # frames in a loop or below one (each walked once: linear in the frames)
     for start in edges:
         chain, on_chain, frame = [], set(), start
@@ -77,18 +104,25 @@ def tree_poses(lab_tf: dict[str, Topic], frames: Any, snapshot: Any) -> dict[str
         if frame in on_chain or frame in unplaced:
             unplaced |= on_chain
             continue  # a loop
-        pose, root = placed.setdefault(frame, (np.eye(4), frame))  # known, or a root
+        pose, root = placed.setdefault(frame, (_IDENTITY, frame))  # known, or a root
         for child in reversed(chain):
-            pose = pose @ edges[child][1]
+            edge = edges[child][1]
+            pose = FramePose(pose.matrix @ edge.matrix, _product(pose.rotation_xyzw, edge.rotation_xyzw))
             placed[child] = (pose, root)
     return placed
 
 
-def relative(poses: dict[str, tuple[np.ndarray, str]], target: str, source: str) -> np.ndarray | None:
-    """The source frame's pose in the target frame; None when either is in no tree or not in one tree."""
+def relative(poses: dict[str, tuple[FramePose, str]], target: str, source: str) -> FramePose | None:
+    """The source frame's pose in the target frame; None when either is in no tree or not in one tree.
+    Its rotation is the target's inverse times the source's, as tf2 composes a path through a common
+    frame (the inverse of a unit quaternion: its conjugate)."""
     if source not in poses or target not in poses or poses[source][1] != poses[target][1]:
         return None
-    return np.linalg.solve(poses[target][0], poses[source][0])
+    (target_pose, _), (source_pose, _) = poses[target], poses[source]
+    conjugate = target_pose.rotation_xyzw * np.array([-1.0, -1.0, -1.0, 1.0])
+    return FramePose(
+        np.linalg.solve(target_pose.matrix, source_pose.matrix), _product(conjugate, source_pose.rotation_xyzw)
+    )
 
 
 def _frame_name(name: Any, field_name: str) -> str:
@@ -200,11 +234,11 @@ class TFSubscriptionServer:
         self._seq = itertools.count(1)
         self._status_task: asyncio.Task | None = None
         self.owners: dict[str, Any] = {}  # a /republish_tfs topic -> the session that asked for it
-        self._tree: tuple[Any, int, dict[str, tuple[np.ndarray, str]]] | None = (
+        self._tree: tuple[Any, int, dict[str, tuple[FramePose, str]]] | None = (
             None  # (snapshot, frames' version, poses)
         )
 
-    def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[np.ndarray, str]]]:
+    def tree(self, snapshot: Any) -> tuple[Any, dict[str, tuple[FramePose, str]]]:
         """(the snapshot it was built at, tree_poses) for every goal and republished topic: built once
         a period (1 / MAX_RATE_HZ of simulated time, either way: a reset sends it back) while the
         programs' frames stay, not once per request or goal."""
@@ -246,7 +280,13 @@ class TFSubscriptionServer:
         def build(snapshot: Any) -> dict:
             at, poses = self.tree(snapshot)  # a frame whose program went: left out
             found = ((source, relative(poses, target, source)) for source in sources)
-            return {"transforms": [tf.relative_stamped(at, target, s, pose) for s, pose in found if pose is not None]}
+            return {
+                "transforms": [
+                    tf.relative_stamped(at, target, s, pose.matrix, pose.rotation_xyzw)
+                    for s, pose in found
+                    if pose is not None
+                ]
+            }
 
         name = f"/tf_repub_{next(_NUMBERS)}"
         self.lab_topics.add_topic(Topic(name, ARRAY_TYPE, build), min_period_s=1.0 / rate)
@@ -376,9 +416,10 @@ class TFSubscriptionServer:
             transforms = []
             for pair in goal.pairs:
                 now = relative(poses, goal.target, pair.source)
-                if now is not None and pair.moved(now, goal.trans_thres_m, goal.angular_thres_rad):
-                    pair.sent = now
-                    transforms.append(_ros1_transform(tf.relative_stamped(snapshot, goal.target, pair.source, now)))
+                if now is not None and pair.moved(now.matrix, goal.trans_thres_m, goal.angular_thres_rad):
+                    pair.sent = now.matrix
+                    stamped = tf.relative_stamped(snapshot, goal.target, pair.source, now.matrix, now.rotation_xyzw)
+                    transforms.append(_ros1_transform(stamped))
             if transforms:
                 header = _ros1_header(snapshot.time, next(self._seq))
                 self._offer(

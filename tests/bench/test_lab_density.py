@@ -2,6 +2,7 @@
 decides that the machine fell behind."""
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -70,3 +71,15 @@ def test_a_lab_falls_behind_when_slow_or_missing_periods():
     assert s["behind"] and s["rtf_min"] == pytest.approx(0.9)
     assert s["cpu_per_student"] == pytest.approx(2 * 100.0 / 10.0)
     assert "normal" in d.row(2, 1, slow) and "0.900" in d.row(2, 1, slow)
+
+
+def test_the_dashboards_read_what_the_page_reads():
+    # every fixed path static/app.js GETs is polled at the page's pace or read once when it opens,
+    # and its plots' streams are the bench's (paths built per item are a new item's, read once)
+    page = (Path(__file__).resolve().parents[2] / "static" / "app.js").read_text()
+    literals = (path.split("?")[0] for path in re.findall(r'api\("GET", [`"](/[^`"]*)', page))
+    gets = {path for path in literals if "${" not in path}
+    assert gets == set(d.PAGE_POLLS) | d.PAGE_READS_ONCE
+    assert not set(d.PAGE_POLLS) & d.PAGE_READS_ONCE
+    streams = set(re.findall(r'stream\("(/[^"]+)", (?:RATE_HZ|\d+)', page))
+    assert streams == set(d.PAGE_STREAMS)

@@ -145,7 +145,8 @@ def test_republish_tfs_serves_the_mobile_worlds_frames(lab, ros):
     pose = latest(lab, "odom")["pose"]["pose"]  # the base stands still: odom -> base_footprint is /odom's pose
     footprint = got["base_footprint"]
     assert math.isclose(footprint["translation"]["x"], pose["position"]["x"], abs_tol=1e-9)
-    assert math.isclose(footprint["rotation"]["z"], pose["orientation"]["z"], abs_tol=1e-9)
+    for axis in "zw":  # the quaternion as /odom's (tf2 composes the broadcast one: its sign too)
+        assert math.isclose(footprint["rotation"][axis], pose["orientation"][axis], abs_tol=1e-9)
     assert got["base_scan"]["translation"]["z"] > 0.1  # the lidar above the floor (base_link, then its mount)
 
 

@@ -47,8 +47,9 @@ def _number(value: object) -> float:
     return float(value)
 
 
-def transform_matrix(transform: dict) -> np.ndarray:
-    """The 4x4 of a geometry_msgs/Transform (ValueError naming the field when it is not one)."""
+def transform_pose(transform: dict) -> tuple[np.ndarray, np.ndarray]:
+    """A geometry_msgs/Transform's 4x4 and its unit quaternion (x, y, z, w), sign as given (ValueError
+    naming the field when it is not one)."""
     translation, rotation = transform.get("translation", {}), transform.get("rotation", {})
     if not isinstance(translation, dict) or not isinstance(rotation, dict):
         raise ValueError("transform must have 'translation' {x, y, z} and 'rotation' {x, y, z, w}")
@@ -65,7 +66,7 @@ def transform_matrix(transform: dict) -> np.ndarray:
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ]
     matrix[:3, 3] = t
-    return matrix
+    return matrix, np.array([x, y, z, w])
 
 
 def no_frames() -> set[str]:
@@ -111,7 +112,7 @@ class NodeFrames:
         if child in lab:
             return f"frame {child[:80]} is the lab's: a program cannot move it (publish frames of your own, below it)"
         try:
-            transform_matrix(item["transform"] if isinstance(item.get("transform"), dict) else {})
+            transform_pose(item["transform"] if isinstance(item.get("transform"), dict) else {})
         except ValueError as bad:
             return f"frame {child[:80]}: {bad}"
         with self._lock:

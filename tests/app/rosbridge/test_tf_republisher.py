@@ -10,6 +10,7 @@ import pytest
 
 from sim.messages import Topic
 
+from app.ros import tf_messages as tf
 from app.rosbridge.internal.node_frames import NodeFrames
 from app.rosbridge.tf_republisher import Pair, _request, relative, tree_poses
 from tests.app.rosbridge.clients import connect, op, parts, run, sent, until
@@ -42,11 +43,32 @@ def test_a_chain_is_composed_from_its_root_and_a_pair_is_relative():
     poses = tree_poses(bridge.topics, bridge.frames, None)
     assert set(poses) == {"world", "base", "tool"}
     assert {root for _, root in poses.values()} == {"world"}
-    assert np.allclose(poses["tool"][0][:3, 3], [1.0, 0.5, 0.0])
-    tool_in_world = relative(poses, "world", "tool")
-    world_in_tool = relative(poses, "tool", "world")
+    assert np.allclose(poses["tool"][0].matrix[:3, 3], [1.0, 0.5, 0.0])
+    tool_in_world = relative(poses, "world", "tool").matrix
+    world_in_tool = relative(poses, "tool", "world").matrix
     assert np.allclose(tool_in_world[:3, 3], [1.0, 0.5, 0.0])
     assert np.allclose(world_in_tool @ tool_in_world, np.eye(4))
+
+
+def test_a_rotation_is_composed_as_tf2_composes_it_its_sign_kept():
+    # odom -> base_footprint after a long turn (yaw -2.3 rad, broadcast as turtlebot3_node does: w >= 0),
+    # base_footprint -> base_scan a quarter turn: tf2 multiplies the broadcast quaternions
+    yaw, quarter = -2.3, math.pi / 2
+    bridge = bridge_with(
+        [stamped("odom", "base_footprint", (1.0, 0.0, 0.0), yaw)],
+        [stamped("base_footprint", "base_scan", yaw_rad=quarter)],
+    )
+    poses = tree_poses(bridge.topics, bridge.frames, None)
+    footprint = relative(poses, "odom", "base_footprint").rotation_xyzw
+    assert np.allclose(footprint, [0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)])  # as broadcast, not negated
+    scan = relative(poses, "odom", "base_scan").rotation_xyzw
+    assert np.allclose(scan, [0.0, 0.0, math.sin((yaw + quarter) / 2), math.cos((yaw + quarter) / 2)])
+    # the path through a common frame: the target's conjugate times the source's
+    scan_in_footprint = relative(poses, "base_footprint", "base_scan").rotation_xyzw
+    assert np.allclose(scan_in_footprint, [0.0, 0.0, math.sin(quarter / 2), math.cos(quarter / 2)])
+    at = SimpleNamespace(time=1.0)
+    message = tf.relative_stamped(at, "odom", "base_footprint", *relative(poses, "odom", "base_footprint"))
+    assert message["transform"]["rotation"]["z"] == pytest.approx(math.sin(yaw / 2))
 
 
 def test_frames_of_two_trees_or_below_a_loop_do_not_resolve():
@@ -65,7 +87,9 @@ def test_programs_frames_serve_when_the_lab_publishes_no_tf():
     bridge = SimpleNamespace(topics={}, frames=NodeFrames())  # a lab started to replay bags
     session = SimpleNamespace(name="/talker")
     assert bridge.frames.offer(session, {"transforms": [stamped("map", "robot", (2.0, 0.0, 0.0))]}, static=False) == []
-    assert np.allclose(relative(tree_poses(bridge.topics, bridge.frames, None), "map", "robot")[:3, 3], [2.0, 0.0, 0.0])
+    assert np.allclose(
+        relative(tree_poses(bridge.topics, bridge.frames, None), "map", "robot").matrix[:3, 3], [2.0, 0.0, 0.0]
+    )
 
 
 def pose(x_m: float = 0.0, yaw_rad: float = 0.0) -> np.ndarray:

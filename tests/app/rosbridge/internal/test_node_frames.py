@@ -15,7 +15,7 @@ from app.rosbridge.tf_republisher import relative, tree_poses
 def world_poses(frames: NodeFrames) -> dict[str, np.ndarray]:
     """The programs' frames placed in the world (a lab publishing no tf of its own: `serve --replay`)."""
     poses = tree_poses({}, frames, None)
-    return {name: pose for name in poses if (pose := relative(poses, "world", name)) is not None}
+    return {name: pose.matrix for name in poses if (pose := relative(poses, "world", name)) is not None}
 
 
 def stamped(parent: str, child: str, xyz=(0.0, 0.0, 0.0), xyzw=(0.0, 0.0, 0.0, 1.0)) -> dict:

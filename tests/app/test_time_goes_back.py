@@ -32,25 +32,42 @@ def _stamp_s(message: dict) -> float:
     return stamp["sec"] + stamp["nanosec"] * 1e-9
 
 
-class Subscriber(threading.Thread):
-    """One live stream, read on a thread of its own: the stamps it got, in order."""
+DRAINED = "drained"  # the id of the call a rosbridge subscriber ends with: its answer comes after the last message
 
-    def __init__(self, name: str, ws, message_of=lambda frame: frame) -> None:
+
+class Subscriber(threading.Thread):
+    """One live stream, read on a thread of its own: the stamps it got, in order.
+
+    In-process (FastAPI's TestClient) a socket has no backpressure: what the lab sent waits in the
+    client's queue however far behind this thread is (a 1 kHz stream on a loaded machine: seconds), so
+    a rosbridge stream is ended by unsubscribing and a call whose answer comes after its last
+    message, and read to that answer; an HTTP stream (a few messages a second) is read until told."""
+
+    def __init__(self, name: str, ws, message_of=lambda frame: frame, topic: str | None = None) -> None:
         super().__init__(daemon=True, name=name)
-        self.ws, self.message_of = ws, message_of
+        self.ws, self.message_of, self.topic = ws, message_of, topic
         self.stamps: list[float] = []
         self.stop = threading.Event()
         self.error: BaseException | None = None
 
+    def finish(self) -> None:
+        """No more messages wanted: the reader ends once it has read what the lab sent before."""
+        self.stop.set()
+        if self.topic is not None:  # rosbridge: its own unsubscribe, then the marker
+            self.ws.send_json({"op": "unsubscribe", "topic": self.topic})
+            self.ws.send_json({"op": "call_service", "service": "/rosapi/get_time", "id": DRAINED})
+
     def run(self) -> None:
         try:
-            while not self.stop.is_set():
+            while self.topic is not None or not self.stop.is_set():
                 frame = self.ws.receive_json()
+                if frame.get("op") == "service_response" and frame.get("id") == DRAINED:
+                    return
                 message = self.message_of(frame)
                 if message is not None:
                     self.stamps.append(_stamp_s(message))
-        except BaseException as exc:  # noqa: BLE001 - the socket closed at the end, or a failure the test reports
-            if not self.stop.is_set():
+        except BaseException as exc:  # noqa: BLE001 - an HTTP stream's socket closed at the end, or a failure
+            if self.topic is not None or not self.stop.is_set():
                 self.error = exc
 
     def trials(self) -> list[list[float]]:
@@ -67,7 +84,7 @@ def _rosbridge(client: TestClient, stack, topic: str, throttle_ms: int, queue_le
     ws = stack.enter_context(client.websocket_connect("/"))
     ws.send_json({"op": "subscribe", "topic": topic, "throttle_rate": throttle_ms, "queue_length": queue_length})
     return Subscriber(
-        f"rosbridge {topic} @{throttle_ms} ms", ws, lambda f: f.get("msg") if f.get("op") == "publish" else None
+        f"rosbridge {topic} @{throttle_ms} ms", ws, lambda f: f.get("msg") if f.get("op") == "publish" else None, topic
     )
 
 
@@ -93,13 +110,14 @@ def _run_trials(sim_time, reset, subscribers: list[Subscriber], rng: random.Rand
         wait_for(lambda: sim_time() < lengths[-1], timeout=60)  # the reset happened
     wait_for(lambda: sim_time() >= lengths[0] + 0.5, timeout=120)
     for s in subscribers:
-        s.stop.set()
+        s.finish()
+    for s in subscribers:  # before their sockets close
+        s.join(timeout=120)
     return lengths
 
 
 def _assert_each_went_on(subscribers: list[Subscriber], lengths: list[float], seed: int) -> None:
     for s in subscribers:
-        s.join(timeout=60)
         assert not s.is_alive(), f"{s.name}: its reader did not end"
         assert s.error is None, f"{s.name}: {s.error!r}"
         trials = s.trials()

@@ -22,10 +22,12 @@ reported by name with its exit status, as roslaunch reports it.
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import os
 import re
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -470,6 +472,35 @@ def relay_output(proc: subprocess.Popen, log_path: Path, screen_label: str | Non
                 sys.stdout.flush()
 
 
+def log_dir() -> Path:
+    """A new folder for one launch's logs where ROS 2's launch makes it (launch/logging's
+    `_get_logging_directory` and `_make_unique_log_dir`): below $ROS_LOG_DIR, else $ROS_HOME/log, else
+    ~/.ros/log, named by the time, the host and this process, with `latest` pointing at it. Where
+    that base cannot be written (a read-only home), a temporary folder."""
+    base = os.environ.get("ROS_LOG_DIR") or os.path.join(os.environ.get("ROS_HOME") or "~/.ros", "log")
+    base_path = Path(os.path.normpath(os.path.expanduser(base)))
+    try:
+        while True:
+            stamp = datetime.datetime.now().strftime("%Y-%m-%d-%H-%M-%S-%f")
+            folder = base_path / f"{stamp}-{socket.gethostname()}-{os.getpid()}"
+            try:
+                folder.mkdir(parents=True)
+                break
+            except FileExistsError:
+                continue
+    except OSError:
+        return Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))
+    latest = base_path / "latest"
+    try:
+        if latest.is_symlink():
+            latest.unlink()
+        if not latest.exists():  # a folder of that name is the user's: left alone, as launch leaves it
+            latest.symlink_to(folder, target_is_directory=True)
+    except OSError:
+        pass
+    return folder
+
+
 def stopped_by_signals() -> threading.Event:
     """Set by Ctrl+C (SIGINT) or SIGTERM: the launch then stops its nodes, as roslaunch does."""
     stopping = threading.Event()
@@ -507,7 +538,7 @@ def run(
     if found is None:
         return 2
     url, server = found
-    logs = Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))
+    logs = log_dir()
     running: list[Running] = []
     crashed = 0
     try:

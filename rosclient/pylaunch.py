@@ -80,10 +80,12 @@ class Runner:
     def __init__(
         self, url: str = "", logs: Path | None = None, dry: bool = False, workspace: str | None = None
     ) -> None:
+        """`logs`: the folder of the processes' logs; by default made where ROS 2's launch makes it
+        (xml_launch.log_dir), once a process or a file (a node's parameters) needs it."""
         from launch import LaunchContext
 
         self.url, self.dry, self.workspace = url, dry, workspace
-        self.logs = logs or Path(tempfile.mkdtemp(prefix="hri-lab-launch-"))
+        self._logs = logs
         self.context = LaunchContext(runner=self)
         self.plans: list[Any] = []
         self.processes: list[Process] = []
@@ -96,7 +98,14 @@ class Runner:
         self.shutting_down = False
         self.lines: list[str] = []  # what log() printed (a test reads it)
 
+    @property
+    def logs(self) -> Path:
+        if self._logs is None:
+            self._logs = xml_launch.log_dir()
+        return self._logs
+
     # --- what the launch vocabulary asks of it --------------------------------------------------------
+
     def log(self, level: str, who: str, message: str) -> None:
         line = f"[{level}] [{who}]: {message}"
         self.lines.append(line)

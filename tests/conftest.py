@@ -129,6 +129,13 @@ def no_file_left_in_the_tree():
 
 
 @pytest.fixture(scope="session", autouse=True)
+def ros_logs_in_a_temporary_folder(tmp_path_factory):
+    """The launches' logs (rosclient/launch.py's log_dir: ~/.ros/log by default, as ROS keeps them)
+    below this run's temporary folder, for every program the tests start."""
+    os.environ["ROS_LOG_DIR"] = str(tmp_path_factory.mktemp("ros_log"))
+
+
+@pytest.fixture(scope="session", autouse=True)
 def no_process_left_behind():
     """Fails the run when a test leaves a process behind. This run is made the subreaper of its
     descendants, so a worker orphaned by its parent comes back to it and is seen here."""

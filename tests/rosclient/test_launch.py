@@ -94,3 +94,27 @@ def test_a_well_formed_file_still_reads(tmp_path):
     assert node.name == "talker"
     assert node.params == {"rate": 10}
     assert node.program == tmp_path / "talker.py"
+
+
+def test_logs_go_where_ros_2s_launch_puts_them(tmp_path, monkeypatch):
+    monkeypatch.setenv("ROS_LOG_DIR", str(tmp_path / "logs"))
+    first = launch.log_dir()
+    assert first.parent == tmp_path / "logs" and first.is_dir()
+    assert first.name.endswith(f"-{os.getpid()}")  # time-host-pid, as launch/logging names it
+    second = launch.log_dir()
+    assert second != first
+    assert (tmp_path / "logs" / "latest").resolve() == second  # latest: the newest
+    monkeypatch.setenv("ROS_LOG_DIR", "")  # empty: as unset
+    monkeypatch.setenv("ROS_HOME", str(tmp_path / "home"))
+    assert launch.log_dir().parent == tmp_path / "home" / "log"
+    monkeypatch.delenv("ROS_HOME")
+    monkeypatch.setenv("HOME", str(tmp_path / "user"))
+    assert launch.log_dir().parent == tmp_path / "user" / ".ros" / "log"
+
+
+def test_logs_in_a_temporary_folder_where_the_base_cannot_be_made(tmp_path, monkeypatch):
+    (tmp_path / "file").write_text("not a folder")
+    monkeypatch.setenv("ROS_LOG_DIR", str(tmp_path / "file"))
+    folder = launch.log_dir()
+    assert folder.is_dir() and folder.name.startswith("hri-lab-launch-")
+    folder.rmdir()

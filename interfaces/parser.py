@@ -105,9 +105,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         if not line or line.startswith("#"):
             continue
         where = f"{path}, line {number}"
-        is_string = line.split()[0] in ("string", "wstring") or line.split()[0].startswith(("string<=", "wstring<="))
-        if not (is_string and "=" in line):
-            line = line.split("#", 1)[0].strip()
+        line = without_comment(line)
         m = FIELD_LINE.match(line)
         if m is None:
             raise DefinitionError(
@@ -166,6 +164,16 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
         fields.append(Field(name, base, array, bool(bounded), default))
         fields[-1].line = where
     return fields, constants
+
+
+def without_comment(line: str) -> str:
+    """A definition's line without its comment, as genmsg and rosidl read it: a line ends at its first
+    '#', but a string constant's value is all that follows its '=' (genmsg's rule; a line is a constant
+    when an '=' comes before any '#': a field's comment may hold one)."""
+    line = line.strip()
+    code = line.split("#", 1)[0].strip()
+    kind = code.split(" ", 1)[0].split("<=")[0]
+    return line if kind in ("string", "wstring") and "=" in code else code
 
 
 def _qualify(base: str, package: str) -> str:

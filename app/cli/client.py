@@ -633,8 +633,12 @@ def interface(args) -> int:
     """`ros2 interface show TYPE`: a definition (the shipped packages')."""
     from app.cli import graph
 
+    name = sys.stdin.readline().strip() if args.type == "-" else args.type  # `ros2 topic type X | ... show -`
+    if not name:
+        raise CliError("the passed value is empty")
+    comments = "all" if args.all_comments else "none" if args.no_comments else "top"
     try:
-        print(graph.interface_text(args.type))
+        print(graph.interface_text(name, comments))
     except LookupError as exc:
         raise CliError(str(exc)) from None
     return 0
@@ -737,9 +741,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 
     itf = sub.add_parser("interface", help="interface definitions (like ros2 interface)")
     itf_sub = itf.add_subparsers(dest="action", required=True)
-    itf_sub.add_parser("show", parents=[url]).add_argument(
-        "type", help="e.g. std_msgs/msg/String, example_interfaces/srv/AddTwoInts"
-    )
+    show = itf_sub.add_parser("show", parents=[url])
+    show.add_argument("type", help="e.g. std_msgs/msg/String, example_interfaces/srv/AddTwoInts; - reads it from stdin")
+    shown = show.add_mutually_exclusive_group()
+    shown.add_argument("--all-comments", action="store_true", help="the nested definitions' comments too")
+    shown.add_argument("--no-comments", action="store_true", help="no comment or blank line")
     itf.set_defaults(func=interface)
 
 

@@ -166,9 +166,13 @@ def node_info(url: str, name: str) -> str:
     return "\n".join(lines)
 
 
-def interface_text(type_name: str) -> str:
-    """The definition of `pkg/msg/Name` (or srv, action; `pkg/Name` any of them), as its file has it."""
-    from interfaces.packages import KINDS, Interfaces
+def interface_text(type_name: str, comments: str = "top") -> str:
+    """`ros2 interface show TYPE` (ros2interface/verb/show.py): the definition of `pkg/msg/Name`
+    (or srv, action; `pkg/Name` any of them) line by line as its file has it, each field of a message
+    type followed by that type's definition one tab further in; the comments and blank lines of the
+    top level shown (`top`, the default), of every level (`all`: --all-comments) or of none (`none`:
+    --no-comments)."""
+    from interfaces.packages import KINDS
 
     parts = type_name.strip("/").split("/")
     if len(parts) == 3 and parts[1] in KINDS:
@@ -177,9 +181,42 @@ def interface_text(type_name: str) -> str:
         package, kinds, name = parts[0], list(KINDS), parts[1]
     else:
         raise LookupError(f"Invalid name '{type_name}': a type is pkg/msg/Name, pkg/srv/Name or pkg/action/Name")
-    interfaces = Interfaces([])
     for kind in kinds:
-        path = interfaces.find(package, kind, name)
-        if path is not None:
-            return path.read_text(encoding="utf-8").rstrip("\n")
+        text = _definition(package, kind, name)
+        if text is not None:
+            lines: list[str] = []
+            _show(text, package, lines, comments != "none", comments == "all", 0, {f"{package}/{name}"})
+            return "\n".join(lines)
     raise LookupError(f"Unknown interface '{type_name}'")
+
+
+def _definition(package: str, kind: str, name: str) -> str | None:
+    from interfaces.packages import Interfaces
+
+    path = Interfaces([]).find(package, kind, name)
+    return None if path is None else path.read_text(encoding="utf-8")
+
+
+def _show(text: str, package: str, out: list[str], comments: bool, nested_comments: bool, indent: int, chain: set[str]):
+    """One definition's lines into `out`, a message-typed field's definition after it, one tab in
+    (a type already on the chain, which ROS refuses, is not expanded again)."""
+    from interfaces.parser import FIELD_LINE, PRIMITIVES, _qualify, without_comment
+
+    for raw in text.splitlines():
+        line = raw.rstrip()
+        code = without_comment(line)
+        if not comments:
+            if not code:
+                continue  # a blank line or a comment
+            line = line[: len(line) - len(line.lstrip())] + code  # a trailing comment cut
+        out.append("\t" * indent + line if line else "")
+        found = FIELD_LINE.match(code)
+        if found is None or found.group(6):  # not a field, or a constant
+            continue
+        nested = _qualify(found.group(1), package)
+        if nested.split("<=")[0] in PRIMITIVES or "/" not in nested or nested in chain:
+            continue
+        nested_package, nested_name = nested.split("/", 1)
+        definition = _definition(nested_package, "msg", nested_name)
+        if definition is not None:
+            _show(definition, nested_package, out, nested_comments, nested_comments, indent + 1, chain | {nested})

@@ -232,6 +232,20 @@ def test_ros1_header_has_seq_for_rospy(tmp_path):
     assert [f.name for f in Interfaces([]).message("std_msgs/Header")._fields] == ["stamp", "frame_id"]  # ROS 2's
 
 
+def test_a_comment_ends_a_line_and_a_string_constant_keeps_what_follows_its_equals(tmp_path):
+    # genmsg and rosidl: a field's comment may hold '=' (still a field, no default); genmsg's string
+    # constant is all after its '='; a string default ends at '#' (rosidl cuts every line there)
+    kinds = _package(
+        tmp_path,
+        {"Kinds": b"string name  # a file name; '' = the date\nstring TAG=a#b  # kept\nint32 N=3  # n\nstring d 'q # r'\n"},
+    ).message("my_pkg/Kinds")
+    assert kinds().name == ""
+    assert (kinds.TAG, kinds.N) == ("a#b  # kept", 3)
+    assert kinds().d == "'q"
+    recording = Interfaces([]).get("hri_lab", "srv", "StartRecording")
+    assert recording.Request().name == ""  # its comment holds "'' = hri-lab_<date>_<time>"
+
+
 def _package(tmp_path, files: dict[str, bytes]) -> Interfaces:
     (tmp_path / "my_pkg" / "msg").mkdir(parents=True)
     for name, data in files.items():

@@ -98,8 +98,13 @@ def _ros2_type(type_name: str, kind: str) -> str:
 
 
 def _print_list(args, path: str, kind: str) -> int:
-    """`ros2 X list [-t]`: one name per line, with [type] when asked (ROS 2's name: pkg/srv/Name)."""
-    for item in _request(args, "GET", path).json():
+    """`ros2 X list [-t] [-c]`: one name per line, sorted by name as the graph's names come from rmw,
+    with [type] when asked (ROS 2's name: pkg/srv/Name); or their number alone."""
+    listed = sorted(_request(args, "GET", path).json(), key=lambda item: item["name"])
+    if args.count:
+        print(len(listed))
+        return 0
+    for item in listed:
         print(f"{item['name']} [{_ros2_type(item['type'], kind)}]" if args.show_types else item["name"])
     return 0
 
@@ -348,10 +353,14 @@ def _graph_topics(args) -> dict[str, str]:
 
 
 def _topic_list(args) -> int:
-    """`ros2 topic list [-t]`: the lab's topics and the programs', sorted as ros2 sorts them (types as ROS 2 names them)."""
+    """`ros2 topic list [-t] [-c]`: the lab's topics and the programs', sorted as ros2 sorts them (types
+    as ROS 2 names them); or their number alone."""
     listed = {item["name"]: item["type"] for item in _request(args, "GET", "/topics").json()}
     for name, type_name in _graph_topics(args).items():
         listed.setdefault(name, type_name)
+    if args.count:
+        print(len(listed))
+        return 0
     for name in sorted(listed):
         print(f"{name} [{_ros2_type(listed[name], 'msg')}]" if args.show_types else name)
     return 0
@@ -647,9 +656,15 @@ def interface(args) -> int:
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     url = arguments.url_parent()
 
+    def list_parser(verbs: argparse._SubParsersAction, kind: str) -> None:
+        """`list [-t] [-c]`, as ros2's list verbs take them (`-c`: --count-services and the like)."""
+        listing = verbs.add_parser("list", parents=[url])
+        listing.add_argument("-t", "--show-types", action="store_true", help="each one's type too")
+        listing.add_argument("-c", f"--count-{kind}", dest="count", action="store_true", help="only their number")
+
     srv = sub.add_parser("service", help="list, inspect and call services (like ros2 service)")
     srv_sub = srv.add_subparsers(dest="action", required=True)
-    srv_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    list_parser(srv_sub, "services")
     for verb in ("type", "show", "info"):
         srv_sub.add_parser(verb, parents=[url]).add_argument("name")
     find = srv_sub.add_parser(
@@ -689,7 +704,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 
     top = sub.add_parser("topic", help="topics (like ros2 topic)")
     top_sub = top.add_subparsers(dest="action", required=True)
-    top_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    list_parser(top_sub, "topics")
     echo = top_sub.add_parser("echo", parents=[url], help="print the messages of a topic")
     echo.add_argument("name")
     echo.add_argument("--once", action="store_true", help="print one message and exit")
@@ -724,7 +739,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 
     act = sub.add_parser("action", help="actions (like ros2 action)")
     act_sub = act.add_subparsers(dest="action", required=True)
-    act_sub.add_parser("list", parents=[url]).add_argument("-t", "--show-types", action="store_true")
+    list_parser(act_sub, "actions")
     act_sub.add_parser("info", parents=[url]).add_argument("name")
     goal = act_sub.add_parser("send_goal", parents=[url])
     goal.add_argument("name")

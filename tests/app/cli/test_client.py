@@ -49,7 +49,11 @@ def hri_lab(client, monkeypatch):
 
 def test_service_list_type_show_and_call(hri_lab, capsys):
     assert hri_lab("service", "list", "-t") == 0
-    assert "/add_two_ints [hri_lab/srv/AddTwoInts]" in capsys.readouterr().out.splitlines()  # ROS 2's names
+    listed = capsys.readouterr().out.splitlines()
+    assert "/add_two_ints [hri_lab/srv/AddTwoInts]" in listed  # ROS 2's names
+    assert listed == sorted(listed) and len(listed) > 2  # by name, as the graph's names come from rmw
+    assert hri_lab("service", "list", "--count-services") == 0
+    assert capsys.readouterr().out == f"{len(listed)}\n"
     assert hri_lab("service", "type", "add_two_ints") == 0
     assert capsys.readouterr().out == "hri_lab/srv/AddTwoInts\n"
     assert hri_lab("service", "info", "/add_two_ints") == 0
@@ -102,7 +106,11 @@ def test_param_dump_then_load_sets_each(hri_lab, capsys, tmp_path):
 
 def test_action_list_and_a_goal_to_its_end(hri_lab, capsys):
     assert hri_lab("action", "list") == 0
-    assert "/count" in capsys.readouterr().out.splitlines()
+    listed = capsys.readouterr().out.splitlines()
+    assert "/count" in listed
+    assert listed == sorted(listed) and len(listed) > 2
+    assert hri_lab("action", "list", "-c") == 0
+    assert capsys.readouterr().out == f"{len(listed)}\n"
     assert hri_lab("action", "send_goal", "/count", "{count: 2}", "--feedback") == 0
     out = capsys.readouterr().out
     assert out.startswith("Sending goal:\n    count: 2\n")
@@ -116,6 +124,11 @@ def test_topic_pub_info_as_ros2_prints_them_to_a_listener(hri_lab, client, capsy
         listener.send_json({"op": "subscribe", "id": "l", "topic": "/cli_chatter", "type": "std_msgs/String"})
         assert hri_lab("topic", "info", "/cli_chatter") == 0  # the listener's subscription made the topic
         assert capsys.readouterr().out == "Type: std_msgs/msg/String\nPublisher count: 0\nSubscription count: 1\n"
+        assert hri_lab("topic", "list") == 0
+        listed = capsys.readouterr().out.splitlines()
+        assert "/cli_chatter" in listed and listed == sorted(listed)  # the lab's and the listener's
+        assert hri_lab("topic", "list", "-c") == 0
+        assert capsys.readouterr().out == f"{len(listed)}\n"
         assert hri_lab("topic", "pub", "/cli_chatter", "std_msgs/msg/String", "{data: hi}", "--once") == 0
         assert capsys.readouterr().out == "publisher: beginning loop\npublishing #1: std_msgs.msg.String(data='hi')\n\n"
         heard = within(listener.receive_json, 30, "the published message")

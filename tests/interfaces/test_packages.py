@@ -237,7 +237,7 @@ def test_a_comment_ends_a_line_and_a_string_constant_keeps_what_follows_its_equa
     # constant is all after its '='; a string default ends at '#' (rosidl cuts every line there)
     kinds = _package(
         tmp_path,
-        {"Kinds": b"string name  # a file name; '' = the date\nstring TAG=a#b  # kept\nint32 N=3  # n\nstring d 'q # r'\n"},
+        {"Kinds": b"string name  # a name; '' = a date\nstring TAG=a#b  # kept\nint32 N=3  # n\nstring d 'q # r'\n"},
     ).message("my_pkg/Kinds")
     assert kinds().name == ""
     assert (kinds.TAG, kinds.N) == ("a#b  # kept", 3)

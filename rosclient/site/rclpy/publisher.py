@@ -68,5 +68,5 @@ class Publisher:
         """The topic is unadvertised when no other publisher of it is left in the program."""
         if not self._destroyed:
             self._destroyed = True
+            _graph.remove_publisher(self.topic_name)  # as it was made, in reverse (subscription.py's destroy)
             _endpoints.remove(self._endpoint)
-            _graph.remove_publisher(self.topic_name)

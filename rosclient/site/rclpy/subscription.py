@@ -95,6 +95,8 @@ class Subscription(Entity):
     def destroy(self) -> None:
         if not self._destroyed:
             self._destroyed = True
-            _endpoints.remove(self._endpoint)
-            _graph.remove_subscription(self.topic_name)
+            # as it was made, in reverse: the lab's subscription goes before the endpoint told of it,
+            # so no other program ever sees this client subscribed and its QoS untold (counted matched)
             process.connection().unsubscribe(self.topic_name, self._sid, self._offer)
+            _graph.remove_subscription(self.topic_name)
+            _endpoints.remove(self._endpoint)

@@ -47,6 +47,7 @@ class RecordingConnection:
 
     def unsubscribe(self, topic, sid, handler) -> None:
         self.topic_handlers[topic].remove(handler)
+        self.sent.append({"op": "unsubscribe", "topic": topic})  # the op the real connection sends
 
     def advertise_service(self, name, type_name, handler, definition=None, check=False) -> str | None:
         self.service_handlers[name] = handler

@@ -260,9 +260,15 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
         "reliability": "BEST_EFFORT", "durability": "VOLATILE", "lifespan": 0, "deadline": 500_000_000,
         "liveliness": "AUTOMATIC", "liveliness_lease_duration": 0}}]
     assert told("client", "/add_two_ints") == [{"node": "/demo/talker", "qos": {}}]
+    subscription = node.create_subscription(String, "chatter", lambda msg: None, qos)
     node.destroy_publisher(publisher)
+    node.destroy_subscription(subscription)
     node.destroy_client(client)
     assert told("publisher", "/demo/chatter") == [] and told("client", "/add_two_ints") == []
+    # gone in the reverse order of their making: the lab's topic first, then the endpoint told of it, so
+    # no other program sees this one on the topic with its QoS untold (which counts as matched)
+    gone = [(m["op"], m.get("kind")) for m in rclpy.connection.sent if m.get("topic", m.get("name")) == "/demo/chatter"]
+    assert gone[-4:] == [("unadvertise", None), ("endpoints", "publisher"), ("unsubscribe", None), ("endpoints", "subscription")]
 
 
 def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rclpy, capsys):

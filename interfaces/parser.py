@@ -132,7 +132,7 @@ def parse_fields(text: str, path: Path, package: str, first_line: int = 1) -> tu
                     "(a variable-length T[] holds any number)",
                     name=package,
                 )
-        base = _qualify(base, package)
+        base = qualify(base, package)
         scalar = base.split("<=")[0]
         if scalar not in PRIMITIVES and "/" not in scalar:
             raise DefinitionError(
@@ -176,7 +176,9 @@ def without_comment(line: str) -> str:
     return line if kind in ("string", "wstring") and "=" in code else code
 
 
-def _qualify(base: str, package: str) -> str:
+def qualify(base: str, package: str) -> str:
+    """A field's type as its package names it: `pkg/Name` for a bare message name of `package`, the
+    builtin aliases' (`Header`, `time`, `duration`), ROS 2's `pkg/msg/Name` as `pkg/Name`."""
     if base in BUILTIN_ALIASES:
         return BUILTIN_ALIASES[base]
     parts = base.split("/")

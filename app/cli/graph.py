@@ -197,10 +197,12 @@ def _definition(package: str, kind: str, name: str) -> str | None:
     return None if path is None else path.read_text(encoding="utf-8")
 
 
-def _show(text: str, package: str, out: list[str], comments: bool, nested_comments: bool, indent: int, chain: set[str]):
+def _show(
+    text: str, package: str, out: list[str], comments: bool, nested_comments: bool, indent: int, chain: set[str]
+) -> None:
     """One definition's lines into `out`, a message-typed field's definition after it, one tab in
     (a type already on the chain, which ROS refuses, is not expanded again)."""
-    from interfaces.parser import FIELD_LINE, PRIMITIVES, _qualify, without_comment
+    from interfaces.parser import FIELD_LINE, PRIMITIVES, qualify, without_comment
 
     for raw in text.splitlines():
         line = raw.rstrip()
@@ -213,7 +215,7 @@ def _show(text: str, package: str, out: list[str], comments: bool, nested_commen
         found = FIELD_LINE.match(code)
         if found is None or found.group(6):  # not a field, or a constant
             continue
-        nested = _qualify(found.group(1), package)
+        nested = qualify(found.group(1), package)
         if nested.split("<=")[0] in PRIMITIVES or "/" not in nested or nested in chain:
             continue
         nested_package, nested_name = nested.split("/", 1)

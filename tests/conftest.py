@@ -78,7 +78,6 @@ LONG_FILES_FIRST = (
     "e2e/test_rclpy_programs.py",
     "e2e/test_lifting_node.py",
     "e2e/test_attack_grading.py",
-    "e2e/test_ros_lifting_node.py",
     "e2e/test_tf_programs.py",
     "e2e/test_mobile_world.py",
     "e2e/browser/test_mobile_page.py",  # a wall-following circuit in real time (23 s of trial)
@@ -93,6 +92,10 @@ LONG_FILES_FIRST = (
     "e2e/browser/test_replay.py",
     "app/api/test_actions.py",
 )
+# ... and this one last of all: a rospy program's lifting law in real time (F_ext at 1 kHz into its
+# callback, ~half a core), which drops the box when starved; mid-run, beside the browsers, the labs and
+# two busy loops, it was (2 of 4 fresh runs, 2026-12-07); at the end the other workers run short files
+LAST_FILES = ("e2e/test_ros_lifting_node.py",)
 
 
 # Markers by folder (`make test-fast` runs neither; tests/README.md): `e2e`, the files under tests/e2e/
@@ -103,12 +106,14 @@ BROWSER_FOLDER = ("e2e", "browser")
 
 
 def pytest_collection_modifyitems(items) -> None:
-    rank = {name: i for i, name in enumerate(LONG_FILES_FIRST)}
+    rank = {name: i for i, name in enumerate(LONG_FILES_FIRST)} | {
+        name: len(LONG_FILES_FIRST) + 1 for name in LAST_FILES
+    }
 
     def where(item) -> str:
         return item.path.resolve().relative_to(TESTS).as_posix()
 
-    items.sort(key=lambda item: rank.get(where(item), len(rank)))  # stable: each file's order stays
+    items.sort(key=lambda item: rank.get(where(item), len(LONG_FILES_FIRST)))  # stable: each file's order stays
     for item in items:
         parts = item.path.resolve().relative_to(TESTS).parts
         if parts[0] in E2E_FOLDERS:

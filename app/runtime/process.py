@@ -155,6 +155,7 @@ class SimulationProcess(Generic[S]):
         if process.is_alive():
             process.kill()
             process.join(timeout=2.0)
+        self._receiver.join(timeout=2.0)  # the child gone, its answers read to the end (EOF) before the pipe closes
         conn.close()
         self._fail_pending(SimulationRestarting("the simulation was stopped"))
 
@@ -232,8 +233,8 @@ class SimulationProcess(Generic[S]):
         while True:
             try:
                 message = conn.recv_bytes()
-            except (EOFError, OSError):
-                return
+            except (EOFError, OSError, TypeError):  # TypeError: the pipe closed under the read (a stop
+                return  # whose wait for this thread ran out)
             call_id, ok = int.from_bytes(message[:8], "little"), message[8] == 1
             try:
                 value = pickle.loads(message[9:])

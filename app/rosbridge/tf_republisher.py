@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
+import pinocchio as pin
 
 from sim.messages import Topic
 
@@ -64,17 +65,8 @@ class FramePose(NamedTuple):
 
 
 def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The Hamilton product a * b of two quaternions (x, y, z, w): b's rotation, then a's."""
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array(
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
+    """The product a * b of two quaternions (x, y, z, w), pinocchio's (Eigen's): b's rotation, then a's."""
+    return np.array((pin.Quaternion(a) * pin.Quaternion(b)).coeffs())
 
 
 _IDENTITY = FramePose(np.eye(4), np.array([0.0, 0.0, 0.0, 1.0]))
@@ -119,7 +111,7 @@ def relative(poses: dict[str, tuple[FramePose, str]], target: str, source: str) 
     if source not in poses or target not in poses or poses[source][1] != poses[target][1]:
         return None
     (target_pose, _), (source_pose, _) = poses[target], poses[source]
-    conjugate = target_pose.rotation_xyzw * np.array([-1.0, -1.0, -1.0, 1.0])
+    conjugate = np.array(pin.Quaternion(target_pose.rotation_xyzw).conjugate().coeffs())
     return FramePose(
         np.linalg.solve(target_pose.matrix, source_pose.matrix), _product(conjugate, source_pose.rotation_xyzw)
     )

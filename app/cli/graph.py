@@ -10,9 +10,12 @@ import json
 import os
 import time
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from websockets.sync.client import connect
+
+if TYPE_CHECKING:
+    from interfaces.packages import Interfaces
 
 _ids = itertools.count(1)
 HIDDEN = f"/_hri_lab_cli_{os.getpid()}"  # this command's own node: a hidden name (a leading _), as ROS 2 hides them
@@ -172,7 +175,7 @@ def interface_text(type_name: str, comments: str = "top") -> str:
     type followed by that type's definition one tab further in; the comments and blank lines of the
     top level shown (`top`, the default), of every level (`all`: --all-comments) or of none (`none`:
     --no-comments)."""
-    from interfaces.packages import KINDS
+    from interfaces.packages import KINDS, Interfaces
 
     parts = type_name.strip("/").split("/")
     if len(parts) == 3 and parts[1] in KINDS:
@@ -181,24 +184,30 @@ def interface_text(type_name: str, comments: str = "top") -> str:
         package, kinds, name = parts[0], list(KINDS), parts[1]
     else:
         raise LookupError(f"Invalid name '{type_name}': a type is pkg/msg/Name, pkg/srv/Name or pkg/action/Name")
+    shipped = Interfaces([])
     for kind in kinds:
-        text = _definition(package, kind, name)
+        text = _definition(shipped, package, kind, name)
         if text is not None:
             lines: list[str] = []
-            _show(text, package, lines, comments != "none", comments == "all", 0, {f"{package}/{name}"})
+            _show(shipped, text, package, lines, comments != "none", comments == "all", 0, {f"{package}/{name}"})
             return "\n".join(lines)
     raise LookupError(f"Unknown interface '{type_name}'")
 
 
-def _definition(package: str, kind: str, name: str) -> str | None:
-    from interfaces.packages import Interfaces
-
-    path = Interfaces([]).find(package, kind, name)
+def _definition(shipped: Interfaces, package: str, kind: str, name: str) -> str | None:
+    path = shipped.find(package, kind, name)
     return None if path is None else path.read_text(encoding="utf-8")
 
 
 def _show(
-    text: str, package: str, out: list[str], comments: bool, nested_comments: bool, indent: int, chain: set[str]
+    shipped: Interfaces,
+    text: str,
+    package: str,
+    out: list[str],
+    comments: bool,
+    nested_comments: bool,
+    indent: int,
+    chain: set[str],
 ) -> None:
     """One definition's lines into `out`, a message-typed field's definition after it, one tab in
     (a type already on the chain, which ROS refuses, is not expanded again)."""
@@ -219,6 +228,8 @@ def _show(
         if nested.split("<=")[0] in PRIMITIVES or "/" not in nested or nested in chain:
             continue
         nested_package, nested_name = nested.split("/", 1)
-        definition = _definition(nested_package, "msg", nested_name)
+        definition = _definition(shipped, nested_package, "msg", nested_name)
         if definition is not None:
-            _show(definition, nested_package, out, nested_comments, nested_comments, indent + 1, chain | {nested})
+            _show(
+                shipped, definition, nested_package, out, nested_comments, nested_comments, indent + 1, chain | {nested}
+            )

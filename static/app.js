@@ -502,7 +502,7 @@ function buildPlots() {
     values: (u, splits) => splits.map((v) => (v < 0 ? "" : v.toFixed(2))),  // |w| is never negative: no ticks below 0
   }], [0, 1, 2, 3, 4]);
   const latest = { lifting: null, wrench: null, twist: null };
-  stream("/lifting_state", 10, (m) => { latest.lifting = m; state.lifting = m; renderStatus(); });
+  stream("/lifting_state", 10, (m) => { latest.lifting = m; state.lifting = m; });  // shown with the plots' next drawing
   stream("/franka_state_controller/F_ext", RATE_HZ, (m) => { latest.wrench = m; });
   stream("/cartesian_velocity_controller/command", RATE_HZ, (m) => { latest.twist = m; });
   stream("/trial", 4, showTrial);
@@ -520,7 +520,11 @@ function buildPlots() {
     if (latest.twist) { const v = latest.twist.linear, w = latest.twist.angular; push(twist, [t, v.x, v.y, v.z, Math.hypot(w.x, w.y, w.z)]); }
   });
   byId("plot-pause").onclick = () => { plots.paused = !plots.paused; byId("plot-pause").textContent = plots.paused ? "Resume" : "Pause"; };
+  // One drawing every 200 ms holds the status line and the plots: each change of the page is a frame
+  // the browser paints (in software where there is no GPU); the status redrawn with every message too
+  // (10 a second) cost a lifting lab's page about half as much again (docs/performance.md, "The dashboard").
   const draw = () => {
+    renderStatus();
     if (!plots.paused) {
       for (const { chart, buffer } of plots.charts) {
         chart.setData(buffer.map((col) => col.slice()));

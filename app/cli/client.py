@@ -589,11 +589,9 @@ def _indented(values: dict | None) -> str:
 def action(args) -> int:
     if args.action == "list":
         return _print_list(args, "/actions", "action")
-    name, info = _lookup(args, "actions")
     if args.action == "info":
-        info = info.json()
-        print(f"Action: {info['name']}\nType: {info['type']}\n\n{info['definition']}")
-        return 0
+        return _action_info(args)
+    name, info = _lookup(args, "actions")
     goal = _yaml_arg(_typed_values(args, info.json()["type"], "action"))
     print(f"Sending goal:\n{_indented(goal)}\n")
     response = _request(args, "POST", f"/actions{name}/goals", json=goal)
@@ -620,6 +618,28 @@ def action(args) -> int:
         + (f" ({view['message']})" if view["status"] == "aborted" else "")
     )
     return 0 if view["status"] == "succeeded" else 1
+
+
+def _action_info(args) -> int:
+    """`action info NAME [-t] [-c]` as ros2action's info verb prints it: the action's clients (as the
+    rclpy programs tell the lab: rospy's and roslibpy's are not told) and its server (the lab's node
+    for the lab's own actions, the providing node for a node's), each node with the action's type
+    under -t; the name as given. An action nobody serves or uses has none of either, as in ros2."""
+    from app.cli import graph
+
+    name = absolute(args.name)
+    response = _request(args, "GET", f"/actions{name}")
+    type_name = _ros2_type(response.json()["type"], "action") if response.status_code == 200 else ""
+    try:
+        told = {kind: graph.endpoints(args.url, kind, name) for kind in ("action_client", "action_server")}
+    except _unreachable() as exc:
+        raise CliError(f"cannot reach the hri-lab server at {args.url}: {exc}") from None
+    print(f"Action: {args.name}")
+    for title, kind in (("Action clients", "action_client"), ("Action servers", "action_server")):
+        print(f"{title}: {len(told[kind])}")
+        for entity in [] if args.count else told[kind]:
+            print(f"    {entity['node']}" + (f" [{type_name}]" if args.show_types and type_name else ""))
+    return 0
 
 
 def node(args) -> int:
@@ -740,7 +760,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     act = sub.add_parser("action", help="actions (like ros2 action)")
     act_sub = act.add_subparsers(dest="action", required=True)
     list_parser(act_sub, "actions")
-    act_sub.add_parser("info", parents=[url]).add_argument("name")
+    act_info = act_sub.add_parser("info", parents=[url], help="its clients and servers (ros2 action info)")
+    act_info.add_argument("name")
+    act_info.add_argument("-t", "--show-types", action="store_true", help="each node with the action's type")
+    act_info.add_argument("-c", "--count", action="store_true", help="only the numbers of clients and servers")
     goal = act_sub.add_parser("send_goal", parents=[url])
     goal.add_argument("name")
     goal.add_argument("type_or_values", nargs="?", default="", metavar="[TYPE]", help="the action's type (ros2's form)")

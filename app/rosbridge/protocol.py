@@ -24,7 +24,7 @@ LEVELS = ("info", "warning", "error", "none")  # set_level; a level shows itself
 # "Limits"). rosbridge_suite bounds a frame (max_message_size) and fragments; these bound what frames build.
 MAX_CONNECTIONS = 128  # rosbridge clients at once; one more is closed with 1013 (try again later)
 MAX_CLIENT_TOPICS = 256  # topics one client advertises
-ENDPOINT_KINDS = ("publisher", "subscription", "client")  # the entities the lab's `endpoints` op tells
+ENDPOINT_KINDS = ("publisher", "subscription", "client", "action_client")  # the entities the lab's `endpoints` op tells
 MAX_TOPICS = 1024  # topics nodes publish or subscribe, all clients together (node topics)
 MAX_CLIENT_SERVICES = 32  # services one client provides
 MAX_SERVICES = 128  # services nodes provide, all clients together

@@ -311,13 +311,20 @@ def _subscribers(bridge: BridgeLike, args: dict) -> dict:
     return {"subscribers": lab + [s.name for s in bridge.sessions.all() if topic in s.details()["subscribing"]]}
 
 
+LISTED_KINDS = (*ENDPOINT_KINDS, "action_server")  # /rosapi/endpoints' kinds: the told ones and the action servers
+
+
 def _endpoints(bridge: BridgeLike, args: dict) -> dict:
-    """The lab's extension: the entities of `kind` (publisher, subscription, client) on `name`, each
-    with its node and QoS, as their clients told them (capabilities/endpoints.py); a client on the
-    topic that told none (roslibpy, rospy) and the lab's node count as one entity each, QoS unknown."""
+    """The lab's extension: the entities of `kind` (publisher, subscription, client, action_client)
+    on `name`, each with its node and QoS, as their clients told them (capabilities/endpoints.py); a
+    client on the topic that told none (roslibpy, rospy) and the lab's node count as one entity each,
+    QoS unknown. `action_server`: the node that serves the action (the lab's own or a node's), never told."""
     kind, name = str(args.get("kind", "")), "/" + str(args.get("name", "")).strip("/")
-    if kind not in ENDPOINT_KINDS:
-        raise ServiceFailure(f"/rosapi/endpoints: 'kind' must be one of {', '.join(ENDPOINT_KINDS)}")
+    if kind not in LISTED_KINDS:
+        raise ServiceFailure(f"/rosapi/endpoints: 'kind' must be one of {', '.join(LISTED_KINDS)}")
+    if kind == "action_server":
+        server = bridge.actions.server_node(name)
+        return {"endpoints": [{"node": server, "qos": {}}] if server else []}
     if kind == "publisher":
         lab, detail = LAB_NODE in _publishers(bridge, {"topic": name})["publishers"], "publishing"
     elif kind == "subscription":

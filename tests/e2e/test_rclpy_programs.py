@@ -13,6 +13,7 @@ import roslibpy
 
 from tests.e2e.serving import running_server, served_lab
 from tests.http_client import http
+from tests.lab_zygote import run_command
 from tests.ros_running import PROGRAMS, Program, run
 from tests.waiting import wait_for
 
@@ -81,6 +82,11 @@ def test_an_async_execute_callback_succeeds_over_http(lab):
         )
         assert ended["status"] == "succeeded", ended  # not aborted at once, as an unawaited coroutine was
         assert ended["result"]["sequence"] == [0, 1, 1, 2, 3, 5, 8]
+        info = run_command("action", "info", "-t", "/fibonacci", "--url", lab.url, timeout=60)  # ros2action's form
+        assert info.stdout == (
+            "Action: /fibonacci\nAction clients: 0\nAction servers: 1\n"
+            "    /minimal_action_server [example_interfaces/action/Fibonacci]\n"
+        ), info.stdout + info.stderr
     finally:
         server.interrupt()
 

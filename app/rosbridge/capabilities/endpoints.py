@@ -2,9 +2,9 @@
 as a DDS participant announces its readers and writers, e.g.
 `{"op": "endpoints", "kind": "publisher", "name": "/chatter", "entities": [{"node": "/talker",
 "qos": {"reliability": "RELIABLE", "durability": "VOLATILE", ...}}]}` (an empty list: none left).
-`hri-lab run`'s rclpy sends them for its publishers, subscriptions and service clients; rosapi's
-extension `/rosapi/endpoints` lists them (app/rosbridge/rosapi.py), for `topic info -v` (each
-endpoint's node and QoS) and `service info` (its clients). rosbridge_suite has no such op: a client
+`hri-lab run`'s rclpy sends them for its publishers, subscriptions, service and action clients;
+rosapi's extension `/rosapi/endpoints` lists them (app/rosbridge/rosapi.py), for `topic info -v`
+(each endpoint's node and QoS), `service info` and `action info` (their clients). rosbridge_suite has no such op: a client
 that sends none is listed by the topics it advertises and subscribes.
 
 The lab tells them back, as DDS discovery tells a participant the remote readers and writers: a
@@ -16,7 +16,7 @@ that client: its first node's, the `callerid` of its messages' connection header
 (when some other client has entities of the opposite kind there), and whenever the others' entities
 of that kind there change, a client that leaves included (its entities gone). The program pairs
 them with its own (rclpy's incompatible-QoS, liveliness and matched events, rclpy/_endpoints.py);
-the lab only relays: it never reads the QoS. Service clients are listed, never paired."""
+the lab only relays: it never reads the QoS. Service and action clients are listed, never paired."""
 
 from __future__ import annotations
 

@@ -8,6 +8,7 @@ from typing import Any
 
 from app.ros.actions import Action, ActionServer, GoalHandle
 from app.ros.messages import RosMessage
+from app.ros.names import LAB_NODE
 from app.ros.node_actions import NodeActions
 from app.ros.node_services import NodeClient
 
@@ -24,6 +25,14 @@ class ActionManager:
     def names(self) -> list[str]:
         """Every action a client may send a goal to (rosapi's action_servers)."""
         return list(self.server.actions)
+
+    def server_node(self, name: str) -> str | None:
+        """The node that serves action `name` (`ros2 action info`'s servers): the lab's for its own
+        actions, the providing client's node for a node's; None when there is no such action."""
+        if name not in self.server.actions:
+            return None
+        provider = self.nodes.providers.get(name)
+        return provider.name if provider is not None else LAB_NODE
 
     def send_goal(self, action: Action, goal: RosMessage) -> GoalHandle:
         return self.server.send_goal(action, goal)

@@ -45,7 +45,7 @@ _lock = threading.Lock()
 _publishers: dict[str, list[Endpoint]] = {}  # topic -> this program's publishers of it (the destroyed kept a lease)
 _subscriptions: dict[str, list[Endpoint]] = {}
 _remote: dict[tuple[bool, str], list[Remote]] = {}  # (publishers?, topic) -> the other programs' there, as told
-_clients: dict[str, list[str]] = {}  # service -> the nodes of this program's clients of it
+_clients: dict[tuple[str, str], list[str]] = {}  # (kind, name) -> the nodes of this program's clients of it
 generation = [0]  # counts the endpoints made, destroyed and told (a subscription's `muted` is kept until it moves)
 Pairs = list[tuple["Endpoint", "Endpoint", QoSPolicyKind]]
 # who hears of the pairs the lab's news makes (rclpy/event_handler.py: the incompatible-QoS events)
@@ -301,27 +301,28 @@ def matched(endpoint: Endpoint) -> int:
 
 
 # --- service clients ---------------------------------------------------------------------------------
-def add_client(service: str, node: str) -> None:
-    """A service client made: the lab told the program's clients of `service`."""
+def add_client(name: str, node: str, kind: str = "client") -> None:
+    """A service client (`kind` "client") or an action client ("action_client") made: the lab told
+    the program's clients of `name` (`service info`, `action info` count them)."""
     with _lock:
-        _clients.setdefault(service, []).append(node)
-    _tell_clients(service)
+        _clients.setdefault((kind, name), []).append(node)
+    _tell_clients(kind, name)
 
 
-def remove_client(service: str, node: str) -> None:
+def remove_client(name: str, node: str, kind: str = "client") -> None:
     with _lock:
-        nodes = _clients.get(service, [])
+        nodes = _clients.get((kind, name), [])
         if node in nodes:
             nodes.remove(node)
         if not nodes:
-            _clients.pop(service, None)
-    _tell_clients(service)
+            _clients.pop((kind, name), None)
+    _tell_clients(kind, name)
 
 
-def _tell_clients(service: str) -> None:
+def _tell_clients(kind: str, name: str) -> None:
     with _lock:
-        entities = [{"node": node, "qos": {}} for node in _clients.get(service, [])]
-    process.connection().send({"op": "endpoints", "kind": "client", "name": service, "entities": entities})
+        entities = [{"node": node, "qos": {}} for node in _clients.get((kind, name), [])]
+    process.connection().send({"op": "endpoints", "kind": kind, "name": name, "entities": entities})
 
 
 def publishers(topic: str) -> list[Endpoint]:

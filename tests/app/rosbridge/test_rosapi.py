@@ -153,9 +153,22 @@ def test_endpoints_a_client_told_are_listed_with_their_nodes_and_qos():
         ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "client", "name": "/add_two_ints"})
         assert answer["endpoints"] == []
         ok, reason = await table.call(caller, "/rosapi/endpoints", {"kind": "reader", "name": "/chatter"})
-        assert not ok and "'kind' must be one of publisher, subscription, client" in reason
+        assert not ok and "one of publisher, subscription, client, action_client, action_server" in reason
+        # an action's server is never told: the lab's node serves its own, the providing client's node a node's
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "action_server", "name": "/count"})
+        assert answer["endpoints"] == [{"node": "/hri_lab", "qos": {}}]
+        await op(program, op="node", name="/demo/talker")
+        await op(program, op="advertise_action", action="/fibonacci", type="example_interfaces/action/Fibonacci")
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "action_server", "name": "fibonacci"})
+        assert [e["node"] for e in answer["endpoints"]] == ["/demo/talker"]
+        ok, answer = await table.call(caller, "/rosapi/endpoints", {"kind": "action_server", "name": "/nothing"})
+        assert answer["endpoints"] == []
         refusals = {
-            "endpoints: field 'kind' must be one of publisher, subscription, client, got 'reader'": {"kind": "reader"},
+            "endpoints: field 'kind' must be one of publisher, subscription, client, action_client, got 'reader'": {
+                "kind": "reader"
+            },
+            "endpoints: field 'kind' must be one of publisher, subscription, client, action_client, got "
+            "'action_server'": {"kind": "action_server"},
             "endpoints: an entity's 'node' must be a node's full name, e.g. /talker": {"entities": [{"node": "x"}]},
             "endpoints: qos field 'deadline' must be a name or a finite number": {
                 "entities": [{"node": "/a", "qos": {"deadline": [1]}}]

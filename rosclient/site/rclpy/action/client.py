@@ -16,7 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 from rosclient import actions, process
-from rclpy import context
+from rclpy import _endpoints, context
 from rclpy._entity import Call
 from rclpy.callback_groups import CallbackGroup
 from rclpy.task import Future
@@ -129,7 +129,9 @@ class ActionClient(Waitable):
         self._node, self.action_type = node, action_type
         self.name = node.resolve_topic_name(action_name)
         self._events: deque[Callable[[], Any]] = deque()
+        self._node_name: str | None = node.get_fully_qualified_name()
         node.add_waitable(self)
+        _endpoints.add_client(self.name, self._node_name, "action_client")  # `action info` counts it
 
     def _post(self, event: Callable[[], Any]) -> None:
         """Run `event` inside spin (from any thread)."""
@@ -187,3 +189,6 @@ class ActionClient(Waitable):
 
     def destroy(self) -> None:
         self._node.remove_waitable(self)
+        if self._node_name is not None:
+            _endpoints.remove_client(self.name, self._node_name, "action_client")
+            self._node_name = None

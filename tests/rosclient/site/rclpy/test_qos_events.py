@@ -240,9 +240,12 @@ def test_a_transient_local_publishers_lifespan_goes_to_the_lab_with_its_history(
 
 
 def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy):
-    """What `topic info -v` and `service info` show of an rclpy program (the lab's `endpoints` op): each
-    publisher and subscription with its node and QoS, each service client; none left once destroyed."""
+    """What `topic info -v`, `service info` and `action info` show of an rclpy program (the lab's
+    `endpoints` op): each publisher and subscription with its node and QoS, each service and action
+    client; none left once destroyed."""
+    from example_interfaces.action import Fibonacci
     from example_interfaces.srv import AddTwoInts
+    from rclpy.action import ActionClient
     from rclpy.duration import Duration
     from rclpy.qos import QoSProfile, ReliabilityPolicy
     from std_msgs.msg import String
@@ -251,6 +254,7 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
     qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT, deadline=Duration(seconds=0.5))
     publisher = node.create_publisher(String, "chatter", qos)
     client = node.create_client(AddTwoInts, "/add_two_ints")
+    action_client = ActionClient(node, Fibonacci, "fibonacci")
 
     def told(kind: str, name: str) -> list:
         frames = [m for m in rclpy.connection.sent if m["op"] == "endpoints" and (m["kind"], m["name"]) == (kind, name)]
@@ -260,6 +264,9 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
         "reliability": "BEST_EFFORT", "durability": "VOLATILE", "lifespan": 0, "deadline": 500_000_000,
         "liveliness": "AUTOMATIC", "liveliness_lease_duration": 0}}]
     assert told("client", "/add_two_ints") == [{"node": "/demo/talker", "qos": {}}]
+    assert told("action_client", "/demo/fibonacci") == [{"node": "/demo/talker", "qos": {}}]
+    action_client.destroy()
+    assert told("action_client", "/demo/fibonacci") == []
     subscription = node.create_subscription(String, "chatter", lambda msg: None, qos)
     node.destroy_publisher(publisher)
     node.destroy_subscription(subscription)

@@ -642,6 +642,9 @@ def _action_info(args) -> int:
     return 0
 
 
+KINDS = ("services", "actions")  # whose clients and servers `node info` lists
+
+
 def node(args) -> int:
     """`ros2 node list|info NAME`: the graph's nodes, the programs' and the lab's."""
     from app.cli import graph
@@ -650,7 +653,8 @@ def node(args) -> int:
         if args.action == "list":
             print("\n".join(graph.node_list(args.url)))
         else:
-            print(graph.node_info(args.url, args.name))
+            named = {kind: {i["name"]: i["type"] for i in _request(args, "GET", f"/{kind}").json()} for kind in KINDS}
+            print(graph.node_info(args.url, args.name, named["services"], named["actions"]))
     except LookupError as exc:
         raise CliError(str(exc)) from None
     except _unreachable() as exc:

@@ -139,8 +139,12 @@ def node_list(url: str) -> list[str]:
     return sorted(n for n in names if not n.rsplit("/", 1)[-1].startswith("_"))  # hidden ones, as ros2 node list
 
 
-def node_info(url: str, name: str) -> str:
-    """What `ros2 node info NAME` prints (the lab's graph knows no clients)."""
+def node_info(
+    url: str, name: str, services: dict[str, str] | None = None, actions: dict[str, str] | None = None
+) -> str:
+    """What `ros2 node info NAME` prints. `services`, `actions` (name -> type): the graph's, whose
+    clients and servers the node's sections list as the lab knows them (`/rosapi/endpoints`: the
+    clients the rclpy programs told, an action's server); a client of a name not among them is not seen."""
     name = "/" + name.strip("/")
     if name not in node_list(url):
         raise LookupError(f"Unable to find node '{name}'")
@@ -153,18 +157,26 @@ def node_info(url: str, name: str) -> str:
     def topic_lines(field: str) -> list[str]:
         return [f"{t}: {ros2_type(types.get(t, ''), 'msg')}" for t in sorted(details.get(field, []))]
 
-    services = []
+    served = []
     for service in sorted(details.get("services", [])):
         kind = call(url, "/rosapi/service_type", {"service": service}).get("type", "")
-        services.append(f"{service}: {ros2_type(kind, 'srv')}")
+        served.append(f"{service}: {ros2_type(kind, 'srv')}")
+
+    def of_node(kind: str, named: dict[str, str] | None, interface: str) -> list[str]:
+        return [
+            f"{n}: {ros2_type(t, interface)}"
+            for n, t in sorted((named or {}).items())
+            if any(entity["node"] == name for entity in endpoints(url, kind, n))
+        ]
+
     lines = [
         name,
         *section("Subscribers", topic_lines("subscribing")),
         *section("Publishers", topic_lines("publishing")),
-        *section("Service Servers", services),
-        *section("Service Clients", []),
-        *section("Action Servers", []),
-        *section("Action Clients", []),
+        *section("Service Servers", served),
+        *section("Service Clients", of_node("client", services, "srv")),
+        *section("Action Servers", of_node("action_server", actions, "action")),
+        *section("Action Clients", of_node("action_client", actions, "action")),
     ]
     return "\n".join(lines)
 

@@ -87,6 +87,8 @@ def test_an_async_execute_callback_succeeds_over_http(lab):
             "Action: /fibonacci\nAction clients: 0\nAction servers: 1\n"
             "    /minimal_action_server [example_interfaces/action/Fibonacci]\n"
         ), info.stdout + info.stderr
+        node = run_command("node", "info", "/minimal_action_server", "--url", lab.url, timeout=60)
+        assert "  Action Servers:\n    /fibonacci: example_interfaces/action/Fibonacci\n" in node.stdout, node.stderr
     finally:
         server.interrupt()
 

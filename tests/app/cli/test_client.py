@@ -119,23 +119,26 @@ def test_action_list_and_a_goal_to_its_end(hri_lab, capsys):
     assert out.endswith("Goal finished with status: SUCCEEDED\n")
 
 
-def test_action_info_as_ros2action_prints_it(hri_lab, client, capsys):
+def test_action_info_and_node_info_list_clients_and_servers_as_ros2_prints_them(hri_lab, client, capsys):
     """ros2action's info verb: the clients (as rclpy programs tell the lab: the `endpoints` op) and
     the server (the lab's node for its own action, the providing node for a node's), -t with the
-    type, -c the numbers only, the name as given; an action nobody serves or uses has none."""
+    type, -c the numbers only, the name as given; an action nobody serves or uses has none. `node
+    info`'s sections of service clients, action servers and action clients from the same."""
     with client.websocket_connect("/") as program:
         program.send_json({"op": "node", "name": "/demo/fibonacci_server"})
         program.send_json({"op": "advertise_action", "action": "/fibonacci",
                            "type": "action_tutorials_interfaces/action/Fibonacci"})  # fmt: skip
         program.send_json({"op": "endpoints", "kind": "action_client", "name": "/count",
-                           "entities": [{"node": "/counter", "qos": {}}, {"node": "/demo/other", "qos": {}}]})  # fmt: skip
+                           "entities": [{"node": "/counter", "qos": {}}, {"node": "/demo/fibonacci_server", "qos": {}}]})  # fmt: skip
+        program.send_json({"op": "endpoints", "kind": "client", "name": "/add_two_ints",
+                           "entities": [{"node": "/demo/fibonacci_server", "qos": {}}]})  # fmt: skip
         program.send_json({"op": "call_service", "id": "sync", "service": "/rosapi/get_time", "args": {}})
         answer = within(program.receive_json, 30, "the sync answer")
         while answer.get("op") != "service_response":  # the advertise's report comes first
             answer = within(program.receive_json, 30, "the sync answer")
         assert hri_lab("action", "info", "/count") == 0
         assert capsys.readouterr().out == (
-            "Action: /count\nAction clients: 2\n    /counter\n    /demo/other\nAction servers: 1\n    /hri_lab\n"
+            "Action: /count\nAction clients: 2\n    /counter\n    /demo/fibonacci_server\nAction servers: 1\n    /hri_lab\n"
         )
         assert hri_lab("action", "info", "-t", "fibonacci") == 0
         assert capsys.readouterr().out == (
@@ -144,6 +147,16 @@ def test_action_info_as_ros2action_prints_it(hri_lab, client, capsys):
         )
         assert hri_lab("action", "info", "--count", "/count") == 0
         assert capsys.readouterr().out == "Action: /count\nAction clients: 2\nAction servers: 1\n"
+        assert hri_lab("node", "info", "/demo/fibonacci_server") == 0
+        assert capsys.readouterr().out.endswith(
+            "  Service Clients:\n    /add_two_ints: hri_lab/srv/AddTwoInts\n"
+            "  Action Servers:\n    /fibonacci: action_tutorials_interfaces/action/Fibonacci\n"
+            "  Action Clients:\n    /count: hri_lab/action/Count\n"
+        )
+        assert hri_lab("node", "info", "/hri_lab") == 0
+        assert "  Action Servers:\n    /compare_controllers: hri_lab/action/CompareControllers\n    /count: " in (
+            capsys.readouterr().out
+        )
     assert hri_lab("action", "info", "/no_such_action") == 0
     assert capsys.readouterr().out == "Action: /no_such_action\nAction clients: 0\nAction servers: 0\n"
 

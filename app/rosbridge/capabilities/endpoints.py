@@ -4,8 +4,8 @@ as a DDS participant announces its readers and writers, e.g.
 "qos": {"reliability": "RELIABLE", "durability": "VOLATILE", ...}}]}` (an empty list: none left).
 `hri-lab run`'s rclpy sends them for its publishers, subscriptions, service and action clients;
 rosapi's extension `/rosapi/endpoints` lists them (app/rosbridge/rosapi.py), for `topic info -v`
-(each endpoint's node and QoS), `service info` and `action info` (their clients). rosbridge_suite has no such op: a client
-that sends none is listed by the topics it advertises and subscribes.
+(each endpoint's node and QoS), `service info` and `action info` (their clients). rosbridge_suite
+has no such op: a client that sends none is listed by the topics it advertises and subscribes.
 
 The lab tells them back, as DDS discovery tells a participant the remote readers and writers: a
 client that told publishers (subscriptions) on a topic is sent, with the same op, the other

@@ -300,7 +300,7 @@ def matched(endpoint: Endpoint) -> int:
     return count + sum(1 for client in clients if client not in told_clients)
 
 
-# --- service clients ---------------------------------------------------------------------------------
+# --- service and action clients ----------------------------------------------------------------------
 def add_client(name: str, node: str, kind: str = "client") -> None:
     """A service client (`kind` "client") or an action client ("action_client") made: the lab told
     the program's clients of `name` (`service info`, `action info` count them)."""

@@ -521,8 +521,8 @@ function buildPlots() {
   });
   byId("plot-pause").onclick = () => { plots.paused = !plots.paused; byId("plot-pause").textContent = plots.paused ? "Resume" : "Pause"; };
   // One drawing every 200 ms holds the status line and the plots: each change of the page is a frame
-  // the browser paints (in software where there is no GPU); the status redrawn with every message too
-  // (10 a second) cost a lifting lab's page about half as much again (docs/performance.md, "The dashboard").
+  // the browser paints (in software where there is no GPU), and the status redrawn with every message
+  // too (10 a second) made up to three frames of one (docs/performance.md, "The dashboard").
   const draw = () => {
     renderStatus();
     if (!plots.paused) {

@@ -581,9 +581,22 @@ def _print_message(message: dict) -> None:
 
 
 # --- action -----------------------------------------------------------------------------------
-def _indented(values: dict | None) -> str:
-    text = _dump(values or {}, width=200).rstrip()
-    return "\n".join("    " + line for line in text.splitlines()) if values else "    {}"
+# A goal's end as ros2action's send_goal names it (action_msgs/GoalStatus); actionlib's PREEMPTED is CANCELED
+GOAL_STATUS = {"succeeded": "SUCCEEDED", "aborted": "ABORTED", "preempted": "CANCELED"}
+
+
+def _message_yaml(values: dict | None) -> str:
+    """A message's values as rosidl_runtime_py's message_to_yaml writes them: block style, no line
+    wrapped, ending in a newline (`{}` for a message without fields)."""
+    return _dump(values or {}, width=2**31 - 1)
+
+
+def _goal_as_filled(values: dict, schema: dict) -> dict:
+    """The goal as ros2action sends it: every field of the Goal in its order, at its default where
+    the values do not give it (rosidl's set_message_fields on a new Goal)."""
+    fields = schema.get("properties", {})
+    filled = {k: values[k] if k in values else f["default"] for k, f in fields.items() if k in values or "default" in f}
+    return filled | {k: v for k, v in values.items() if k not in fields}
 
 
 def action(args) -> int:
@@ -591,15 +604,31 @@ def action(args) -> int:
         return _print_list(args, "/actions", "action")
     if args.action == "info":
         return _action_info(args)
+    return _send_goal(args)
+
+
+def _send_goal(args) -> int:
+    """`action send_goal NAME [TYPE] VALUES|--stdin [-f]`, printed as ros2action's send_goal verb
+    prints it (the YAML after each heading indented on its first line only, as its format string
+    does). Unlike ros2, the exit status is 1 unless the goal succeeded, and a rejection's or an
+    abort's reason goes to stderr."""
+    print("Waiting for an action server to become available...")
     name, info = _lookup(args, "actions")
-    goal = _yaml_arg(_typed_values(args, info.json()["type"], "action"))
-    print(f"Sending goal:\n{_indented(goal)}\n")
+    described = info.json()
+    text = _typed_values(args, described["type"], "action")
+    if args.stdin:
+        if text:
+            raise CliError("--stdin reads the goal from standard input: give no values after the type")
+        text = sys.stdin.read()  # ros2's collect_stdin
+    goal = _yaml_arg(text)
+    print(f"Sending goal:\n     {_message_yaml(_goal_as_filled(goal, described.get('goal_schema', {})))}")
     response = _request(args, "POST", f"/actions{name}/goals", json=goal)
     body = response.json()
     if response.status_code == 422:
         raise CliError(f"goal refused: {_detail(response)}")
     if body.get("status") == "rejected":
-        print(f"Goal was rejected: {body.get('message')}")
+        print("Goal was rejected.")
+        print(f"hri-lab: the goal was rejected: {body.get('message')}", file=sys.stderr)
         return 1
     goal_id = body["goal_id"]
     print(f"Goal accepted with ID: {goal_id}\n")
@@ -608,15 +637,14 @@ def action(args) -> int:
         view = _request(args, "GET", f"/actions{name}/goals/{goal_id}", params={"after": seen, "wait": 5}).json()
         if args.feedback:
             for fb in view["feedback"]:
-                print(f"Feedback:\n{_indented(fb)}\n")
+                print(f"Feedback:\n    {_message_yaml(fb)}")
         seen = view["feedback_count"]
         if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
             break
-    print(f"Result:\n{_indented(view['result'])}\n")
-    print(
-        f"Goal finished with status: {view['status'].upper()}"
-        + (f" ({view['message']})" if view["status"] == "aborted" else "")
-    )
+    print(f"Result:\n    {_message_yaml(view['result'])}")
+    print(f"Goal finished with status: {GOAL_STATUS.get(view['status'], 'UNKNOWN')}")
+    if view["status"] != "succeeded" and view.get("message"):
+        print(f"hri-lab: {view['status']}: {view['message']}", file=sys.stderr)
     return 0 if view["status"] == "succeeded" else 1
 
 
@@ -773,6 +801,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     goal.add_argument("type_or_values", nargs="?", default="", metavar="[TYPE]", help="the action's type (ros2's form)")
     goal.add_argument("values", nargs="?", default="", help="goal as YAML, e.g. '{count: 3}'")
     goal.add_argument("-f", "--feedback", action="store_true", help="print the feedback")
+    goal.add_argument("--stdin", action="store_true", help="read the goal's YAML from standard input")
     act.set_defaults(func=action)
 
     nod = sub.add_parser("node", help="the graph's nodes (like ros2 node)")

@@ -113,10 +113,32 @@ def test_action_list_and_a_goal_to_its_end(hri_lab, capsys):
     assert capsys.readouterr().out == f"{len(listed)}\n"
     assert hri_lab("action", "send_goal", "/count", "{count: 2}", "--feedback") == 0
     out = capsys.readouterr().out
-    assert out.startswith("Sending goal:\n    count: 2\n")
-    assert "Goal accepted with ID: " in out
-    assert out.count("Feedback:\n") >= 1
-    assert out.endswith("Goal finished with status: SUCCEEDED\n")
+    # ros2action's send_goal: each YAML after its heading, indented on its first line (its format string)
+    head, _, rest = out.partition("Goal accepted with ID: ")
+    assert head == "Waiting for an action server to become available...\nSending goal:\n     count: 2\n\n"
+    goal_id, _, rest = rest.partition("\n\n")
+    assert len(goal_id) == 32 and int(goal_id, 16) >= 0  # the goal's UUID in hex, as bytes(uuid).hex()
+    assert rest == (
+        "Feedback:\n    current_number: 1\n\nFeedback:\n    current_number: 2\n\n"
+        "Result:\n    final_count: 2\n\nGoal finished with status: SUCCEEDED\n"
+    )
+
+
+def test_send_goal_reads_its_goal_from_stdin_and_prints_every_field(hri_lab, capsys, monkeypatch):
+    """`--stdin` (ros2's collect_stdin) after the type; the goal printed as sent, the fields not given
+    at their defaults in the Goal's order, a message of several lines indented on its first only."""
+    import io
+
+    monkeypatch.setattr("sys.stdin", io.StringIO("count: 1\n"))
+    assert hri_lab("action", "send_goal", "/count", "hri_lab/action/Count", "--stdin") == 0
+    assert "Sending goal:\n     count: 1\n\n" in capsys.readouterr().out
+    monkeypatch.setattr("sys.stdin", io.StringIO("count: 1\n"))
+    assert hri_lab("action", "send_goal", "/count", "hri_lab/action/Count", "{count: 2}", "--stdin") == 1
+    assert "--stdin reads the goal from standard input" in capsys.readouterr().err
+    assert hri_lab("action", "send_goal", "/run_experiment", "{trials: 0}") == 1  # refused: trials >= 1
+    printed = capsys.readouterr()
+    assert "Sending goal:\n     trials: 0\nparticipant: ''\nseed: 0\nplots: false\nset: ''\n\n" in printed.out
+    assert "trials" in printed.err
 
 
 def test_action_info_and_node_info_list_clients_and_servers_as_ros2_prints_them(hri_lab, client, capsys):

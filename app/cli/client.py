@@ -582,7 +582,7 @@ def _print_message(message: dict) -> None:
 
 # --- action -----------------------------------------------------------------------------------
 # A goal's end as ros2action's send_goal names it (action_msgs/GoalStatus); actionlib's PREEMPTED is CANCELED
-GOAL_STATUS = {"succeeded": "SUCCEEDED", "aborted": "ABORTED", "preempted": "CANCELED"}
+STATUS_NAMES = {"succeeded": "SUCCEEDED", "aborted": "ABORTED", "preempted": "CANCELED"}
 
 
 def _message_yaml(values: dict | None) -> str:
@@ -642,7 +642,7 @@ def _send_goal(args) -> int:
         if view["status"] in ("succeeded", "aborted", "preempted", "rejected"):
             break
     print(f"Result:\n    {_message_yaml(view['result'])}")
-    print(f"Goal finished with status: {GOAL_STATUS.get(view['status'], 'UNKNOWN')}")
+    print(f"Goal finished with status: {STATUS_NAMES.get(view['status'], 'UNKNOWN')}")
     if view["status"] != "succeeded" and view.get("message"):
         print(f"hri-lab: {view['status']}: {view['message']}", file=sys.stderr)
     return 0 if view["status"] == "succeeded" else 1

@@ -149,16 +149,34 @@ def service(args) -> int:
     if args.action == "show":
         print(info["srv"])
         return 0
-    values = _typed_values(args, info["type"], "srv")
-    request = _yaml_arg(values)
-    print(f"requester: making request: {_message(info['type'], 'Request', request)}\n")
-    response = _request(args, "POST", f"/services{name}", json=request)
-    if response.status_code != 200:
-        print(f"service call failed: {_detail(response)}", file=sys.stderr)
-        return 1
-    print("response:")
-    print(_message(info["type"], "Response", response.json()))
-    return 0
+    return _service_call(args, name, info["type"])
+
+
+def _service_call(args, name: str, type_name: str) -> int:
+    """`service call NAME [TYPE] VALUES|--stdin [-r HZ]` as ros2service's call verb prints it (each
+    request and response followed by a blank line); `-r`: the call again at that rate until Ctrl+C.
+    Unlike ros2, a failed call ends the command with status 1, its reason on stderr."""
+    text = _typed_values(args, type_name, "srv")
+    if args.stdin:
+        if text:
+            raise CliError("--stdin reads the request from standard input: give no values after the type")
+        text = sys.stdin.read()  # ros2's collect_stdin
+    request = _yaml_arg(text)
+    period = None if args.rate is None else 1.0 / args.rate
+    try:
+        while True:
+            print(f"requester: making request: {_message(type_name, 'Request', request)}\n", flush=True)
+            last_call = time.monotonic()
+            response = _request(args, "POST", f"/services{name}", json=request)
+            if response.status_code != 200:
+                print(f"service call failed: {_detail(response)}", file=sys.stderr)
+                return 1
+            print(f"response:\n{_message(type_name, 'Response', response.json())}\n", flush=True)
+            if period is None:
+                return 0
+            time.sleep(max(0.0, last_call + period - time.monotonic()))
+    except KeyboardInterrupt:
+        return 0
 
 
 def _typed_values(args, type_name: str, kind: str) -> str:
@@ -730,6 +748,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         "type_or_values", nargs="?", default="", metavar="[TYPE]", help="the service's type (ros2's form)"
     )
     call.add_argument("values", nargs="?", default="", help="request as YAML, e.g. '{a: 1, b: 2}'")
+    call.add_argument("--stdin", action="store_true", help="read the request's YAML from standard input")
+    call.add_argument("-r", "--rate", type=_positive_float, metavar="N", help="repeat the call at N Hz")
     srv.set_defaults(func=service)
 
     prm = sub.add_parser("param", help="parameters (like ros2 param)")

@@ -63,9 +63,36 @@ def test_service_list_type_show_and_call(hri_lab, capsys):
     assert hri_lab("service", "find", "hri_lab/AddTwoInts", "-c") == 0
     assert capsys.readouterr().out == "1\n"
     assert hri_lab("service", "call", "/add_two_ints", "{a: 2, b: 40}") == 0
-    out = capsys.readouterr().out
-    assert "requester: making request: hri_lab.srv.AddTwoInts_Request(a=2, b=40)" in out
-    assert out.endswith("response:\nhri_lab.srv.AddTwoInts_Response(sum=42)\n")
+    assert capsys.readouterr().out == (  # ros2service's call verb: a blank line after each
+        "requester: making request: hri_lab.srv.AddTwoInts_Request(a=2, b=40)\n\n"
+        "response:\nhri_lab.srv.AddTwoInts_Response(sum=42)\n\n"
+    )
+
+
+def test_service_call_from_stdin_and_again_at_a_rate_until_ctrl_c(hri_lab, capsys, monkeypatch):
+    """ros2service's `--stdin` (the request's YAML after the type) and `-r N` (the call again every
+    1/N s until Ctrl+C, which ends the command with status 0)."""
+    import io
+
+    from app.cli import client as cli
+
+    monkeypatch.setattr("sys.stdin", io.StringIO("{a: 1, b: 2}"))
+    assert hri_lab("service", "call", "/add_two_ints", "hri_lab/srv/AddTwoInts", "--stdin") == 0
+    assert capsys.readouterr().out.endswith("hri_lab.srv.AddTwoInts_Response(sum=3)\n\n")
+    pauses: list[float] = []
+
+    def sleep(seconds: float) -> None:  # the third pause is the user's Ctrl+C
+        pauses.append(seconds)
+        if len(pauses) == 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli.time, "sleep", sleep)
+    assert hri_lab("service", "call", "/add_two_ints", "{a: 1, b: 1}", "-r", "2") == 0
+    assert capsys.readouterr().out.count("response:\nhri_lab.srv.AddTwoInts_Response(sum=2)\n\n") == 3
+    assert all(0.0 <= p <= 0.5 for p in pauses)
+    with pytest.raises(SystemExit):  # argparse's refusal, naming the option
+        hri_lab("service", "call", "/add_two_ints", "{a: 1, b: 1}", "-r", "0")
+    assert "argument -r/--rate: must be a positive number, got 0" in capsys.readouterr().err
 
 
 def test_a_failed_call_names_the_field_and_a_missing_service_says_so(hri_lab, capsys):

@@ -370,12 +370,38 @@ def _graph_topics(args) -> dict[str, str]:
         return {}
 
 
-def _topic_list(args) -> int:
-    """`ros2 topic list [-t] [-c]`: the lab's topics and the programs', sorted as ros2 sorts them (types
-    as ROS 2 names them); or their number alone."""
+def _all_topics(args) -> dict[str, str]:
+    """Every topic, the lab's and the programs': name -> its type (as the lab names it)."""
     listed = {item["name"]: item["type"] for item in _request(args, "GET", "/topics").json()}
     for name, type_name in _graph_topics(args).items():
         listed.setdefault(name, type_name)
+    return listed
+
+
+def _type_of(found: dict[str, str], name: str, kind: str) -> int:
+    """`ros2 topic type NAME`, `ros2 action type NAME`: its type as ROS 2 names it; for a name the
+    graph does not have (compared as given, as ros2 compares it), nothing printed and status 1."""
+    if name not in found:
+        return 1
+    print(_ros2_type(found[name], kind))
+    return 0
+
+
+def _of_type(found: dict[str, str], wanted: str, kind: str, count: bool) -> int:
+    """`ros2 topic find TYPE`, `ros2 action find TYPE` [-c]: the names of that type, sorted (the type
+    as ROS 2 names it, `pkg/msg/Name`, or `pkg/Name`); with -c their number alone."""
+    names = sorted(n for n, t in found.items() if _ros2_type(t, kind) == _ros2_type(wanted.strip("/"), kind))
+    if count:
+        print(len(names))
+    for name in [] if count else names:
+        print(name)
+    return 0
+
+
+def _topic_list(args) -> int:
+    """`ros2 topic list [-t] [-c]`: the lab's topics and the programs', sorted as ros2 sorts them (types
+    as ROS 2 names them); or their number alone."""
+    listed = _all_topics(args)
     if args.count:
         print(len(listed))
         return 0
@@ -539,6 +565,10 @@ TOPIC_VERBS = {"info": _topic_info, "pub": _topic_pub, "hz": _topic_watch, "bw":
 def topic(args) -> int:
     if args.action == "list":
         return _topic_list(args)
+    if args.action == "type":
+        return _type_of(_all_topics(args), args.name, "msg")
+    if args.action == "find":
+        return _of_type(_all_topics(args), args.type, "msg", args.count_topics)
     name = absolute(args.name)
     if args.action in TOPIC_VERBS:
         return TOPIC_VERBS[args.action](args, name)
@@ -622,6 +652,11 @@ def action(args) -> int:
         return _print_list(args, "/actions", "action")
     if args.action == "info":
         return _action_info(args)
+    if args.action in ("type", "find"):
+        found = {item["name"]: item["type"] for item in _request(args, "GET", "/actions").json()}
+        if args.action == "type":
+            return _type_of(found, args.name, "action")
+        return _of_type(found, args.type, "action", args.count_actions)
     return _send_goal(args)
 
 
@@ -782,6 +817,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     echo.add_argument("--once", action="store_true", help="print one message and exit")
     echo.add_argument("--rate", type=float, default=10.0, help="messages per second (default 10)")
     echo.add_argument("--count", "-n", type=int, help="exit after this many messages (rostopic echo -n N)")
+    top_sub.add_parser("type", parents=[url], help="its type (ros2 topic type)").add_argument("name")
+    top_find = top_sub.add_parser("find", parents=[url], help="the topics of a type, e.g. std_msgs/msg/String")
+    top_find.add_argument("type")
+    top_find.add_argument("-c", "--count-topics", action="store_true", help="only their number")
     info = top_sub.add_parser("info", parents=[url], help="its type, publisher and subscription counts")
     info.add_argument("name")
     info.add_argument("-v", "--verbose", action="store_true", help="each publisher's and subscription's node and QoS")
@@ -812,6 +851,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     act = sub.add_parser("action", help="actions (like ros2 action)")
     act_sub = act.add_subparsers(dest="action", required=True)
     list_parser(act_sub, "actions")
+    act_sub.add_parser("type", parents=[url], help="its type (ros2 action type)").add_argument("name")
+    act_find = act_sub.add_parser("find", parents=[url], help="the actions of a type, e.g. hri_lab/action/Count")
+    act_find.add_argument("type")
+    act_find.add_argument("-c", "--count-actions", "--count", action="store_true", help="only their number")
     act_info = act_sub.add_parser("info", parents=[url], help="its clients and servers (ros2 action info)")
     act_info.add_argument("name")
     act_info.add_argument("-t", "--show-types", action="store_true", help="each node with the action's type")

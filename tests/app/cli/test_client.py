@@ -210,6 +210,35 @@ def test_action_info_and_node_info_list_clients_and_servers_as_ros2_prints_them(
     assert capsys.readouterr().out == "Action: /no_such_action\nAction clients: 0\nAction servers: 0\n"
 
 
+def test_topic_and_action_type_and_find_as_ros2_prints_them(hri_lab, client, capsys):
+    """ros2topic's and ros2action's `type` (the name compared as given: nothing printed and status 1
+    for one the graph lacks) and `find TYPE [-c]` (the names of that type, sorted), a program's topic
+    among the lab's."""
+    with client.websocket_connect("/") as program:
+        program.send_json({"op": "advertise", "topic": "/chatter", "type": "std_msgs/String"})
+        program.send_json({"op": "call_service", "id": "sync", "service": "/rosapi/get_time", "args": {}})
+        while within(program.receive_json, 30, "the sync answer").get("op") != "service_response":
+            pass  # the connection's ops are handled in order: the advertise is taken once this is answered
+        assert hri_lab("topic", "type", "/chatter") == 0
+        assert capsys.readouterr().out == "std_msgs/msg/String\n"
+        assert hri_lab("topic", "type", "/joint_states") == 0
+        assert capsys.readouterr().out == "sensor_msgs/msg/JointState\n"
+        assert hri_lab("topic", "type", "chatter") == 1  # as ros2: the name as given
+        assert capsys.readouterr().out == ""
+        assert hri_lab("topic", "find", "std_msgs/msg/String") == 0
+        found = capsys.readouterr().out.splitlines()
+        assert "/chatter" in found and found == sorted(found)
+        assert hri_lab("topic", "find", "geometry_msgs/WrenchStamped", "-c") == 0
+        assert int(capsys.readouterr().out) >= 1
+    assert hri_lab("action", "type", "/count") == 0
+    assert capsys.readouterr().out == "hri_lab/action/Count\n"
+    assert hri_lab("action", "type", "/nothing") == 1
+    assert hri_lab("action", "find", "hri_lab/action/Count") == 0
+    assert capsys.readouterr().out == "/count\n"
+    assert hri_lab("action", "find", "hri_lab/action/Count", "--count") == 0
+    assert capsys.readouterr().out == "1\n"
+
+
 def test_topic_pub_info_as_ros2_prints_them_to_a_listener(hri_lab, client, capsys):
     with client.websocket_connect("/") as listener:
         listener.send_json({"op": "subscribe", "id": "l", "topic": "/cli_chatter", "type": "std_msgs/String"})

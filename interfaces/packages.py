@@ -85,6 +85,15 @@ class Interfaces:
     def is_package(self, package: str) -> bool:
         return any(p == package for p, _, _ in self.texts) or bool(self.package_dirs(package))
 
+    def available(self, kind: str) -> dict[str, list[str]]:
+        """Every package of the roots with definitions of `kind` -> their names, sorted (rosidl_runtime_py's
+        get_message_interfaces and the like, for `interface list`); a name in two roots once."""
+        found: dict[str, set[str]] = {}
+        for root in self.roots:
+            for definition in root.glob(f"*/{kind}/*.{kind}"):
+                found.setdefault(definition.parent.parent.name, set()).add(definition.stem)
+        return {package: sorted(names) for package, names in sorted(found.items())}
+
     def find(self, package: str, kind: str, name: str) -> Path | None:
         if (package, kind, name) in self.texts:
             return Path(f"<the definition of {package}/{kind}/{name} it carried>")

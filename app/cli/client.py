@@ -743,10 +743,33 @@ def node(args) -> int:
     return 0
 
 
+ONLY = (("msg", "only_msgs"), ("srv", "only_srvs"), ("action", "only_actions"))  # interface's -m, -s, -a
+
+
+def _interface_kinds(args) -> tuple[str, ...]:
+    """The kinds `-m`, `-s`, `-a` (--only-msgs, --only-srvs, --only-actions) ask for; none of them: all."""
+    asked = tuple(kind for kind, flag in ONLY if getattr(args, flag, False))
+    return asked or tuple(kind for kind, _ in ONLY)
+
+
 def interface(args) -> int:
-    """`ros2 interface show TYPE`: a definition (the shipped packages')."""
+    """`ros2 interface list|packages|package|show`: the shipped packages' interfaces."""
     from app.cli import graph
 
+    if args.action == "list":
+        print(graph.interface_list(_interface_kinds(args)))
+        return 0
+    if args.action == "packages":
+        print("\n".join(graph.interface_packages(_interface_kinds(args))))
+        return 0
+    if args.action == "package":
+        try:
+            text = graph.interface_package(args.package, _interface_kinds(args))
+        except LookupError as exc:
+            raise CliError(str(exc)) from None
+        if text:
+            print(text)
+        return 0
     name = sys.stdin.readline().strip() if args.type == "-" else args.type  # `ros2 topic type X | ... show -`
     if not name:
         raise CliError("the passed value is empty")
@@ -875,6 +898,16 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 
     itf = sub.add_parser("interface", help="interface definitions (like ros2 interface)")
     itf_sub = itf.add_subparsers(dest="action", required=True)
+    listing = itf_sub.add_parser("list", help="every interface, by kind")
+    one = itf_sub.add_parser("package", help="the interfaces of a package")
+    one.add_argument("package", help="e.g. example_interfaces")
+    for verb in (listing, one):
+        verb.add_argument("-m", "--only-msgs", action="store_true", help="only the message types")
+        verb.add_argument("-s", "--only-srvs", action="store_true", help="only the service types")
+        verb.add_argument("-a", "--only-actions", action="store_true", help="only the action types")
+    packages = itf_sub.add_parser("packages", help="the packages with interfaces")
+    packages.add_argument("-m", "--only-msgs", action="store_true", help="only the packages with messages")
+    packages.add_argument("-s", "--only-srvs", action="store_true", help="only the packages with services")
     show = itf_sub.add_parser("show", parents=[url])
     show.add_argument("type", help="e.g. std_msgs/msg/String, example_interfaces/srv/AddTwoInts; - reads it from stdin")
     shown = show.add_mutually_exclusive_group()

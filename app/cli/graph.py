@@ -181,6 +181,49 @@ def node_info(
     return "\n".join(lines)
 
 
+INTERFACE_HEADINGS = {"msg": "Messages:", "srv": "Services:", "action": "Actions:"}  # ros2 interface list's
+
+
+def interface_list(kinds: tuple[str, ...]) -> str:
+    """`ros2 interface list [-m] [-s] [-a]` (ros2interface/verb/list.py): the shipped interfaces of
+    each kind under its heading, `    pkg/kind/Name` by package and name."""
+    from interfaces.packages import Interfaces
+
+    shipped = Interfaces([])
+    lines = []
+    for kind in kinds:
+        lines.append(INTERFACE_HEADINGS[kind])
+        lines += [
+            f"    {package}/{kind}/{name}" for package, names in shipped.available(kind).items() for name in names
+        ]
+    return "\n".join(lines)
+
+
+def interface_package(package: str, kinds: tuple[str, ...]) -> str:
+    """`ros2 interface package PKG [-m] [-s] [-a]` (ros2interface/verb/package.py): its shipped
+    interfaces of those kinds, `pkg/kind/Name` each; LookupError for a package the lab lacks."""
+    from interfaces.packages import KINDS, Interfaces
+
+    shipped = Interfaces([])
+    if not shipped.is_package(package):
+        raise LookupError(f"Unknown package '{package}'")
+    found = [
+        f"{package}/{kind}/{name}"
+        for kind in KINDS
+        if kind in kinds
+        for name in shipped.available(kind).get(package, [])
+    ]
+    return "\n".join(found)
+
+
+def interface_packages(kinds: tuple[str, ...]) -> list[str]:
+    """`ros2 interface packages [-m] [-s]`: the shipped packages with interfaces of those kinds, sorted."""
+    from interfaces.packages import Interfaces
+
+    shipped = Interfaces([])
+    return sorted({package for kind in kinds for package in shipped.available(kind)})
+
+
 def interface_text(type_name: str, comments: str = "top") -> str:
     """`ros2 interface show TYPE` (ros2interface/verb/show.py): the definition of `pkg/msg/Name`
     (or srv, action; `pkg/Name` any of them) line by line as its file has it, each field of a message

@@ -290,3 +290,18 @@ def test_a_definition_too_long_to_send_is_refused_before_it_is_sent(tmp_path):
         DefinitionError, match=r"my_pkg/Huge with its nested messages' is \d+ characters, at most 65536"
     ):
         full_text(interfaces.get("my_pkg", "srv", "Huge"))
+
+
+def test_available_lists_each_package_of_a_kind_once_with_its_names_sorted(tmp_path):
+    """`interface list`'s source: a workspace root's packages beside the shipped ones, a name the two
+    roots both define listed once."""
+    (tmp_path / "std_msgs" / "msg").mkdir(parents=True)
+    (tmp_path / "std_msgs" / "msg" / "String.msg").write_text("string data\n")
+    (tmp_path / "lab8" / "srv").mkdir(parents=True)
+    for name in ("Zeta", "Alpha"):
+        (tmp_path / "lab8" / "srv" / f"{name}.srv").write_text("int64 a\n---\nint64 b\n")
+    found = Interfaces([tmp_path])
+    assert found.available("msg")["std_msgs"].count("String") == 1
+    assert found.available("srv")["lab8"] == ["Alpha", "Zeta"]
+    assert "lab8" not in found.available("msg")
+    assert list(found.available("srv")) == sorted(found.available("srv"))

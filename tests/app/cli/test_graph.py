@@ -62,3 +62,29 @@ def test_the_command_reads_the_type_from_stdin_and_takes_the_comment_options(mon
     assert capsys.readouterr().out == f"{STAMP}\nstring frame_id\n"
     with pytest.raises(SystemExit):  # one of the two, as ros2interface's mutually exclusive group
         main(["interface", "show", "std_msgs/msg/Header", "--no-comments", "--all-comments"])
+
+
+def test_interface_list_package_and_packages_as_ros2interface_prints_them(capsys):
+    """ros2interface's list (each kind under its heading, `    pkg/kind/Name`, by package and name;
+    -m -s -a pick kinds), package (`pkg/kind/Name`; an unknown package refused by name) and packages."""
+    assert main(["interface", "list"]) == 0
+    listed = capsys.readouterr().out.splitlines()
+    headings = [line for line in listed if not line.startswith("    ")]
+    assert headings == ["Messages:", "Services:", "Actions:"]
+    messages = listed[1 : listed.index("Services:")]
+    assert "    std_msgs/msg/String" in messages and "    geometry_msgs/msg/Twist" in messages
+    assert messages == sorted(messages, key=lambda line: line.strip().split("/")[::2])  # by package, then name
+    assert main(["interface", "list", "-a"]) == 0
+    actions = capsys.readouterr().out.splitlines()
+    assert actions[0] == "Actions:" and "    example_interfaces/action/Fibonacci" in actions
+    assert "    hri_lab/action/Count" in actions and not any("/msg/" in line for line in actions)
+    assert main(["interface", "package", "example_interfaces", "-s"]) == 0
+    assert capsys.readouterr().out == (
+        "example_interfaces/srv/AddTwoInts\nexample_interfaces/srv/SetBool\nexample_interfaces/srv/Trigger\n"
+    )
+    assert main(["interface", "packages", "-s"]) == 0
+    packages = capsys.readouterr().out.splitlines()
+    assert {"example_interfaces", "std_srvs", "hri_lab"} <= set(packages) and "geometry_msgs" not in packages
+    assert packages == sorted(packages)
+    assert main(["interface", "package", "no_such_package"]) == 1
+    assert "Unknown package 'no_such_package'" in capsys.readouterr().err

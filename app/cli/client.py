@@ -109,15 +109,14 @@ def _print_list(args, path: str, kind: str) -> int:
     return 0
 
 
+def _named_types(args, path: str) -> dict[str, str]:
+    """The lab's listing at `path` (/services, /topics, /actions): name -> type, as the lab names it."""
+    return {item["name"]: item["type"] for item in _request(args, "GET", path).json()}
+
+
 def _service_find(args) -> int:
     """`ros2 service find TYPE [-c]`: the services of a type (`pkg/srv/Name`, or `pkg/Name`), by name."""
-    wanted = _ros2_type(args.type.strip("/"), "srv")
-    found = [i["name"] for i in _request(args, "GET", "/services").json() if _ros2_type(i["type"], "srv") == wanted]
-    if args.count_services:
-        print(len(found))
-    for name in [] if args.count_services else sorted(found):
-        print(name)
-    return 0
+    return _of_type(_named_types(args, "/services"), args.type, "srv", args.count_services)
 
 
 def _lookup(args, kind: str) -> tuple[str, httpx.Response]:
@@ -372,7 +371,7 @@ def _graph_topics(args) -> dict[str, str]:
 
 def _all_topics(args) -> dict[str, str]:
     """Every topic, the lab's and the programs': name -> its type (as the lab names it)."""
-    listed = {item["name"]: item["type"] for item in _request(args, "GET", "/topics").json()}
+    listed = _named_types(args, "/topics")
     for name, type_name in _graph_topics(args).items():
         listed.setdefault(name, type_name)
     return listed
@@ -653,7 +652,7 @@ def action(args) -> int:
     if args.action == "info":
         return _action_info(args)
     if args.action in ("type", "find"):
-        found = {item["name"]: item["type"] for item in _request(args, "GET", "/actions").json()}
+        found = _named_types(args, "/actions")
         if args.action == "type":
             return _type_of(found, args.name, "action")
         return _of_type(found, args.type, "action", args.count_actions)
@@ -723,9 +722,6 @@ def _action_info(args) -> int:
     return 0
 
 
-KINDS = ("services", "actions")  # whose clients and servers `node info` lists
-
-
 def node(args) -> int:
     """`ros2 node list|info NAME`: the graph's nodes, the programs' and the lab's."""
     from app.cli import graph
@@ -734,8 +730,8 @@ def node(args) -> int:
         if args.action == "list":
             print("\n".join(graph.node_list(args.url)))
         else:
-            named = {kind: {i["name"]: i["type"] for i in _request(args, "GET", f"/{kind}").json()} for kind in KINDS}
-            print(graph.node_info(args.url, args.name, named["services"], named["actions"]))
+            services, actions = _named_types(args, "/services"), _named_types(args, "/actions")
+            print(graph.node_info(args.url, args.name, services, actions))
     except LookupError as exc:
         raise CliError(str(exc)) from None
     except _unreachable() as exc:

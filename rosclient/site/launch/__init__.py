@@ -20,7 +20,7 @@ from launch._core import (
     refuse,
 )
 from launch.event_handlers import EventHandler
-from launch.events import Event
+from launch.event import Event
 from launch.launch_description_sources import LaunchDescriptionSource
 
 __all__ = [

@@ -84,6 +84,12 @@ class LaunchDescriptionEntity:
     def describe_sub_entities(self) -> list[LaunchDescriptionEntity]:
         return []
 
+    def declared_arguments(self) -> list[Any]:
+        """The DeclareLaunchArgument actions this entity holds, for `get_launch_arguments`: none
+        here; a DeclareLaunchArgument itself, and what a group or a description holds (not what an
+        include will bring: it is read only when it runs)."""
+        return []
+
 
 class Condition:
     def __init__(self, predicate: Any = None) -> None:
@@ -125,22 +131,11 @@ class LaunchDescription(LaunchDescriptionEntity):
     def describe_sub_entities(self) -> list[LaunchDescriptionEntity]:
         return list(self.entities)
 
+    def declared_arguments(self) -> list[Any]:
+        return [argument for entity in self.entities for argument in entity.declared_arguments()]
+
     def get_launch_arguments(self, conditional_inclusion: bool = False) -> list[Any]:
-        from launch.actions import DeclareLaunchArgument, GroupAction, IncludeLaunchDescription
-
-        found: list[Any] = []
-
-        def walk(entities: list[LaunchDescriptionEntity]) -> None:
-            for entity in entities:
-                if isinstance(entity, DeclareLaunchArgument):
-                    found.append(entity)
-                elif isinstance(entity, GroupAction | LaunchDescription) and not isinstance(
-                    entity, IncludeLaunchDescription
-                ):
-                    walk(entity.describe_sub_entities())
-
-        walk(self.entities)
-        return found
+        return self.declared_arguments()
 
 
 # --- substitutions -----------------------------------------------------------------------------------------

@@ -56,6 +56,9 @@ class DeclareLaunchArgument(Action):
         self.description = description or "no description given"
         self.choices = list(choices) if choices is not None else None
 
+    def declared_arguments(self) -> list[Any]:
+        return [self]
+
     def execute(self, context: LaunchContext) -> None:
         if self.name not in context.launch_configurations:
             if self.default_value is None:
@@ -164,6 +167,9 @@ class GroupAction(Action):
 
     def describe_sub_entities(self) -> list[LaunchDescriptionEntity]:
         return list(self.actions)
+
+    def declared_arguments(self) -> list[Any]:
+        return [argument for action in self.actions for argument in action.declared_arguments()]
 
     def execute(self, context: LaunchContext) -> list[LaunchDescriptionEntity]:
         sets: list[LaunchDescriptionEntity] = [

@@ -5,12 +5,9 @@ from __future__ import annotations
 from typing import Any
 
 from launch._core import refuse
+from launch.event import Event
 
 __all__ = ["Event", "Shutdown", "process"]
-
-
-class Event:
-    name = "launch.events.Event"
 
 
 class Shutdown(Event):

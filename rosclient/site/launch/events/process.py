@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from launch._core import refuse
-from launch.events import Event
+from launch.event import Event
 
 __all__ = ["ProcessExited", "ProcessStarted", "RunningProcessEvent", "ShutdownProcess", "SignalProcess"]
 

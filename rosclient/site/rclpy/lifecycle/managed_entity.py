@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
+from enum import IntEnum
 from typing import Any
 
 
-class ManagedEntity:
-    def on_configure(self, state: Any) -> Any:
-        from rclpy.lifecycle.node import TransitionCallbackReturn
+class TransitionCallbackReturn(IntEnum):
+    """What a transition's callback returns (lifecycle_msgs/Transition's TRANSITION_CALLBACK_*);
+    here, where the entities' default callbacks return it, as rclpy's managed_entity has it too."""
 
+    SUCCESS = 97
+    FAILURE = 98
+    ERROR = 99
+
+
+class ManagedEntity:
+    def on_configure(self, state: Any) -> TransitionCallbackReturn:
         return TransitionCallbackReturn.SUCCESS
 
     on_cleanup = on_shutdown = on_activate = on_deactivate = on_error = on_configure

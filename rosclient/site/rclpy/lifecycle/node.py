@@ -3,22 +3,13 @@
 from __future__ import annotations
 
 import time
-from enum import IntEnum
 from typing import Any, NamedTuple
 
 from rclpy import _endpoints
-from rclpy.lifecycle.managed_entity import ManagedEntity
+from rclpy.lifecycle.managed_entity import ManagedEntity, TransitionCallbackReturn
 from rclpy.lifecycle.publisher import LifecyclePublisher
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
-
-
-class TransitionCallbackReturn(IntEnum):
-    """What a transition's callback returns (lifecycle_msgs/Transition's TRANSITION_CALLBACK_*)."""
-
-    SUCCESS = 97
-    FAILURE = 98
-    ERROR = 99
 
 
 class LifecycleState(NamedTuple):

@@ -109,6 +109,7 @@ class Service:
         self.service_class = _service_class(service_class, "rospy.Service")
         self.resolved_name = names.resolve_name(name)
         self.handler, self.error_handler = handler, error_handler
+        self.done = False  # shut down (spin() returns)
         with _provided_lock:
             if self.resolved_name in _provided:
                 raise ServiceException(f"service [{self.resolved_name}] already registered")
@@ -152,15 +153,19 @@ class Service:
             )
 
     def shutdown(self, reason: str = "") -> None:
+        self.done = True
         with _provided_lock:
             if _provided.get(self.resolved_name) is self:
                 del _provided[self.resolved_name]
         process.connection().send({"op": "unadvertise_service", "service": self.resolved_name})
 
     def spin(self) -> None:
-        from rospy.client import spin
-
-        spin()
+        """Until the node or this service shuts down (rospy's ServiceImpl.spin); Ctrl+C ends it too."""
+        try:
+            while not process.shutdown_event.wait(0.2) and not self.done:
+                pass
+        except KeyboardInterrupt:
+            core.logdebug("keyboard interrupt, shutting down")
 
 
 ServiceImpl = Service

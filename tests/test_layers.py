@@ -9,7 +9,8 @@ by seeing nothing.
 The student-side client (rosclient/, its site/ of rospy, rclpy, ... included) is a package of its own: it
 imports the message vocabulary both sides share (interfaces/) and nothing of the lab's server, its
 grading or the simulation; the server (everything but the commands, app/cli/) never imports it, nor the client
-libraries a program imports (rospy, rclpy, ...).
+libraries a program imports (rospy, rclpy, ...). Those libraries import one another one way when
+they run (an import under TYPE_CHECKING, for annotations alone, is no arrow).
 
 A world is a plug-in (app/worlds/contract.py): nothing outside a world's own package imports it but the
 registry (app/serving/worlds.py) and the commands named in WORLD_SPECIFIC."""
@@ -54,26 +55,69 @@ def modules(root: Path, packages: tuple[str, ...], every: bool = False) -> dict[
     return found
 
 
-def imported(name: str, path: Path) -> set[str]:
-    """The dotted names the module imports, anywhere in it; relative imports made absolute."""
+def _type_checking(test: ast.expr) -> bool:
+    """`if TYPE_CHECKING:` or `if typing.TYPE_CHECKING:`."""
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def _walk(tree: ast.AST, at_run_time: bool) -> list[ast.AST]:
+    """ast.walk's nodes; `at_run_time`: without the body of an `if TYPE_CHECKING:` (its else runs)."""
+    found, todo = [], [tree]
+    while todo:
+        node = todo.pop()
+        found.append(node)
+        for child in ast.iter_child_nodes(node):
+            if at_run_time and isinstance(child, ast.If) and _type_checking(child.test):
+                todo.extend(child.orelse)
+            else:
+                todo.append(child)
+    return found
+
+
+def _imports(name: str, path: Path, at_run_time: bool = False) -> list[tuple[str, str]]:
+    """(module, name) of each import of the module, anywhere in it: `import a.b` is ("a.b", ""),
+    `from a import b` ("a", "b"); relative imports made absolute. `at_run_time`: not those an
+    `if TYPE_CHECKING:` imports for annotations alone."""
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-    names = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    pairs = []
+    for node in _walk(ast.parse(path.read_text(), str(path)), at_run_time):
         if isinstance(node, ast.Import):
-            names |= {alias.name for alias in node.names}
+            pairs += [(alias.name, "") for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
                 anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
                 base = ".".join(anchor + ([base] if base else []))
-            names |= {base} | {f"{base}.{alias.name}" for alias in node.names}
-    return names
+            pairs += [(base, alias.name) for alias in node.names]
+    return pairs
+
+
+def imported(name: str, path: Path) -> set[str]:
+    """The dotted names the module imports, anywhere in it; relative imports made absolute."""
+    return {n for base, member in _imports(name, path) for n in ((base, f"{base}.{member}") if member else (base,))}
 
 
 def import_graph(root: Path, packages: tuple[str, ...]) -> dict[str, set[str]]:
     """Module -> the project's modules it imports (`from a import b` is a.b when b is a module, else a)."""
     known = modules(root, packages)
     return {name: {n for n in imported(name, path) if n in known and n != name} for name, path in known.items()}
+
+
+def site_graph(site: Path) -> dict[str, set[str]]:
+    """The client libraries' modules (rosclient/site/: rospy, rclpy, launch, ..., each imported by
+    its own name) -> the site's modules each imports when it runs: `from a import b` is a.b when b
+    is a module, else a (a package's __init__ that imports its modules is no circle with them)."""
+    known = modules(site, tuple(sorted(p.name for p in site.iterdir() if (p / "__init__.py").is_file())))
+    graph = {}
+    for name, path in known.items():
+        targets = {
+            f"{base}.{member}" if member and f"{base}.{member}" in known else base
+            for base, member in _imports(name, path, at_run_time=True)
+        }
+        graph[name] = {t for t in targets if t in known and t != name}
+    return graph
 
 
 def circles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -215,6 +259,28 @@ def test_the_checker_finds_a_world_imported_from_outside(tmp_path):
 
 def test_no_import_circle_in_the_lab():
     assert list(circles(import_graph(ROOT, PACKAGES))) == []
+
+
+def test_no_import_circle_in_the_client_libraries():
+    """rosclient/site's libraries import one another one way when they run. An import under
+    TYPE_CHECKING names a type for annotations alone (rclpy's executors and nodes name each other
+    so, as upstream rclpy's do) and is no arrow."""
+    assert circles(site_graph(SITE)) == []
+
+
+def test_the_site_checker_finds_a_circle_a_lazy_import_makes_and_not_an_annotations_one(tmp_path):
+    files = {
+        "lib/__init__.py": "",
+        "lib/node.py": "from lib.client import Client\n",
+        "lib/client.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from lib.node import Node\n",
+        "other/__init__.py": "",
+        "other/a.py": "from other import b\n",
+        "other/b.py": "import typing\nif typing.TYPE_CHECKING:\n    pass\nelse:\n    def f():\n        from other.a import x\n",
+    }
+    for name, text in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text)
+    assert circles(site_graph(tmp_path)) == [["other.a", "other.b"]]
 
 
 def test_no_package_circle_in_the_lab():

@@ -47,6 +47,7 @@ FIRST_COMMAND_S = 90.0  # s of wall clock for the program to start and publish i
 BEHIND_S = 120.0  # s of wall clock beyond the time limit before a trial that falls behind is ended
 POLL_S = 0.05
 OUTPUT_LINES = 5  # the program's last lines quoted when it ended on its own
+DRAIN_S = 5.0  # s an ended program's output is read for at most (what it started may hold the pipe open)
 
 
 WORLD = "mobile"  # the world its programs are graded in (app/serving/worlds.py)
@@ -170,6 +171,9 @@ class Program:
         self._reader.join(timeout=5.0)
 
     def ended(self) -> str:
+        """Why it ended, with its last lines: read to their end first (on a loaded machine the reader's
+        turn may come after the program has ended, and its last lines are the ones that say why)."""
+        self._reader.join(timeout=DRAIN_S)
         code = self.proc.returncode
         hits = self.group.hit() if self.group is not None else []
         tail = " | ".join(self.lines)

@@ -2,6 +2,8 @@
 is the trial's; a program that ends, stays silent or falls behind is said so (the trial with a
 world and a program: tests/e2e/test_grade_wall.py)."""
 
+import threading
+import time
 from collections import deque
 from types import SimpleNamespace
 
@@ -32,6 +34,8 @@ def program(code: int | None = None, lines=()) -> Program:
     found.proc = SimpleNamespace(poll=lambda: code, returncode=code)
     found.lines = deque(lines, maxlen=wall_trial.OUTPUT_LINES)
     found.group = None  # no cgroup: nothing it ran into
+    found._reader = threading.Thread(target=lambda: None)  # its output read to the end
+    found._reader.start()
     return found
 
 
@@ -71,6 +75,20 @@ def test_a_simulation_that_falls_behind_is_ended(monkeypatch):
 def test_what_an_ended_program_says(lines):
     said = program(2, lines).ended()
     assert said == "the program ended (exit status 2)" + ("; its last lines: only" if lines else "")
+
+
+def test_an_ended_programs_last_lines_are_read_before_they_are_quoted():
+    """A loaded machine gives the output's reader its turn after the program has ended: the lines it
+    printed last (why it ended) are read first, then quoted."""
+    ended = program(0, ["first"])
+
+    def late():
+        time.sleep(0.3)  # the reader's turn comes late
+        ended.lines.append("last")
+
+    ended._reader = threading.Thread(target=late)
+    ended._reader.start()
+    assert ended.ended() == "the program ended (exit status 0); its last lines: first | last"
 
 
 class GrowingLab(Lab):

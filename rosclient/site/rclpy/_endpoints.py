@@ -288,15 +288,21 @@ def muted(subscription: Endpoint) -> set[str]:
 def matched(endpoint: Endpoint) -> int:
     """rmw's matched count of an endpoint: the endpoints of the other kind on its topic it is paired
     with — this program's and the other programs' told ones, each compatible with it — and every other
-    client on the topic that told none (rospy, roslibpy, the lab's own node) once (rclpy/_graph.py)."""
+    client on the topic that told none (rospy, roslibpy, the lab's own node) once (rclpy/_graph.py).
+    The topic's listing is read between two looks at the told entities: a program makes its entities
+    known before it subscribes and unsubscribes before it unmakes them (rclpy/subscription.py), so one
+    the listing names is told in the look after it (arriving) or in the look before it (leaving: its
+    untelling may come here before the listing's answer), never a client that told none."""
     topic, mine = endpoint.topic, endpoint.publisher
-    clients = _graph.other_clients(topic, publishers=not mine)  # first: the lab told their entities before it answers
+    with _lock:
+        told_before = {r.client for r in _remote.get((not mine, topic), [])}
+    clients = _graph.other_clients(topic, publishers=not mine)
     with _lock:
         own = _live(not mine, topic)
         theirs = list(_remote.get((not mine, topic), []))
     ordered = (lambda other: (endpoint, other)) if mine else (lambda other: (other, endpoint))
     count = sum(1 for other in own + theirs if compatible(*ordered(other)))
-    told_clients = {r.client for r in theirs}
+    told_clients = told_before | {r.client for r in theirs}
     return count + sum(1 for client in clients if client not in told_clients)
 
 

@@ -332,3 +332,31 @@ def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rcl
     assert [line.split("]: ", 1)[1] for line in warned if "incompatible QoS" in line] == [
         "New subscription discovered on topic 'durable', requesting incompatible QoS. No messages will be sent to "
         "it. Last incompatible policy: DURABILITY"]
+
+
+def test_a_program_on_its_way_out_is_never_counted_matched(rclpy, monkeypatch):
+    """A leaving program unsubscribes, then untells its entities: a listing of the topic's subscribers
+    the lab answered before the first, read here after the second was told, still names it. It was
+    told (and incompatible): not a client that told none, so the matched count never rises on its way
+    out (a best-effort talker printed `matched current=1`, then 0, as a reliable listener ended). A
+    client listed that never told, rospy's, counts once."""
+    from rclpy import _endpoints, _graph
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from std_msgs.msg import String
+
+    node = rclpy.create_node("fast_talker", start_parameter_services=False)
+    publisher = node.create_publisher(String, "chatter", QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    lab = rclpy.connection.endpoints_handler
+    reliable = {"reliability": "RELIABLE", "durability": "VOLATILE", "deadline": 0, "liveliness": "AUTOMATIC",
+                "liveliness_lease_duration": 0, "lifespan": 0}
+    lab({"op": "endpoints", "kind": "subscription", "name": "/chatter",
+         "entities": [{"node": "/listener", "qos": reliable, "client": "/listener"}]})
+
+    def listed_before_it_left(topic, publishers):
+        lab({"op": "endpoints", "kind": "subscription", "name": "/chatter", "entities": []})  # told meanwhile
+        return ["/listener"]
+
+    monkeypatch.setattr(_graph, "other_clients", listed_before_it_left)
+    assert _endpoints.matched(publisher._endpoint) == 0
+    monkeypatch.setattr(_graph, "other_clients", lambda topic, publishers: ["/rospy_listener"])
+    assert _endpoints.matched(publisher._endpoint) == 1

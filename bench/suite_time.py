@@ -6,6 +6,7 @@ short of; wall seconds are what a worker waits.
     .venv/bin/python -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder -p bench.suite_time [FILES]
     HRI_LAB_SUITE_TIME=times.json ...   # the table as JSON too
     HRI_LAB_SUITE_PROGRAMS=1 ...        # and a second table: CPU by program (labs, browsers, grades, ...)
+    HRI_LAB_SUITE_CORES=1 ...           # and the machine's cores: how busy, each CORE_WINDOW_S; when each worker ended
 
 A pytest plugin (`-p bench.suite_time`), with or without xdist: each worker measures its tests and
 hands the figures to the controller in the tests' reports; the table is printed at the end.
@@ -14,7 +15,11 @@ The file table counts a child's CPU only once the worker has waited for it. The 
 counts every descendant of the run, whoever waits for it (a sandbox's process, a browser's GPU
 process, a lab's simulation process): the run's process tree sampled every `SAMPLE_PERIOD_S`
 (psutil), each process's last CPU reading summed by the kind of program it is (`program_kind`). A
-process shorter than a period may be missed; those are a small part of the whole.
+process shorter than a period may be missed; those are a small part of the whole. The cores' line
+(`HRI_LAB_SUITE_CORES`): the machine's busy share of its CPU time, read from /proc/stat every
+CORE_PERIOD_S, as the mean of each CORE_WINDOW_S, and when each worker's last test ended: whether a
+run is bound by its CPU (busy throughout) or by its waits and its order (cores idle while a worker
+still runs).
 """
 
 from __future__ import annotations
@@ -34,6 +39,8 @@ import pytest
 KEY = "suite_time_cpu_s"
 OWN_KEY = "suite_time_own_cpu_s"  # the worker's own, without its children
 SAMPLE_PERIOD_S = 0.25  # s between two readings of the run's process tree (the program table)
+CORE_PERIOD_S = 1.0  # s between two readings of /proc/stat (the cores' line)
+CORE_WINDOW_S = 20.0  # s of the run each figure of the cores' line is the mean of
 
 # (kind, pattern of the command line), the first match names a process; forks keep their parent's
 # command line (a lab's simulation process is a `hri-lab serve`)
@@ -120,6 +127,53 @@ class ProcessTree:
         return [(kind, count[kind], seconds) for kind, seconds in cpu.most_common()]
 
 
+def cpu_ticks(stat_line: str) -> tuple[int, int]:
+    """(busy, all) clock ticks of /proc/stat's aggregate `cpu` line: idle and iowait are not busy."""
+    ticks = [int(field) for field in stat_line.split()[1:]]
+    return sum(ticks) - ticks[3] - (ticks[4] if len(ticks) > 4 else 0), sum(ticks)
+
+
+def busy_share(before: tuple[int, int], after: tuple[int, int]) -> float:
+    """The share (0..1) of the machine's CPU time that was busy between two readings of cpu_ticks."""
+    busy, every = after[0] - before[0], after[1] - before[1]
+    return busy / every if every > 0 else 0.0
+
+
+class CoreUse:
+    """How busy the machine's cores were, read from /proc/stat every `period_s` on a thread until `stop()`."""
+
+    def __init__(self, period_s: float = CORE_PERIOD_S) -> None:
+        self.period_s = period_s
+        self.started = time.monotonic()
+        self.readings: list[tuple[float, float]] = []  # (s since the start, busy share over the period before)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="suite-time-cores", daemon=True)
+        self._thread.start()
+
+    @staticmethod
+    def _read() -> tuple[int, int]:
+        with open("/proc/stat") as stat:
+            return cpu_ticks(stat.readline())
+
+    def _run(self) -> None:
+        last = self._read()
+        while not self._stop.wait(self.period_s):
+            now = self._read()
+            self.readings.append((time.monotonic() - self.started, busy_share(last, now)))
+            last = now
+
+    def stop(self, window_s: float = CORE_WINDOW_S) -> tuple[list[float], float]:
+        """(the mean busy share of each `window_s` of the run, of the whole run)."""
+        self._stop.set()
+        self._thread.join()
+        windows: dict[int, list[float]] = {}
+        for at, share in self.readings:
+            windows.setdefault(int(at // window_s), []).append(share)
+        means = [sum(v) / len(v) for _, v in sorted(windows.items())]
+        whole = sum(share for _, share in self.readings) / len(self.readings) if self.readings else 0.0
+        return means, whole
+
+
 def own_cpu_s() -> float:
     """CPU seconds (user + system) of this process alone."""
     own = resource.getrusage(resource.RUSAGE_SELF)
@@ -135,9 +189,11 @@ def cpu_s() -> float:
 class SuiteTime:
     """One run's figures (an object per run: a run inside a run keeps its own)."""
 
-    def __init__(self, programs: ProcessTree | None = None) -> None:
+    def __init__(self, programs: ProcessTree | None = None, cores: CoreUse | None = None) -> None:
         self.started = time.monotonic()
         self.programs = programs
+        self.cores = cores
+        self.worker_ends: dict[str, float] = {}  # worker -> when its last test's report ended (epoch s)
         self.cpu_at_start: dict[str, tuple[float, float]] = {}  # test -> (CPU s with children, own CPU s)
         self.files: dict[str, dict[str, float]] = {}  # file -> tests, wall_s, setup_s, cpu_s, own_cpu_s
 
@@ -158,6 +214,8 @@ class SuiteTime:
             report.nodeid.split("::")[0], {"tests": 0, "wall_s": 0.0, "setup_s": 0.0, "cpu_s": 0.0, "own_cpu_s": 0.0}
         )
         entry["wall_s"] += report.duration
+        worker = getattr(getattr(getattr(report, "node", None), "gateway", None), "id", "the run")  # xdist's, or none
+        self.worker_ends[worker] = max(self.worker_ends.get(worker, 0.0), getattr(report, "stop", 0.0))
         if report.when == "setup":
             entry["tests"] += 1
             entry["setup_s"] += report.duration
@@ -185,6 +243,17 @@ class SuiteTime:
             write(f"{'CPU s':>7} {'procs':>5}  program")
             for kind, n, seconds in kinds:
                 write(f"{seconds:7.1f} {n:5d}  {kind}")
+        if self.cores is not None:
+            windows, whole = self.cores.stop()
+            write("")
+            write(
+                f"the cores busy, each {CORE_WINDOW_S:g} s: " + " ".join(f"{100 * share:.0f}" for share in windows)
+                + f" %; {100 * whole:.0f} % over the run"
+            )
+            began = time.time() - (time.monotonic() - self.started)  # the run's start, epoch s
+            write("each worker's last test ended: " + ", ".join(
+                f"{worker} at {end - began:.0f} s" for worker, end in sorted(self.worker_ends.items())
+            ))
         load = " ".join(f"{x:.2f}" for x in os.getloadavg())
         write(f"the run: {time.monotonic() - self.started:.0f} s; load average at its end {load}")
         if out := os.environ.get("HRI_LAB_SUITE_TIME"):
@@ -194,4 +263,5 @@ class SuiteTime:
 def pytest_configure(config) -> None:
     controller = not hasattr(config, "workerinput")  # xdist's workers have it; the table is the controller's
     programs = ProcessTree() if controller and os.environ.get("HRI_LAB_SUITE_PROGRAMS") else None
-    config.pluginmanager.register(SuiteTime(programs), "suite_time_figures")
+    cores = CoreUse() if controller and os.environ.get("HRI_LAB_SUITE_CORES") else None
+    config.pluginmanager.register(SuiteTime(programs, cores), "suite_time_figures")

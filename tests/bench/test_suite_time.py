@@ -6,7 +6,7 @@ import os
 import sys
 from pathlib import Path
 
-from bench.suite_time import SAMPLE_PERIOD_S, program_kind
+from bench.suite_time import SAMPLE_PERIOD_S, busy_share, cpu_ticks, program_kind
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -113,3 +113,33 @@ def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):
     burned, processes = rows[os.path.basename(sys.executable)]
     assert processes == 2
     assert burned >= 1.0 - 2 * SAMPLE_PERIOD_S  # the last reading may come up to a period before its end
+
+
+def test_the_cores_busy_share_is_read_from_proc_stat_lines():
+    before = cpu_ticks("cpu  100 0 50 800 50 0 0 0 0 0")  # user nice system idle iowait irq softirq steal ...
+    after = cpu_ticks("cpu  250 0 100 900 50 0 0 0 0 0")  # 200 ticks busy, 100 idle
+    assert before == (150, 1000)
+    assert busy_share(before, after) == 200 / 300
+    assert busy_share(after, after) == 0.0  # no tick between the two: nothing to say
+
+
+def test_the_cores_line_and_each_workers_end_are_told(pytester, monkeypatch):
+    pytester.makepyfile(
+        test_burn="""
+        import time
+
+        def test_burns_cpu():
+            start = time.process_time()
+            while time.process_time() - start < 1.5:
+                pass
+        """
+    )
+    monkeypatch.setenv("HRI_LAB_SUITE_CORES", "1")
+    result = pytester.runpytest("-p", "bench.suite_time", "-p", "no:cacheprovider")
+    result.assert_outcomes(passed=1)
+    cores = next(line for line in result.outlines if line.startswith("the cores busy, each 20 s: "))
+    windows, whole = cores.removeprefix("the cores busy, each 20 s: ").split(" %; ")
+    assert 0 < float(windows.split()[0]) <= 100  # the test's own loop kept a core busy
+    assert whole.endswith(" % over the run") and 0 < float(whole.split()[0]) <= 100
+    ended = next(line for line in result.outlines if line.startswith("each worker's last test ended: "))
+    assert ended.startswith("each worker's last test ended: the run at ")  # no xdist: the run's one process

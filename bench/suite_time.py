@@ -247,13 +247,15 @@ class SuiteTime:
             windows, whole = self.cores.stop()
             write("")
             write(
-                f"the cores busy, each {CORE_WINDOW_S:g} s: " + " ".join(f"{100 * share:.0f}" for share in windows)
+                f"the cores busy, each {CORE_WINDOW_S:g} s: "
+                + " ".join(f"{100 * share:.0f}" for share in windows)
                 + f" %; {100 * whole:.0f} % over the run"
             )
             began = time.time() - (time.monotonic() - self.started)  # the run's start, epoch s
-            write("each worker's last test ended: " + ", ".join(
-                f"{worker} at {end - began:.0f} s" for worker, end in sorted(self.worker_ends.items())
-            ))
+            write(
+                "each worker's last test ended: "
+                + ", ".join(f"{worker} at {end - began:.0f} s" for worker, end in sorted(self.worker_ends.items()))
+            )
         load = " ".join(f"{x:.2f}" for x in os.getloadavg())
         write(f"the run: {time.monotonic() - self.started:.0f} s; load average at its end {load}")
         if out := os.environ.get("HRI_LAB_SUITE_TIME"):

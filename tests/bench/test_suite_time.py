@@ -44,6 +44,8 @@ def test_each_files_wall_setup_and_cpu_are_told_longest_first(pytester, monkeypa
     )
     out = tmp_path / "times.json"
     monkeypatch.setenv("HRI_LAB_SUITE_TIME", str(out))
+    for table in ("HRI_LAB_SUITE_PROGRAMS", "HRI_LAB_SUITE_CORES"):  # the file table alone, whatever runs this test
+        monkeypatch.delenv(table, raising=False)
     result = pytester.runpytest("-p", "bench.suite_time", "-p", "no:cacheprovider")
     result.assert_outcomes(passed=4)
     lines = result.outlines
@@ -102,6 +104,7 @@ def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):
         """
     )
     monkeypatch.setenv("HRI_LAB_SUITE_PROGRAMS", "1")
+    monkeypatch.delenv("HRI_LAB_SUITE_CORES", raising=False)  # the program table alone, whatever runs this test
     monkeypatch.setenv("PYTHONPATH", str(ROOT))  # the plugin, from this checkout
     result = pytester.runpytest_subprocess("-p", "bench.suite_time", "-p", "no:cacheprovider")
     result.assert_outcomes(passed=1)
@@ -135,6 +138,7 @@ def test_the_cores_line_and_each_workers_end_are_told(pytester, monkeypatch):
         """
     )
     monkeypatch.setenv("HRI_LAB_SUITE_CORES", "1")
+    monkeypatch.delenv("HRI_LAB_SUITE_PROGRAMS", raising=False)
     result = pytester.runpytest("-p", "bench.suite_time", "-p", "no:cacheprovider")
     result.assert_outcomes(passed=1)
     cores = next(line for line in result.outlines if line.startswith("the cores busy, each 20 s: "))

@@ -36,6 +36,8 @@ from pathlib import Path
 import psutil
 import pytest
 
+from sim.controllers.sandbox.watch import stat_ticks  # the one rule of what counts as busy
+
 KEY = "suite_time_cpu_s"
 OWN_KEY = "suite_time_own_cpu_s"  # the worker's own, without its children
 SAMPLE_PERIOD_S = 0.25  # s between two readings of the run's process tree (the program table)
@@ -127,14 +129,8 @@ class ProcessTree:
         return [(kind, count[kind], seconds) for kind, seconds in cpu.most_common()]
 
 
-def cpu_ticks(stat_line: str) -> tuple[int, int]:
-    """(busy, all) clock ticks of /proc/stat's aggregate `cpu` line: idle and iowait are not busy."""
-    ticks = [int(field) for field in stat_line.split()[1:]]
-    return sum(ticks) - ticks[3] - (ticks[4] if len(ticks) > 4 else 0), sum(ticks)
-
-
 def busy_share(before: tuple[int, int], after: tuple[int, int]) -> float:
-    """The share (0..1) of the machine's CPU time that was busy between two readings of cpu_ticks."""
+    """The share (0..1) of the machine's CPU time that was busy between two readings of stat_ticks."""
     busy, every = after[0] - before[0], after[1] - before[1]
     return busy / every if every > 0 else 0.0
 
@@ -153,7 +149,7 @@ class CoreUse:
     @staticmethod
     def _read() -> tuple[int, int]:
         with open("/proc/stat") as stat:
-            return cpu_ticks(stat.readline())
+            return stat_ticks(stat.readline())  # the first line: all the cores
 
     def _run(self) -> None:
         last = self._read()

@@ -6,7 +6,8 @@ import os
 import sys
 from pathlib import Path
 
-from bench.suite_time import SAMPLE_PERIOD_S, busy_share, cpu_ticks, program_kind
+from bench.suite_time import SAMPLE_PERIOD_S, busy_share, program_kind
+from sim.controllers.sandbox.watch import stat_ticks
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -119,8 +120,8 @@ def test_the_cpu_of_every_descendant_is_told_by_program(pytester, monkeypatch):
 
 
 def test_the_cores_busy_share_is_read_from_proc_stat_lines():
-    before = cpu_ticks("cpu  100 0 50 800 50 0 0 0 0 0")  # user nice system idle iowait irq softirq steal ...
-    after = cpu_ticks("cpu  250 0 100 900 50 0 0 0 0 0")  # 200 ticks busy, 100 idle
+    before = stat_ticks("cpu  100 0 50 800 50 0 0 0 0 0")  # user nice system idle iowait irq softirq steal ...
+    after = stat_ticks("cpu  250 0 100 900 50 0 0 0 0 0")  # 200 ticks busy, 100 idle
     assert before == (150, 1000)
     assert busy_share(before, after) == 200 / 300
     assert busy_share(after, after) == 0.0  # no tick between the two: nothing to say

@@ -98,15 +98,21 @@ def own_run_delay() -> float:
         return 0.0
 
 
+def stat_ticks(line: str) -> tuple[int, int]:
+    """(busy, all) clock ticks of a `cpu` line of /proc/stat: busy is all but idle and iowait (steal,
+    the hypervisor's other guests, counts as busy: it is not ours either); guest time, inside user's
+    already, is not counted twice."""
+    ticks = [int(x) for x in line.split()[1:9]]
+    return sum(ticks) - ticks[3] - ticks[4], sum(ticks)
+
+
 def cpu_busy_time(cpu: int) -> float:
-    """s CPU `cpu` has been busy since boot, whatever ran (/proc/stat: all but idle and iowait;
-    steal, the hypervisor's other guests, counts as busy: it is not ours either); 0 if unknown."""
+    """s CPU `cpu` has been busy since boot, whatever ran (`stat_ticks`); 0 if unknown."""
     try:
         with open("/proc/stat") as handle:
             for line in handle:
                 if line.startswith(f"cpu{cpu} "):
-                    ticks = [int(x) for x in line.split()[1:9]]
-                    return (sum(ticks) - ticks[3] - ticks[4]) / os.sysconf("SC_CLK_TCK")
+                    return stat_ticks(line)[0] / os.sysconf("SC_CLK_TCK")
     except (OSError, ValueError):
         pass
     return 0.0

@@ -6,8 +6,9 @@ import os
 import sys
 from pathlib import Path
 
-from bench.suite_time import SAMPLE_PERIOD_S, busy_share, program_kind
 from sim.controllers.sandbox.watch import stat_ticks
+
+from bench.suite_time import SAMPLE_PERIOD_S, busy_share, program_kind
 
 ROOT = Path(__file__).resolve().parents[2]
 

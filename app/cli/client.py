@@ -155,12 +155,7 @@ def _service_call(args, name: str, type_name: str) -> int:
     """`service call NAME [TYPE] VALUES|--stdin [-r HZ]` as ros2service's call verb prints it (each
     request and response followed by a blank line); `-r`: the call again at that rate until Ctrl+C.
     Unlike ros2, a failed call ends the command with status 1, its reason on stderr."""
-    text = _typed_values(args, type_name, "srv")
-    if args.stdin:
-        if text:
-            raise CliError("--stdin reads the request from standard input: give no values after the type")
-        text = sys.stdin.read()  # ros2's collect_stdin
-    request = _yaml_arg(text)
+    request = _typed_yaml(args, type_name, "srv", "request")
     period = None if args.rate is None else 1.0 / args.rate
     try:
         while True:
@@ -189,6 +184,17 @@ def _typed_values(args, type_name: str, kind: str) -> str:
         package, _, name = type_name.replace(f"/{kind}/", "/").partition("/")
         raise CliError(f"the type {first!r} is not the {kind}'s: {package}/{kind}/{name}")
     return second
+
+
+def _typed_yaml(args, type_name: str, kind: str, what: str) -> dict:
+    """The `what` (request, goal) of `call NAME [TYPE] [VALUES]`: the values given (`_typed_values`),
+    or with --stdin the YAML standard input holds (ros2's collect_stdin), never both."""
+    text = _typed_values(args, type_name, kind)
+    if args.stdin:
+        if text:
+            raise CliError(f"--stdin reads the {what} from standard input: give no values after the type")
+        text = sys.stdin.read()
+    return _yaml_arg(text)
 
 
 def _looks_like_type(text: str) -> bool:
@@ -667,12 +673,7 @@ def _send_goal(args) -> int:
     print("Waiting for an action server to become available...")
     name, info = _lookup(args, "actions")
     described = info.json()
-    text = _typed_values(args, described["type"], "action")
-    if args.stdin:
-        if text:
-            raise CliError("--stdin reads the goal from standard input: give no values after the type")
-        text = sys.stdin.read()  # ros2's collect_stdin
-    goal = _yaml_arg(text)
+    goal = _typed_yaml(args, described["type"], "action", "goal")
     print(f"Sending goal:\n     {_message_yaml(_goal_as_filled(goal, described.get('goal_schema', {})))}")
     response = _request(args, "POST", f"/actions{name}/goals", json=goal)
     body = response.json()

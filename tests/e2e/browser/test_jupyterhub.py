@@ -25,6 +25,7 @@ from websockets.sync.client import connect
 
 from app.serving.launch import free_port
 from bench.page_responsiveness import ARGS, CHROMIUM, CONTROL_PANEL_TAB
+from tests.http_client import http
 from tests.waiting import process_gone, wait_for
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -120,7 +121,7 @@ def hub(tmp_path_factory):
 def _answers(url: str, process: subprocess.Popen, tmp: Path) -> bool:
     assert process.poll() is None, (tmp / "hub.log").read_text()[-3000:]
     try:
-        return httpx.get(url, timeout=5).status_code == 200
+        return http.get(url, timeout=5).status_code == 200
     except httpx.HTTPError:
         return False
 
@@ -190,7 +191,7 @@ def browser():
 def test_the_launcher_lists_the_labs(hub):
     """JupyterLab's launcher shows what jupyter-server-proxy lists: hri-lab and hri-lab mobile."""
     token = hub.token("ada")
-    answer = httpx.get(
+    answer = http.get(
         f"{hub.url}/user/ada/server-proxy/servers-info", headers={"Authorization": f"token {token}"}, timeout=60
     )
     assert answer.status_code == 200, answer.text
@@ -256,7 +257,7 @@ def test_her_jupyterlab_terminal_needs_no_flag(hub):
     reaches her lab through her server: $HRI_LAB_URL and her hub token come from the server."""
     token = hub.token("ada")
     headers = {"Authorization": f"token {token}"}
-    answer = httpx.post(f"{hub.url}/user/ada/api/terminals", headers=headers, timeout=60)
+    answer = http.post(f"{hub.url}/user/ada/api/terminals", headers=headers, timeout=60)
     assert answer.status_code == 200, answer.text
     name = answer.json()["name"]
     socket = f"{hub.url.replace('http://', 'ws://')}/user/ada/terminals/websocket/{name}"
@@ -273,7 +274,7 @@ def test_her_jupyterlab_terminal_needs_no_flag(hub):
     assert re.search(r"LAB=http://127\.0\.0\.1:\d+/user/ada/hri-lab/", output), output
     assert "EXIT=0" in output, output
     assert "force" in output, output
-    httpx.delete(f"{hub.url}/user/ada/api/terminals/{name}", headers=headers, timeout=60)
+    http.delete(f"{hub.url}/user/ada/api/terminals/{name}", headers=headers, timeout=60)
 
 
 def test_another_student_gets_403_everywhere(hub, browser):
@@ -289,16 +290,16 @@ def test_another_student_gets_403_everywhere(hub, browser):
     bob = {"Authorization": f"token {hub.token('bob')}"}
     lab = f"{hub.url}/user/ada/hri-lab"
     for path in ("/", "/health", "/services", "/view"):
-        assert httpx.get(lab + path, headers=bob, timeout=60).status_code == 403, path
-    assert httpx.post(lab + "/services/reset_simulation", headers=bob, json={}, timeout=60).status_code == 403
+        assert http.get(lab + path, headers=bob, timeout=60).status_code == 403, path
+    assert http.post(lab + "/services/reset_simulation", headers=bob, json={}, timeout=60).status_code == 403
     for path in ("/", "/view/3d/", f"/topics{F_EXT}/stream"):
         with pytest.raises(websockets.exceptions.InvalidStatus) as refused:
             connect(lab.replace("http://", "ws://") + path, additional_headers=bob, open_timeout=60).close()
         assert refused.value.response.status_code == 403, path
     ada = {"Authorization": f"token {hub.token('ada')}"}
-    assert httpx.get(lab + "/health", headers=ada, timeout=60).json()["loop_alive"]
+    assert http.get(lab + "/health", headers=ada, timeout=60).json()["loop_alive"]
     instructor = {"Authorization": f"token {hub.token('instructor')}"}  # the hub's admin (docs/hosting.md)
-    assert httpx.get(lab + "/health", headers=instructor, timeout=60).json()["loop_alive"]
+    assert http.get(lab + "/health", headers=instructor, timeout=60).json()["loop_alive"]
 
 
 def test_the_lab_refuses_what_the_hub_did_not_proxy(hub):
@@ -314,7 +315,7 @@ def test_the_lab_refuses_what_the_hub_did_not_proxy(hub):
             ports.add(int(cmdline[cmdline.index(b"--port") + 1]))
     assert ports, "ada's lab runs under her server"
     for port in ports:
-        assert httpx.get(f"http://127.0.0.1:{port}/health", timeout=30).status_code == 403
+        assert http.get(f"http://127.0.0.1:{port}/health", timeout=30).status_code == 403
         with pytest.raises(websockets.exceptions.InvalidStatus):
             connect(f"ws://127.0.0.1:{port}/", open_timeout=30).close()
 

@@ -3,7 +3,7 @@ states the functions of its file above max-complexity, each with its complexity 
 exempted: they are to be cut, not to grow. ruff itself (mccabe's count) measures them with the
 exemptions left out: a stated function that grew fails, and so does one back under the bound or gone
 (its exemption is stale: take it out), or one above the bound that no exemption states. The reading
-is tried on a made-up file, so that it cannot pass by measuring nothing."""
+is tried on a made-up file, so that it cannot pass by measuring nothing. And ruff reads every test."""
 
 from __future__ import annotations
 
@@ -95,3 +95,15 @@ def test_the_reading_finds_growth_staleness_and_a_function_with_no_exemption(tmp
         "grown.py: grown grew from 16 to 18",
         "new.py: new (18) is above the bound with no exemption stating it",
     ]
+
+
+def test_ruff_reads_every_test_and_leaves_out_only_the_client_libraries_and_mkdocs_output():
+    """`ruff check` covers every Python file under tests/ (tests/rosclient/site included: an
+    exclusion of "site" once skipped it along with mkdocs' output) and none of rosclient/site's
+    libraries, written as upstream's (ruff's `--show-files`: the files it would check)."""
+    listed = subprocess.run([str(RUFF), "check", "--show-files"], cwd=ROOT, capture_output=True, text=True, check=True)
+    checked = {Path(line).resolve() for line in listed.stdout.splitlines() if line.endswith(".py")}
+    tests = {p.resolve() for p in (ROOT / "tests").rglob("*.py") if "__pycache__" not in p.parts}
+    assert tests - checked == set()
+    assert any(p.is_relative_to(ROOT / "tests" / "rosclient" / "site") for p in checked)
+    assert not any(p.is_relative_to(ROOT / "rosclient" / "site") for p in checked)

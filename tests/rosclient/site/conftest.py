@@ -34,8 +34,17 @@ class RecordingConnection:
     def send(self, message: dict) -> None:
         self.sent.append(message)
 
-    def subscribe(self, topic, type_name, handler, queue_length=0, throttle_rate=0, connection_header=False,
-                  undecoded=False, volatile=False) -> str:  # an undecoded handler takes the message itself too
+    def subscribe(
+        self,
+        topic,
+        type_name,
+        handler,
+        queue_length=0,
+        throttle_rate=0,
+        connection_header=False,
+        undecoded=False,
+        volatile=False,
+    ) -> str:  # an undecoded handler takes the message itself too
         self.topic_handlers.setdefault(topic, []).append(handler)
         self.queue_lengths[topic] = queue_length
         self.volatile[topic] = volatile
@@ -64,8 +73,14 @@ class RecordingConnection:
     def publish(self, topic: str, msg: dict, sender: str | None = None) -> None:
         """`msg` on `topic` to its handlers, as the lab relays it; `sender`: the `callerid` of its
         publisher's connection header (the program that published it), for the handlers that asked."""
-        frame = Frame({"op": "publish", "topic": topic, "msg": msg,
-                       **({"connection_header": {"callerid": sender}} if sender else {})})
+        frame = Frame(
+            {
+                "op": "publish",
+                "topic": topic,
+                "msg": msg,
+                **({"connection_header": {"callerid": sender}} if sender else {}),
+            }
+        )
         for handler in list(self.topic_handlers.get(topic, [])):
             if handler in self.with_header:
                 handler(msg, {"callerid": sender} if sender else {})
@@ -79,7 +94,7 @@ class RecordingConnection:
         pass
 
 
-@pytest.fixture()
+@pytest.fixture
 def site():
     saved_path, saved_meta = list(sys.path), list(sys.meta_path)
     saved_hooks = list(process._shutdown_hooks)
@@ -89,7 +104,13 @@ def site():
         yield
     finally:
         sequences.typed[0] = False  # rclpy's typed arrays (its import turns them on)
-        for advertised in (process._advertised, process._headers, process._latched, process._lifespans, process._publishers):
+        for advertised in (
+            process._advertised,
+            process._headers,
+            process._latched,
+            process._lifespans,
+            process._publishers,
+        ):
             advertised.clear()  # the topics it advertised: the next test's connection has none
         process._connection.clear()
         process.shutdown_event.clear()
@@ -97,5 +118,22 @@ def site():
         process._shutdown_hooks[:] = saved_hooks
         sys.path[:] = saved_path
         sys.meta_path[:] = saved_meta
-        for name in [n for n in sys.modules if n.split(".")[0] in ("rclpy", "rospy", "tf2_ros", "tf", "sensor_msgs_py", *GENERATED)]:
+        for name in [
+            n
+            for n in sys.modules
+            if n.split(".")[0] in ("rclpy", "rospy", "tf2_ros", "tf", "sensor_msgs_py", *GENERATED)
+        ]:
             del sys.modules[name]
+
+
+@pytest.fixture
+def rclpy(site):
+    """rclpy imported as a program imports it (`site`), initialised over a RecordingConnection;
+    `rclpy.connection` is the lab's side."""
+    connection = RecordingConnection()
+    process._connection.append(connection)
+    import rclpy as module
+
+    module.init(args=["program"], signal_handler_options=0)
+    module.connection = connection
+    return module

@@ -9,7 +9,7 @@ from interfaces.packages import Interfaces
 from rosclient import boot
 
 
-@pytest.fixture()
+@pytest.fixture
 def rostime():
     spec = importlib.util.spec_from_file_location("genpy_rostime_under_test", boot.SITE / "genpy" / "rostime.py")
     module = importlib.util.module_from_spec(spec)

@@ -9,7 +9,7 @@ import pytest
 from rosclient import boot
 
 
-@pytest.fixture()
+@pytest.fixture
 def names():
     spec = importlib.util.spec_from_file_location("rospy_names_under_test", boot.SITE / "rospy" / "names.py")
     module = importlib.util.module_from_spec(spec)

@@ -8,6 +8,7 @@ groups' rules."""
 from __future__ import annotations
 
 import threading
+
 import pytest
 
 
@@ -46,8 +47,13 @@ def test_a_round_takes_one_message_per_subscription_and_every_other_ready_entity
         executor.spin_once(timeout_sec=0)
     # one round: the subscription's oldest message, the guard condition, the service (rclpy's order)
     assert ran == ["msg 0", "guard", "service"]
-    assert rclpy.connection.sent[-1] == {"op": "service_response", "id": "call:1", "service": "/add",
-                                         "values": {"sum": 5}, "result": True}
+    assert rclpy.connection.sent[-1] == {
+        "op": "service_response",
+        "id": "call:1",
+        "service": "/add",
+        "values": {"sum": 5},
+        "result": True,
+    }
     for _ in range(4):
         executor.spin_once(timeout_sec=0)
     assert ran[3:] == ["msg 1", "msg 2", "msg 3", "msg 4"]

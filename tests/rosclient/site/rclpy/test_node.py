@@ -3,6 +3,7 @@ process, over the recording connection: pre- and post-set parameter callbacks as
 the logger service's levels, and a raw subscription's bytes."""
 
 import json
+import re
 
 import pytest
 
@@ -35,7 +36,9 @@ def test_the_logger_service_reads_and_sets_a_nodes_level(rclpy):
     connection = rclpy.connection
     levels = {"names": ["LoggerServiceNode"]}
     connection.call("/LoggerServiceNode/get_logger_levels", "get:1", levels)
-    connection.call("/LoggerServiceNode/set_logger_levels", "set:1", {"levels": [{"name": "LoggerServiceNode", "level": 40}]})
+    connection.call(
+        "/LoggerServiceNode/set_logger_levels", "set:1", {"levels": [{"name": "LoggerServiceNode", "level": 40}]}
+    )
     connection.call("/LoggerServiceNode/get_logger_levels", "get:2", levels)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
@@ -88,7 +91,9 @@ def test_numeric_sequences_are_typed_arrays_as_rclpy_gives_them(rclpy):
     assert pose == PoseWithCovariance() and pose.to_json()["covariance"] == [0.0] * 36
     assert Image().data == b""  # uint8[] stays bytes (the lab's images)
     result.sequence = ["not a number"]  # kept as given: publishing it names the field
-    with pytest.raises(TypeError, match="'example_interfaces/FibonacciResult.sequence' field must be of type 'int'"):
+    with pytest.raises(
+        TypeError, match=re.escape("'example_interfaces/FibonacciResult.sequence' field must be of type 'int'")
+    ):
         result.to_json()
 
 
@@ -104,10 +109,16 @@ def test_parameter_events_are_published_and_a_handler_calls_its_callbacks_newest
     connection = rclpy.connection
     handler = ParameterEventHandler(node)
     heard: list[tuple[str, str, object]] = []
-    first = handler.add_parameter_callback("an_int_param", "node_with_parameters", lambda p: heard.append(
-        ("first", p.name, parameter_value_to_python(p.value))))
-    handler.add_parameter_callback("an_int_param", "/node_with_parameters", lambda p: heard.append(
-        ("second", p.name, parameter_value_to_python(p.value))))
+    first = handler.add_parameter_callback(
+        "an_int_param",
+        "node_with_parameters",
+        lambda p: heard.append(("first", p.name, parameter_value_to_python(p.value))),
+    )
+    handler.add_parameter_callback(
+        "an_int_param",
+        "/node_with_parameters",
+        lambda p: heard.append(("second", p.name, parameter_value_to_python(p.value))),
+    )
     events: list[object] = []
     handler.add_parameter_event_callback(events.append)
     node.declare_parameter("an_int_param", 0)
@@ -116,16 +127,20 @@ def test_parameter_events_are_published_and_a_handler_calls_its_callbacks_newest
     advertised = [m for m in connection.sent if m["op"] == "advertise" and m["topic"] == "/parameter_events"]
     assert advertised and advertised[0]["type"] == "rcl_interfaces/msg/ParameterEvent"
     sent = [m["msg"] for m in connection.sent if m["op"] == "publish" and m["topic"] == "/parameter_events"]
-    assert [(e["node"], len(e["new_parameters"]), len(e["changed_parameters"]), len(e["deleted_parameters"]))
-            for e in sent] == [("/node_with_parameters", 1, 0, 0), ("/node_with_parameters", 0, 1, 0),
-                               ("/node_with_parameters", 0, 0, 1)]
+    assert [
+        (e["node"], len(e["new_parameters"]), len(e["changed_parameters"]), len(e["deleted_parameters"])) for e in sent
+    ] == [("/node_with_parameters", 1, 0, 0), ("/node_with_parameters", 0, 1, 0), ("/node_with_parameters", 0, 0, 1)]
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     for event in sent:  # as the lab relays them back to the program's subscription
         connection.publish("/parameter_events", event)
         executor.spin_once(timeout_sec=5)
-    assert heard == [("second", "an_int_param", 0), ("first", "an_int_param", 0),  # newest first
-                     ("second", "an_int_param", 43), ("first", "an_int_param", 43)]  # a deletion: none
+    assert heard == [
+        ("second", "an_int_param", 0),
+        ("first", "an_int_param", 0),  # newest first
+        ("second", "an_int_param", 43),
+        ("first", "an_int_param", 43),
+    ]  # a deletion: none
     assert len(events) == 3 and events[2].deleted_parameters[0].name == "an_int_param"
     handler.remove_parameter_callback(first)
     with pytest.raises(RuntimeError, match="Callback doesn't exist"):

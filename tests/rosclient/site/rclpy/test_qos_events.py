@@ -36,10 +36,19 @@ def test_an_incompatible_publisher_and_subscription_are_each_told_and_nothing_is
     offered: list = []
     requested: list = []
     heard: list = []
-    publisher = talker.create_publisher(String, "chatter", QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT),
-                                        event_callbacks=PublisherEventCallbacks(incompatible_qos=offered.append))
-    listener.create_subscription(String, "chatter", heard.append, QoSProfile(depth=10),
-                                 event_callbacks=SubscriptionEventCallbacks(incompatible_qos=requested.append))
+    publisher = talker.create_publisher(
+        String,
+        "chatter",
+        QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT),
+        event_callbacks=PublisherEventCallbacks(incompatible_qos=offered.append),
+    )
+    listener.create_subscription(
+        String,
+        "chatter",
+        heard.append,
+        QoSProfile(depth=10),
+        event_callbacks=SubscriptionEventCallbacks(incompatible_qos=requested.append),
+    )
     executor = SingleThreadedExecutor()
     executor.add_node(talker)
     executor.add_node(listener)
@@ -55,17 +64,32 @@ def test_an_incompatible_publisher_and_subscription_are_each_told_and_nothing_is
 
     # durability: a TRANSIENT_LOCAL subscription of a VOLATILE publisher, rclpy's default callbacks
     talker.create_publisher(String, "durable", QoSProfile(depth=10))
-    listener.create_subscription(String, "durable", heard.append,
-                                 QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    listener.create_subscription(
+        String, "durable", heard.append, QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    )
     warned: list[str] = []
-    spin_until(executor, lambda: warned.extend(capsys.readouterr().err.splitlines()) or len(
-        [line for line in warned if "incompatible QoS" in line]) == 2)
-    assert any(line.startswith("[WARN]") and line.endswith(
-        "[listener]: New publisher discovered on topic 'durable', offering incompatible QoS. No messages will be "
-        "received from it. Last incompatible policy: DURABILITY") for line in warned)
-    assert any(line.endswith(
-        "[talker]: New subscription discovered on topic 'durable', requesting incompatible QoS. No messages will be "
-        "sent to it. Last incompatible policy: DURABILITY") for line in warned)
+    spin_until(
+        executor,
+        lambda: (
+            warned.extend(capsys.readouterr().err.splitlines())
+            or len([line for line in warned if "incompatible QoS" in line]) == 2
+        ),
+    )
+    assert any(
+        line.startswith("[WARN]")
+        and line.endswith(
+            "[listener]: New publisher discovered on topic 'durable', offering incompatible QoS. No messages will be "
+            "received from it. Last incompatible policy: DURABILITY"
+        )
+        for line in warned
+    )
+    assert any(
+        line.endswith(
+            "[talker]: New subscription discovered on topic 'durable', requesting incompatible QoS. No messages will be "
+            "sent to it. Last incompatible policy: DURABILITY"
+        )
+        for line in warned
+    )
     assert QoSPolicyKind.DURABILITY.name == "DURABILITY"
 
 
@@ -77,7 +101,9 @@ def test_compatible_profiles_raise_no_event_and_are_heard(rclpy, capsys):
     node = rclpy.create_node("both", start_parameter_services=False)
     heard: list = []
     node.create_publisher(String, "ok", QoSProfile(depth=10))
-    node.create_subscription(String, "ok", heard.append, QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    node.create_subscription(
+        String, "ok", heard.append, QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
+    )
     rclpy.connection.publish("/ok", {"data": "heard"})
     executor = SingleThreadedExecutor()
     executor.add_node(node)
@@ -106,10 +132,16 @@ def test_deadlines_missed_are_counted_on_both_sides_from_the_last_message(rclpy)
     qos = QoSProfile(depth=10, deadline=Duration(seconds=0.05))
     offered: list = []
     requested: list = []
-    publisher = node.create_publisher(String, "qos_deadline_chatter", qos,
-                                      event_callbacks=PublisherEventCallbacks(deadline=offered.append))
-    node.create_subscription(String, "qos_deadline_chatter", lambda m: None, qos,
-                             event_callbacks=SubscriptionEventCallbacks(deadline=requested.append))
+    publisher = node.create_publisher(
+        String, "qos_deadline_chatter", qos, event_callbacks=PublisherEventCallbacks(deadline=offered.append)
+    )
+    node.create_subscription(
+        String,
+        "qos_deadline_chatter",
+        lambda m: None,
+        qos,
+        event_callbacks=SubscriptionEventCallbacks(deadline=requested.append),
+    )
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     executor.spin_once(timeout_sec=0.2)
@@ -121,8 +153,9 @@ def test_deadlines_missed_are_counted_on_both_sides_from_the_last_message(rclpy)
     assert isinstance(requested[0], QoSRequestedDeadlineMissedInfo)
     for events in (offered, requested):
         assert all(e.total_count_change >= 1 for e in events)
-        assert [e.total_count for e in events] == [sum(e.total_count_change for e in events[: i + 1])
-                                                   for i in range(len(events))]
+        assert [e.total_count for e in events] == [
+            sum(e.total_count_change for e in events[: i + 1]) for i in range(len(events))
+        ]
 
 
 def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_change(rclpy):
@@ -136,14 +169,21 @@ def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_ch
     from std_msgs.msg import String
 
     node = rclpy.create_node("liveliness", start_parameter_services=False)
-    qos = QoSProfile(depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC,
-                     liveliness_lease_duration=Duration(seconds=0.05))
+    qos = QoSProfile(
+        depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC, liveliness_lease_duration=Duration(seconds=0.05)
+    )
     lost: list = []
     changed: list = []
-    node.create_subscription(String, "qos_liveliness_chatter", lambda m: None, qos,
-                             event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append))
-    publisher = node.create_publisher(String, "qos_liveliness_chatter", qos,
-                                      event_callbacks=PublisherEventCallbacks(liveliness=lost.append))
+    node.create_subscription(
+        String,
+        "qos_liveliness_chatter",
+        lambda m: None,
+        qos,
+        event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append),
+    )
+    publisher = node.create_publisher(
+        String, "qos_liveliness_chatter", qos, event_callbacks=PublisherEventCallbacks(liveliness=lost.append)
+    )
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     spin_until(executor, lambda: lost and changed and changed[-1].not_alive_count == 1)
@@ -175,11 +215,17 @@ def test_an_assertion_whose_lease_passed_before_the_executor_looked_is_still_an_
     from std_msgs.msg import String
 
     node = rclpy.create_node("liveliness", start_parameter_services=False)
-    qos = QoSProfile(depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC,
-                     liveliness_lease_duration=Duration(seconds=0.05))
+    qos = QoSProfile(
+        depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC, liveliness_lease_duration=Duration(seconds=0.05)
+    )
     changed: list = []
-    node.create_subscription(String, "qos_liveliness_chatter", lambda m: None, qos,
-                             event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append))
+    node.create_subscription(
+        String,
+        "qos_liveliness_chatter",
+        lambda m: None,
+        qos,
+        event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append),
+    )
     publisher = node.create_publisher(String, "qos_liveliness_chatter", qos)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
@@ -189,7 +235,12 @@ def test_an_assertion_whose_lease_passed_before_the_executor_looked_is_still_an_
     time.sleep(0.1)  # the program does other work for two leases: no spin sees it alive
     spin_until(executor, lambda: len(changed) > seen)
     last = changed[seen]
-    assert (last.alive_count, last.not_alive_count, last.alive_count_change, last.not_alive_count_change) == (0, 1, 0, 0)
+    assert (last.alive_count, last.not_alive_count, last.alive_count_change, last.not_alive_count_change) == (
+        0,
+        1,
+        0,
+        0,
+    )
 
 
 def test_an_automatic_publisher_stays_alive_until_its_lease_after_it_is_destroyed(rclpy):
@@ -206,8 +257,9 @@ def test_an_automatic_publisher_stays_alive_until_its_lease_after_it_is_destroye
     talker = rclpy.create_node("talker", start_parameter_services=False)
     changed: list = []
     lost: list = []
-    listener.create_subscription(String, "alive", lambda m: None, qos,
-                                 event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append))
+    listener.create_subscription(
+        String, "alive", lambda m: None, qos, event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append)
+    )
     talker.create_publisher(String, "alive", qos, event_callbacks=PublisherEventCallbacks(liveliness=lost.append))
     executor = SingleThreadedExecutor()
     executor.add_node(listener)
@@ -260,9 +312,19 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
         frames = [m for m in rclpy.connection.sent if m["op"] == "endpoints" and (m["kind"], m["name"]) == (kind, name)]
         return frames[-1]["entities"]
 
-    assert told("publisher", "/demo/chatter") == [{"node": "/demo/talker", "qos": {
-        "reliability": "BEST_EFFORT", "durability": "VOLATILE", "lifespan": 0, "deadline": 500_000_000,
-        "liveliness": "AUTOMATIC", "liveliness_lease_duration": 0}}]
+    assert told("publisher", "/demo/chatter") == [
+        {
+            "node": "/demo/talker",
+            "qos": {
+                "reliability": "BEST_EFFORT",
+                "durability": "VOLATILE",
+                "lifespan": 0,
+                "deadline": 500_000_000,
+                "liveliness": "AUTOMATIC",
+                "liveliness_lease_duration": 0,
+            },
+        }
+    ]
     assert told("client", "/add_two_ints") == [{"node": "/demo/talker", "qos": {}}]
     assert told("action_client", "/demo/fibonacci") == [{"node": "/demo/talker", "qos": {}}]
     action_client.destroy()
@@ -275,7 +337,12 @@ def test_the_program_tells_the_lab_its_endpoints_with_their_nodes_and_qos(rclpy)
     # gone in the reverse order of their making: the lab's topic first, then the endpoint told of it, so
     # no other program sees this one on the topic with its QoS untold (which counts as matched)
     gone = [(m["op"], m.get("kind")) for m in rclpy.connection.sent if m.get("topic", m.get("name")) == "/demo/chatter"]
-    assert gone[-4:] == [("unadvertise", None), ("endpoints", "publisher"), ("unsubscribe", None), ("endpoints", "subscription")]
+    assert gone[-4:] == [
+        ("unadvertise", None),
+        ("endpoints", "publisher"),
+        ("unsubscribe", None),
+        ("endpoints", "subscription"),
+    ]
 
 
 def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rclpy, capsys):
@@ -286,21 +353,31 @@ def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rcl
     are; a compatible publisher counts in the subscription's liveliness while it is listed."""
     from rclpy.event_handler import SubscriptionEventCallbacks
     from rclpy.executors import SingleThreadedExecutor
-    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from rclpy.qos import QoSProfile
     from std_msgs.msg import String
 
     node = rclpy.create_node("listener", start_parameter_services=False)
     requested: list = []
     changed: list = []
     heard: list = []
-    node.create_subscription(String, "chatter", lambda m: heard.append(m.data), QoSProfile(depth=10),
-                             event_callbacks=SubscriptionEventCallbacks(incompatible_qos=requested.append,
-                                                                        liveliness=changed.append))
+    node.create_subscription(
+        String,
+        "chatter",
+        lambda m: heard.append(m.data),
+        QoSProfile(depth=10),
+        event_callbacks=SubscriptionEventCallbacks(incompatible_qos=requested.append, liveliness=changed.append),
+    )
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     lab = rclpy.connection.endpoints_handler  # the program listens once it has an endpoint
-    best_effort = {"reliability": "BEST_EFFORT", "durability": "VOLATILE", "deadline": 0, "liveliness": "AUTOMATIC",
-                   "liveliness_lease_duration": 0, "lifespan": 0}
+    best_effort = {
+        "reliability": "BEST_EFFORT",
+        "durability": "VOLATILE",
+        "deadline": 0,
+        "liveliness": "AUTOMATIC",
+        "liveliness_lease_duration": 0,
+        "lifespan": 0,
+    }
     reliable = {**best_effort, "reliability": "RELIABLE"}
     fast = {"node": "/fast_talker", "qos": best_effort, "client": "/fast_talker"}
     good = {"node": "/good_talker", "qos": reliable, "client": "/good_talker"}
@@ -323,15 +400,29 @@ def test_other_programs_endpoints_the_lab_tells_are_paired_heard_and_counted(rcl
     # a QoS the program cannot read, or an entity of no QoS, is never incompatible
     node.create_publisher(String, "durable", QoSProfile(depth=10))
     durable = {**reliable, "durability": "TRANSIENT_LOCAL"}
-    lab({"op": "endpoints", "kind": "subscription", "name": "/durable", "entities": [
-        {"node": "/late", "qos": durable, "client": "/late"}, {"node": "/odd", "qos": {"reliability": "SOMETIMES"},
-                                                               "client": "/odd"}, {"node": "/rospy", "client": "/x"}]})
+    lab(
+        {
+            "op": "endpoints",
+            "kind": "subscription",
+            "name": "/durable",
+            "entities": [
+                {"node": "/late", "qos": durable, "client": "/late"},
+                {"node": "/odd", "qos": {"reliability": "SOMETIMES"}, "client": "/odd"},
+                {"node": "/rospy", "client": "/x"},
+            ],
+        }
+    )
     warned: list[str] = []
-    spin_until(executor, lambda: warned.extend(capsys.readouterr().err.splitlines()) or any(
-        "incompatible QoS" in line for line in warned))
+    spin_until(
+        executor,
+        lambda: (
+            warned.extend(capsys.readouterr().err.splitlines()) or any("incompatible QoS" in line for line in warned)
+        ),
+    )
     assert [line.split("]: ", 1)[1] for line in warned if "incompatible QoS" in line] == [
         "New subscription discovered on topic 'durable', requesting incompatible QoS. No messages will be sent to "
-        "it. Last incompatible policy: DURABILITY"]
+        "it. Last incompatible policy: DURABILITY"
+    ]
 
 
 def test_a_program_on_its_way_out_is_never_counted_matched(rclpy, monkeypatch):
@@ -345,12 +436,26 @@ def test_a_program_on_its_way_out_is_never_counted_matched(rclpy, monkeypatch):
     from std_msgs.msg import String
 
     node = rclpy.create_node("fast_talker", start_parameter_services=False)
-    publisher = node.create_publisher(String, "chatter", QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    publisher = node.create_publisher(
+        String, "chatter", QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
+    )
     lab = rclpy.connection.endpoints_handler
-    reliable = {"reliability": "RELIABLE", "durability": "VOLATILE", "deadline": 0, "liveliness": "AUTOMATIC",
-                "liveliness_lease_duration": 0, "lifespan": 0}
-    lab({"op": "endpoints", "kind": "subscription", "name": "/chatter",
-         "entities": [{"node": "/listener", "qos": reliable, "client": "/listener"}]})
+    reliable = {
+        "reliability": "RELIABLE",
+        "durability": "VOLATILE",
+        "deadline": 0,
+        "liveliness": "AUTOMATIC",
+        "liveliness_lease_duration": 0,
+        "lifespan": 0,
+    }
+    lab(
+        {
+            "op": "endpoints",
+            "kind": "subscription",
+            "name": "/chatter",
+            "entities": [{"node": "/listener", "qos": reliable, "client": "/listener"}],
+        }
+    )
 
     def listed_before_it_left(topic, publishers):
         lab({"op": "endpoints", "kind": "subscription", "name": "/chatter", "entities": []})  # told meanwhile

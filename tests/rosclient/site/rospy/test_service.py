@@ -12,7 +12,7 @@ from rosclient import process
 from tests.rosclient.site.conftest import RecordingConnection
 
 
-@pytest.fixture()
+@pytest.fixture
 def lab(site):
     connection = RecordingConnection()
     process._connection.append(connection)

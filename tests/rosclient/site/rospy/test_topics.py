@@ -18,7 +18,7 @@ from tests.waiting import wait_for
 TOPIC = "/franka_state_controller/F_ext"
 
 
-@pytest.fixture()
+@pytest.fixture
 def lab(site):
     connection = RecordingConnection()
     process._connection.append(connection)

@@ -8,8 +8,6 @@ import threading
 import numpy as np
 import pytest
 
-from tests.rosclient.site.rclpy.conftest import rclpy  # noqa: F401 - the fixture: rclpy initialised
-
 
 def stamped(parent, child, xyz=(0.0, 0.0, 0.0), xyzw=(0.0, 0.0, 0.0, 1.0)):
     return {
@@ -98,7 +96,9 @@ def test_lookup_transform_async_suspends_a_coroutine_until_the_transform_comes(r
     task = executor.create_task(look)
     executor.spin_once(timeout_sec=0)
     assert not task.done()
-    threading.Timer(0.1, buffer._offer_message, args=({"transforms": [stamped("base_link", "sonar", (0.5, 0, 0))]},)).start()
+    threading.Timer(
+        0.1, buffer._offer_message, args=({"transforms": [stamped("base_link", "sonar", (0.5, 0, 0))]},)
+    ).start()
     executor.spin_until_future_complete(task, timeout_sec=30)
     found = task.result()
     assert (found.header.frame_id, found.child_frame_id) == ("base_link", "sonar")

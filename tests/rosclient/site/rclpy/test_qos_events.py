@@ -158,13 +158,11 @@ def test_deadlines_missed_are_counted_on_both_sides_from_the_last_message(rclpy)
         ]
 
 
-def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_change(rclpy):
-    """The liveliness demo with MANUAL_BY_TOPIC: the publisher alive while it asserts itself (a
-    message, assert_liveliness), lost once its lease passed (QoSLivelinessLostInfo); the subscription's
-    QoSLivelinessChangedInfo counts it alive, then not alive, then alive again."""
+def liveliness_listener(rclpy, changed: list):
+    """A node "liveliness" whose subscription to qos_liveliness_chatter asks for a MANUAL_BY_TOPIC
+    liveliness with a 50 ms lease, its liveliness changes appended to `changed`: (node, its QoS)."""
     from rclpy.duration import Duration
-    from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
-    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.event_handler import SubscriptionEventCallbacks
     from rclpy.qos import LivelinessPolicy, QoSProfile
     from std_msgs.msg import String
 
@@ -172,8 +170,6 @@ def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_ch
     qos = QoSProfile(
         depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC, liveliness_lease_duration=Duration(seconds=0.05)
     )
-    lost: list = []
-    changed: list = []
     node.create_subscription(
         String,
         "qos_liveliness_chatter",
@@ -181,6 +177,20 @@ def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_ch
         qos,
         event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append),
     )
+    return node, qos
+
+
+def test_a_manual_publisher_loses_its_liveliness_and_the_subscription_sees_it_change(rclpy):
+    """The liveliness demo with MANUAL_BY_TOPIC: the publisher alive while it asserts itself (a
+    message, assert_liveliness), lost once its lease passed (QoSLivelinessLostInfo); the subscription's
+    QoSLivelinessChangedInfo counts it alive, then not alive, then alive again."""
+    from rclpy.event_handler import PublisherEventCallbacks
+    from rclpy.executors import SingleThreadedExecutor
+    from std_msgs.msg import String
+
+    lost: list = []
+    changed: list = []
+    node, qos = liveliness_listener(rclpy, changed)
     publisher = node.create_publisher(
         String, "qos_liveliness_chatter", qos, event_callbacks=PublisherEventCallbacks(liveliness=lost.append)
     )
@@ -208,24 +218,11 @@ def test_an_assertion_whose_lease_passed_before_the_executor_looked_is_still_an_
     """Alive again and lost again between two spins: DDS told the subscription both changes, and
     rmw_fastrtps sums the changes into the next event (its counts as they are, the changes 0): an
     event all the same, never none."""
-    from rclpy.duration import Duration
-    from rclpy.event_handler import SubscriptionEventCallbacks
     from rclpy.executors import SingleThreadedExecutor
-    from rclpy.qos import LivelinessPolicy, QoSProfile
     from std_msgs.msg import String
 
-    node = rclpy.create_node("liveliness", start_parameter_services=False)
-    qos = QoSProfile(
-        depth=10, liveliness=LivelinessPolicy.MANUAL_BY_TOPIC, liveliness_lease_duration=Duration(seconds=0.05)
-    )
     changed: list = []
-    node.create_subscription(
-        String,
-        "qos_liveliness_chatter",
-        lambda m: None,
-        qos,
-        event_callbacks=SubscriptionEventCallbacks(liveliness=changed.append),
-    )
+    node, qos = liveliness_listener(rclpy, changed)
     publisher = node.create_publisher(String, "qos_liveliness_chatter", qos)
     executor = SingleThreadedExecutor()
     executor.add_node(node)

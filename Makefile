@@ -74,7 +74,7 @@ run: egl openmp $(STAMP) $(BYTECODE) $(VENV)/.kernels
 	@$(DEPS) --optional bubblewrap
 	$(BIN)/hri-lab serve $(SERVE_ARGS)
 
-# the browser test drives Debian's chromium (playwright cannot download browsers here)
+# the browser tests drive Debian's chromium-headless-shell (playwright cannot download browsers here)
 chromium:
 	@$(DEPS) chromium
 

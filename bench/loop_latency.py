@@ -1,5 +1,6 @@
 """Real-time loop under load: tick lateness p50/p99 of the 1 kHz loop while `wrk` calls services
-at a steady rate over loopback and one 3D client (headless chromium, light meshes) watches.
+at a steady rate over loopback and one 3D client (headless Chromium, bench/page_responsiveness.py's;
+light meshes) watches.
 
     .venv/bin/python -m bench.loop_latency [--rate 200] [--seconds 10] [--repeats 3]
 """
@@ -7,13 +8,13 @@ at a steady rate over loopback and one 3D client (headless chromium, light meshe
 from __future__ import annotations
 
 import argparse
-import shutil
 import statistics
 import time
 
 import httpx
 
 from app.serving.launch import free_port, running_server
+from bench.page_responsiveness import CHROMIUM
 from bench.service_latency import run_wrk
 
 
@@ -27,7 +28,7 @@ def main() -> None:
 
     with running_server("--view", "light", "--view-port", str(free_port())) as server, sync_playwright() as p:
         browser = p.chromium.launch(
-            executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+            executable_path=CHROMIUM,
             args=[
                 "--no-sandbox",
                 "--use-gl=swiftshader",

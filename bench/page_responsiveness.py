@@ -1,7 +1,7 @@
-"""The dashboard page's responsiveness in a real browser with software WebGL (Debian's chromium,
-SwiftShader), without and with the 3D view embedded: a service call's click -> response on the
-page (the Services tab's /divide_ints form), p50 and max, with full and light meshes (`serve
---view`). Lifting runs during each series (the robot presses the box, the scene moves).
+"""The dashboard page's responsiveness in a real browser with software WebGL (Debian's
+chromium-headless-shell, SwiftShader), without and with the 3D view embedded: a service call's
+click -> response on the page (the Services tab's /divide_ints form), p50 and max, with full and
+light meshes (`serve --view`). Lifting runs during each series (the robot presses the box, the scene moves).
 
     .venv/bin/python -m bench.page_responsiveness [--clicks 20] [--view full light]
 
@@ -21,7 +21,11 @@ import httpx
 
 from app.serving.launch import free_port, running_server
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+# Chromium as Playwright runs it headless: its headless shell (Playwright >= 1.49 launches that build
+# for headless operation; the full browser's --headless is its "new headless", slower there), Debian's
+# chromium-headless-shell package. The same Blink, V8 and SwiftShader as the chromium package; the
+# browser tests drive it with ~1/3 less CPU (docs/performance.md, 2026-12-08).
+CHROMIUM = shutil.which("chromium-headless-shell") or "/usr/bin/chromium-headless-shell"
 ARGS = [
     "--site-per-process",  # as desktop Chromium: a cross-site frame gets its own process
     "--no-sandbox",

@@ -1,5 +1,6 @@
 """3D view cost: server-side time of one scene update (robot meshes, plate, box, palm, arrows,
-plot) and whether the 1 kHz loop keeps its rate while one viewer (headless chromium) watches.
+plot) and whether the 1 kHz loop keeps its rate while one viewer (headless Chromium,
+bench/page_responsiveness.py's) watches.
 
     .venv/bin/python -m bench.view_cost [--seconds 10] [--light]
 """
@@ -7,7 +8,6 @@ plot) and whether the 1 kHz loop keeps its rate while one viewer (headless chrom
 from __future__ import annotations
 
 import argparse
-import shutil
 import statistics
 import time
 
@@ -19,6 +19,7 @@ from app.lab.services import SERVICES
 from app.ros.actions import ActionServer
 from app.view.view3d import LabView
 from bench import percentile
+from bench.page_responsiveness import CHROMIUM
 
 
 def main() -> None:
@@ -36,7 +37,7 @@ def main() -> None:
 
     with sync_playwright() as p:
         browser = p.chromium.launch(
-            executable_path=shutil.which("chromium") or "/usr/bin/chromium",
+            executable_path=CHROMIUM,
             args=[
                 "--no-sandbox",
                 "--use-gl=swiftshader",

@@ -11,7 +11,7 @@
 #   egl         Mesa's EGL/GL: the camera renders offscreen (llvmpipe without a GPU)
 #   openmp      libgomp: the OpenMP runtime the compiled kernels' libraries load
 #   bubblewrap  bwrap: students' controllers and graded files run sandboxed
-#   chromium    Debian's chromium: the browser tests (playwright drives it)
+#   chromium    Debian's chromium-headless-shell: the browser tests (playwright drives it; bench/page_responsiveness.py)
 #   wrk         the HTTP load generator of `make bench`
 #   ros1        Debian's real ROS 1 (roscore, rospy): the tests that hold the lab's emulation to it (bench/ros1_oracle.py)
 # --check: only say what is missing (exit 1 if anything required is), never install.
@@ -25,7 +25,7 @@ packages() {
         egl) echo "libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri" ;;
         openmp) echo "libgomp1" ;;
         bubblewrap) echo "bubblewrap" ;;
-        chromium) echo "chromium" ;;
+        chromium) echo "chromium-headless-shell" ;;
         wrk) echo "wrk" ;;
         ros1) echo "ros-core python3-rospy" ;;
         *) echo "system-deps: unknown group '$1'" >&2; exit 2 ;;
@@ -39,7 +39,7 @@ present() {
         egl) ldconfig -p 2>/dev/null | grep -q 'libEGL_mesa.so.0' && ldconfig -p 2>/dev/null | grep -q 'libGL.so.1' ;;
         openmp) ldconfig -p 2>/dev/null | grep -q 'libgomp.so.1' ;;
         bubblewrap) command -v bwrap >/dev/null ;;
-        chromium) command -v chromium >/dev/null ;;
+        chromium) command -v chromium-headless-shell >/dev/null ;;
         wrk) command -v wrk >/dev/null ;;
         ros1) command -v roscore >/dev/null && /usr/bin/python3 -c 'import rospy' 2>/dev/null ;;
     esac

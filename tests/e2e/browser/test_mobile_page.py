@@ -29,7 +29,7 @@ def lab():
 def browser():
     from playwright.sync_api import sync_playwright
 
-    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
+    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium-headless-shell"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         yield browser

@@ -1,5 +1,5 @@
-"""The dashboard in a real browser (Debian's chromium driven by playwright), as a student uses it,
-on a machine without internet (every asset comes from the server)."""
+"""The dashboard in a real browser (Debian's chromium-headless-shell driven by playwright), as a
+student uses it, on a machine without internet (every asset comes from the server)."""
 
 import os
 import time
@@ -41,7 +41,7 @@ def server(tmp_path_factory):
 def browser():
     from playwright.sync_api import sync_playwright
 
-    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
+    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium-headless-shell"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         yield browser

@@ -58,7 +58,7 @@ def test_replay_api_serves_the_recorded_topics_at_the_playback_time(view):
 def test_the_slider_moves_the_robot_in_the_browser(view):
     from playwright.sync_api import sync_playwright
 
-    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
+    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium-headless-shell"
     view.seek(0.0)
     at_start = placements(view)
     with sync_playwright() as p:

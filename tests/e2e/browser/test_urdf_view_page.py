@@ -19,7 +19,7 @@ PAN_TILT = Path(__file__).resolve().parents[3] / "examples/urdf/pan_tilt.urdf"
 def test_a_slider_moved_in_the_browser_reaches_joint_states():
     from playwright.sync_api import sync_playwright
 
-    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium"
+    assert os.path.exists(CHROMIUM), "make test installs Debian's chromium-headless-shell"
     port = free_port()
     view = subprocess.Popen(
         [sys.executable, "-m", "app.cli", "urdf", "view", str(PAN_TILT), "--port", str(port)],

@@ -46,14 +46,14 @@ for index in range(CHILDREN):
 os.close(write_end)
 said = set()
 deadline = time.monotonic() + 60.0
-while len(said) < CHILDREN and time.monotonic() < deadline:
+while time.monotonic() < deadline:
     ready, _, _ = select.select([read_end], [], [], 0.5)
     if ready:
         data = os.read(read_end, 8)
         if not data:  # every child's end closed: they said all they will
             break
         said |= set(data)
-    if not any(alive(pid) for pid in children):
+    if all(i in said or not alive(pid) for i, pid in enumerate(children)):  # each holds its block or is gone
         break
 holding = sum(1 for i in said if alive(children[i]))  # still alive, holding its block
 for pid in children:

@@ -121,7 +121,7 @@ def main() -> None:
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    assert os.path.exists(CHROMIUM), "make bench installs Debian's chromium"
+    assert os.path.exists(CHROMIUM), "make bench installs Debian's chromium-headless-shell"
     print(
         f"page click -> response of /divide_ints, {args.clicks} clicks per series, Chromium with software WebGL "
         f"(SwiftShader), {os.cpu_count()} cores, lifting running"
